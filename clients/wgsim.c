@@ -1,0 +1,356 @@
+/* wgsim - run the worm-gear model offline and write CSV or a summary.
+ * Exit 0 ok, 1 runtime error, 2 usage error. */
+#include "wormgear/wg_scene.h"
+#include "wormgear/wg_sim.h"
+#include "wormgear/wg_status.h"
+
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define TWO_PI 6.283185307179586
+
+typedef struct opts {
+    const char *scene;
+    const char *sets[64];
+    int nsets;
+    long periods, transient;
+    int steps, stepper, model; /* model -1: the scene's */
+    const char *poincare, *events, *trace;
+    int physical;
+} opts;
+
+typedef struct run {
+    const opts *o;
+    const wg_scene *sc;
+    FILE *fp, *fe, *ft;
+    long recorded;
+    long motion[3];
+    long impacts;
+    double min_xn, max_xn;
+} run;
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: wgsim [options]\n"
+            "Integrate the worm-gear model of a scene and write CSV or a summary.\n\n"
+            "  --scene NAME|FILE         scene name or INI file (default table3)\n"
+            "  --set key=value           override a parameter (repeatable; list below)\n"
+            "  --periods P               mesh periods recorded after the transient (default 200)\n"
+            "  --transient T             mesh periods run first, not recorded (default 100)\n"
+            "  --steps-per-period N      RK4 steps per mesh period, %d..%d (default %d)\n"
+            "  --stepper rk4|rk4-event   plain RK4, or RK4 split at located dead-zone\n"
+            "                            crossings (default rk4-event; printed form: rk4)\n"
+            "  --model consistent|printed  equations (default: the scene's, consistent)\n"
+            "  --poincare FILE|-         CSV of the Poincare section (psi = 0), one row a period\n"
+            "  --events FILE|-           CSV of contact events: tau,contact,kind,velocity\n"
+            "  --trace FILE|-            CSV of every step: tau,omega,x_n,dx_n,F\n"
+            "  --units dimensionless|physical  CSV units (default dimensionless); physical:\n"
+            "                            s, Hz, um, m/s, N (column names get unit suffixes)\n"
+            "  -h, --help                this text\n\n"
+            "Exit status: 0 ok, 1 runtime error, 2 usage error.\n\n"
+            "Parameters (dimensionless; name unit [min, max] default: help):\n",
+            WG_STEPS_MIN, WG_STEPS_MAX, WG_STEPS_DEFAULT);
+    for (int i = 0; i < WG_NPARAM; i++) {
+        const wg_param_info *r = wg_param_info_get(i);
+        fprintf(f, "  %-5s %-3s [%g, %g] %g: %s\n", r->name, r->unit, r->min, r->max, r->def,
+                r->help);
+    }
+    fprintf(f, "\nScene [physical] keys (unit [min, max]):\n");
+    for (int i = 0; i < wg_scene_nphys(); i++) {
+        const wg_param_info *r = wg_scene_phys_info(i);
+        fprintf(f, "  %-28s %-7s [%g, %g]: %s\n", r->name, r->unit, r->min, r->max, r->help);
+    }
+}
+
+static int bad(const char *fmt, const char *a)
+{
+    fprintf(stderr, "wgsim: ");
+    fprintf(stderr, fmt, a);
+    fprintf(stderr, "\n(try wgsim --help)\n");
+    return 2;
+}
+
+static int parse_long(const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    long v = strtol(s, &end, 10);
+    if (end == s || *end || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int parse_opts(int argc, char **argv, opts *o)
+{
+    static const struct option lo[] = {
+        {"scene", required_argument, 0, 's'},     {"set", required_argument, 0, 'S'},
+        {"periods", required_argument, 0, 'p'},   {"transient", required_argument, 0, 't'},
+        {"steps-per-period", required_argument, 0, 'n'},
+        {"stepper", required_argument, 0, 'k'},   {"model", required_argument, 0, 'm'},
+        {"poincare", required_argument, 0, 'P'},  {"events", required_argument, 0, 'E'},
+        {"trace", required_argument, 0, 'T'},     {"units", required_argument, 0, 'u'},
+        {"help", no_argument, 0, 'h'},            {0, 0, 0, 0}};
+    *o = (opts){.scene = "table3", .periods = 200, .transient = 100,
+                .steps = WG_STEPS_DEFAULT, .stepper = -1, .model = -1};
+    int c;
+    long v;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
+        switch (c) {
+        case 's': o->scene = optarg; break;
+        case 'S':
+            if (o->nsets == 64)
+                return bad("too many --set options (at most %s)", "64");
+            o->sets[o->nsets++] = optarg;
+            break;
+        case 'p':
+            if (parse_long(optarg, 1, 1000000000L, &o->periods))
+                return bad("--periods '%s': must be an integer in [1, 1e9]", optarg);
+            break;
+        case 't':
+            if (parse_long(optarg, 0, 1000000000L, &o->transient))
+                return bad("--transient '%s': must be an integer in [0, 1e9]", optarg);
+            break;
+        case 'n':
+            if (parse_long(optarg, WG_STEPS_MIN, WG_STEPS_MAX, &v))
+                return bad("--steps-per-period '%s': must be an integer in [8, 65536]", optarg);
+            o->steps = (int)v;
+            break;
+        case 'k':
+            if ((o->stepper = wg_stepper_lookup(optarg)) < 0)
+                return bad("--stepper '%s': allowed values are rk4, rk4-event", optarg);
+            break;
+        case 'm':
+            if (strcmp(optarg, "consistent") == 0)
+                o->model = WG_MODEL_CONSISTENT;
+            else if (strcmp(optarg, "printed") == 0)
+                o->model = WG_MODEL_PRINTED;
+            else
+                return bad("--model '%s': allowed values are consistent, printed", optarg);
+            break;
+        case 'P': o->poincare = optarg; break;
+        case 'E': o->events = optarg; break;
+        case 'T': o->trace = optarg; break;
+        case 'u':
+            if (strcmp(optarg, "physical") == 0)
+                o->physical = 1;
+            else if (strcmp(optarg, "dimensionless") != 0)
+                return bad("--units '%s': allowed values are dimensionless, physical", optarg);
+            break;
+        case 'h': usage(stdout); exit(0);
+        default:
+            if (optopt)
+                fprintf(stderr, "wgsim: option -%c needs an argument or is unknown\n", optopt);
+            else
+                fprintf(stderr, "wgsim: unknown option '%s'\n", argv[optind - 1]);
+            fprintf(stderr, "(try wgsim --help)\n");
+            return 2;
+        }
+    }
+    if (optind < argc)
+        return bad("unexpected argument '%s'", argv[optind]);
+    return 0;
+}
+
+/* ---- output ------------------------------------------------------------- */
+
+static FILE *open_out(const char *path)
+{
+    if (!path)
+        return NULL;
+    if (strcmp(path, "-") == 0)
+        return stdout;
+    FILE *f = fopen(path, "w");
+    if (!f)
+        fprintf(stderr, "wgsim: cannot write '%s'\n", path);
+    return f;
+}
+
+static const char *const pc_cols[] = {"x1", "y1", "z1", "x2", "y2", "z2", "s",
+                                      "dx1", "dy1", "dz1", "dx2", "dy2", "dz2", "ds"};
+
+static void write_headers(run *r)
+{
+    int ph = r->o->physical;
+    if (r->fp) {
+        fprintf(r->fp, "period,%s,%s,%s,%s,%s", ph ? "t_s" : "tau", ph ? "f_mesh_hz" : "omega",
+                ph ? "x_n_um" : "x_n", ph ? "dx_n_m_s" : "dx_n", ph ? "F_N" : "F");
+        for (int i = 0; i < 14; i++)
+            fprintf(r->fp, ",%s%s", pc_cols[i], ph ? (i < 7 ? "_um" : "_m_s") : "");
+        fputc('\n', r->fp);
+    }
+    if (r->fe)
+        fprintf(r->fe, "%s,contact,kind,%s\n", ph ? "t_s" : "tau", ph ? "velocity_m_s" : "velocity");
+    if (r->ft)
+        fprintf(r->ft, "%s\n", ph ? "t_s,f_mesh_hz,x_n_um,dx_n_m_s,F_N" : "tau,omega,x_n,dx_n,F");
+}
+
+/* Scale factors for physical output. */
+static double sc_t(const run *r) { return r->o->physical ? 1.0 / r->sc->scale.omega_n_rad_s : 1.0; }
+static double sc_w(const run *r) { return r->o->physical ? r->sc->scale.omega_n_rad_s / TWO_PI : 1.0; }
+static double sc_x(const run *r) { return r->o->physical ? r->sc->scale.length_m * 1e6 : 1.0; }
+static double sc_v(const run *r)
+{
+    return r->o->physical ? r->sc->scale.length_m * r->sc->scale.omega_n_rad_s : 1.0;
+}
+static double sc_f(const run *r)
+{
+    return r->o->physical ? r->sc->scale.mesh_stiffness_N_m * r->sc->scale.length_m : 1.0;
+}
+
+static void on_section(void *ctx, const wg_section *sec)
+{
+    run *r = ctx;
+    if ((long)sec->stats.period < r->o->transient)
+        return;
+    r->recorded++;
+    r->motion[sec->stats.motion]++;
+    r->impacts += sec->stats.impacts;
+    r->min_xn = fmin(r->min_xn, sec->stats.min_xn);
+    r->max_xn = fmax(r->max_xn, sec->stats.max_xn);
+    if (!r->fp)
+        return;
+    /* printed form: report th1 + th2 as s (the mesh's torsional coordinate) */
+    double y[14];
+    int printed = r->sc->model == WG_MODEL_PRINTED;
+    for (int i = 0; i < 6; i++) {
+        y[i] = sec->y[i];
+        y[7 + i] = sec->y[(printed ? 8 : 7) + i];
+    }
+    y[6] = printed ? sec->y[6] + sec->y[7] : sec->y[6];
+    y[13] = printed ? sec->y[14] + sec->y[15] : sec->y[13];
+    fprintf(r->fp, "%llu,%.15g,%.15g,%.15g,%.15g,%.15g", (unsigned long long)sec->stats.period + 1,
+            sec->tau * sc_t(r), sec->omega * sc_w(r), sec->out.xn * sc_x(r), sec->out.dxn * sc_v(r),
+            sec->out.F * sc_f(r));
+    for (int i = 0; i < 14; i++)
+        fprintf(r->fp, ",%.15g", y[i] * (i < 7 ? sc_x(r) : sc_v(r)));
+    fputc('\n', r->fp);
+}
+
+static void on_event(void *ctx, const wg_event *ev)
+{
+    run *r = ctx;
+    if ((long)ev->period < r->o->transient || !r->fe)
+        return;
+    fprintf(r->fe, "%.15g,%s,%s,%.15g\n", ev->tau * sc_t(r), wg_contact_name(ev->contact),
+            wg_event_name(ev->kind), ev->velocity * sc_v(r));
+}
+
+static void on_step(void *ctx, const wg_sim *s)
+{
+    run *r = ctx;
+    if ((long)s->period < r->o->transient)
+        return;
+    wg_outputs o;
+    wg_sim_outputs(s, &o);
+    fprintf(r->ft, "%.15g,%.15g,%.15g,%.15g,%.15g\n", s->tau * sc_t(r), s->p.v[WG_P_OMEGA] * sc_w(r),
+            o.xn * sc_x(r), o.dxn * sc_v(r), o.F * sc_f(r));
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void summary(const run *r, const wg_sim *s, double wall)
+{
+    const wg_scene *sc = r->sc;
+    const double *v = s->p.v;
+    char kn[64];
+    double wn = sc->scale.omega_n_rad_s;
+    printf("scene       %s (%s%s)\n", sc->name, sc->physical ? "physical units" : "dimensionless",
+           sc->description[0] ? "" : "");
+    if (sc->description[0])
+        printf("            %s\n", sc->description);
+    printf("model       %s, kernel %s, stepper %s\n", wg_model_name(s->cfg.model),
+           wg_sim_kernel_name(s, kn, sizeof kn), wg_stepper_name(s->cfg.stepper));
+    printf("scale       omega_n = %.6g rad/s, m_e = %.6g kg, b_c = %.3g m, K_m = %.6g N/m\n", wn,
+           sc->scale.me_kg, sc->scale.length_m, sc->scale.mesh_stiffness_N_m);
+    printf("geometry    a1 = %.6g, a2 = %.6g, a3 = %.6g, mu1 = %.6g, mu2 = %.6g\n", v[WG_P_A1],
+           v[WG_P_A2], v[WG_P_A3], v[WG_P_MU1], v[WG_P_MU2]);
+    printf("excitation  omega = %.6g (mesh %.6g Hz), xi_p = %.6g\n", v[WG_P_OMEGA],
+           v[WG_P_OMEGA] * wn / TWO_PI, v[WG_P_XI_P]);
+    printf("steps       N = %d per period, h = %.6g, RK4 limit N >= %d; %llu steps, %llu periods\n",
+           s->cfg.steps_per_period, s->h, wg_min_steps(s->hmax, v[WG_P_OMEGA]),
+           (unsigned long long)s->steps, (unsigned long long)s->period);
+    printf("time        wall %.3f s, %.4g steps/s, %.1f ns/step, simulated %.6g s physical\n", wall,
+           s->steps / wall, 1e9 * wall / (double)s->steps, s->tau / wn);
+    if (r->recorded) {
+        int cls = r->motion[2] ? 2 : r->motion[1] ? 1 : 0;
+        printf("motion      %s (periods: %ld no impact, %ld single-sided, %ld double-sided)\n",
+               wg_motion_name(cls), r->motion[0], r->motion[1], r->motion[2]);
+        printf("impacts     %.4g per period over %ld periods\n", (double)r->impacts / r->recorded,
+               r->recorded);
+        printf("x_n         min %.6g, max %.6g (b = %g)\n", r->min_xn, r->max_xn, v[WG_P_B]);
+    }
+    if (s->cfg.stepper == WG_STEPPER_RK4_EVENT)
+        printf("splits      %llu located crossings\n", (unsigned long long)s->nsplit);
+}
+
+int main(int argc, char **argv)
+{
+    opts o;
+    int rc = parse_opts(argc, argv, &o);
+    if (rc)
+        return rc;
+    wg_scene sc;
+    char why[640];
+    if ((rc = wg_scene_open(&sc, o.scene, why, sizeof why))) {
+        fprintf(stderr, "wgsim: %s\n", why);
+        return rc == WG_EIO && !strchr(o.scene, '/') ? 2 : 1;
+    }
+    for (int i = 0; i < o.nsets; i++)
+        if ((rc = wg_param_assign(&sc.p, o.sets[i], why, sizeof why))) {
+            fprintf(stderr, "wgsim: --set %s\n(try wgsim --help)\n", why);
+            return 2;
+        }
+    if (o.model >= 0)
+        sc.model = o.model;
+    if (o.stepper < 0)
+        o.stepper = sc.model == WG_MODEL_PRINTED ? WG_STEPPER_RK4 : WG_STEPPER_RK4_EVENT;
+    if (sc.model == WG_MODEL_PRINTED && o.stepper == WG_STEPPER_RK4_EVENT) {
+        fprintf(stderr, "wgsim: --stepper rk4-event: the printed form supports rk4 only\n");
+        return 2;
+    }
+    wg_sim_config cfg = {sc.model, o.stepper, o.steps};
+    wg_sim sim;
+    if ((rc = wg_sim_init(&sim, &sc.p, &cfg, why, sizeof why))) {
+        fprintf(stderr, "wgsim: %s\n", why);
+        return rc == WG_ESTABILITY || rc == WG_ERANGE ? 2 : 1;
+    }
+    double y[WG_NSTATE_MAX];
+    wg_scene_initial(&sc, y);
+    wg_sim_set_state(&sim, y, 0, 0.0);
+
+    run r = {.o = &o, .sc = &sc, .min_xn = INFINITY, .max_xn = -INFINITY};
+    r.fp = open_out(o.poincare);
+    r.fe = open_out(o.events);
+    r.ft = open_out(o.trace);
+    if ((o.poincare && !r.fp) || (o.events && !r.fe) || (o.trace && !r.ft))
+        return 1;
+    write_headers(&r);
+    wg_sink sink = {&r, r.ft ? on_step : NULL, on_section, r.fe ? on_event : NULL};
+    uint64_t n = (uint64_t)(o.periods + o.transient) * (uint64_t)o.steps, done = 0;
+    double t0 = now_s();
+    rc = wg_sim_run(&sim, n, &sink, &done);
+    double wall = now_s() - t0;
+    if (rc)
+        fprintf(stderr, "wgsim: step %llu (tau = %.9g): %s: the state blew up; the last good "
+                        "state is kept. Try more --steps-per-period.\n",
+                (unsigned long long)done, sim.tau, wg_status_str(rc));
+    FILE *fs[3] = {r.fp, r.fe, r.ft};
+    for (int i = 0; i < 3; i++)
+        if (fs[i] && fs[i] != stdout)
+            fclose(fs[i]);
+    if (!o.poincare && !o.events && !o.trace)
+        summary(&r, &sim, wall);
+    wg_sim_fini(&sim);
+    return rc ? 1 : 0;
+}

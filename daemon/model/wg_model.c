@@ -1,0 +1,264 @@
+/* wg_model.c - reference equations of motion, outputs, equilibrium and the
+ * RK4 stability limit. The fast kernels live in wg_kernel.c and are tested
+ * against wg_rhs() here. */
+#include "wormgear/wg_model.h"
+#include "model_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+static const char *const model_names[] = {"consistent", "printed"};
+static const char *const contact_names[WG_NCONTACT] = {"mesh", "x1", "y1", "z1",
+                                                       "x2", "y2", "z2"};
+static const char *const event_names[WG_NEVKIND] = {"separation", "drive_impact",
+                                                    "back_impact", "back_release"};
+static const char *const motion_names[] = {"no_impact", "single_sided", "double_sided"};
+
+const char *wg_model_name(int m) { return (m == 0 || m == 1) ? model_names[m] : "?"; }
+const char *wg_contact_name(int c) { return (c >= 0 && c < WG_NCONTACT) ? contact_names[c] : "?"; }
+const char *wg_event_name(int k) { return (k >= 0 && k < WG_NEVKIND) ? event_names[k] : "?"; }
+const char *wg_motion_name(int m) { return (m >= 0 && m <= 2) ? motion_names[m] : "?"; }
+
+int wg_model_nstate(int model) { return model == WG_MODEL_PRINTED ? 16 : 14; }
+
+double wg_deadzone(double x, double c)
+{
+    if (x > c)
+        return x - c;
+    if (x < -c)
+        return x + c;
+    return 0.0;
+}
+
+int wg_params_torsional(const wg_params *p)
+{
+    return p->v[WG_P_MU1] == 0.0 && p->v[WG_P_MU2] == 0.0;
+}
+
+void wg_exc_eval(const wg_params *p, double psi, double omega, wg_exc *e)
+{
+    const double *v = p->v;
+    e->kp = 1.0 + v[WG_P_K_A] * cos(psi + v[WG_P_PHI1]);
+    e->te = v[WG_P_E_M] * cos(psi + v[WG_P_PHI2]);
+    e->dte = v[WG_P_E_M] * omega * sin(psi + v[WG_P_PHI2]);
+    e->fx = v[WG_P_F_M] + v[WG_P_F_E] * cos(psi + v[WG_P_PHI]);
+}
+
+void model_mesh_vectors(int model, const wg_params *p, double c[7], double m[7])
+{
+    const double *v = p->v;
+    double a1 = v[WG_P_A1], a2 = v[WG_P_A2], a3 = v[WG_P_A3];
+    const double cc[7] = {a1, a2, -a3, -a1, -a2, a3, 1.0};
+    double mu1 = v[WG_P_MU1], mu2 = v[WG_P_MU2];
+    if (model == WG_MODEL_PRINTED) /* bare a_i: every body has the mass m_e */
+        mu1 = mu2 = 1.0;
+    for (int i = 0; i < 7; i++) {
+        c[i] = cc[i];
+        m[i] = (i < 3 ? mu1 : i < 6 ? mu2 : 1.0) * cc[i];
+    }
+}
+
+/* Bearing stiffness and damping in the x1 y1 z1 x2 y2 z2 order. */
+static void bearings(const wg_params *p, double k[6], double xi[6])
+{
+    for (int i = 0; i < 6; i++) {
+        k[i] = p->v[WG_P_K1X + i];
+        xi[i] = p->v[WG_P_XI1X + i];
+    }
+}
+
+static void mesh(int model, const wg_params *p, const wg_exc *e, const double *y,
+                 double *xn, double *dxn, double *F)
+{
+    double c[7], m[7];
+    model_mesh_vectors(model, p, c, m);
+    int nd = model == WG_MODEL_PRINTED ? 8 : 7;
+    double x = -e->te, dx = e->dte;
+    for (int i = 0; i < 6; i++) {
+        x += c[i] * y[i];
+        dx += c[i] * y[nd + i];
+    }
+    if (model == WG_MODEL_PRINTED) { /* theta1 + theta2 (lever arms absorbed) */
+        x += y[6] + y[7];
+        dx += y[14] + y[15];
+    } else {
+        x += y[6];
+        dx += y[13];
+    }
+    *xn = x;
+    *dxn = dx;
+    *F = 2.0 * p->v[WG_P_XI_P] * dx + e->kp * wg_deadzone(x, p->v[WG_P_B]);
+}
+
+void wg_rhs(int model, const wg_params *p, const wg_exc *e, const double *y, double *dy)
+{
+    double c[7], m[7], k[6], xi[6], xn, dxn, F;
+    model_mesh_vectors(model, p, c, m);
+    bearings(p, k, xi);
+    mesh(model, p, e, y, &xn, &dxn, &F);
+    int nd = model == WG_MODEL_PRINTED ? 8 : 7;
+    for (int i = 0; i < nd; i++)
+        dy[i] = y[nd + i];
+    for (int i = 0; i < 6; i++)
+        dy[nd + i] = -2.0 * xi[i] * y[nd + i] - k[i] * wg_deadzone(y[i], p->v[WG_P_B_J]) - m[i] * F;
+    double dg = 2.0 * p->v[WG_P_XI_G];
+    if (model == WG_MODEL_PRINTED) {
+        /* As printed: theta1'' - a1 F = f (anti-restoring), theta2'' + a3 F = 0,
+         * no lever arms, no load torque. */
+        dy[14] = -dg * y[14] + p->v[WG_P_A1] * F + e->fx;
+        dy[15] = -dg * y[15] - p->v[WG_P_A3] * F;
+    } else {
+        dy[13] = -dg * y[13] - F + e->fx;
+    }
+}
+
+void wg_outputs_eval(int model, const wg_params *p, const wg_exc *e, const double *y,
+                     wg_outputs *o)
+{
+    double k[6], xi[6];
+    mesh(model, p, e, y, &o->xn, &o->dxn, &o->F);
+    bearings(p, k, xi);
+    int nd = model == WG_MODEL_PRINTED ? 8 : 7;
+    double mu[2] = {p->v[WG_P_MU1], p->v[WG_P_MU2]};
+    if (model == WG_MODEL_PRINTED)
+        mu[0] = mu[1] = 1.0;
+    for (int i = 0; i < 6; i++) {
+        double f = k[i] * wg_deadzone(y[i], p->v[WG_P_B_J]) + 2.0 * xi[i] * y[nd + i];
+        double u = mu[i / 3];
+        o->fb[i] = u > 0.0 ? f / u : 0.0;
+    }
+}
+
+/* Inverse of the dead zone on its outer branches: g(x; c) = v. */
+static double deadzone_inv(double v, double c)
+{
+    return v > 0.0 ? v + c : v < 0.0 ? v - c : 0.0;
+}
+
+void wg_equilibrium(int model, const wg_params *p, double *y)
+{
+    double c[7], m[7], k[6], xi[6];
+    model_mesh_vectors(model, p, c, m);
+    bearings(p, k, xi);
+    int n = wg_model_nstate(model);
+    memset(y, 0, (size_t)n * sizeof *y);
+    double f0 = p->v[WG_P_F_M];
+    double xn = deadzone_inv(f0, p->v[WG_P_B]);
+    int rigid = model == WG_MODEL_CONSISTENT && wg_params_torsional(p);
+    double rest = xn + p->v[WG_P_E_M] * cos(p->v[WG_P_PHI2]);
+    for (int i = 0; i < 6 && !rigid; i++) {
+        y[i] = deadzone_inv(-m[i] * f0 / k[i], p->v[WG_P_B_J]);
+        rest -= c[i] * y[i];
+    }
+    if (model == WG_MODEL_PRINTED)
+        y[6] = y[7] = 0.5 * rest;
+    else
+        y[6] = rest;
+}
+
+/* ---- RK4 stability limit ------------------------------------------------ */
+
+enum { SN = 14 };
+
+static void matmul(int n, const double *a, const double *b, double *out)
+{
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) {
+            double s = 0.0;
+            for (int l = 0; l < n; l++)
+                s += a[i * n + l] * b[l * n + j];
+            out[i * n + j] = s;
+        }
+}
+
+/* First-order system matrix of the stiffest linear configuration. */
+static int linear_matrix(const wg_params *p, double *A)
+{
+    double c[7], m[7], k[6], xi[6];
+    model_mesh_vectors(WG_MODEL_CONSISTENT, p, c, m);
+    bearings(p, k, xi);
+    double kp = 1.0 + p->v[WG_P_K_A], dp = 2.0 * p->v[WG_P_XI_P];
+    int lo = wg_params_torsional(p) ? 6 : 0; /* torsional: s only */
+    int nd = 7 - lo, n = 2 * nd;
+    memset(A, 0, sizeof(double) * (size_t)(n * n));
+    for (int i = 0; i < nd; i++) {
+        int I = lo + i;
+        A[i * n + nd + i] = 1.0;
+        double *row = &A[(nd + i) * n];
+        for (int j = 0; j < nd; j++) {
+            int J = lo + j;
+            row[j] = -m[I] * kp * c[J];
+            row[nd + j] = -m[I] * dp * c[J];
+        }
+        if (I < 6) {
+            row[i] -= k[I];
+            row[nd + i] -= 2.0 * xi[I];
+        } else {
+            row[nd + i] -= 2.0 * p->v[WG_P_XI_G];
+        }
+    }
+    return n;
+}
+
+/* Spectral radius of the RK4 step matrix R(hA) from ||P^(2^40)||^(2^-40). */
+static double rk4_radius(int n, const double *A, double h)
+{
+    double P[SN * SN], T[SN * SN], U[SN * SN];
+    /* P = I + hA (I + hA/2 (I + hA/3 (I + hA/4))) by Horner. */
+    for (int i = 0; i < n * n; i++)
+        P[i] = (i % (n + 1) == 0) ? 1.0 : 0.0;
+    for (int d = 4; d >= 1; d--) {
+        matmul(n, A, P, T);
+        for (int i = 0; i < n * n; i++)
+            P[i] = (i % (n + 1) == 0 ? 1.0 : 0.0) + h / d * T[i];
+    }
+    double logc = 0.0;
+    for (int it = 0; it < 40; it++) {
+        matmul(n, P, P, U);
+        double nrm = 0.0;
+        for (int i = 0; i < n; i++) {
+            double s = 0.0;
+            for (int j = 0; j < n; j++)
+                s += fabs(U[i * n + j]);
+            nrm = s > nrm ? s : nrm;
+        }
+        if (!(nrm > 0.0) || !isfinite(nrm))
+            return nrm > 0.0 ? INFINITY : 0.0;
+        for (int i = 0; i < n * n; i++)
+            P[i] = U[i] / nrm;
+        logc = 2.0 * logc + log(nrm);
+    }
+    return exp(logc / 1099511627776.0); /* 2^40 */
+}
+
+double wg_rk4_hmax(int model, const wg_params *p)
+{
+    if (model != WG_MODEL_CONSISTENT)
+        return 0.0;
+    double A[SN * SN];
+    int n = linear_matrix(p, A);
+    const double tol = 1.0 + 1e-9;
+    double lo = 0.0, hi = 1.0;
+    while (rk4_radius(n, A, hi) <= tol) {
+        lo = hi;
+        hi *= 2.0;
+        if (hi > 1e6)
+            return hi;
+    }
+    for (int it = 0; it < 48; it++) {
+        double mid = 0.5 * (lo + hi);
+        if (rk4_radius(n, A, mid) <= tol)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+int wg_min_steps(double hmax, double omega)
+{
+    if (!(hmax > 0.0))
+        return 1;
+    double n = 6.283185307179586 / (omega * hmax);
+    return (int)ceil(n * (1.0 - 1e-12));
+}

@@ -1,0 +1,407 @@
+/* wg_scene.c - scene files (INI via libinih), physical unit conversion. */
+#include "wormgear/wg_scene.h"
+#include "wormgear/wg_status.h"
+
+#include <ini.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#ifndef WG_SOURCE_SCENES
+#define WG_SOURCE_SCENES ""
+#endif
+#ifndef WG_INSTALL_SCENES
+#define WG_INSTALL_SCENES "/usr/local/share/wormgear/scenes"
+#endif
+
+#define TWO_PI 6.283185307179586
+
+/* The [physical] section: SI or the unit in the key's name. */
+enum phys_id {
+    PH_LENGTH, PH_ALPHA, PH_STARTS, PH_MODULE, PH_D1, PH_R1, PH_R2, PH_M1, PH_I1, PH_M2, PH_I2,
+    PH_RIGID, PH_KM, PH_XIP, PH_CM, PH_XIG, PH_KA, PH_PHI1, PH_TE, PH_PHI2, PH_BACKLASH,
+    PH_CLEAR, PH_TG, PH_TE_AMP, PH_PHI, PH_KB, PH_KB1, PH_KB2, PH_ZB, PH_CB1, PH_CB2, PH_FMESH,
+    NPHYS
+};
+
+#define NA NAN
+static const wg_param_info phys[NPHYS] = {
+    [PH_LENGTH] = {"length_scale_m", "m", 1e-7, 0.1, 1e-4, 0, "length scale b_c"},
+    [PH_ALPHA] = {"pressure_angle_deg", "deg", 5, 45, 20, 0, "normal pressure angle alpha_n"},
+    [PH_STARTS] = {"worm_starts", "1", 1, 12, 3, 0, "number of worm threads z1"},
+    [PH_MODULE] = {"module_mm", "mm", 0.1, 100, 4, 0, "axial module m"},
+    [PH_D1] = {"worm_diameter_mm", "mm", 1, 2000, 44, 0, "worm pitch diameter d1"},
+    [PH_R1] = {"worm_radius_mm", "mm", 0.5, 1000, NA, 0, "worm lever arm R1 (default d1/2)"},
+    [PH_R2] = {"wheel_radius_mm", "mm", 1, 5000, NA, 0, "wheel lever arm R2"},
+    [PH_M1] = {"worm_mass_kg", "kg", 1e-3, 1e5, NA, 0, "worm mass M1"},
+    [PH_I1] = {"worm_inertia_kgm2", "kg m^2", 1e-10, 1e5, NA, 0, "worm polar inertia I1"},
+    [PH_M2] = {"wheel_mass_kg", "kg", 1e-3, 1e5, NA, 0, "wheel mass M2"},
+    [PH_I2] = {"wheel_inertia_kgm2", "kg m^2", 1e-10, 1e5, NA, 0, "wheel polar inertia I2"},
+    [PH_RIGID] = {"rigid_bearings", "0/1", 0, 1, 0, 0, "1: rigid bearings (torsional model)"},
+    [PH_KM] = {"mesh_stiffness_N_m", "N/m", 1e5, 1e12, NA, 0, "mean mesh stiffness K_m"},
+    [PH_XIP] = {"mesh_damping_ratio", "1", 0, 2, NA, 0, "mesh damping ratio xi_p"},
+    [PH_CM] = {"mesh_damping_Ns_m", "N s/m", 0, 1e9, NA, 0, "mesh damping C_m (or the ratio)"},
+    [PH_XIG] = {"shaft_damping_ratio", "1", 0, 2, 0, 0, "torsional damping ratio xi_g"},
+    [PH_KA] = {"stiffness_variation", "1", 0, 0.95, 0, 0, "k_a"},
+    [PH_PHI1] = {"stiffness_phase_rad", "rad", -TWO_PI, TWO_PI, 0, 0, "phi1"},
+    [PH_TE] = {"te_amplitude_um", "um", 0, 1e4, 0, 0, "transmission error amplitude E_m"},
+    [PH_PHI2] = {"te_phase_rad", "rad", -TWO_PI, TWO_PI, 0, 0, "phi2"},
+    [PH_BACKLASH] = {"backlash_um", "um", 0, 1e4, 0, 0, "half backlash"},
+    [PH_CLEAR] = {"clearance_um", "um", 0, 1e5, 0, 0, "bearing clearance"},
+    [PH_TG] = {"input_torque_Nm", "N m", 0, 1e7, 0, 0, "mean input torque T_g"},
+    [PH_TE_AMP] = {"torque_amplitude_Nm", "N m", 0, 1e7, 0, 0, "fluctuating input torque"},
+    [PH_PHI] = {"torque_phase_rad", "rad", -TWO_PI, TWO_PI, 0, 0, "phi"},
+    [PH_KB] = {"bearing_stiffness_N_m", "N/m", 1e3, 1e14, NA, 0, "both bearings, x y z"},
+    [PH_KB1] = {"worm_bearing_stiffness_N_m", "N/m", 1e3, 1e14, NA, 0, "worm bearings, x y z"},
+    [PH_KB2] = {"wheel_bearing_stiffness_N_m", "N/m", 1e3, 1e14, NA, 0, "wheel bearings, x y z"},
+    [PH_ZB] = {"bearing_damping_ratio", "1", 0, 10, NA, 0, "modal zeta_b: xi = zeta_b sqrt(k)"},
+    [PH_CB1] = {"worm_bearing_damping_Ns_m", "N s/m", 0, 1e9, NA, 0, "worm bearing damping"},
+    [PH_CB2] = {"wheel_bearing_damping_Ns_m", "N s/m", 0, 1e9, NA, 0, "wheel bearing damping"},
+    [PH_FMESH] = {"mesh_frequency_hz", "Hz", 0, 1e7, NA, 0, "mesh frequency (sets omega)"},
+};
+
+int wg_scene_nphys(void) { return NPHYS; }
+const wg_param_info *wg_scene_phys_info(int i) { return i >= 0 && i < NPHYS ? &phys[i] : NULL; }
+
+static const char *const state_keys[2][WG_NSTATE_MAX] = {
+    {"x1", "y1", "z1", "x2", "y2", "z2", "s", "dx1", "dy1", "dz1", "dx2", "dy2", "dz2", "ds"},
+    {"x1", "y1", "z1", "x2", "y2", "z2", "th1", "th2", "dx1", "dy1", "dz1", "dx2", "dy2",
+     "dz2", "dth1", "dth2"},
+};
+
+void wg_scale_default(wg_scale *s)
+{
+    s->omega_n_rad_s = 31901.0;
+    s->length_m = 1e-4;
+    s->me_kg = 1.965;
+    s->mesh_stiffness_N_m = s->me_kg * s->omega_n_rad_s * s->omega_n_rad_s;
+}
+
+typedef struct loader {
+    FILE *f;
+    const char *path;
+    int line;
+    wg_scene *sc;
+    char *why;
+    size_t whylen;
+    int rc;
+    double ph[NPHYS];
+    int ph_line[NPHYS];
+    int nphys;
+    int par_line[WG_NPARAM];
+    double par[WG_NPARAM];
+    int state_given;
+    double y0[2][WG_NSTATE_MAX]; /* [initial] in the consistent and printed layouts */
+} loader;
+
+static char *reader(char *str, int num, void *stream)
+{
+    loader *L = stream;
+    char *r = fgets(str, num, L->f);
+    if (r)
+        L->line++;
+    return r;
+}
+
+static int fail(loader *L, int rc, const char *fmt, const char *a, const char *b)
+{
+    if (L->rc == WG_OK) {
+        char msg[400];
+        snprintf(msg, sizeof msg, fmt, a, b);
+        snprintf(L->why, L->whylen, "%s:%d: %s", L->path, L->line, msg);
+        L->rc = rc;
+    }
+    return 0;
+}
+
+static int number(loader *L, const wg_param_info *row, const char *value, double *out)
+{
+    char *end;
+    double x = strtod(value, &end);
+    while (end != value && (*end == ' ' || *end == '\t'))
+        end++;
+    if (end == value || *end != '\0' || !isfinite(x)) {
+        char rng[80];
+        snprintf(rng, sizeof rng, "[%g, %g] %s", row->min, row->max, row->unit);
+        return fail(L, WG_EINVAL, "%s: not a number (allowed %s)", row->name, rng);
+    }
+    if (x < row->min || x > row->max) {
+        char msg[120];
+        snprintf(msg, sizeof msg, "%.17g out of range [%g, %g] %s", x, row->min, row->max,
+                 row->unit);
+        return fail(L, WG_ERANGE, "%s: value %s", row->name, msg);
+    }
+    *out = x;
+    return 1;
+}
+
+static int on_scene(loader *L, const char *name, const char *value)
+{
+    wg_scene *sc = L->sc;
+    if (strcmp(name, "name") == 0)
+        snprintf(sc->name, sizeof sc->name, "%s", value);
+    else if (strcmp(name, "description") == 0)
+        snprintf(sc->description, sizeof sc->description, "%s", value);
+    else if (strcmp(name, "model") == 0) {
+        if (strcmp(value, "consistent") == 0)
+            sc->model = WG_MODEL_CONSISTENT;
+        else if (strcmp(value, "printed") == 0)
+            sc->model = WG_MODEL_PRINTED;
+        else
+            return fail(L, WG_EINVAL, "model: '%s' is not one of [consistent, printed]%s", value, "");
+    } else
+        return fail(L, WG_EUNKNOWN, "[scene] %s: unknown key (allowed: name, description, model)%s",
+                    name, "");
+    return 1;
+}
+
+static int on_initial(loader *L, const char *name, const char *value)
+{
+    if (strcmp(name, "state") == 0) {
+        if (strcmp(value, "equilibrium") == 0)
+            L->state_given = 0;
+        else if (strcmp(value, "given") == 0)
+            L->state_given = 1;
+        else
+            return fail(L, WG_EINVAL, "state: '%s' is not one of [equilibrium, given]%s", value, "");
+        return 1;
+    }
+    int found = 0;
+    for (int m = 0; m < 2; m++)
+        for (int i = 0; i < WG_NSTATE_MAX && state_keys[m][i]; i++)
+            if (strcmp(state_keys[m][i], name) == 0) {
+                wg_param_info row = {name, "1", -1e6, 1e6, 0, 0, ""};
+                if (!number(L, &row, value, &L->y0[m][i]))
+                    return 0;
+                found = 1;
+            }
+    if (found)
+        return 1;
+    return fail(L, WG_EUNKNOWN, "[initial] %s: unknown key (state, x1..z2, s or th1 th2, dx1..ds)%s", name, "");
+}
+
+static int handler(void *user, const char *section, const char *name, const char *value)
+{
+    loader *L = user;
+    if (strcmp(section, "scene") == 0)
+        return on_scene(L, name, value);
+    if (strcmp(section, "initial") == 0)
+        return on_initial(L, name, value);
+    if (strcmp(section, "params") == 0) {
+        int id = wg_param_lookup(name);
+        if (id < 0)
+            return fail(L, WG_EUNKNOWN, "[params] %s: unknown parameter%s", name, "");
+        if (!number(L, wg_param_info_get(id), value, &L->par[id]))
+            return 0;
+        L->par_line[id] = L->line;
+        return 1;
+    }
+    if (strcmp(section, "physical") == 0 || strcmp(section, "scale") == 0) {
+        int scale = section[1] == 'c';
+        static const char *const scale_keys[] = {"omega_n_rad_s", "length_m", "mesh_stiffness_N_m"};
+        if (scale) {
+            for (int i = 0; i < 3; i++)
+                if (strcmp(name, scale_keys[i]) == 0) {
+                    wg_param_info row = {name, i == 0 ? "rad/s" : i == 1 ? "m" : "N/m",
+                                         i == 1 ? 1e-9 : 1e-3, 1e15, 0, 0, ""};
+                    double x;
+                    if (!number(L, &row, value, &x))
+                        return 0;
+                    double *dst[] = {&L->sc->scale.omega_n_rad_s, &L->sc->scale.length_m,
+                                     &L->sc->scale.mesh_stiffness_N_m};
+                    *dst[i] = x;
+                    return 1;
+                }
+            return fail(L, WG_EUNKNOWN, "[scale] %s: unknown key%s", name,
+                        " (omega_n_rad_s, length_m, mesh_stiffness_N_m)");
+        }
+        for (int i = 0; i < NPHYS; i++)
+            if (strcmp(name, phys[i].name) == 0) {
+                if (!number(L, &phys[i], value, &L->ph[i]))
+                    return 0;
+                L->ph_line[i] = L->line;
+                L->nphys++;
+                return 1;
+            }
+        return fail(L, WG_EUNKNOWN, "[physical] %s: unknown key%s", name,
+                    " (see wgsim --help for the list)");
+    }
+    return fail(L, WG_EUNKNOWN, "[%s]: unknown section%s", section,
+                " (allowed: scene, params, physical, scale, initial)");
+}
+
+/* Convert the [physical] section (MODEL.md s3). */
+static int convert(loader *L)
+{
+    double *ph = L->ph;
+    wg_params *p = &L->sc->p;
+    static const int need[] = {PH_R2, PH_M1, PH_I1, PH_M2, PH_I2, PH_KM};
+    for (unsigned i = 0; i < sizeof need / sizeof need[0]; i++)
+        if (isnan(ph[need[i]])) {
+            L->line = 0;
+            snprintf(L->why, L->whylen, "%s: [physical] needs %s (%s)", L->path,
+                     phys[need[i]].name, phys[need[i]].help);
+            return WG_EINVAL;
+        }
+    double bc = ph[PH_LENGTH];
+    double an = ph[PH_ALPHA] * M_PI / 180.0;
+    double beta = atan(ph[PH_STARTS] * ph[PH_MODULE] / ph[PH_D1]);
+    double a1 = cos(an) * sin(beta), a2 = sin(an), a3 = cos(an) * cos(beta);
+    double R1 = (isnan(ph[PH_R1]) ? 0.5 * ph[PH_D1] : ph[PH_R1]) * 1e-3, R2 = ph[PH_R2] * 1e-3;
+    double me = 1.0 / (a1 * a1 * R1 * R1 / ph[PH_I1] + a3 * a3 * R2 * R2 / ph[PH_I2]);
+    double wn = sqrt(ph[PH_KM] / me);
+    double M[2] = {ph[PH_M1], ph[PH_M2]};
+    int rigid = ph[PH_RIGID] != 0.0;
+    p->v[WG_P_A1] = a1;
+    p->v[WG_P_A2] = a2;
+    p->v[WG_P_A3] = a3;
+    p->v[WG_P_MU1] = rigid ? 0.0 : me / M[0];
+    p->v[WG_P_MU2] = rigid ? 0.0 : me / M[1];
+    double kb[2] = {isnan(ph[PH_KB1]) ? ph[PH_KB] : ph[PH_KB1],
+                    isnan(ph[PH_KB2]) ? ph[PH_KB] : ph[PH_KB2]};
+    double cb[2] = {ph[PH_CB1], ph[PH_CB2]};
+    for (int b = 0; b < 2; b++)
+        for (int d = 0; d < 3; d++) {
+            int i = 3 * b + d;
+            if (!isnan(kb[b]))
+                p->v[WG_P_K1X + i] = kb[b] / (M[b] * wn * wn);
+            double k = p->v[WG_P_K1X + i];
+            if (!isnan(cb[b]))
+                p->v[WG_P_XI1X + i] = cb[b] / (2.0 * M[b] * wn);
+            else if (!isnan(ph[PH_ZB]))
+                p->v[WG_P_XI1X + i] = ph[PH_ZB] * sqrt(k);
+        }
+    if (!isnan(ph[PH_XIP]))
+        p->v[WG_P_XI_P] = ph[PH_XIP];
+    else if (!isnan(ph[PH_CM]))
+        p->v[WG_P_XI_P] = ph[PH_CM] / (2.0 * me * wn);
+    p->v[WG_P_XI_G] = ph[PH_XIG];
+    p->v[WG_P_K_A] = ph[PH_KA];
+    p->v[WG_P_PHI1] = ph[PH_PHI1];
+    p->v[WG_P_E_M] = ph[PH_TE] * 1e-6 / bc;
+    p->v[WG_P_PHI2] = ph[PH_PHI2];
+    p->v[WG_P_B] = ph[PH_BACKLASH] * 1e-6 / bc;
+    p->v[WG_P_B_J] = ph[PH_CLEAR] * 1e-6 / bc;
+    double fscale = a1 * R1 * ph[PH_KM] * bc;
+    p->v[WG_P_F_M] = ph[PH_TG] / fscale;
+    p->v[WG_P_F_E] = ph[PH_TE_AMP] / fscale;
+    p->v[WG_P_PHI] = ph[PH_PHI];
+    if (!isnan(ph[PH_FMESH]))
+        p->v[WG_P_OMEGA] = TWO_PI * ph[PH_FMESH] / wn;
+    wg_scale *s = &L->sc->scale;
+    s->omega_n_rad_s = wn;
+    s->length_m = bc;
+    s->mesh_stiffness_N_m = ph[PH_KM];
+    s->me_kg = me;
+    return WG_OK;
+}
+
+/* Range-check every derived value, naming the line it came from. */
+static int check_all(loader *L)
+{
+    char msg[300];
+    for (int i = 0; i < WG_NPARAM; i++)
+        if (wg_param_check(i, L->sc->p.v[i], msg, sizeof msg) != WG_OK) {
+            int line = L->par_line[i];
+            snprintf(L->why, L->whylen, "%s:%d: %s: %s%s", L->path, line,
+                     wg_param_info_get(i)->name, msg,
+                     line ? "" : " (derived from the [physical] section)");
+            return WG_ERANGE;
+        }
+    if (wg_params_check(&L->sc->p, msg, sizeof msg) != WG_OK) {
+        snprintf(L->why, L->whylen, "%s:%d: %s", L->path, L->par_line[WG_P_A1], msg);
+        return WG_ERANGE;
+    }
+    return WG_OK;
+}
+
+int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen)
+{
+    memset(sc, 0, sizeof *sc);
+    loader L;
+    memset(&L, 0, sizeof L);
+    L.path = path;
+    L.sc = sc;
+    L.why = why;
+    L.whylen = whylen;
+    for (int i = 0; i < NPHYS; i++)
+        L.ph[i] = phys[i].def;
+    wg_params_default(&sc->p);
+    wg_scale_default(&sc->scale);
+    snprintf(sc->path, sizeof sc->path, "%s", path);
+    L.f = fopen(path, "r");
+    if (!L.f) {
+        snprintf(why, whylen, "%s: cannot open scene file", path);
+        return WG_EIO;
+    }
+    int r = ini_parse_stream(reader, &L, handler, &L);
+    fclose(L.f);
+    if (L.rc)
+        return L.rc;
+    if (r != 0) {
+        snprintf(why, whylen, "%s:%d: syntax error (expected [section] or key = value)", path, r);
+        return WG_EINVAL;
+    }
+    if (L.nphys) {
+        sc->physical = 1;
+        int rc = convert(&L);
+        if (rc)
+            return rc;
+    }
+    for (int i = 0; i < WG_NPARAM; i++)
+        if (L.par_line[i])
+            sc->p.v[i] = L.par[i];
+    if (!sc->name[0]) {
+        const char *base = strrchr(path, '/');
+        snprintf(sc->name, sizeof sc->name, "%s", base ? base + 1 : path);
+        char *dot = strrchr(sc->name, '.');
+        if (dot)
+            *dot = '\0';
+    }
+    sc->has_state = L.state_given;
+    memcpy(sc->y0, L.y0[sc->model == WG_MODEL_PRINTED], sizeof sc->y0);
+    return check_all(&L);
+}
+
+static int exists(const char *p) { return access(p, R_OK) == 0; }
+
+int wg_scene_find(const char *name, char *path, size_t pathlen, char *why, size_t whylen)
+{
+    size_t n = strlen(name);
+    if (strchr(name, '/') || (n > 4 && strcmp(name + n - 4, ".ini") == 0)) {
+        snprintf(path, pathlen, "%s", name);
+        return WG_OK;
+    }
+    char dirs[2048];
+    const char *env = getenv("WG_SCENE_PATH");
+    snprintf(dirs, sizeof dirs, "%s%s%s:%s", env ? env : "", env ? ":" : "", WG_SOURCE_SCENES,
+             WG_INSTALL_SCENES);
+    for (char *save = NULL, *d = strtok_r(dirs, ":", &save); d; d = strtok_r(NULL, ":", &save)) {
+        if (!*d)
+            continue;
+        snprintf(path, pathlen, "%s/%s.ini", d, name);
+        if (exists(path))
+            return WG_OK;
+    }
+    snprintf(why, whylen, "scene '%s' not found (looked for %s.ini in $WG_SCENE_PATH, %s, %s)",
+             name, name, WG_SOURCE_SCENES, WG_INSTALL_SCENES);
+    return WG_EIO;
+}
+
+int wg_scene_open(wg_scene *sc, const char *name, char *why, size_t whylen)
+{
+    char path[512];
+    int rc = wg_scene_find(name, path, sizeof path, why, whylen);
+    return rc ? rc : wg_scene_load(sc, path, why, whylen);
+}
+
+void wg_scene_initial(const wg_scene *sc, double *y)
+{
+    int n = wg_model_nstate(sc->model);
+    if (sc->has_state)
+        memcpy(y, sc->y0, sizeof(double) * (size_t)n);
+    else
+        wg_equilibrium(sc->model, &sc->p, y);
+}

@@ -1,0 +1,730 @@
+/* wg_sim.c - the integration driver: steps, ramps, events, sections. */
+#include "model_internal.h"
+#include "wormgear/wg_status.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define TWO_PI 6.283185307179586
+#define ABSURD 1e9    /* |sum of state| beyond this is a blow-up */
+#define MAX_SPLITS 8  /* located crossings per step (rk4-event) */
+#define MAX_STEP_EVENTS 64
+
+/* Phase within one step: psi(t), omega(t) for 0 <= t <= h, piecewise
+ * quadratic while an omega ramp runs and linear after it ends (at t = tr). */
+typedef struct phase {
+    double psi0, om0, r, tr, om1;
+} phase;
+
+static void phase_at(const phase *ph, double t, double *psi, double *om)
+{
+    if (t <= ph->tr) {
+        *psi = ph->psi0 + t * (ph->om0 + 0.5 * ph->r * t);
+        *om = ph->om0 + ph->r * t;
+    } else {
+        double pe = ph->psi0 + ph->tr * (ph->om0 + 0.5 * ph->r * ph->tr);
+        *psi = pe + ph->om1 * (t - ph->tr);
+        *om = ph->om1;
+    }
+}
+
+static void exc_at(const wg_sim *s, const phase *ph, double t, wg_exc *e)
+{
+    double psi, om;
+    phase_at(ph, t, &psi, &om);
+    wg_exc_eval(&s->p, psi, om, e);
+}
+
+const char *wg_stepper_name(int st)
+{
+    return st == WG_STEPPER_RK4 ? "rk4" : st == WG_STEPPER_RK4_EVENT ? "rk4-event" : "?";
+}
+
+int wg_stepper_lookup(const char *name)
+{
+    if (strcmp(name, "rk4") == 0)
+        return WG_STEPPER_RK4;
+    if (strcmp(name, "rk4-event") == 0)
+        return WG_STEPPER_RK4_EVENT;
+    return -1;
+}
+
+static int nd_of(const wg_sim *s) { return s->nstate / 2; }
+
+static int zone_of(double x, double c) { return x > c ? 1 : x < -c ? -1 : 0; }
+
+/* Contact coordinates and rates at state y with excitation e. */
+static void contacts(const wg_sim *s, const double *y, const wg_exc *e, double *q, double *v)
+{
+    int nd = nd_of(s);
+    const double *c = s->kc.c;
+    double x = -e->te, dx = e->dte;
+    for (int i = 0; i < 6; i++) {
+        x += c[i] * y[i];
+        dx += c[i] * y[nd + i];
+        q[i + 1] = y[i];
+        v[i + 1] = y[nd + i];
+    }
+    if (s->cfg.model == WG_MODEL_PRINTED) {
+        x += y[6] + y[7];
+        dx += y[14] + y[15];
+    } else {
+        x += y[6];
+        dx += y[13];
+    }
+    q[0] = x;
+    v[0] = dx;
+}
+
+static double threshold(const wg_sim *s, int contact)
+{
+    return contact == WG_C_MESH ? s->p.v[WG_P_B] : s->p.v[WG_P_B_J];
+}
+
+static int ncontacts(const wg_sim *s)
+{
+    return (s->kflags & KF_BEAR) || s->cfg.model == WG_MODEL_PRINTED ? WG_NCONTACT : 1;
+}
+
+static void set_lock(wg_sim *s, int contact, int zone)
+{
+    double c = threshold(s, contact);
+    s->kc.w[contact] = zone != 0 ? 1.0 : 0.0;
+    s->kc.zc[contact] = zone * c;
+}
+
+/* ---- parameters --------------------------------------------------------- */
+
+static unsigned kflags_of(const wg_sim *s)
+{
+    const double *v = s->p.v;
+    unsigned f = 0;
+    if (v[WG_P_E_M] != 0.0)
+        f |= KF_EM;
+    if (v[WG_P_K_A] != 0.0)
+        f |= KF_KA;
+    if (v[WG_P_B] != 0.0)
+        f |= KF_MB;
+    if (v[WG_P_B_J] != 0.0)
+        f |= KF_BJ;
+    if (s->cfg.stepper == WG_STEPPER_RK4_EVENT)
+        f |= KF_LOCK;
+    if (!wg_params_torsional(&s->p))
+        f |= KF_BEAR;
+    return f;
+}
+
+static void coefficients(wg_sim *s)
+{
+    const double *v = s->p.v;
+    model_mesh_vectors(s->cfg.model, &s->p, s->kc.c, s->kc.m);
+    for (int i = 0; i < 6; i++) {
+        s->kc.k[i] = v[WG_P_K1X + i];
+        s->kc.d[i] = 2.0 * v[WG_P_XI1X + i];
+    }
+    s->kc.d[6] = 2.0 * v[WG_P_XI_G];
+    s->kc.dp = 2.0 * v[WG_P_XI_P];
+    s->kc.b = v[WG_P_B];
+    s->kc.bj = v[WG_P_B_J];
+    for (int j = 0; j < WG_NCONTACT; j++)
+        set_lock(s, j, s->zone[j]);
+    s->kflags = kflags_of(s);
+    s->kernel = s->cfg.model == WG_MODEL_PRINTED ? kernel_printed : kernel_select(s->kflags);
+}
+
+static void build_table(wg_sim *s)
+{
+    int n = s->cfg.steps_per_period;
+    double om = s->p.v[WG_P_OMEGA];
+    for (int j = 0; j <= 2 * n; j++)
+        wg_exc_eval(&s->p, M_PI * j / n, om, &s->table[j]);
+    s->table[2 * n] = s->table[0];
+    s->h = TWO_PI / (om * n);
+}
+
+/* Stability of N at frequency omega for parameters p. */
+static int check_steps(const wg_sim *s, double hmax, double omega, char *why, size_t whylen)
+{
+    int n = s->cfg.steps_per_period;
+    if (s->cfg.model != WG_MODEL_CONSISTENT)
+        return WG_OK;
+    int need = wg_min_steps(hmax, omega);
+    if (n < need) {
+        if (why && whylen)
+            snprintf(why, whylen,
+                     "%d steps per mesh period is below the RK4 stability limit at omega = %g: "
+                     "need N >= %d (h <= %.6g on the fastest linear mode)",
+                     n, omega, need, hmax);
+        return WG_ESTABILITY;
+    }
+    return WG_OK;
+}
+
+static void refresh_zones(wg_sim *s)
+{
+    wg_exc e;
+    wg_exc_eval(&s->p, wg_sim_psi(s), s->p.v[WG_P_OMEGA], &e);
+    contacts(s, s->y, &e, s->q, s->v);
+    for (int j = 0; j < WG_NCONTACT; j++) {
+        s->zone[j] = zone_of(s->q[j], threshold(s, j));
+        set_lock(s, j, s->zone[j]);
+    }
+}
+
+static void period_start(wg_sim *s)
+{
+    s->cur.period = s->period;
+    s->cur.min_xn = s->cur.max_xn = s->q[0];
+    s->cur.motion = s->zone[0] == 1 ? WG_MOTION_NO_IMPACT
+                    : s->zone[0] == 0 ? WG_MOTION_SINGLE : WG_MOTION_DOUBLE;
+    s->cur.impacts = 0;
+}
+
+int wg_sim_set_params(wg_sim *s, const wg_params *p, char *why, size_t whylen)
+{
+    int rc = wg_params_check(p, why, whylen);
+    if (rc)
+        return rc;
+    double hmax = wg_rk4_hmax(s->cfg.model, p);
+    rc = check_steps(s, hmax, p->v[WG_P_OMEGA], why, whylen);
+    if (rc)
+        return rc;
+    s->p = *p;
+    s->hmax = hmax;
+    s->ramp.active = 0;
+    if (wg_params_torsional(p) && s->cfg.model == WG_MODEL_CONSISTENT)
+        for (int i = 0; i < 6; i++) /* rigid bearings hold at zero */
+            s->y[i] = s->y[7 + i] = 0.0;
+    coefficients(s);
+    refresh_zones(s);
+    build_table(s);
+    return WG_OK;
+}
+
+int wg_sim_init(wg_sim *s, const wg_params *p, const wg_sim_config *cfg, char *why,
+                size_t whylen)
+{
+    memset(s, 0, sizeof *s);
+    if (cfg->model != WG_MODEL_CONSISTENT && cfg->model != WG_MODEL_PRINTED) {
+        snprintf(why, whylen, "model %d does not exist (consistent or printed)", cfg->model);
+        return WG_ERANGE;
+    }
+    if (cfg->stepper != WG_STEPPER_RK4 && cfg->stepper != WG_STEPPER_RK4_EVENT) {
+        snprintf(why, whylen, "stepper %d does not exist (rk4 or rk4-event)", cfg->stepper);
+        return WG_ERANGE;
+    }
+    if (cfg->steps_per_period < WG_STEPS_MIN || cfg->steps_per_period > WG_STEPS_MAX) {
+        snprintf(why, whylen, "steps per period = %d out of range [%d, %d]",
+                 cfg->steps_per_period, WG_STEPS_MIN, WG_STEPS_MAX);
+        return WG_ERANGE;
+    }
+    if (cfg->model == WG_MODEL_PRINTED && cfg->stepper == WG_STEPPER_RK4_EVENT) {
+        snprintf(why, whylen, "the printed form (for comparison only) supports the rk4 stepper only");
+        return WG_EUNSUPPORTED;
+    }
+    s->cfg = *cfg;
+    s->nstate = wg_model_nstate(cfg->model);
+    s->table = malloc(sizeof(wg_exc) * (size_t)(2 * cfg->steps_per_period + 1));
+    if (!s->table) {
+        snprintf(why, whylen, "out of memory for the excitation table");
+        return WG_ENOMEM;
+    }
+    wg_equilibrium(cfg->model, p, s->y);
+    int rc = wg_sim_set_params(s, p, why, whylen);
+    if (rc) {
+        wg_sim_fini(s);
+        return rc;
+    }
+    period_start(s);
+    return WG_OK;
+}
+
+void wg_sim_fini(wg_sim *s)
+{
+    free(s->table);
+    s->table = NULL;
+}
+
+int wg_sim_ramp(wg_sim *s, int id, double target, double dur, char *why, size_t whylen)
+{
+    const wg_param_info *r = wg_param_info_get(id);
+    if (!r) {
+        snprintf(why, whylen, "parameter id %d does not exist", id);
+        return WG_EUNKNOWN;
+    }
+    if (!(r->flags & WG_PF_RAMP)) {
+        snprintf(why, whylen, "%s cannot be ramped (geometry); use set", r->name);
+        return WG_EINVAL;
+    }
+    if (!(dur > 0.0) || !isfinite(dur)) {
+        snprintf(why, whylen, "ramp duration must be finite and > 0 (got %g)", dur);
+        return WG_ERANGE;
+    }
+    wg_params end = s->p;
+    end.v[id] = target;
+    int rc = wg_params_check(&end, why, whylen);
+    if (rc)
+        return rc;
+    /* Stability at both ends: stiffness and omega move monotonically. */
+    double hend = wg_rk4_hmax(s->cfg.model, &end);
+    double hlo = hend < s->hmax ? hend : s->hmax;
+    double omlo = fmin(s->p.v[WG_P_OMEGA], end.v[WG_P_OMEGA]);
+    rc = check_steps(s, hlo, omlo, why, whylen);
+    if (rc)
+        return rc;
+    s->hmax = hlo;
+    s->ramp = (wg_ramp){1, id, s->p.v[id], target, s->tau, dur};
+    return WG_OK;
+}
+
+void wg_sim_set_state(wg_sim *s, const double *y, uint32_t k, double tau)
+{
+    memcpy(s->y, y, sizeof(double) * (size_t)s->nstate);
+    s->k = k % (uint32_t)s->cfg.steps_per_period;
+    s->tau = tau;
+    s->tau_c = 0.0;
+    s->ramp.active = 0;
+    wg_params p = s->p;
+    char why[8];
+    wg_sim_set_params(s, &p, why, sizeof why); /* same parameters: cannot fail */
+    period_start(s);
+}
+
+void wg_sim_reset(wg_sim *s)
+{
+    double y[WG_NSTATE_MAX];
+    wg_equilibrium(s->cfg.model, &s->p, y);
+    wg_sim_set_state(s, y, 0, 0.0);
+    s->period = s->steps = s->nsplit = 0;
+    memset(s->nevents, 0, sizeof s->nevents);
+    period_start(s);
+}
+
+double wg_sim_psi(const wg_sim *s) { return TWO_PI * s->k / s->cfg.steps_per_period; }
+double wg_sim_omega(const wg_sim *s) { return s->p.v[WG_P_OMEGA]; }
+
+void wg_sim_outputs(const wg_sim *s, wg_outputs *o)
+{
+    wg_exc e;
+    wg_exc_eval(&s->p, wg_sim_psi(s), s->p.v[WG_P_OMEGA], &e);
+    wg_outputs_eval(s->cfg.model, &s->p, &e, s->y, o);
+}
+
+const char *wg_sim_kernel_name(const wg_sim *s, char *buf, size_t len)
+{
+    if (s->cfg.model == WG_MODEL_PRINTED) {
+        snprintf(buf, len, "printed");
+        return buf;
+    }
+    unsigned f = s->kflags;
+    snprintf(buf, len, "%s%s%s%s%s%s", f & KF_BEAR ? "full" : "torsional",
+             (f & KF_BEAR) && (f & KF_BJ) ? "+bj" : "", f & KF_MB ? "+b" : "",
+             f & KF_KA ? "+ka" : "", f & KF_EM ? "+em" : "", f & KF_LOCK ? "+locked" : "");
+    return buf;
+}
+
+/* ---- Hermite interpolation of a contact coordinate over one step ------- */
+
+typedef struct herm {
+    double q0, q1, d0, d1; /* values and h-scaled rates at the ends */
+} herm;
+
+static double herm_val(const herm *H, double t)
+{
+    double t2 = t * t, t3 = t2 * t;
+    return (2 * t3 - 3 * t2 + 1) * H->q0 + (t3 - 2 * t2 + t) * H->d0 + (-2 * t3 + 3 * t2) * H->q1 +
+           (t3 - t2) * H->d1;
+}
+
+static double herm_der(const herm *H, double t) /* d/dt, t in [0,1] */
+{
+    double t2 = t * t;
+    return (6 * t2 - 6 * t) * H->q0 + (3 * t2 - 4 * t + 1) * H->d0 + (-6 * t2 + 6 * t) * H->q1 +
+           (3 * t2 - 2 * t) * H->d1;
+}
+
+/* Root of H(t) = c in [0,1], given a sign change; Illinois false position. */
+static double herm_root(const herm *H, double c)
+{
+    double a = 0.0, b = 1.0, fa = H->q0 - c, fb = H->q1 - c;
+    int side = 0;
+    for (int it = 0; it < 60 && b - a > 1e-15; it++) {
+        double t = (fa * b - fb * a) / (fa - fb);
+        if (!(t > a && t < b))
+            t = 0.5 * (a + b);
+        double ft = herm_val(H, t) - c;
+        if (ft == 0.0)
+            return t;
+        if ((ft > 0) == (fb > 0)) {
+            b = t;
+            fb = ft;
+            if (side == -1)
+                fa *= 0.5;
+            side = -1;
+        } else {
+            a = t;
+            fa = ft;
+            if (side == 1)
+                fb *= 0.5;
+            side = 1;
+        }
+    }
+    return 0.5 * (a + b);
+}
+
+/* Minimum of H on (0,1) when the rate goes from negative to positive. */
+static double herm_min(const herm *H)
+{
+    /* H'(t) = A t^2 + B t + C */
+    double A = 6 * H->q0 + 3 * H->d0 - 6 * H->q1 + 3 * H->d1;
+    double B = -6 * H->q0 - 4 * H->d0 + 6 * H->q1 - 2 * H->d1;
+    double C = H->d0;
+    double t;
+    if (fabs(A) < 1e-300) {
+        t = -C / B;
+    } else {
+        double disc = B * B - 4 * A * C;
+        if (disc < 0)
+            return fmin(H->q0, H->q1);
+        double sq = sqrt(disc);
+        double qq = -0.5 * (B + (B >= 0 ? sq : -sq));
+        double r1 = qq / A, r2 = qq != 0 ? C / qq : r1;
+        /* the minimum is where H'' = 2 A t + B > 0 */
+        t = (2 * A * r1 + B > 0) ? r1 : r2;
+    }
+    double v = (t > 0 && t < 1) ? herm_val(H, t) : INFINITY;
+    return fmin(v, fmin(H->q0, H->q1));
+}
+
+static double herm_max(const herm *H)
+{
+    herm N = {-H->q0, -H->q1, -H->d0, -H->d1};
+    return -herm_min(&N);
+}
+
+/* ---- events ---------------------------------------------------------------- */
+
+typedef struct evbuf {
+    int n;
+    wg_event ev[MAX_STEP_EVENTS];
+} evbuf;
+
+/* Leaving zone z in direction dir (+1 up, -1 down) across the boundary at
+ * +-c: the threshold crossed and the event kind (MODEL.md s5). */
+static int transition(int z, int dir, double c, double *thr)
+{
+    if (dir < 0) {
+        *thr = z == 1 ? c : -c;
+        return z == 1 ? WG_EV_SEPARATION : WG_EV_BACK_IMPACT;
+    }
+    *thr = z == -1 ? -c : c;
+    return z == -1 ? WG_EV_BACK_RELEASE : WG_EV_DRIVE_IMPACT;
+}
+
+static void ev_push(evbuf *b, const wg_sim *s, double tau, int contact, int kind, double vel)
+{
+    if (b->n == MAX_STEP_EVENTS)
+        return;
+    b->ev[b->n++] = (wg_event){tau, vel, s->period, contact, kind};
+}
+
+/* Interpolate the crossings of contact j from zone z0 to z1 on one step. */
+static void interpolate_crossings(const wg_sim *s, evbuf *b, int j, int z0, int z1,
+                                  const herm *H, double t0, double len)
+{
+    double c = threshold(s, j), thr;
+    int dir = z1 > z0 ? 1 : -1;
+    for (int z = z0; z != z1; z += dir) {
+        int kind = transition(z, dir, c, &thr);
+        double t = herm_root(H, thr);
+        ev_push(b, s, s->tau + t0 + t * len, j, kind, herm_der(H, t) / len);
+    }
+}
+
+/* ---- rk4-event: split the step at located crossings -------------------- */
+
+static void substep(const wg_sim *s, const phase *ph, const double *ya, double *yb, double t0,
+                    double t1)
+{
+    wg_exc e[3];
+    exc_at(s, ph, t0, &e[0]);
+    exc_at(s, ph, 0.5 * (t0 + t1), &e[1]);
+    exc_at(s, ph, t1, &e[2]);
+    s->kernel(ya, yb, &s->kc, e, t1 - t0);
+}
+
+static void contacts_at(const wg_sim *s, const phase *ph, const double *y, double t, double *q,
+                        double *v)
+{
+    wg_exc e;
+    exc_at(s, ph, t, &e);
+    contacts(s, y, &e, q, v);
+}
+
+/* Integrate [0, h] from y0 into y1 with the zones of the kinked contacts
+ * (c > 0) locked between located crossings; y1 holds the unsplit trial
+ * step on entry. Crossings of smooth contacts (c = 0) are interpolated.
+ * Appends events; leaves s->zone as at the end of the step. */
+static void split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, double h,
+                       evbuf *b)
+{
+    double ya[WG_NSTATE_MAX], yc[WG_NSTATE_MAX];
+    double qa[WG_NCONTACT], va[WG_NCONTACT], qb[WG_NCONTACT], vb[WG_NCONTACT];
+    int nc = ncontacts(s);
+    double t = 0.0;
+    memcpy(ya, y0, sizeof ya);
+    memcpy(yc, y0, sizeof yc);
+    for (int splits = 0;; splits++) {
+        contacts_at(s, ph, ya, t, qa, va);
+        contacts_at(s, ph, y1, h, qb, vb);
+        int first = -1, dir = 0;
+        double tfirst = 2.0, thr = 0.0;
+        for (int j = 0; j < nc; j++) {
+            double c = threshold(s, j), th;
+            int z1 = zone_of(qb[j], c), z = s->zone[j], d = z1 > z ? 1 : -1;
+            if (z1 == z || c == 0.0)
+                continue;
+            herm H = {qa[j], qb[j], va[j] * (h - t), vb[j] * (h - t)};
+            transition(z, d, c, &th);
+            double tj = herm_root(&H, th);
+            if (tj < tfirst) {
+                tfirst = tj;
+                first = j;
+                thr = th;
+                dir = d;
+            }
+        }
+        if (first < 0 || splits == MAX_SPLITS)
+            break;
+        /* step to the crossing, then refine it by Newton on the coordinate */
+        double tc = t + tfirst * (h - t), qc[WG_NCONTACT], vc[WG_NCONTACT];
+        for (int it = 0; it < 3; it++) {
+            substep(s, ph, ya, yc, t, tc);
+            contacts_at(s, ph, yc, tc, qc, vc);
+            double r = qc[first] - thr;
+            if (fabs(r) <= 1e-13 * (1.0 + fabs(thr)) || vc[first] == 0.0)
+                break;
+            double tn = tc - r / vc[first];
+            if (!(tn > t && tn < h))
+                break;
+            tc = tn;
+        }
+        int kind = transition(s->zone[first], dir, thr >= 0 ? thr : -thr, &thr);
+        ev_push(b, s, s->tau + tc, first, kind, vc[first]);
+        s->zone[first] += dir;
+        set_lock(s, first, s->zone[first]);
+        s->nsplit++;
+        memcpy(ya, yc, sizeof ya);
+        t = tc;
+        substep(s, ph, ya, y1, t, h);
+    }
+    /* smooth contacts, and any left after MAX_SPLITS: interpolate over the
+     * last piece */
+    contacts_at(s, ph, y1, h, qb, vb);
+    for (int j = 0; j < nc; j++) {
+        int z1 = zone_of(qb[j], threshold(s, j));
+        if (z1 != s->zone[j]) {
+            herm H = {qa[j], qb[j], va[j] * (h - t), vb[j] * (h - t)};
+            interpolate_crossings(s, b, j, s->zone[j], z1, &H, t, h - t);
+            s->zone[j] = z1;
+            set_lock(s, j, z1);
+        }
+    }
+}
+
+/* ---- the step loop --------------------------------------------------------- */
+
+/* Finite and not absurd: one sum catches NaN, Inf and runaway values. */
+static int finite_state(const double *y, int n)
+{
+    double sum = 0.0;
+    for (int j = 0; j < n; j++)
+        sum += fabs(y[j]);
+    return sum < ABSURD;
+}
+
+static int cmp_event(const void *a, const void *b)
+{
+    double ta = ((const wg_event *)a)->tau, tb = ((const wg_event *)b)->tau;
+    return (ta > tb) - (ta < tb);
+}
+
+/* Prepare a ramp step: current values, h with exactly 2 pi / N of phase,
+ * and the phase law. Returns 1 if the ramp ends with this step. */
+static int ramp_step(wg_sim *s, phase *ph, double *h)
+{
+    wg_ramp *r = &s->ramp;
+    double dpsi = TWO_PI / s->cfg.steps_per_period;
+    double el = s->tau - r->tau0, tr = r->dur - el;
+    double slope = (r->v1 - r->v0) / r->dur;
+    ph->psi0 = wg_sim_psi(s);
+    if (r->id != WG_P_OMEGA) {
+        s->p.v[r->id] = el >= r->dur ? r->v1 : r->v0 + slope * el;
+        coefficients(s);
+        double om = s->p.v[WG_P_OMEGA];
+        *ph = (phase){ph->psi0, om, 0.0, INFINITY, om};
+        *h = dpsi / om;
+        return *h >= tr;
+    }
+    double om0 = el >= r->dur ? r->v1 : r->v0 + slope * el;
+    s->p.v[WG_P_OMEGA] = om0;
+    double pe = tr > 0 ? tr * (om0 + 0.5 * slope * tr) : 0.0;
+    if (pe >= dpsi) {
+        *h = 2.0 * dpsi / (om0 + sqrt(om0 * om0 + 2.0 * slope * dpsi));
+        *ph = (phase){ph->psi0, om0, slope, INFINITY, r->v1};
+        return 0;
+    }
+    tr = tr > 0 ? tr : 0.0;
+    *h = tr + (dpsi - pe) / r->v1;
+    *ph = (phase){ph->psi0, om0, slope, tr, r->v1};
+    return 1;
+}
+
+static void ramp_finish(wg_sim *s)
+{
+    s->p.v[s->ramp.id] = s->ramp.v1;
+    s->ramp.active = 0;
+    coefficients(s);
+    build_table(s);
+}
+
+static void emit_section(wg_sim *s, const wg_sink *sink)
+{
+    s->last = s->cur;
+    if (sink && sink->on_section) {
+        wg_section sec;
+        sec.tau = s->tau;
+        sec.omega = s->p.v[WG_P_OMEGA];
+        memcpy(sec.y, s->y, sizeof sec.y);
+        wg_sim_outputs(s, &sec.out);
+        sec.stats = s->cur;
+        sink->on_section(sink->ctx, &sec);
+    }
+}
+
+/* Bookkeeping after an accepted step from (q0, v0) to s->q, s->v. */
+static void after_step(wg_sim *s, const double *q0, const double *v0, double h, evbuf *b,
+                       const wg_sink *sink)
+{
+    herm H = {q0[0], s->q[0], v0[0] * h, s->v[0] * h};
+    if (v0[0] < 0 && s->v[0] > 0)
+        s->cur.min_xn = fmin(s->cur.min_xn, herm_min(&H));
+    else if (v0[0] > 0 && s->v[0] < 0)
+        s->cur.max_xn = fmax(s->cur.max_xn, herm_max(&H));
+    s->cur.min_xn = fmin(s->cur.min_xn, s->q[0]);
+    s->cur.max_xn = fmax(s->cur.max_xn, s->q[0]);
+    if (b->n > 1)
+        qsort(b->ev, (size_t)b->n, sizeof b->ev[0], cmp_event);
+    for (int i = 0; i < b->n; i++) {
+        wg_event *ev = &b->ev[i];
+        s->nevents[ev->contact][ev->kind]++;
+        if (ev->contact == WG_C_MESH) {
+            if (ev->kind == WG_EV_DRIVE_IMPACT || ev->kind == WG_EV_BACK_IMPACT)
+                s->cur.impacts++;
+            if (ev->kind == WG_EV_SEPARATION && s->cur.motion < WG_MOTION_SINGLE)
+                s->cur.motion = WG_MOTION_SINGLE;
+            if (ev->kind == WG_EV_BACK_IMPACT)
+                s->cur.motion = WG_MOTION_DOUBLE;
+        }
+        if (sink && sink->on_event)
+            sink->on_event(sink->ctx, ev);
+    }
+    int zm = s->zone[0];
+    if (zm <= 0 && s->cur.motion < (zm == 0 ? WG_MOTION_SINGLE : WG_MOTION_DOUBLE))
+        s->cur.motion = zm == 0 ? WG_MOTION_SINGLE : WG_MOTION_DOUBLE;
+}
+
+int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
+{
+    const uint32_t N = (uint32_t)s->cfg.steps_per_period;
+    const int nst = s->nstate, locked = s->cfg.stepper == WG_STEPPER_RK4_EVENT;
+    const void *kctx = s->cfg.model == WG_MODEL_PRINTED ? (const void *)&s->p : (const void *)&s->kc;
+    double ynew[WG_NSTATE_MAX];
+    memcpy(ynew, s->y, sizeof ynew); /* torsional kernels leave bearings alone */
+    uint64_t i;
+    int rc = WG_OK;
+    for (i = 0; i < n; i++) {
+        const wg_exc *e;
+        wg_exc live[3];
+        double h;
+        phase ph;
+        int ramp_ends = 0;
+        if (!s->ramp.active) {
+            e = &s->table[2 * s->k];
+            h = s->h;
+            double om = s->p.v[WG_P_OMEGA];
+            ph = (phase){wg_sim_psi(s), om, 0.0, INFINITY, om};
+        } else {
+            ramp_ends = ramp_step(s, &ph, &h);
+            exc_at(s, &ph, 0.0, &live[0]);
+            exc_at(s, &ph, 0.5 * h, &live[1]);
+            exc_at(s, &ph, h, &live[2]);
+            e = live;
+        }
+        s->kernel(s->y, ynew, kctx, e, h);
+        double q[WG_NCONTACT], v[WG_NCONTACT];
+        int nc = ncontacts(s), changed = 0;
+        contacts(s, ynew, &e[2], q, v);
+        for (int j = 0; j < nc; j++)
+            changed |= zone_of(q[j], threshold(s, j)) != s->zone[j];
+        evbuf b;
+        b.n = 0;
+        if (changed) {
+            int zsave[WG_NCONTACT];
+            memcpy(zsave, s->zone, sizeof zsave);
+            if (locked) {
+                split_step(s, &ph, s->y, ynew, h, &b);
+                contacts(s, ynew, &e[2], q, v);
+            } else {
+                for (int j = 0; j < nc; j++) {
+                    int z1 = zone_of(q[j], threshold(s, j));
+                    if (z1 != s->zone[j]) {
+                        herm H = {s->q[j], q[j], s->v[j] * h, v[j] * h};
+                        interpolate_crossings(s, &b, j, s->zone[j], z1, &H, 0.0, h);
+                        s->zone[j] = z1;
+                    }
+                }
+            }
+            if (!finite_state(ynew, nst)) { /* undo the zone updates */
+                memcpy(s->zone, zsave, sizeof zsave);
+                for (int j = 0; j < WG_NCONTACT; j++)
+                    set_lock(s, j, s->zone[j]);
+            }
+        }
+        if (!finite_state(ynew, nst)) {
+            rc = WG_ENONFINITE;
+            break;
+        }
+        /* commit */
+        double q0[WG_NCONTACT], v0[WG_NCONTACT];
+        memcpy(q0, s->q, sizeof q0);
+        memcpy(v0, s->v, sizeof v0);
+        memcpy(s->q, q, sizeof q);
+        memcpy(s->v, v, sizeof v);
+        memcpy(s->y, ynew, sizeof(double) * (size_t)nst);
+        double dt = h - s->tau_c, t = s->tau + dt;
+        s->tau_c = (t - s->tau) - dt;
+        s->tau = t;
+        s->steps++;
+        after_step(s, q0, v0, h, &b, sink);
+        if (++s->k == N)
+            s->k = 0;
+        if (ramp_ends)
+            ramp_finish(s);
+        else if (s->ramp.active && s->ramp.id == WG_P_OMEGA)
+            s->p.v[WG_P_OMEGA] = s->ramp.v0 + (s->ramp.v1 - s->ramp.v0) *
+                                                  (s->tau - s->ramp.tau0) / s->ramp.dur;
+        if (sink && sink->on_step)
+            sink->on_step(sink->ctx, s);
+        if (s->k == 0) {
+            s->period++;
+            emit_section(s, sink);
+            period_start(s);
+        }
+    }
+    if (done)
+        *done = i;
+    return rc;
+}

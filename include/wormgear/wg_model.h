@@ -1,0 +1,88 @@
+/* wg_model.h - the worm-gear equations of motion (MODEL.md sections 1-2).
+ *
+ * State vector y (dimensionless, lengths / b_c, time tau = omega_n t):
+ *   consistent form: y[0..6] = x1 y1 z1 x2 y2 z2 s, y[7..13] their velocities;
+ *   printed form:    y[0..7] = x1 y1 z1 x2 y2 z2 th1 th2, y[8..15] velocities.
+ * The excitation phase psi is kept outside y (see wg_sim.h). */
+#ifndef WG_MODEL_H
+#define WG_MODEL_H
+
+#include "wg_param.h"
+
+enum { WG_NDOF_MAX = 8, WG_NSTATE_MAX = 16 };
+
+enum wg_model_kind {
+    WG_MODEL_CONSISTENT = 0, /* 7 DOF + phase, the default (MODEL.md s2) */
+    WG_MODEL_PRINTED = 1     /* 8 DOF as printed, for comparison only (s1) */
+};
+
+/* Contacts that have a dead zone: the mesh at +-b, each bearing at +-b_j. */
+enum wg_contact {
+    WG_C_MESH, WG_C_X1, WG_C_Y1, WG_C_Z1, WG_C_X2, WG_C_Y2, WG_C_Z2, WG_NCONTACT
+};
+
+/* Contact event kinds (MODEL.md s5), for the mesh and for each bearing. */
+enum wg_event_kind {
+    WG_EV_SEPARATION,   /* crossing +c downward */
+    WG_EV_DRIVE_IMPACT, /* crossing +c upward */
+    WG_EV_BACK_IMPACT,  /* crossing -c downward */
+    WG_EV_BACK_RELEASE, /* crossing -c upward */
+    WG_NEVKIND
+};
+
+/* Motion class of one mesh period (gear-rattle classes). */
+enum wg_motion { WG_MOTION_NO_IMPACT, WG_MOTION_SINGLE, WG_MOTION_DOUBLE };
+
+/* Excitation at one phase: k_p, TE term e_m cos(psi+phi2), its rate
+ * e_m omega sin(psi+phi2), and the torque term f_m + f_e cos(psi+phi). */
+typedef struct wg_exc {
+    double kp, te, dte, fx;
+} wg_exc;
+
+/* Derived mesh and bearing quantities at one state. Bearing forces are in
+ * units of the mesh force (K_m b_c): (k g(x) + 2 xi x') / mu. */
+typedef struct wg_outputs {
+    double xn, dxn, F;
+    double fb[6]; /* x1 y1 z1 x2 y2 z2 */
+} wg_outputs;
+
+/* Names for printing: "consistent", "mesh", "drive_impact", "single_sided" ... */
+const char *wg_model_name(int model);
+const char *wg_contact_name(int contact);
+const char *wg_event_name(int kind);
+const char *wg_motion_name(int motion);
+
+/* Number of state variables of a model (14 or 16). */
+int wg_model_nstate(int model);
+
+/* The dead-zone function g(x; c) of MODEL.md s2 (c >= 0). */
+double wg_deadzone(double x, double c);
+
+/* Excitation at phase psi (rad) and meshing frequency omega. */
+void wg_exc_eval(const wg_params *p, double psi, double omega, wg_exc *e);
+
+/* Reference right-hand side dy = f(y) for either model, unspecialised and
+ * unoptimised: the definition the fast kernels are tested against. */
+void wg_rhs(int model, const wg_params *p, const wg_exc *e, const double *y, double *dy);
+
+/* Mesh displacement, velocity, force and bearing forces at state y. */
+void wg_outputs_eval(int model, const wg_params *p, const wg_exc *e, const double *y,
+                     wg_outputs *o);
+
+/* True when the scene has rigid bearings (mu1 = mu2 = 0): only s moves. */
+int wg_params_torsional(const wg_params *p);
+
+/* Static equilibrium under the mean load (MODEL.md s4): x_n = b + f_m at
+ * psi = 0, bearings deflected by the static mesh force, zero velocities. */
+void wg_equilibrium(int model, const wg_params *p, double *y);
+
+/* Largest step h for which classical RK4 is stable on the model's linear
+ * part in its stiffest configuration (every contact engaged, k_p = 1 + k_a),
+ * found from the spectral radius of the RK4 step matrix. Consistent form
+ * only; returns 0 for the printed form (it has unstable modes by design). */
+double wg_rk4_hmax(int model, const wg_params *p);
+
+/* Smallest steps per mesh period N for which h = 2 pi/(omega N) <= hmax. */
+int wg_min_steps(double hmax, double omega);
+
+#endif

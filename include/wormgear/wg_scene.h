@@ -1,0 +1,60 @@
+/* wg_scene.h - scene files: INI, dimensionless or physical (MODEL.md s3-s4).
+ *
+ * [scene]    name, description, model = consistent|printed
+ * [params]   any row of the parameter table, dimensionless (wg_param.h)
+ * [physical] masses, inertias, radii, stiffnesses, torque, backlash in um...
+ *            converted once at load; [params] keys then override.
+ * [scale]    omega_n_rad_s, length_m, mesh_stiffness_N_m for physical output
+ * [initial]  state = equilibrium | given; with `given`, x1 ... ds values.
+ * Errors read "file:line: key: value out of range [min, max]". */
+#ifndef WG_SCENE_H
+#define WG_SCENE_H
+
+#include <stddef.h>
+#include "wg_param.h"
+#include "wg_model.h"
+
+/* Physical scale of a scene: how dimensionless numbers map to SI. */
+typedef struct wg_scale {
+    double omega_n_rad_s; /* natural frequency of the mesh mode */
+    double length_m;      /* b_c */
+    double mesh_stiffness_N_m; /* K_m */
+    double me_kg;         /* equivalent mass m_e */
+} wg_scale;
+
+typedef struct wg_scene {
+    char name[64];
+    char description[160];
+    char path[512];
+    int model;               /* enum wg_model_kind */
+    int physical;            /* 1 if given in physical units */
+    wg_params p;
+    wg_scale scale;
+    int has_state;           /* [initial] state = given */
+    double y0[WG_NSTATE_MAX];
+} wg_scene;
+
+/* Default physical scale (MODEL.md s3): omega_n 31901 rad/s, b_c 1e-4 m. */
+void wg_scale_default(wg_scale *s);
+
+/* Load a scene from a file. WG_OK, or WG_EIO / WG_EINVAL / WG_ERANGE /
+ * WG_EUNKNOWN with "file:line: key: ..." in why. */
+int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen);
+
+/* Resolve NAME or FILE: a path containing '/' or ending in ".ini" is used as
+ * given; otherwise NAME.ini is looked up in $WG_SCENE_PATH (colon-separated),
+ * the source tree's scenes/ and the installed data directory. */
+int wg_scene_find(const char *name_or_file, char *path, size_t pathlen,
+                  char *why, size_t whylen);
+
+/* wg_scene_find then wg_scene_load. */
+int wg_scene_open(wg_scene *sc, const char *name_or_file, char *why, size_t whylen);
+
+/* Initial state of the scene (given, or static equilibrium). */
+void wg_scene_initial(const wg_scene *sc, double *y);
+
+/* Physical parameter table (rows of the [physical] section), for --help. */
+int wg_scene_nphys(void);
+const wg_param_info *wg_scene_phys_info(int i);
+
+#endif

@@ -1,0 +1,157 @@
+/* wg_sim.h - fixed-step RK4 integration of the model, with the excitation
+ * phase, Poincare sections, contact events and per-period motion class.
+ *
+ * Steps are h = 2 pi / (omega N): the phase psi advances by exactly 2 pi / N
+ * per step (also during an omega ramp, where h is solved per step), so psi is
+ * an integer index k and the Poincare section psi = 0 falls on a step
+ * boundary. With constant parameters the excitation comes from a table built
+ * once (no libm in the hot loop). The kernel is chosen once per parameter
+ * change, specialised on what the scene needs (bearings or torsional only,
+ * dead zones, k_a, e_m). A wg_sim owns all its memory: nothing is allocated
+ * per step. */
+#ifndef WG_SIM_H
+#define WG_SIM_H
+
+#include <stdint.h>
+#include "wg_model.h"
+
+enum wg_stepper_kind {
+    WG_STEPPER_RK4 = 0,      /* classical RK4 on the true (kinked) RHS */
+    WG_STEPPER_RK4_EVENT = 1 /* RK4 split at located dead-zone crossings */
+};
+
+enum { WG_STEPS_MIN = 8, WG_STEPS_MAX = 65536, WG_STEPS_DEFAULT = 128 };
+
+typedef struct wg_sim_config {
+    int model;            /* enum wg_model_kind */
+    int stepper;          /* enum wg_stepper_kind */
+    int steps_per_period; /* N, WG_STEPS_MIN..WG_STEPS_MAX */
+} wg_sim_config;
+
+/* A located or interpolated crossing of a dead-zone boundary. */
+typedef struct wg_event {
+    double tau;      /* time of the crossing */
+    double velocity; /* rate of the contact coordinate at the crossing */
+    uint64_t period; /* mesh period it fell in */
+    int contact;     /* enum wg_contact */
+    int kind;        /* enum wg_event_kind */
+} wg_event;
+
+/* Statistics of one completed mesh period. */
+typedef struct wg_period {
+    uint64_t period;     /* index of the completed period, from 0 */
+    double min_xn;       /* minimum of x_n over the period (Hermite-refined) */
+    double max_xn;
+    int motion;          /* enum wg_motion */
+    int impacts;         /* mesh drive + back impacts in the period */
+} wg_period;
+
+/* Poincare sample: the state at psi = 0 (mod 2 pi), once per period. */
+typedef struct wg_section {
+    double tau, omega;
+    double y[WG_NSTATE_MAX];
+    wg_outputs out;
+    wg_period stats; /* the period that just ended */
+} wg_section;
+
+struct wg_sim;
+
+/* Output callbacks; any may be NULL (that work is then skipped). */
+typedef struct wg_sink {
+    void *ctx;
+    void (*on_step)(void *ctx, const struct wg_sim *sim);
+    void (*on_section)(void *ctx, const wg_section *sec);
+    void (*on_event)(void *ctx, const wg_event *ev);
+} wg_sink;
+
+typedef void (*wg_kernel_fn)(const double *restrict y0, double *restrict y1,
+                             const void *restrict kc, const wg_exc *restrict e, double h);
+
+/* Coefficients the kernels read (derived from wg_params at each change). */
+typedef struct wg_kcoef {
+    double c[7];      /* mesh direction: x_n = c . q (+ s) */
+    double m[7];      /* mass-ratio weights of F on each DOF */
+    double k[6];      /* bearing stiffness */
+    double d[7];      /* 2 xi per DOF (s: 2 xi_g) */
+    double dp;        /* 2 xi_p */
+    double b, bj;     /* dead zones */
+    double w[7], zc[7]; /* zone-locked g: g = w x - zc (rk4-event) */
+} wg_kcoef;
+
+typedef struct wg_ramp {
+    int active;
+    int id;           /* parameter ramped */
+    double v0, v1;    /* start and target value */
+    double tau0, dur; /* start time and duration (tau units, > 0) */
+} wg_ramp;
+
+typedef struct wg_sim {
+    wg_params p;          /* current parameters (ramped value included) */
+    wg_sim_config cfg;
+    int nstate;
+    double y[WG_NSTATE_MAX];
+    uint32_t k;           /* phase index: psi = 2 pi k / N */
+    uint64_t period;      /* completed mesh periods */
+    uint64_t steps;       /* accepted steps */
+    double tau, tau_c;    /* time and its compensation term (Kahan) */
+    double h;             /* step for constant omega */
+    double hmax;          /* RK4 stability limit for the current parameters */
+    wg_ramp ramp;
+    wg_kcoef kc;
+    wg_kernel_fn kernel;  /* specialised kernel for the current parameters */
+    unsigned kflags;      /* which specialisation (for reports) */
+    wg_exc *table;        /* 2N+1 excitation entries at half steps */
+    /* contact bookkeeping at the end of the last step */
+    int zone[WG_NCONTACT];
+    double q[WG_NCONTACT], v[WG_NCONTACT];
+    wg_period cur;        /* statistics of the period in progress */
+    wg_period last;       /* statistics of the last completed period */
+    uint64_t nevents[WG_NCONTACT][WG_NEVKIND];
+    uint64_t nsplit;      /* rk4-event: extra sub-steps taken */
+} wg_sim;
+
+/* Human names of the steppers: "rk4", "rk4-event"; lookup returns -1 if unknown. */
+const char *wg_stepper_name(int stepper);
+int wg_stepper_lookup(const char *name);
+
+/* Set up sim for parameters p and configuration cfg, in the static
+ * equilibrium, psi = 0, tau = 0. WG_ERANGE/WG_EUNSUPPORTED/WG_ESTABILITY
+ * with why; WG_ENOMEM. On error nothing needs freeing. */
+int wg_sim_init(wg_sim *sim, const wg_params *p, const wg_sim_config *cfg,
+                char *why, size_t whylen);
+
+/* Release the sim's memory. Safe on a zeroed or failed sim. */
+void wg_sim_fini(wg_sim *sim);
+
+/* Replace every parameter at once (atomic: all valid, or nothing changes).
+ * psi, tau and the state are continuous; an active ramp is cancelled.
+ * WG_ERANGE or WG_ESTABILITY (N too small for the new parameters) with why. */
+int wg_sim_set_params(wg_sim *sim, const wg_params *p, char *why, size_t whylen);
+
+/* Ramp parameter id linearly from its current value to `target` over `dur`
+ * tau units (dur > 0), phase-continuously. Only WG_PF_RAMP parameters.
+ * Validated against the table and, for omega, the stability limit. */
+int wg_sim_ramp(wg_sim *sim, int id, double target, double dur, char *why, size_t whylen);
+
+/* Set the state (nstate values) and phase index; resets period statistics. */
+void wg_sim_set_state(wg_sim *sim, const double *y, uint32_t k, double tau);
+
+/* Back to the static equilibrium at psi = 0, tau = 0, counters cleared. */
+void wg_sim_reset(wg_sim *sim);
+
+/* Advance n steps, reporting to sink (may be NULL). WG_OK, or
+ * WG_ENONFINITE with the state of the last good step kept (the failed step
+ * is not applied); *done (may be NULL) receives the steps taken. */
+int wg_sim_run(wg_sim *sim, uint64_t n, const wg_sink *sink, uint64_t *done);
+
+/* Current excitation phase psi in [0, 2 pi) and meshing frequency. */
+double wg_sim_psi(const wg_sim *sim);
+double wg_sim_omega(const wg_sim *sim);
+
+/* Outputs (x_n, x_n', F, bearing forces) at the current state. */
+void wg_sim_outputs(const wg_sim *sim, wg_outputs *o);
+
+/* Kernel specialisation as text, e.g. "full+bj+b+ka+em" or "torsional+b". */
+const char *wg_sim_kernel_name(const wg_sim *sim, char *buf, size_t len);
+
+#endif
