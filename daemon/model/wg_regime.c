@@ -1,0 +1,182 @@
+/* wg_regime.c - period detection, the live tracker, the wg_sim Poincare map
+ * adapter and the largest Lyapunov exponent by twin trajectories. */
+#include "wormgear/wg_regime.h"
+#include "wormgear/wg_status.h"
+
+#include <math.h>
+#include <string.h>
+
+static const char *const regime_names[] = {"none", "periodic", "quasiperiodic", "chaotic",
+                                           "diverged"};
+
+const char *wg_regime_name(int kind)
+{
+    return kind >= 0 && kind <= WG_REGIME_DIVERGED ? regime_names[kind] : "?";
+}
+
+/* ---- period detection -------------------------------------------------- */
+
+static double dist_inf(const double *a, const double *b, int dim)
+{
+    double d = 0.0;
+    for (int j = 0; j < dim; j++) {
+        double e = fabs(a[j] - b[j]);
+        if (!(e <= d)) /* also catches NaN */
+            d = e;
+    }
+    return d;
+}
+
+/* Largest distance between points n apart, stopping early above stop. */
+static double lag_resid(const double *pts, int npts, int dim, int n, double stop)
+{
+    double r = 0.0;
+    for (int i = npts - 1; i >= n; i--) {
+        double d = dist_inf(pts + (size_t)i * dim, pts + (size_t)(i - n) * dim, dim);
+        if (!(d <= r))
+            r = d;
+        if (!(r <= stop))
+            break;
+    }
+    return r;
+}
+
+int wg_period_detect(const double *pts, int npts, int dim, int nmax, double tol,
+                     double *resid)
+{
+    double best = INFINITY;
+    for (int n = 1; n <= nmax; n++) {
+        int pairs = npts - n;
+        if (pairs < n || pairs < 8)
+            break;
+        double r = lag_resid(pts, npts, dim, n, fmax(tol, best));
+        if (r <= tol) {
+            if (resid)
+                *resid = r;
+            return n;
+        }
+        if (r < best)
+            best = r;
+    }
+    if (resid)
+        *resid = best;
+    return 0;
+}
+
+/* ---- streaming tracker -------------------------------------------------- */
+
+void wg_tracker_init(wg_tracker *t, int dim, double tol)
+{
+    memset(t, 0, sizeof *t);
+    t->dim = dim < 1 ? 1 : dim > WG_NSTATE_MAX ? WG_NSTATE_MAX : dim;
+    t->tol = tol;
+}
+
+void wg_tracker_push(wg_tracker *t, const wg_section *sec)
+{
+    if (t->n == WG_TRACK_LEN) {
+        memmove(t->pts[0], t->pts[1], sizeof t->pts[0] * (WG_TRACK_LEN - 1));
+        memmove(t->imp, t->imp + 1, sizeof t->imp[0] * (WG_TRACK_LEN - 1));
+        memmove(t->mot, t->mot + 1, sizeof t->mot[0] * (WG_TRACK_LEN - 1));
+        t->n--;
+    }
+    memcpy(t->pts[t->n], sec->y, sizeof(double) * (size_t)t->dim);
+    t->imp[t->n] = sec->stats.impacts;
+    t->mot[t->n] = sec->stats.motion;
+    t->n++;
+    t->impacts = 0;
+    t->motion = 0;
+    for (int i = 0; i < t->n; i++) {
+        t->impacts += t->imp[i];
+        if (t->mot[i] > t->motion)
+            t->motion = t->mot[i];
+    }
+}
+
+int wg_tracker_period(const wg_tracker *t, double *resid)
+{
+    if (t->n < 16) {
+        if (resid)
+            *resid = INFINITY;
+        return 0;
+    }
+    /* rows of pts are WG_NSTATE_MAX apart: compare the first dim values */
+    double best = INFINITY;
+    for (int n = 1; n <= WG_PERIOD_MAX && t->n - n >= n && t->n - n >= 8; n++) {
+        double r = 0.0;
+        for (int i = t->n - 1; i >= n && r <= t->tol; i--)
+            r = fmax(r, dist_inf(t->pts[i], t->pts[i - n], t->dim));
+        if (r <= t->tol) {
+            if (resid)
+                *resid = r;
+            return n;
+        }
+        best = fmin(best, r);
+    }
+    if (resid)
+        *resid = best;
+    return 0;
+}
+
+/* ---- wg_sim as a Poincare map -------------------------------------------- */
+
+int wg_simmap_step(void *ctx, double *x)
+{
+    wg_simmap *sm = ctx;
+    wg_sim *s = sm->sim;
+    size_t bytes = sizeof(double) * (size_t)s->nstate;
+    /* a sim already at x and psi = 0 continues without a reset */
+    if (s->k != 0 || memcmp(s->y, x, bytes) != 0)
+        wg_sim_set_state(s, x, 0, s->tau);
+    uint64_t n = (uint64_t)sm->periods * (uint64_t)s->cfg.steps_per_period;
+    int rc = wg_sim_run(s, n, NULL, NULL);
+    memcpy(x, s->y, bytes);
+    return rc;
+}
+
+wg_map wg_simmap_map(wg_simmap *sm)
+{
+    return (wg_map){wg_simmap_step, sm, sm->sim->nstate};
+}
+
+/* ---- largest Lyapunov exponent -------------------------------------------- */
+
+static double dist2(const double *a, const double *b, int dim)
+{
+    double s = 0.0;
+    for (int j = 0; j < dim; j++)
+        s += (a[j] - b[j]) * (a[j] - b[j]);
+    return sqrt(s);
+}
+
+int wg_lle_twin(const wg_map *base, const wg_map *twin, double *x, int steps, double d0,
+                double *lle)
+{
+    int dim = base->dim;
+    double xt[WG_NSTATE_MAX > 64 ? WG_NSTATE_MAX : 64];
+    if (dim > 64 || twin->dim != dim || steps < 1 || !(d0 > 0.0))
+        return WG_EINVAL;
+    /* a fixed, deterministic direction touching every component */
+    double nrm = 0.0;
+    for (int j = 0; j < dim; j++)
+        nrm += (1.0 + 0.1 * j) * (1.0 + 0.1 * j);
+    for (int j = 0; j < dim; j++)
+        xt[j] = x[j] + d0 * (1.0 + 0.1 * j) / sqrt(nrm);
+    double sum = 0.0;
+    for (int k = 0; k < steps; k++) {
+        int rc = base->fn(base->ctx, x);
+        if (!rc)
+            rc = twin->fn(twin->ctx, xt);
+        if (rc)
+            return rc;
+        double d = dist2(x, xt, dim);
+        if (!(d > 0.0) || !isfinite(d)) /* collapsed onto the orbit: re-seed */
+            d = d0 * 1e-12;
+        sum += log(d / d0);
+        for (int j = 0; j < dim; j++)
+            xt[j] = d > d0 * 1e-12 ? x[j] + (xt[j] - x[j]) * (d0 / d)
+                                    : x[j] + d0 * (1.0 + 0.1 * j) / sqrt(nrm);
+    }
+    *lle = sum / steps;
+    return WG_OK;
+}

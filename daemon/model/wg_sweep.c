@@ -1,0 +1,396 @@
+/* wg_sweep.c - per-point regime analysis and chains with continuation, run
+ * on POSIX threads. Memory is allocated per chain (sims, record buffer),
+ * never per step or per point. */
+#include "wormgear/wg_sweep.h"
+#include "wormgear/wg_status.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define LOOSE_TOL 1e-4 /* period tolerance once the LLE says "converging" */
+
+/* Workspace of one chain: the main sim, its twin (LLE) and a 2N sim for the
+ * integration error, each (re)initialised when N changes. */
+typedef struct work {
+    const wg_sweep_opts *o;
+    wg_sim sim, twin, fine;
+    int n_sim, n_twin, n_fine; /* N each was built with (0: not built) */
+    int nstate;
+    double *rec;               /* record x nstate Poincare states */
+    wg_period *stats;          /* record period statistics */
+    int nrec;                  /* sections stored by the current recording */
+    volatile sig_atomic_t *stop;
+} work;
+
+void wg_sweep_opts_default(wg_sweep_opts *o)
+{
+    *o = (wg_sweep_opts){.model = WG_MODEL_CONSISTENT, .stepper = WG_STEPPER_RK4_EVENT,
+                         .steps = 256, .transient = 300, .record = 128, .extend = 3,
+                         .lle_periods = 300, .lle_d0 = 1e-7, .lle_tol = 0.01,
+                         .tol_factor = 10.0, .tol_floor = 1e-9, .floquet = 0,
+                         .fd_eps = 1e-6};
+}
+
+double wg_chain_value(const wg_chain *c, int i)
+{
+    int j = c->dir < 0 ? c->npts - 1 - i : i;
+    if (c->npts < 2)
+        return c->v0;
+    /* exact end points; interior by the same formula in either direction */
+    return j == c->npts - 1 ? c->v1 : c->v0 + (c->v1 - c->v0) * j / (c->npts - 1);
+}
+
+/* Steps per period for p: the requested N, raised to 1.25x the RK4 limit. */
+static int steps_for(const wg_sweep_opts *o, const wg_params *p)
+{
+    int need = wg_min_steps(wg_rk4_hmax(o->model, p), p->v[WG_P_OMEGA]);
+    int n = o->steps, lim = (int)ceil(1.25 * need);
+    if (n < lim)
+        n = (lim + 7) / 8 * 8;
+    return n > WG_STEPS_MAX ? WG_STEPS_MAX : n;
+}
+
+/* Make *s a sim with N steps for parameters p (re-init when N differs). */
+static int ensure_sim(const work *w, wg_sim *s, int *built, int n, const wg_params *p,
+                      char *why, size_t whylen)
+{
+    if (*built == n)
+        return wg_sim_set_params(s, p, why, whylen);
+    if (*built)
+        wg_sim_fini(s);
+    *built = 0;
+    wg_sim_config cfg = {w->o->model, w->o->stepper, n};
+    int rc = wg_sim_init(s, p, &cfg, why, whylen);
+    if (rc == WG_OK)
+        *built = n;
+    return rc;
+}
+
+static void work_fini(work *w)
+{
+    if (w->n_sim)
+        wg_sim_fini(&w->sim);
+    if (w->n_twin)
+        wg_sim_fini(&w->twin);
+    if (w->n_fine)
+        wg_sim_fini(&w->fine);
+    free(w->rec);
+    free(w->stats);
+    w->rec = NULL;
+    w->stats = NULL;
+}
+
+static int work_init(work *w, const wg_sweep_opts *o, volatile sig_atomic_t *stop)
+{
+    memset(w, 0, sizeof *w);
+    w->o = o;
+    w->stop = stop;
+    w->nstate = wg_model_nstate(o->model);
+    w->rec = malloc(sizeof(double) * (size_t)o->record * (size_t)w->nstate);
+    w->stats = malloc(sizeof(wg_period) * (size_t)o->record);
+    if (!w->rec || !w->stats) {
+        work_fini(w);
+        return WG_ENOMEM;
+    }
+    return WG_OK;
+}
+
+static void on_record(void *ctx, const wg_section *sec)
+{
+    work *w = ctx;
+    if (w->nrec >= w->o->record)
+        return;
+    memcpy(w->rec + (size_t)w->nrec * w->nstate, sec->y, sizeof(double) * (size_t)w->nstate);
+    w->stats[w->nrec++] = sec->stats;
+}
+
+static int run_periods(wg_sim *s, long periods, const wg_sink *sink)
+{
+    return wg_sim_run(s, (uint64_t)periods * (uint64_t)s->cfg.steps_per_period, sink, NULL);
+}
+
+/* Record o->record periods into w->rec / w->stats. */
+static int record(work *w)
+{
+    wg_sink sink = {w, NULL, on_record, NULL};
+    w->nrec = 0;
+    return run_periods(&w->sim, w->o->record, &sink);
+}
+
+/* One-period error of the N solution from the second-last recorded state:
+ * |P_2N(x) - P_N(x)| in the max norm (the 2N error is 16x smaller). */
+static int period_error(work *w, const wg_params *p, double *err, char *why, size_t whylen)
+{
+    int n2 = 2 * w->sim.cfg.steps_per_period;
+    if (n2 > WG_STEPS_MAX)
+        n2 = WG_STEPS_MAX;
+    int rc = ensure_sim(w, &w->fine, &w->n_fine, n2, p, why, whylen);
+    if (rc)
+        return rc;
+    double x[WG_NSTATE_MAX];
+    const double *a = w->rec + (size_t)(w->nrec - 2) * w->nstate, *b = a + w->nstate;
+    memcpy(x, a, sizeof(double) * (size_t)w->nstate);
+    wg_simmap sm = {&w->fine, 1};
+    if ((rc = wg_simmap_step(&sm, x)))
+        return rc;
+    double e = 0.0;
+    for (int j = 0; j < w->nstate; j++)
+        e = fmax(e, fabs(x[j] - b[j]));
+    *err = e;
+    return WG_OK;
+}
+
+/* Largest Lyapunov exponent from the main sim's current state. */
+static int point_lle(work *w, const wg_params *p, double *lle, char *why, size_t whylen)
+{
+    int rc = ensure_sim(w, &w->twin, &w->n_twin, w->sim.cfg.steps_per_period, p, why, whylen);
+    if (rc)
+        return rc;
+    wg_simmap sb = {&w->sim, 1}, st = {&w->twin, 1};
+    wg_map mb = wg_simmap_map(&sb), mt = wg_simmap_map(&st);
+    double x[WG_NSTATE_MAX];
+    memcpy(x, w->sim.y, sizeof x);
+    return wg_lle_twin(&mb, &mt, x, w->o->lle_periods, w->o->lle_d0, lle);
+}
+
+/* Fill the statistics of pt from the recorded sections. */
+static void point_stats(const work *w, wg_point *pt)
+{
+    pt->min_xn = INFINITY;
+    pt->max_xn = -INFINITY;
+    pt->motion = 0;
+    long imp = 0;
+    for (int i = 0; i < w->nrec; i++) {
+        const wg_period *st = &w->stats[i];
+        pt->min_xn = fmin(pt->min_xn, st->min_xn);
+        pt->max_xn = fmax(pt->max_xn, st->max_xn);
+        if (st->motion > pt->motion)
+            pt->motion = st->motion;
+        imp += st->impacts;
+    }
+    pt->impacts = w->nrec ? (double)imp / w->nrec : 0.0;
+}
+
+/* Store the last Poincare x_n, x_n' (recomputed from the stored states). */
+static void point_sections(const work *w, const wg_params *p, wg_point *pt)
+{
+    int k0 = w->nrec > WG_POINT_NSEC ? w->nrec - WG_POINT_NSEC : 0;
+    wg_exc e;
+    wg_exc_eval(p, 0.0, p->v[WG_P_OMEGA], &e);
+    pt->nsec = w->nrec - k0;
+    for (int i = 0; i < pt->nsec; i++) {
+        wg_outputs out;
+        wg_outputs_eval(w->o->model, p, &e, w->rec + (size_t)(k0 + i) * w->nstate, &out);
+        pt->xn[i] = out.xn;
+        pt->dxn[i] = out.dxn;
+    }
+}
+
+/* Period with the strict tolerance, extending the transient while none is
+ * found. Returns the period (0: none) or a negative status. */
+static int find_period(work *w, const wg_params *p, wg_point *pt, char *why, size_t whylen)
+{
+    for (int attempt = 0;; attempt++) {
+        int rc = record(w);
+        if (rc)
+            return rc;
+        if (attempt == 0) {
+            if ((rc = period_error(w, p, &pt->err, why, whylen)))
+                return rc;
+            pt->tol = fmax(w->o->tol_floor, w->o->tol_factor * pt->err);
+        }
+        int n = wg_period_detect(w->rec, w->nrec, w->nstate, WG_PERIOD_MAX, pt->tol, &pt->resid);
+        if (n || attempt >= w->o->extend || (w->stop && *w->stop))
+            return n;
+        if ((rc = run_periods(&w->sim, w->o->transient, NULL)))
+            return rc;
+    }
+}
+
+/* Classify an orbit with no strict period: LLE, then a fresh record. */
+static int classify_aperiodic(work *w, const wg_params *p, wg_point *pt, char *why,
+                              size_t whylen)
+{
+    int rc = point_lle(w, p, &pt->lle, why, whylen);
+    if (!rc)
+        rc = record(w);
+    if (rc)
+        return rc;
+    int n = wg_period_detect(w->rec, w->nrec, w->nstate, WG_PERIOD_MAX, pt->tol, &pt->resid);
+    pt->converged = n > 0;
+    if (!n && pt->lle <= w->o->lle_tol)
+        n = wg_period_detect(w->rec, w->nrec, w->nstate, WG_PERIOD_MAX,
+                             fmax(pt->tol, LOOSE_TOL), &pt->resid);
+    pt->period = n;
+    if (n || pt->lle < -w->o->lle_tol)
+        pt->regime = WG_REGIME_PERIODIC;
+    else
+        pt->regime = pt->lle > w->o->lle_tol ? WG_REGIME_CHAOTIC : WG_REGIME_QUASIPERIODIC;
+    return WG_OK;
+}
+
+/* Floquet multipliers of the period-n orbit through the current state. */
+static int point_floquet(work *w, wg_point *pt)
+{
+    wg_simmap sm = {&w->sim, pt->period};
+    wg_map m = wg_simmap_map(&sm);
+    int rc = wg_floquet(&m, w->sim.y, w->o->fd_eps, pt->floq_re, pt->floq_im);
+    if (rc == WG_OK)
+        pt->nfloq = w->nstate;
+    return rc;
+}
+
+/* The analysis of one point from state y (updated to the final state). */
+static int point_analyse(work *w, const wg_params *p, double *y, wg_point *pt, char *why,
+                         size_t whylen)
+{
+    memset(pt, 0, sizeof *pt);
+    pt->lle = NAN;
+    pt->steps = steps_for(w->o, p);
+    int rc = ensure_sim(w, &w->sim, &w->n_sim, pt->steps, p, why, whylen);
+    if (rc)
+        return rc;
+    wg_sim_set_state(&w->sim, y, 0, 0.0);
+    rc = run_periods(&w->sim, w->o->transient, NULL);
+    int n = rc ? rc : find_period(w, p, pt, why, whylen);
+    if (n > 0) {
+        pt->regime = WG_REGIME_PERIODIC;
+        pt->period = n;
+        pt->converged = 1;
+    } else if (n == 0) {
+        n = classify_aperiodic(w, p, pt, why, whylen);
+    }
+    if (n < 0) {
+        pt->regime = n == WG_ENONFINITE ? WG_REGIME_DIVERGED : WG_REGIME_NONE;
+        snprintf(why, whylen, "%s", wg_status_str(n));
+        return n;
+    }
+    point_stats(w, pt);
+    point_sections(w, p, pt);
+    memcpy(y, w->sim.y, sizeof(double) * (size_t)w->nstate);
+    memcpy(pt->y_end, y, sizeof(double) * (size_t)w->nstate);
+    if (w->o->floquet && pt->regime == WG_REGIME_PERIODIC && pt->period > 0)
+        point_floquet(w, pt); /* a failure leaves nfloq = 0 */
+    return WG_OK;
+}
+
+int wg_point_run(const wg_params *p, const wg_sweep_opts *o, double *y, wg_point *pt,
+                 char *why, size_t whylen)
+{
+    work w;
+    int rc = work_init(&w, o, NULL);
+    if (rc) {
+        snprintf(why, whylen, "out of memory for the record buffer");
+        return rc;
+    }
+    rc = point_analyse(&w, p, y, pt, why, whylen);
+    pt->value = p->v[WG_P_OMEGA];
+    work_fini(&w);
+    return rc;
+}
+
+int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *stop,
+                 wg_progress_fn progress, void *ctx)
+{
+    work w;
+    c->ndone = 0;
+    c->why[0] = 0;
+    if ((c->status = work_init(&w, o, stop))) {
+        snprintf(c->why, sizeof c->why, "out of memory for the record buffer");
+        return c->status;
+    }
+    double y[WG_NSTATE_MAX] = {0};
+    wg_params p = c->base;
+    p.v[c->param] = wg_chain_value(c, 0);
+    if (c->has_y0)
+        memcpy(y, c->y0, sizeof y);
+    else
+        wg_equilibrium(o->model, &p, y);
+    for (int i = 0; i < c->npts && !(stop && *stop); i++) {
+        p.v[c->param] = wg_chain_value(c, i);
+        wg_point *pt = &c->pts[i];
+        int rc = wg_params_check(&p, c->why, sizeof c->why);
+        if (!rc)
+            rc = point_analyse(&w, &p, y, pt, c->why, sizeof c->why);
+        pt->value = p.v[c->param];
+        pt->value2 = c->param2 >= 0 ? p.v[c->param2] : NAN;
+        if (rc && rc != WG_ENONFINITE) {
+            c->status = rc;
+            break;
+        }
+        if (rc) /* diverged: keep the point, restart from equilibrium */
+            wg_equilibrium(o->model, &p, y);
+        c->ndone = i + 1;
+        if (progress)
+            progress(ctx, -1, c->ndone); /* the pool knows the index */
+    }
+    work_fini(&w);
+    return c->status;
+}
+
+/* ---- threads ------------------------------------------------------------- */
+
+typedef struct pool {
+    wg_chain *cs;
+    int n, next;
+    const wg_sweep_opts *o;
+    volatile sig_atomic_t *stop;
+    wg_progress_fn progress;
+    void *ctx;
+    pthread_mutex_t lock;
+} pool;
+
+typedef struct pool_cb {
+    pool *pl;
+    int chain;
+} pool_cb;
+
+static void pool_progress(void *ctx, int chain, int ndone)
+{
+    (void)chain;
+    pool_cb *cb = ctx;
+    pthread_mutex_lock(&cb->pl->lock);
+    if (cb->pl->progress)
+        cb->pl->progress(cb->pl->ctx, cb->chain, ndone);
+    pthread_mutex_unlock(&cb->pl->lock);
+}
+
+static void *pool_worker(void *arg)
+{
+    pool *pl = arg;
+    for (;;) {
+        pthread_mutex_lock(&pl->lock);
+        int i = pl->next < pl->n ? pl->next++ : -1;
+        pthread_mutex_unlock(&pl->lock);
+        if (i < 0 || (pl->stop && *pl->stop))
+            return NULL;
+        pool_cb cb = {pl, i};
+        wg_chain_run(&pl->cs[i], pl->o, pl->stop, pool_progress, &cb);
+    }
+}
+
+int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
+                  volatile sig_atomic_t *stop, wg_progress_fn progress, void *ctx)
+{
+    pool pl = {cs, n, 0, o, stop, progress, ctx, PTHREAD_MUTEX_INITIALIZER};
+    enum { TMAX = 256 };
+    pthread_t tid[TMAX];
+    int nt = threads < 1 ? 1 : threads > TMAX ? TMAX : threads;
+    if (nt > n)
+        nt = n;
+    int started = 0;
+    for (int t = 1; t < nt; t++)
+        if (pthread_create(&tid[started], NULL, pool_worker, &pl) == 0)
+            started++;
+    pool_worker(&pl);
+    for (int t = 0; t < started; t++)
+        pthread_join(tid[t], NULL);
+    pthread_mutex_destroy(&pl.lock);
+    for (int i = 0; i < n; i++)
+        if (cs[i].status)
+            return cs[i].status;
+    return WG_OK;
+}

@@ -1,0 +1,110 @@
+/* wg_regime.h - regime of an orbit: period from Poincare points, largest
+ * Lyapunov exponent, Floquet multipliers (MODEL.md s5).
+ *
+ * Everything here works on a *map*: a function that advances a state by one
+ * mesh period (the Poincare map psi = 0 -> psi = 2 pi). wg_simmap adapts a
+ * wg_sim to that interface, so the daemon's STATUS, wgsweep and wgrig share
+ * one implementation; tests plug in textbook maps (logistic, Henon, linear).
+ * Nothing allocates: callers own every buffer. */
+#ifndef WG_REGIME_H
+#define WG_REGIME_H
+
+#include <stddef.h>
+#include "wg_sim.h"
+
+enum { WG_PERIOD_MAX = 32, WG_TRACK_LEN = 96 };
+
+/* Regime of an attractor. */
+enum wg_regime_kind {
+    WG_REGIME_NONE = 0,     /* not computed (interrupted, or too few points) */
+    WG_REGIME_PERIODIC,     /* period-n, n = 1..32 */
+    WG_REGIME_QUASIPERIODIC,/* no period <= 32, largest exponent ~ 0 */
+    WG_REGIME_CHAOTIC,      /* largest exponent > 0 */
+    WG_REGIME_DIVERGED      /* the integration blew up */
+};
+
+/* A map x -> P(x) on dim doubles, in place; returns WG_OK or a status. */
+typedef struct wg_map {
+    int (*fn)(void *ctx, double *x);
+    void *ctx;
+    int dim;
+} wg_map;
+
+/* Poincare map of a wg_sim: `periods` mesh periods of the sim's N steps from
+ * psi = 0. The sim's parameters must stay constant while it is used. */
+typedef struct wg_simmap {
+    wg_sim *sim;
+    int periods;
+} wg_simmap;
+
+/* "none", "periodic", "quasiperiodic", "chaotic", "diverged". */
+const char *wg_regime_name(int kind);
+
+/* Smallest n in 1..nmax such that every pair of the npts points (each dim
+ * doubles, row-major) that are n apart lies within tol (max norm); 0 if no
+ * such n with at least max(n, 8) pairs. *resid (may be NULL) receives the
+ * largest pair distance for the n returned, or the smallest such distance
+ * over all n when 0 is returned. */
+int wg_period_detect(const double *pts, int npts, int dim, int nmax, double tol,
+                     double *resid);
+
+/* Streaming period detection for a live run (daemon STATUS): the last
+ * WG_TRACK_LEN Poincare states and period statistics, no allocation. */
+typedef struct wg_tracker {
+    double pts[WG_TRACK_LEN][WG_NSTATE_MAX];
+    int dim, n;
+    double tol;
+    int motion;      /* worst motion class over the stored periods */
+    long impacts;    /* mesh impacts over the stored periods */
+    int imp[WG_TRACK_LEN], mot[WG_TRACK_LEN];
+} wg_tracker;
+
+/* Empty tracker for states of `dim` values, period tolerance tol (> 0). */
+void wg_tracker_init(wg_tracker *t, int dim, double tol);
+
+/* Add one Poincare section (the oldest drops out when full). */
+void wg_tracker_push(wg_tracker *t, const wg_section *sec);
+
+/* Period of the stored sections (0: none found or fewer than 16 stored). */
+int wg_tracker_period(const wg_tracker *t, double *resid);
+
+/* Adapter: wg_map over sm (fn = wg_simmap_step, dim = sim's nstate). */
+wg_map wg_simmap_map(wg_simmap *sm);
+
+/* Map function of wg_simmap: set the state x at psi = 0, run, copy back.
+ * WG_OK or WG_ENONFINITE. */
+int wg_simmap_step(void *ctx, double *x);
+
+/* Largest Lyapunov exponent by a twin trajectory renormalised every map
+ * step (Benettin): `base` and `twin` are two maps of the same system (they
+ * may share nothing), x the start (advanced in place along the orbit), d0
+ * the separation (Euclidean). *lle receives the exponent per map step
+ * (per mesh period for a wg_simmap of 1 period). WG_OK or a map error. */
+int wg_lle_twin(const wg_map *base, const wg_map *twin, double *x, int steps, double d0,
+                double *lle);
+
+/* Jacobian of the map at x by central differences with step eps scaled by
+ * max(1, |x_j|): M (dim x dim, row-major) with M[i*dim+j] = dP_i/dx_j. The
+ * map is applied 2 dim times; x is unchanged. WG_OK or a map error. */
+int wg_jacobian(const wg_map *m, const double *x, double eps, double *M);
+
+/* Eigenvalues of a real n x n matrix A (row-major, destroyed), n <= 16:
+ * balancing, Hessenberg reduction and Francis double-shift QR. wr, wi get
+ * the real and imaginary parts, sorted by decreasing modulus. WG_OK, or
+ * WG_ENONFINITE if QR did not converge. */
+int wg_eig(int n, double *A, double *wr, double *wi);
+
+/* Refine a fixed point of the map by Newton's method (finite-difference
+ * Jacobians): x <- x - (M - I)^-1 (P(x) - x) until the max-norm residual is
+ * below tol, at most maxit iterations. Finds unstable orbits too. *resid
+ * receives the final residual. WG_OK, WG_ERANGE if it did not converge or
+ * (M - I) is singular, or a map error. */
+int wg_fixed_point(const wg_map *m, double *x, double eps, double tol, int maxit,
+                   double *resid);
+
+/* Floquet multipliers of the periodic orbit through x: eigenvalues of the
+ * map's finite-difference Jacobian (the monodromy matrix when the map is n
+ * periods of an period-n orbit), sorted by decreasing modulus. */
+int wg_floquet(const wg_map *m, const double *x, double eps, double *wr, double *wi);
+
+#endif

@@ -1,0 +1,133 @@
+/* wg_sweep.h - parameter sweeps with continuation, per-point regime
+ * analysis, chains on threads, and the transitions table (MODEL.md s5-s6).
+ *
+ * A *chain* is a sequence of parameter values run in order, each point
+ * seeded with the previous point's final state (so jumps show as up/down
+ * hysteresis). Chains are independent: a 1-D study is two chains (up and
+ * down) per damping value, a 2-D map one chain per row. A chain's result
+ * depends only on its inputs, never on the thread or process that ran it. */
+#ifndef WG_SWEEP_H
+#define WG_SWEEP_H
+
+#include <signal.h>
+#include "wg_regime.h"
+
+enum { WG_POINT_NSEC = 128 };
+
+/* Analysis settings of every point of a sweep. */
+typedef struct wg_sweep_opts {
+    int model, stepper;  /* enum wg_model_kind, wg_stepper_kind */
+    int steps;           /* N per mesh period; raised to 1.25x the RK4 limit */
+    int transient;       /* periods run before recording (each point) */
+    int record;          /* periods recorded for period detection, >= 64 */
+    int extend;          /* extra transient blocks while no period is found */
+    int lle_periods;     /* twin-trajectory periods for aperiodic points */
+    double lle_d0;       /* twin separation */
+    double lle_tol;      /* |LLE| per period below this: quasi-periodic */
+    double tol_factor;   /* period tolerance = max(tol_floor, factor * err) */
+    double tol_floor;
+    int floquet;         /* compute Floquet multipliers of periodic points */
+    double fd_eps;       /* finite-difference step for Jacobians */
+} wg_sweep_opts;
+
+/* Result of one point. */
+typedef struct wg_point {
+    double value, value2; /* swept parameter value (and the row's, 2-D) */
+    int regime, period;   /* enum wg_regime_kind; n for periodic */
+    int converged;        /* period met tol (else inferred from LLE < 0) */
+    int motion;           /* worst motion class over the recorded periods */
+    int steps;            /* N used */
+    int nsec;             /* Poincare samples stored (<= WG_POINT_NSEC) */
+    double impacts;       /* mesh impacts per period */
+    double min_xn, max_xn;
+    double lle;           /* largest exponent per mesh period, NAN if not run */
+    double err;           /* one-period integration error estimate (max norm) */
+    double tol;           /* period tolerance used */
+    double resid;         /* period residual (max norm) */
+    double xn[WG_POINT_NSEC], dxn[WG_POINT_NSEC]; /* Poincare x_n, x_n' */
+    int nfloq;            /* multipliers stored (0 if not computed) */
+    double floq_re[WG_NSTATE_MAX], floq_im[WG_NSTATE_MAX];
+    double y_end[WG_NSTATE_MAX]; /* final state at psi = 0 */
+} wg_point;
+
+/* One chain: parameter `param` over npts values from v0 to v1 (inclusive,
+ * evenly spaced; dir = -1 runs them from v1 down to v0). */
+typedef struct wg_chain {
+    wg_params base;       /* every other parameter */
+    int param;            /* wg_param_id swept */
+    double v0, v1;
+    int npts, dir;
+    int param2;           /* row parameter of a 2-D map (-1: none); its value is in base */
+    int has_y0;           /* start from y0, else the static equilibrium */
+    double y0[WG_NSTATE_MAX];
+    wg_point *pts;        /* npts results, in run order; caller-owned */
+    int ndone;            /* points completed */
+    int status;           /* WG_OK or the error that stopped the chain */
+    char why[160];
+} wg_chain;
+
+/* Progress callback: one more point of chain `chain` is done. */
+typedef void (*wg_progress_fn)(void *ctx, int chain, int ndone);
+
+/* Defaults: rk4-event, N = 256, transient 300, record 128, extend 3,
+ * LLE 300 periods d0 1e-7 tol 0.01, tol = max(1e-9, 10 err), no Floquet. */
+void wg_sweep_opts_default(wg_sweep_opts *o);
+
+/* Value of point i (in run order) of a chain. */
+double wg_chain_value(const wg_chain *c, int i);
+
+/* Run chain c point by point; stops early (status WG_OK, ndone < npts) when
+ * *stop becomes non-zero (stop may be NULL). Allocates two or three sims for
+ * the duration of the call. WG_OK or the status that ended the chain (also
+ * in c->status, with c->why). */
+int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *stop,
+                 wg_progress_fn progress, void *ctx);
+
+/* Run n chains on `threads` POSIX threads (1: in the caller), each chain on
+ * one thread; progress is called under a lock. Returns WG_OK or the first
+ * failing chain's status; each chain keeps its own status. */
+int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
+                  volatile sig_atomic_t *stop, wg_progress_fn progress, void *ctx);
+
+/* Analyse one point at parameters p starting from y (psi = 0): the same
+ * code as a chain's point. *pt gets the result, y the final state. */
+int wg_point_run(const wg_params *p, const wg_sweep_opts *o, double *y, wg_point *pt,
+                 char *why, size_t whylen);
+
+/* ---- transitions (the paper's Table 3) ---------------------------------- */
+
+enum wg_trans_kind {
+    WG_TR_GRAZING,      /* min x_n reaches b: impacts begin (or end) */
+    WG_TR_BACKSIDE,     /* first back-side impact: double-sided motion */
+    WG_TR_JUMP,         /* amplitude discontinuity, with the up/down hysteresis */
+    WG_TR_DOUBLING,     /* period n -> 2n */
+    WG_TR_HALVING,      /* period 2n -> n (increasing parameter) */
+    WG_TR_PERIOD,       /* any other change of period */
+    WG_TR_CHAOS,        /* a chaotic interval [lo, hi] */
+    WG_TR_QUASI,        /* a quasi-periodic interval [lo, hi] */
+    WG_TR_RETURN_P1,    /* back to period-1 from a higher period or chaos */
+    WG_NTRANS
+};
+
+/* One transition, located between grid values (lo, hi) of a sweep. Values
+ * are in increasing-parameter terms for both directions: a down-sweep
+ * event from period 2 at high omega to period 1 below is a doubling. */
+typedef struct wg_transition {
+    int kind;           /* enum wg_trans_kind */
+    int dir;            /* +1 up sweep, -1 down sweep, 0 both / interval */
+    double lo, hi;      /* bracket (interval kinds: its first and last point) */
+    double at;          /* best estimate (interpolated for grazing) */
+    int from, to;       /* periods (0 = aperiodic) or motion classes */
+    double lo2, hi2;    /* JUMP: the other sweep's bracket; hysteresis is [lo2, hi] */
+} wg_transition;
+
+/* Name of a transition kind: "grazing", "jump", "period doubling", ... */
+const char *wg_trans_name(int kind);
+
+/* Transitions of an up sweep and a down sweep over the same grid (either
+ * may be NULL/0 points; points in run order). b is the backlash. Writes at
+ * most max entries to out, sorted by parameter value; returns the count. */
+int wg_transitions(const wg_point *up, int nup, const wg_point *down, int ndown, double b,
+                   wg_transition *out, int max);
+
+#endif
