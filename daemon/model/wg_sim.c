@@ -55,12 +55,22 @@ static int nd_of(const wg_sim *s) { return s->nstate / 2; }
 
 static int zone_of(double x, double c) { return x > c ? 1 : x < -c ? -1 : 0; }
 
-/* Contact coordinates and rates at state y with excitation e. */
+/* min/max without libm's NaN rules (the state is finite here). */
+static inline double dmin(double a, double b) { return a < b ? a : b; }
+static inline double dmax(double a, double b) { return a > b ? a : b; }
+
+/* Contact coordinates and rates at state y with excitation e (the mesh
+ * only, when the bearings are rigid). */
 static void contacts(const wg_sim *s, const double *y, const wg_exc *e, double *q, double *v)
 {
     int nd = nd_of(s);
     const double *c = s->kc.c;
     double x = -e->te, dx = e->dte;
+    if (!(s->kflags & KF_BEAR) && s->cfg.model == WG_MODEL_CONSISTENT) {
+        q[0] = x + y[6];
+        v[0] = dx + y[13];
+        return;
+    }
     for (int i = 0; i < 6; i++) {
         x += c[i] * y[i];
         dx += c[i] * y[nd + i];
@@ -173,10 +183,11 @@ static void refresh_zones(wg_sim *s)
     }
 }
 
-static void period_start(wg_sim *s)
+/* A new period begins at x_n = xn with the mesh in its current zone. */
+static void period_start(wg_sim *s, double xn)
 {
     s->cur.period = s->period;
-    s->cur.min_xn = s->cur.max_xn = s->q[0];
+    s->cur.min_xn = s->cur.max_xn = xn;
     s->cur.motion = s->zone[0] == 1 ? WG_MOTION_NO_IMPACT
                     : s->zone[0] == 0 ? WG_MOTION_SINGLE : WG_MOTION_DOUBLE;
     s->cur.impacts = 0;
@@ -237,7 +248,7 @@ int wg_sim_init(wg_sim *s, const wg_params *p, const wg_sim_config *cfg, char *w
         wg_sim_fini(s);
         return rc;
     }
-    period_start(s);
+    period_start(s, s->q[0]);
     return WG_OK;
 }
 
@@ -270,7 +281,7 @@ int wg_sim_ramp(wg_sim *s, int id, double target, double dur, char *why, size_t 
     /* Stability at both ends: stiffness and omega move monotonically. */
     double hend = wg_rk4_hmax(s->cfg.model, &end);
     double hlo = hend < s->hmax ? hend : s->hmax;
-    double omlo = fmin(s->p.v[WG_P_OMEGA], end.v[WG_P_OMEGA]);
+    double omlo = dmin(s->p.v[WG_P_OMEGA], end.v[WG_P_OMEGA]);
     rc = check_steps(s, hlo, omlo, why, whylen);
     if (rc)
         return rc;
@@ -289,7 +300,7 @@ void wg_sim_set_state(wg_sim *s, const double *y, uint32_t k, double tau)
     wg_params p = s->p;
     char why[8];
     wg_sim_set_params(s, &p, why, sizeof why); /* same parameters: cannot fail */
-    period_start(s);
+    period_start(s, s->q[0]);
 }
 
 void wg_sim_reset(wg_sim *s)
@@ -299,7 +310,7 @@ void wg_sim_reset(wg_sim *s)
     wg_sim_set_state(s, y, 0, 0.0);
     s->period = s->steps = s->nsplit = 0;
     memset(s->nevents, 0, sizeof s->nevents);
-    period_start(s);
+    period_start(s, s->q[0]);
 }
 
 double wg_sim_psi(const wg_sim *s) { return TWO_PI * s->k / s->cfg.steps_per_period; }
@@ -387,7 +398,7 @@ static double herm_min(const herm *H)
     } else {
         double disc = B * B - 4 * A * C;
         if (disc < 0)
-            return fmin(H->q0, H->q1);
+            return dmin(H->q0, H->q1);
         double sq = sqrt(disc);
         double qq = -0.5 * (B + (B >= 0 ? sq : -sq));
         double r1 = qq / A, r2 = qq != 0 ? C / qq : r1;
@@ -395,7 +406,7 @@ static double herm_min(const herm *H)
         t = (2 * A * r1 + B > 0) ? r1 : r2;
     }
     double v = (t > 0 && t < 1) ? herm_val(H, t) : INFINITY;
-    return fmin(v, fmin(H->q0, H->q1));
+    return dmin(v, dmin(H->q0, H->q1));
 }
 
 static double herm_max(const herm *H)
@@ -604,17 +615,21 @@ static void emit_section(wg_sim *s, const wg_sink *sink)
     }
 }
 
-/* Bookkeeping after an accepted step from (q0, v0) to s->q, s->v. */
-static void after_step(wg_sim *s, const double *q0, const double *v0, double h, evbuf *b,
-                       const wg_sink *sink)
+/* Bookkeeping after an accepted step from contacts (q0, v0) to (q1, v1). */
+static void after_step(wg_sim *s, const double *q0, const double *v0, const double *q1,
+                       const double *v1, double h, evbuf *b, const wg_sink *sink)
 {
-    herm H = {q0[0], s->q[0], v0[0] * h, s->v[0] * h};
-    if (v0[0] < 0 && s->v[0] > 0)
-        s->cur.min_xn = fmin(s->cur.min_xn, herm_min(&H));
-    else if (v0[0] > 0 && s->v[0] < 0)
-        s->cur.max_xn = fmax(s->cur.max_xn, herm_max(&H));
-    s->cur.min_xn = fmin(s->cur.min_xn, s->q[0]);
-    s->cur.max_xn = fmax(s->cur.max_xn, s->q[0]);
+    if ((v0[0] < 0) != (v1[0] < 0)) { /* an extremum of x_n inside the step */
+        herm H = {q0[0], q1[0], v0[0] * h, v1[0] * h};
+        if (v0[0] < 0)
+            s->cur.min_xn = dmin(s->cur.min_xn, herm_min(&H));
+        else
+            s->cur.max_xn = dmax(s->cur.max_xn, herm_max(&H));
+    }
+    s->cur.min_xn = dmin(s->cur.min_xn, q1[0]);
+    s->cur.max_xn = dmax(s->cur.max_xn, q1[0]);
+    if (b->n == 0)
+        return;
     if (b->n > 1)
         qsort(b->ev, (size_t)b->n, sizeof b->ev[0], cmp_event);
     for (int i = 0; i < b->n; i++) {
@@ -631,9 +646,14 @@ static void after_step(wg_sim *s, const double *q0, const double *v0, double h, 
         if (sink && sink->on_event)
             sink->on_event(sink->ctx, ev);
     }
-    int zm = s->zone[0];
-    if (zm <= 0 && s->cur.motion < (zm == 0 ? WG_MOTION_SINGLE : WG_MOTION_DOUBLE))
-        s->cur.motion = zm == 0 ? WG_MOTION_SINGLE : WG_MOTION_DOUBLE;
+}
+
+/* Commit the run's local copies back into the sim. */
+static void sync_out(wg_sim *s, const double *y, const double *q, const double *v)
+{
+    memcpy(s->y, y, sizeof s->y);
+    memcpy(s->q, q, sizeof s->q);
+    memcpy(s->v, v, sizeof s->v);
 }
 
 int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
@@ -641,11 +661,20 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
     const uint32_t N = (uint32_t)s->cfg.steps_per_period;
     const int nst = s->nstate, locked = s->cfg.stepper == WG_STEPPER_RK4_EVENT;
     const void *kctx = s->cfg.model == WG_MODEL_PRINTED ? (const void *)&s->p : (const void *)&s->kc;
-    double ynew[WG_NSTATE_MAX];
-    memcpy(ynew, s->y, sizeof ynew); /* torsional kernels leave bearings alone */
+    /* Double-buffered state and contacts: the accepted step is a pointer
+     * swap, and s->y is written only when a callback or the caller reads it.
+     * Both buffers start equal (torsional kernels leave the bearings alone). */
+    double yb[2][WG_NSTATE_MAX], qb[2][WG_NCONTACT], vb[2][WG_NCONTACT];
+    memcpy(yb[0], s->y, sizeof yb[0]);
+    memcpy(yb[1], s->y, sizeof yb[1]);
+    memcpy(qb[0], s->q, sizeof qb[0]);
+    memcpy(vb[0], s->v, sizeof vb[0]);
+    int cur = 0;
     uint64_t i;
     int rc = WG_OK;
     for (i = 0; i < n; i++) {
+        double *y0 = yb[cur], *y1 = yb[!cur], *q0 = qb[cur], *q1 = qb[!cur];
+        double *v0 = vb[cur], *v1 = vb[!cur];
         const wg_exc *e;
         wg_exc live[3];
         double h;
@@ -654,8 +683,6 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
         if (!s->ramp.active) {
             e = &s->table[2 * s->k];
             h = s->h;
-            double om = s->p.v[WG_P_OMEGA];
-            ph = (phase){wg_sim_psi(s), om, 0.0, INFINITY, om};
         } else {
             ramp_ends = ramp_step(s, &ph, &h);
             exc_at(s, &ph, 0.0, &live[0]);
@@ -663,52 +690,49 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
             exc_at(s, &ph, h, &live[2]);
             e = live;
         }
-        s->kernel(s->y, ynew, kctx, e, h);
-        double q[WG_NCONTACT], v[WG_NCONTACT];
+        s->kernel(y0, y1, kctx, e, h);
         int nc = ncontacts(s), changed = 0;
-        contacts(s, ynew, &e[2], q, v);
+        contacts(s, y1, &e[2], q1, v1);
         for (int j = 0; j < nc; j++)
-            changed |= zone_of(q[j], threshold(s, j)) != s->zone[j];
+            changed |= zone_of(q1[j], threshold(s, j)) != s->zone[j];
         evbuf b;
         b.n = 0;
         if (changed) {
             int zsave[WG_NCONTACT];
             memcpy(zsave, s->zone, sizeof zsave);
+            if (!s->ramp.active) {
+                double om = s->p.v[WG_P_OMEGA];
+                ph = (phase){wg_sim_psi(s), om, 0.0, INFINITY, om};
+            }
             if (locked) {
-                split_step(s, &ph, s->y, ynew, h, &b);
-                contacts(s, ynew, &e[2], q, v);
+                split_step(s, &ph, y0, y1, h, &b);
+                contacts(s, y1, &e[2], q1, v1);
             } else {
                 for (int j = 0; j < nc; j++) {
-                    int z1 = zone_of(q[j], threshold(s, j));
+                    int z1 = zone_of(q1[j], threshold(s, j));
                     if (z1 != s->zone[j]) {
-                        herm H = {s->q[j], q[j], s->v[j] * h, v[j] * h};
+                        herm H = {q0[j], q1[j], v0[j] * h, v1[j] * h};
                         interpolate_crossings(s, &b, j, s->zone[j], z1, &H, 0.0, h);
                         s->zone[j] = z1;
                     }
                 }
             }
-            if (!finite_state(ynew, nst)) { /* undo the zone updates */
+            if (!finite_state(y1, nst)) { /* undo the zone updates */
                 memcpy(s->zone, zsave, sizeof zsave);
                 for (int j = 0; j < WG_NCONTACT; j++)
                     set_lock(s, j, s->zone[j]);
             }
         }
-        if (!finite_state(ynew, nst)) {
+        if (!finite_state(y1, nst)) {
             rc = WG_ENONFINITE;
             break;
         }
-        /* commit */
-        double q0[WG_NCONTACT], v0[WG_NCONTACT];
-        memcpy(q0, s->q, sizeof q0);
-        memcpy(v0, s->v, sizeof v0);
-        memcpy(s->q, q, sizeof q);
-        memcpy(s->v, v, sizeof v);
-        memcpy(s->y, ynew, sizeof(double) * (size_t)nst);
+        cur = !cur; /* accept */
         double dt = h - s->tau_c, t = s->tau + dt;
         s->tau_c = (t - s->tau) - dt;
         s->tau = t;
         s->steps++;
-        after_step(s, q0, v0, h, &b, sink);
+        after_step(s, q0, v0, q1, v1, h, &b, sink);
         if (++s->k == N)
             s->k = 0;
         if (ramp_ends)
@@ -716,14 +740,17 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
         else if (s->ramp.active && s->ramp.id == WG_P_OMEGA)
             s->p.v[WG_P_OMEGA] = s->ramp.v0 + (s->ramp.v1 - s->ramp.v0) *
                                                   (s->tau - s->ramp.tau0) / s->ramp.dur;
+        if (sink && (sink->on_step || (s->k == 0 && sink->on_section)))
+            sync_out(s, y1, q1, v1);
         if (sink && sink->on_step)
             sink->on_step(sink->ctx, s);
         if (s->k == 0) {
             s->period++;
             emit_section(s, sink);
-            period_start(s);
+            period_start(s, q1[0]);
         }
     }
+    sync_out(s, yb[cur], qb[cur], vb[cur]);
     if (done)
         *done = i;
     return rc;
