@@ -124,13 +124,14 @@ static int number(loader *L, const wg_param_info *row, const char *value, double
         end++;
     if (end == value || *end != '\0' || !isfinite(x)) {
         char rng[80];
-        snprintf(rng, sizeof rng, "[%g, %g] %s", row->min, row->max, row->unit);
+        snprintf(rng, sizeof rng, "[%g, %g]%s%s", row->min, row->max,
+                 strcmp(row->unit, "1") ? " " : "", strcmp(row->unit, "1") ? row->unit : "");
         return fail(L, WG_EINVAL, "%s: not a number (allowed %s)", row->name, rng);
     }
     if (x < row->min || x > row->max) {
         char msg[120];
-        snprintf(msg, sizeof msg, "%.17g out of range [%g, %g] %s", x, row->min, row->max,
-                 row->unit);
+        snprintf(msg, sizeof msg, "%.17g out of range [%g, %g]%s%s", x, row->min, row->max,
+                 strcmp(row->unit, "1") ? " " : "", strcmp(row->unit, "1") ? row->unit : "");
         return fail(L, WG_ERANGE, "%s: value %s", row->name, msg);
     }
     *out = x;
@@ -298,18 +299,50 @@ static int convert(loader *L)
     return WG_OK;
 }
 
-/* Range-check every derived value, naming the line it came from. */
+/* The [physical] keys each dimensionless parameter is derived from, most
+ * specific first (PH_KM, the scale, is everyone's last resort). */
+static int derived_source(const loader *L, int id)
+{
+    static const signed char src[WG_NPARAM][3] = {
+        [WG_P_OMEGA] = {PH_FMESH, -1}, [WG_P_XI_P] = {PH_XIP, PH_CM, -1},
+        [WG_P_XI_G] = {PH_XIG, -1},    [WG_P_K_A] = {PH_KA, -1},
+        [WG_P_PHI1] = {PH_PHI1, -1},   [WG_P_E_M] = {PH_TE, -1},
+        [WG_P_PHI2] = {PH_PHI2, -1},   [WG_P_F_M] = {PH_TG, -1},
+        [WG_P_F_E] = {PH_TE_AMP, -1},  [WG_P_PHI] = {PH_PHI, -1},
+        [WG_P_B] = {PH_BACKLASH, -1},  [WG_P_B_J] = {PH_CLEAR, -1},
+        [WG_P_A1] = {PH_MODULE, PH_ALPHA, -1}, [WG_P_A2] = {PH_ALPHA, -1},
+        [WG_P_A3] = {PH_MODULE, PH_ALPHA, -1}, [WG_P_MU1] = {PH_M1, -1},
+        [WG_P_MU2] = {PH_M2, -1},
+        [WG_P_K1X] = {PH_KB1, PH_KB, -1}, [WG_P_K1Y] = {PH_KB1, PH_KB, -1},
+        [WG_P_K1Z] = {PH_KB1, PH_KB, -1}, [WG_P_K2X] = {PH_KB2, PH_KB, -1},
+        [WG_P_K2Y] = {PH_KB2, PH_KB, -1}, [WG_P_K2Z] = {PH_KB2, PH_KB, -1},
+        [WG_P_XI1X] = {PH_CB1, PH_ZB, -1}, [WG_P_XI1Y] = {PH_CB1, PH_ZB, -1},
+        [WG_P_XI1Z] = {PH_CB1, PH_ZB, -1}, [WG_P_XI2X] = {PH_CB2, PH_ZB, -1},
+        [WG_P_XI2Y] = {PH_CB2, PH_ZB, -1}, [WG_P_XI2Z] = {PH_CB2, PH_ZB, -1},
+    };
+    for (int k = 0; k < 3 && src[id][k] > 0; k++)
+        if (L->ph_line[src[id][k]])
+            return src[id][k];
+    return PH_KM;
+}
+
+/* Range-check every value, naming the line it came from: its own [params]
+ * line, or the [physical] key it was derived from. */
 static int check_all(loader *L)
 {
     char msg[300];
-    for (int i = 0; i < WG_NPARAM; i++)
-        if (wg_param_check(i, L->sc->p.v[i], msg, sizeof msg) != WG_OK) {
-            int line = L->par_line[i];
-            snprintf(L->why, L->whylen, "%s:%d: %s: %s%s", L->path, line,
-                     wg_param_info_get(i)->name, msg,
-                     line ? "" : " (derived from the [physical] section)");
-            return WG_ERANGE;
+    for (int i = 0; i < WG_NPARAM; i++) {
+        if (wg_param_check(i, L->sc->p.v[i], msg, sizeof msg) == WG_OK)
+            continue;
+        if (L->par_line[i] || !L->sc->physical) {
+            snprintf(L->why, L->whylen, "%s:%d: %s", L->path, L->par_line[i], msg);
+        } else {
+            int ph = derived_source(L, i);
+            snprintf(L->why, L->whylen, "%s:%d: %s gives %s", L->path, L->ph_line[ph],
+                     phys[ph].name, msg);
         }
+        return WG_ERANGE;
+    }
     if (wg_params_check(&L->sc->p, msg, sizeof msg) != WG_OK) {
         snprintf(L->why, L->whylen, "%s:%d: %s", L->path, L->par_line[WG_P_A1], msg);
         return WG_ERANGE;
