@@ -1,0 +1,125 @@
+/* bench_step - ns per RK4 step of wg_sim_run for each scene, stepper and
+ * kernel specialisation; the speedup of each specialised kernel over the
+ * full one on the same scene. Timings are medians of REPS runs, measured in
+ * one process. A specialisation is compared with the full kernel by giving
+ * the dropped term a negligible nonzero value (1e-300 for b_j, k_a, e_m;
+ * mu = 1e-300 for the torsional path), which selects the general kernel on
+ * an otherwise identical scene.
+ * usage: bench_step [steps per repetition (default 2e6)] [reps (default 7)] */
+#include "wormgear/wg_scene.h"
+#include "wormgear/wg_sim.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static double now_ns(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return 1e9 * (double)t.tv_sec + (double)t.tv_nsec;
+}
+
+static int cmp(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Median ns/step of `reps` runs of n steps (after a 1-period warm-up). */
+static double time_steps(const wg_params *p, int stepper, int N, long n, int reps, char *kname,
+                         double *splits_per_step)
+{
+    wg_sim s;
+    char why[300];
+    wg_sim_config cfg = {WG_MODEL_CONSISTENT, stepper, N};
+    if (wg_sim_init(&s, p, &cfg, why, sizeof why)) {
+        fprintf(stderr, "bench_step: %s\n", why);
+        exit(1);
+    }
+    wg_sim_kernel_name(&s, kname, 64);
+    wg_sim_run(&s, (uint64_t)N * 200, NULL, NULL); /* settle onto the orbit */
+    double t[32];
+    uint64_t sp0 = s.nsplit;
+    for (int r = 0; r < reps && r < 32; r++) {
+        double t0 = now_ns();
+        if (wg_sim_run(&s, (uint64_t)n, NULL, NULL)) {
+            fprintf(stderr, "bench_step: blow-up\n");
+            exit(1);
+        }
+        t[r] = (now_ns() - t0) / (double)n;
+    }
+    *splits_per_step = (double)(s.nsplit - sp0) / ((double)n * reps);
+    wg_sim_fini(&s);
+    qsort(t, (size_t)reps, sizeof t[0], cmp);
+    return t[reps / 2];
+}
+
+typedef struct row {
+    const char *scene, *label, *set; /* set: "name=value" tweak or NULL */
+    int stepper;
+    double omega;
+} row;
+
+int main(int argc, char **argv)
+{
+    long n = argc > 1 ? atol(argv[1]) : 2000000;
+    int reps = argc > 2 ? atoi(argv[2]) : 7;
+    const int N = 128;
+    static const row rows[] = {
+        {"table3", "table3 (no impact)", NULL, WG_STEPPER_RK4, 0.5},
+        {"table3", "table3 (no impact)", NULL, WG_STEPPER_RK4_EVENT, 0.5},
+        {"table3", "table3 (impacting)", NULL, WG_STEPPER_RK4, 0.7},
+        {"table3", "table3 (impacting)", NULL, WG_STEPPER_RK4_EVENT, 0.7},
+        {"table3", "table3 (chaotic band)", NULL, WG_STEPPER_RK4_EVENT, 1.45},
+        {"lowfreq", "lowfreq", NULL, WG_STEPPER_RK4_EVENT, 0.5},
+        {"realistic", "realistic", NULL, WG_STEPPER_RK4_EVENT, 0.5},
+        {"torsional", "torsional", NULL, WG_STEPPER_RK4, 0.5},
+        {"torsional", "torsional", NULL, WG_STEPPER_RK4_EVENT, 0.5},
+    };
+    printf("bench_step: N = %d steps per period, %ld steps x %d reps (median)\n\n", N, n, reps);
+    printf("| scene | omega | stepper | kernel | ns/step | Msteps/s | splits/step |\n");
+    printf("|---|---|---|---|---|---|---|\n");
+    char why[600], kname[64];
+    for (unsigned i = 0; i < sizeof rows / sizeof rows[0]; i++) {
+        wg_scene sc;
+        if (wg_scene_open(&sc, rows[i].scene, why, sizeof why)) {
+            fprintf(stderr, "bench_step: %s\n", why);
+            return 1;
+        }
+        sc.p.v[WG_P_OMEGA] = rows[i].omega;
+        double sps, ns = time_steps(&sc.p, rows[i].stepper, N, n, reps, kname, &sps);
+        printf("| %s | %.2f | %s | %s | %.1f | %.2f | %.4f |\n", rows[i].label, rows[i].omega,
+               wg_stepper_name(rows[i].stepper), kname, ns, 1e3 / ns, sps);
+    }
+    /* Specialisation speedups: same scene, dropped term forced back in. */
+    static const struct {
+        const char *scene, *what;
+        int id[2];
+        double omega;
+    } sp[] = {
+        {"torsional", "rigid bearings: torsional path", {WG_P_MU1, WG_P_MU2}, 0.5},
+        {"table3", "b_j = 0: linear bearings", {WG_P_B_J, -1}, 0.5},
+        {"table3", "k_a = 0: constant mesh stiffness", {WG_P_K_A, -1}, 0.5},
+        {"table3", "e_m = 0: no transmission error", {WG_P_E_M, -1}, 0.5},
+    };
+    printf("\n| specialisation (plain rk4, no impacts) | specialised ns/step | general ns/step "
+           "| speedup |\n|---|---|---|---|\n");
+    for (unsigned i = 0; i < sizeof sp / sizeof sp[0]; i++) {
+        wg_scene sc;
+        wg_scene_open(&sc, sp[i].scene, why, sizeof why);
+        sc.p.v[WG_P_OMEGA] = sp[i].omega;
+        wg_params a = sc.p, b = sc.p;
+        for (int k = 0; k < 2 && sp[i].id[k] >= 0; k++) {
+            a.v[sp[i].id[k]] = 0.0;
+            b.v[sp[i].id[k]] = 1e-300;
+        }
+        char ka[64], kb[64];
+        double s1, s2;
+        double tb = time_steps(&b, WG_STEPPER_RK4, N, n, reps, kb, &s2);
+        double ta = time_steps(&a, WG_STEPPER_RK4, N, n, reps, ka, &s1);
+        printf("| %s (%s vs %s) | %.1f | %.1f | %.2fx |\n", sp[i].what, ka, kb, ta, tb, tb / ta);
+    }
+    return 0;
+}

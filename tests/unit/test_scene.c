@@ -1,0 +1,177 @@
+/* Scenes: shipped files load; physical and dimensionless table3 agree;
+ * every malformed line is reported as file:line with the allowed range. */
+#include "test.h"
+#include "wormgear/wg_scene.h"
+#include "wormgear/wg_sim.h"
+#include "wormgear/wg_status.h"
+
+#include <unistd.h>
+
+static char dir[64];
+
+/* Write text to DIR/name and return the path (static buffer per call). */
+static const char *scene_file(const char *name, const char *text)
+{
+    static char path[8][128];
+    static int slot;
+    char *p = path[slot++ % 8];
+    snprintf(p, 128, "%s/%s", dir, name);
+    FILE *f = fopen(p, "w");
+    fputs(text, f);
+    fclose(f);
+    return p;
+}
+
+static void expect_error(const char *name, const char *text, int code, const char *where,
+                         const char *what)
+{
+    wg_scene sc;
+    char why[600], loc[200];
+    const char *path = scene_file(name, text);
+    int rc = wg_scene_load(&sc, path, why, sizeof why);
+    ASSERT_EQ_INT(rc, code);
+    snprintf(loc, sizeof loc, "%s%s", path, where);
+    ASSERT_CONTAINS(why, loc);
+    ASSERT_CONTAINS(why, what);
+    printf("  %s\n", why);
+}
+
+static void test_shipped_scenes_load(void)
+{
+    const char *names[] = {"table3", "table3-physical", "lowfreq", "realistic", "torsional"};
+    for (int i = 0; i < 5; i++) {
+        wg_scene sc;
+        char why[600];
+        int rc = wg_scene_open(&sc, names[i], why, sizeof why);
+        if (rc)
+            fprintf(stderr, "%s\n", why);
+        ASSERT_EQ_INT(rc, WG_OK);
+        ASSERT_EQ_INT(wg_params_check(&sc.p, why, sizeof why), WG_OK);
+    }
+    wg_scene sc;
+    char why[600];
+    ASSERT_EQ_INT(wg_scene_open(&sc, "torsional", why, sizeof why), WG_OK);
+    ASSERT_TRUE(wg_params_torsional(&sc.p));
+    ASSERT_EQ_INT(wg_scene_open(&sc, "lowfreq", why, sizeof why), WG_OK);
+    /* lowfreq: kappa = 4, zeta_b = 0.14 -> k = 4 mu, xi = 0.14 sqrt(k) */
+    ASSERT_NEAR(sc.p.v[WG_P_K1X], 4 * sc.p.v[WG_P_MU1], 1e-4);
+    ASSERT_NEAR(sc.p.v[WG_P_XI2Z], 0.14 * sqrt(sc.p.v[WG_P_K2Z]), 1e-5);
+    ASSERT_EQ_INT(wg_scene_open(&sc, "no-such-scene", why, sizeof why), WG_EIO);
+    ASSERT_CONTAINS(why, "scene 'no-such-scene' not found");
+}
+
+typedef struct xs {
+    int n;
+    double xn[64];
+} xs;
+
+static void grab(void *ctx, const wg_section *s)
+{
+    xs *x = ctx;
+    if (x->n < 64)
+        x->xn[x->n++] = s->out.xn;
+}
+
+static void test_physical_equals_dimensionless(void)
+{
+    wg_scene a, b;
+    char why[600];
+    ASSERT_EQ_INT(wg_scene_open(&a, "table3", why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(wg_scene_open(&b, "table3-physical", why, sizeof why), WG_OK);
+    ASSERT_TRUE(b.physical && !a.physical);
+    for (int i = 0; i < WG_NPARAM; i++) {
+        double x = a.p.v[i], y = b.p.v[i];
+        if (fabs(x - y) > 2e-4 * fmax(fabs(x), 1e-3))
+            fprintf(stderr, "%s: %.8g vs %.8g\n", wg_param_info_get(i)->name, x, y);
+        ASSERT_TRUE(fabs(x - y) <= 2e-4 * fmax(fabs(x), 1e-3));
+    }
+    /* derived scale reported (MODEL.md s3: omega_n = 31901 rad/s) */
+    ASSERT_NEAR(b.scale.omega_n_rad_s, 31901, 1);
+    ASSERT_NEAR(b.scale.me_kg, 1.965, 1e-3);
+    /* same trajectory: Poincare x_n over 40 periods at omega = 0.5 */
+    xs out[2] = {{0}, {0}};
+    wg_scene *sc[2] = {&a, &b};
+    for (int k = 0; k < 2; k++) {
+        sc[k]->p.v[WG_P_OMEGA] = 0.5;
+        wg_sim s;
+        wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, 256};
+        ASSERT_EQ_INT(wg_sim_init(&s, &sc[k]->p, &cfg, why, sizeof why), WG_OK);
+        wg_sink sink = {&out[k], NULL, grab, NULL};
+        ASSERT_EQ_INT(wg_sim_run(&s, 256 * 40, &sink, NULL), WG_OK);
+        wg_sim_fini(&s);
+    }
+    ASSERT_EQ_INT(out[0].n, 40);
+    double worst = 0;
+    for (int i = 0; i < 40; i++)
+        worst = fmax(worst, fabs(out[0].xn[i] - out[1].xn[i]));
+    printf("  physical vs dimensionless table3: max |dx_n| over 40 sections %.2e\n", worst);
+    ASSERT_TRUE(worst < 1e-3);
+}
+
+static void test_malformed_lines(void)
+{
+    expect_error("range.ini", "[scene]\nname = r\n[params]\nomega = 1\nxi_p = 5\n", WG_ERANGE,
+                 ":5:", "xi_p: value 5 out of range [0, 2]");
+    expect_error("nan.ini", "[params]\n\nomega = fast\n", WG_EINVAL, ":3:",
+                 "omega: not a number (allowed [0.01, 10]");
+    expect_error("inf.ini", "[params]\nomega = inf\n", WG_EINVAL, ":2:", "not a number");
+    expect_error("key.ini", "[params]\nomega = 1\nfoo = 1\n", WG_EUNKNOWN, ":3:",
+                 "[params] foo: unknown parameter");
+    expect_error("sect.ini", "[params]\nomega = 1\n[nope]\nx = 1\n", WG_EUNKNOWN, ":4:",
+                 "[nope]: unknown section");
+    expect_error("syntax.ini", "[params]\nomega = 1\nthis line has no equals sign\n", WG_EINVAL,
+                 ":3:", "syntax error");
+    expect_error("model.ini", "[scene]\nmodel = fancy\n", WG_EINVAL, ":2:",
+                 "'fancy' is not one of [consistent, printed]");
+    expect_error("phys.ini", "[physical]\nbacklash_um = -5\n", WG_ERANGE, ":2:",
+                 "backlash_um: value -5 out of range [0, 10000] um");
+    expect_error("cos.ini", "[params]\na1 = 0.5\n", WG_ERANGE, ":2:", "a1^2 + a2^2 + a3^2");
+    expect_error("init.ini", "[initial]\nstate = wobbly\n", WG_EINVAL, ":2:",
+                 "not one of [equilibrium, given]");
+    /* a physical scene missing a mass names the key */
+    expect_error("need.ini", "[physical]\nwheel_radius_mm = 74\n", WG_EINVAL, ":",
+                 "[physical] needs worm_mass_kg");
+    /* derived value out of range: says where it came from */
+    expect_error("derived.ini",
+                 "[physical]\nwheel_radius_mm = 74\nworm_mass_kg = 0.716\n"
+                 "worm_inertia_kgm2 = 1.733e-4\nwheel_mass_kg = 4.86\n"
+                 "wheel_inertia_kgm2 = 1.331e-2\nmesh_stiffness_N_m = 2e9\n"
+                 "bearing_stiffness_N_m = 1e14\n",
+                 WG_ERANGE, ":8:", "bearing_stiffness_N_m gives k1x = ");
+    /* a given initial state is used */
+    wg_scene sc;
+    char why[600];
+    const char *p = scene_file("given.ini", "[initial]\nstate = given\nx1 = 0.5\nds = -0.25\n");
+    ASSERT_EQ_INT(wg_scene_load(&sc, p, why, sizeof why), WG_OK);
+    double y[16];
+    wg_scene_initial(&sc, y);
+    ASSERT_NEAR(y[0], 0.5, 0);
+    ASSERT_NEAR(y[13], -0.25, 0);
+    ASSERT_NEAR(y[6], 0.0, 0);
+}
+
+static void setup(void)
+{
+    snprintf(dir, sizeof dir, "/tmp/wgscene.XXXXXX");
+    if (!mkdtemp(dir))
+        abort();
+}
+
+static void teardown(void)
+{
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "could not remove %s\n", dir);
+}
+
+static void test_all(void)
+{
+    setup();
+    test_shipped_scenes_load();
+    test_physical_equals_dimensionless();
+    test_malformed_lines();
+    teardown();
+}
+
+TEST_MAIN(TEST(test_all))

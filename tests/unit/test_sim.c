@@ -1,0 +1,243 @@
+/* The integration driver: sections and periods, kernel choice (skip what a
+ * scene does not need), torsional path = full path with vanishing mass
+ * ratios, blow-up handling, atomic parameter changes, determinism, motion
+ * classes. */
+#include "test.h"
+#include "wormgear/wg_sim.h"
+#include "wormgear/wg_status.h"
+
+static wg_sim make(const wg_params *p, int stepper, int N)
+{
+    wg_sim s;
+    char why[300];
+    wg_sim_config cfg = {WG_MODEL_CONSISTENT, stepper, N};
+    int rc = wg_sim_init(&s, p, &cfg, why, sizeof why);
+    if (rc)
+        fprintf(stderr, "wg_sim_init: %s\n", why);
+    ASSERT_EQ_INT(rc, WG_OK);
+    return s;
+}
+
+typedef struct rec {
+    int nsec, nev;
+    double tau[64], xn[64];
+    int motion[64], impacts[64];
+    uint64_t period[64];
+} rec;
+
+static void on_sec(void *ctx, const wg_section *s)
+{
+    rec *r = ctx;
+    if (r->nsec < 64) {
+        r->tau[r->nsec] = s->tau;
+        r->xn[r->nsec] = s->out.xn;
+        r->motion[r->nsec] = s->stats.motion;
+        r->impacts[r->nsec] = s->stats.impacts;
+        r->period[r->nsec] = s->stats.period;
+    }
+    r->nsec++;
+}
+
+static void on_ev(void *ctx, const wg_event *e)
+{
+    (void)e;
+    ((rec *)ctx)->nev++;
+}
+
+static void test_sections_fall_on_periods(void)
+{
+    wg_params p;
+    wg_params_default(&p);
+    p.v[WG_P_OMEGA] = 1.3;
+    wg_sim s = make(&p, WG_STEPPER_RK4, 100);
+    rec r = {0};
+    wg_sink sink = {&r, NULL, on_sec, NULL};
+    ASSERT_EQ_INT(wg_sim_run(&s, 100 * 10 + 37, &sink, NULL), WG_OK);
+    ASSERT_EQ_INT(r.nsec, 10);
+    ASSERT_EQ_INT(s.k, 37);
+    ASSERT_EQ_INT(s.period, 10);
+    for (int i = 0; i < 10; i++) {
+        ASSERT_NEAR(r.tau[i], (i + 1) * 2 * M_PI / 1.3, 1e-11);
+        ASSERT_EQ_INT(r.period[i], i);
+    }
+    ASSERT_NEAR(wg_sim_psi(&s), 2 * M_PI * 37 / 100, 1e-15);
+    wg_sim_fini(&s);
+}
+
+static void test_kernel_choice_skips_terms(void)
+{
+    wg_params p;
+    wg_params_default(&p);
+    char name[64];
+    wg_sim s = make(&p, WG_STEPPER_RK4_EVENT, 128);
+    ASSERT_STR(wg_sim_kernel_name(&s, name, sizeof name), "full+bj+b+ka+em+locked");
+    wg_sim_fini(&s);
+    p.v[WG_P_K_A] = p.v[WG_P_E_M] = p.v[WG_P_B_J] = 0;
+    s = make(&p, WG_STEPPER_RK4, 128);
+    ASSERT_STR(wg_sim_kernel_name(&s, name, sizeof name), "full+b");
+    /* changing a parameter re-selects the kernel, outside the step loop */
+    wg_params q = p;
+    q.v[WG_P_K_A] = 0.2;
+    char why[300];
+    ASSERT_EQ_INT(wg_sim_set_params(&s, &q, why, sizeof why), WG_OK);
+    ASSERT_STR(wg_sim_kernel_name(&s, name, sizeof name), "full+b+ka");
+    wg_sim_fini(&s);
+    p.v[WG_P_MU1] = p.v[WG_P_MU2] = 0;
+    p.v[WG_P_B_J] = 1;
+    s = make(&p, WG_STEPPER_RK4, 128);
+    ASSERT_STR(wg_sim_kernel_name(&s, name, sizeof name), "torsional+b");
+    wg_sim_fini(&s);
+}
+
+/* The 1-DOF torsional kernel is the limit of the full one as mu -> 0. */
+static void test_torsional_is_full_limit(void)
+{
+    wg_params p;
+    wg_params_default(&p);
+    p.v[WG_P_OMEGA] = 0.8;
+    rec r[2] = {{0}, {0}};
+    for (int k = 0; k < 2; k++) {
+        p.v[WG_P_MU1] = p.v[WG_P_MU2] = k ? 0.0 : 1e-9;
+        wg_sim s = make(&p, WG_STEPPER_RK4_EVENT, 256);
+        char name[64];
+        ASSERT_TRUE(strncmp(wg_sim_kernel_name(&s, name, sizeof name), k ? "torsional" : "full",
+                            k ? 9 : 4) == 0);
+        wg_sink sink = {&r[k], NULL, on_sec, NULL};
+        ASSERT_EQ_INT(wg_sim_run(&s, 256 * 40, &sink, NULL), WG_OK);
+        wg_sim_fini(&s);
+    }
+    double worst = 0;
+    for (int i = 0; i < 40; i++)
+        worst = fmax(worst, fabs(r[0].xn[i] - r[1].xn[i]));
+    ASSERT_TRUE(worst < 1e-6);
+}
+
+static void test_blowup_is_caught_state_kept(void)
+{
+    wg_params p;
+    wg_params_default(&p);
+    wg_sim s = make(&p, WG_STEPPER_RK4_EVENT, 128);
+    ASSERT_EQ_INT(wg_sim_run(&s, 300, NULL, NULL), WG_OK);
+    double y[16];
+    memcpy(y, s.y, sizeof y);
+    y[3] = NAN;
+    wg_sim_set_state(&s, y, s.k, s.tau);
+    uint64_t steps = s.steps, done = 99;
+    double tau = s.tau;
+    ASSERT_EQ_INT(wg_sim_run(&s, 10, NULL, &done), WG_ENONFINITE);
+    ASSERT_EQ_INT(done, 0);
+    ASSERT_EQ_INT(s.steps, steps);
+    ASSERT_NEAR(s.tau, tau, 0);
+    ASSERT_TRUE(isnan(s.y[3]) && s.y[0] == y[0]); /* the failed step was not applied */
+    /* absurd but finite values are caught the same way */
+    y[3] = 1e12;
+    wg_sim_set_state(&s, y, s.k, s.tau);
+    ASSERT_EQ_INT(wg_sim_run(&s, 10, NULL, &done), WG_ENONFINITE);
+    ASSERT_NEAR(s.y[3], 1e12, 0);
+    /* a good state runs again */
+    y[3] = 0;
+    wg_sim_set_state(&s, y, s.k, s.tau);
+    ASSERT_EQ_INT(wg_sim_run(&s, 10, NULL, &done), WG_OK);
+    wg_sim_fini(&s);
+}
+
+static void test_set_params_is_atomic(void)
+{
+    wg_params p;
+    wg_params_default(&p);
+    wg_sim s = make(&p, WG_STEPPER_RK4, 128);
+    wg_sim_run(&s, 200, NULL, NULL);
+    wg_sim before = s;
+    wg_params q = s.p;
+    q.v[WG_P_XI_P] = 0.1;
+    q.v[WG_P_K_A] = 3.0; /* out of range: nothing applies */
+    char why[300];
+    ASSERT_EQ_INT(wg_sim_set_params(&s, &q, why, sizeof why), WG_ERANGE);
+    ASSERT_CONTAINS(why, "k_a = 3 out of range [0, 0.95]");
+    ASSERT_TRUE(memcmp(&before.p, &s.p, sizeof s.p) == 0);
+    ASSERT_TRUE(memcmp(before.y, s.y, sizeof s.y) == 0);
+    q = s.p;
+    q.v[WG_P_OMEGA] = 0.05; /* needs more than 128 steps per period */
+    ASSERT_EQ_INT(wg_sim_set_params(&s, &q, why, sizeof why), WG_ESTABILITY);
+    ASSERT_CONTAINS(why, "need N >= ");
+    ASSERT_NEAR(s.p.v[WG_P_OMEGA], 1.0, 0);
+    /* ramps: geometry refused, bad duration refused, target range checked */
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_A1, 0.3, 10, why, sizeof why), WG_EINVAL);
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, 1.5, 0, why, sizeof why), WG_ERANGE);
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, 12, 10, why, sizeof why), WG_ERANGE);
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, 0.05, 10, why, sizeof why), WG_ESTABILITY);
+    ASSERT_TRUE(!s.ramp.active);
+    /* a ramp of a non-frequency parameter ends exactly on target */
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_XI_P, 0.12, 50, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(wg_sim_run(&s, 128 * 20, NULL, NULL), WG_OK);
+    ASSERT_TRUE(!s.ramp.active);
+    ASSERT_NEAR(s.p.v[WG_P_XI_P], 0.12, 0);
+    wg_sim_fini(&s);
+}
+
+static void test_deterministic(void)
+{
+    wg_params p;
+    wg_params_default(&p);
+    p.v[WG_P_OMEGA] = 1.45;
+    double y[2][16];
+    rec r[2] = {{0}, {0}};
+    for (int k = 0; k < 2; k++) {
+        wg_sim s = make(&p, WG_STEPPER_RK4_EVENT, 128);
+        wg_sink sink = {&r[k], NULL, on_sec, on_ev};
+        ASSERT_EQ_INT(wg_sim_run(&s, 128 * 60, &sink, NULL), WG_OK);
+        memcpy(y[k], s.y, sizeof y[k]);
+        wg_sim_fini(&s);
+    }
+    ASSERT_TRUE(memcmp(y[0], y[1], sizeof y[0]) == 0);
+    ASSERT_TRUE(memcmp(r[0].xn, r[1].xn, sizeof r[0].xn) == 0);
+    ASSERT_EQ_INT(r[0].nev, r[1].nev);
+}
+
+static int run_class(double om, double em)
+{
+    wg_params p;
+    wg_params_default(&p);
+    p.v[WG_P_OMEGA] = om;
+    p.v[WG_P_E_M] = em;
+    wg_sim s = make(&p, WG_STEPPER_RK4_EVENT, 256);
+    rec r = {0};
+    wg_sink sink = {&r, NULL, on_sec, NULL};
+    ASSERT_EQ_INT(wg_sim_run(&s, 256 * 64, &sink, NULL), WG_OK);
+    wg_sim_fini(&s);
+    int worst = 0;
+    for (int i = 32; i < 64; i++)
+        worst = r.motion[i] > worst ? r.motion[i] : worst;
+    return worst;
+}
+
+static void test_motion_classes(void)
+{
+    ASSERT_EQ_INT(run_class(0.3, 0.2), WG_MOTION_NO_IMPACT);
+    ASSERT_EQ_INT(run_class(0.7, 0.2), WG_MOTION_SINGLE);
+    ASSERT_EQ_INT(run_class(1.0, 3.0), WG_MOTION_DOUBLE); /* 15x the TE: rattle */
+}
+
+/* Zero backlash: the mesh RHS is smooth, so no step is split, and each pass
+ * through x_n = 0 reports both of its boundary events at the same time. */
+static void test_zero_backlash_events(void)
+{
+    wg_params p;
+    wg_params_default(&p);
+    p.v[WG_P_B] = 0;
+    p.v[WG_P_F_M] = 0.0;
+    p.v[WG_P_B_J] = 0;
+    wg_sim s = make(&p, WG_STEPPER_RK4_EVENT, 128);
+    rec r = {0};
+    wg_sink sink = {&r, NULL, NULL, on_ev};
+    ASSERT_EQ_INT(wg_sim_run(&s, 128 * 30, &sink, NULL), WG_OK);
+    ASSERT_EQ_INT(s.nsplit, 0);
+    ASSERT_TRUE(r.nev > 0);
+    ASSERT_EQ_INT(s.nevents[WG_C_MESH][WG_EV_SEPARATION], s.nevents[WG_C_MESH][WG_EV_BACK_IMPACT]);
+    wg_sim_fini(&s);
+}
+
+TEST_MAIN(TEST(test_sections_fall_on_periods), TEST(test_kernel_choice_skips_terms),
+          TEST(test_torsional_is_full_limit), TEST(test_blowup_is_caught_state_kept),
+          TEST(test_set_params_is_atomic), TEST(test_deterministic), TEST(test_motion_classes),
+          TEST(test_zero_backlash_events))

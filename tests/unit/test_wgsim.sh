@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# wgsim command line: CSV headers, row counts, exit codes, --help.
+# usage: test_wgsim.sh WGSIM SCENEDIR DATADIR
+set -u
+WGSIM=$1
+export WG_SCENE_PATH=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+check() { # check DESCRIPTION COMMAND...
+    local what=$1; shift
+    if "$@"; then echo "ok   $what"; else echo "FAIL $what"; fail=1; fi
+}
+expect_exit() { # expect_exit CODE PATTERN ARGS...
+    local code=$1 pat=$2; shift 2
+    "$WGSIM" "$@" >"$tmp/out" 2>"$tmp/err"
+    local rc=$?
+    if [ "$rc" -ne "$code" ]; then
+        echo "FAIL wgsim $* exited $rc, expected $code"; cat "$tmp/err"; fail=1; return
+    fi
+    if ! grep -q -- "$pat" "$tmp/err" "$tmp/out"; then
+        echo "FAIL wgsim $*: no '$pat' in output:"; cat "$tmp/err"; fail=1; return
+    fi
+    echo "ok   wgsim $* -> $code ($pat)"
+}
+
+# --help lists every option and every parameter of MODEL.md s2 with a range
+"$WGSIM" --help >"$tmp/help"; check "--help exits 0" test $? -eq 0
+for opt in --scene --set --periods --transient --steps-per-period --stepper --model \
+           --poincare --events --trace --units; do
+    grep -q -- "$opt" "$tmp/help" || { echo "FAIL --help lacks $opt"; fail=1; }
+done
+for p in omega xi_p xi_g k_a phi1 e_m phi2 f_m f_e phi b b_j a1 a2 a3 mu1 mu2 \
+         k1x k1y k1z k2x k2y k2z xi1x xi1y xi1z xi2x xi2y xi2z; do
+    grep -qE "^  $p +[^ ]+ +\[" "$tmp/help" || { echo "FAIL --help lacks parameter $p"; fail=1; }
+done
+
+# CSV headers, exactly
+"$WGSIM" --set omega=0.7 --transient 5 --periods 12 --poincare "$tmp/p.csv" \
+    --events "$tmp/e.csv" --trace "$tmp/t.csv"
+check "run with outputs exits 0" test $? -eq 0
+check "poincare header" test "$(head -1 "$tmp/p.csv")" = \
+    "period,tau,omega,x_n,dx_n,F,x1,y1,z1,x2,y2,z2,s,dx1,dy1,dz1,dx2,dy2,dz2,ds"
+check "events header" test "$(head -1 "$tmp/e.csv")" = "tau,contact,kind,velocity"
+check "trace header" test "$(head -1 "$tmp/t.csv")" = "tau,omega,x_n,dx_n,F"
+check "one poincare row per recorded period" test "$(tail -n +2 "$tmp/p.csv" | wc -l)" -eq 12
+check "period column counts from the run start" test "$(sed -n 2p "$tmp/p.csv" | cut -d, -f1)" = 6
+check "trace has every recorded step" test "$(tail -n +2 "$tmp/t.csv" | wc -l)" -eq $((12 * 128))
+check "events name contacts and kinds" \
+    bash -c "tail -n +2 '$tmp/e.csv' | cut -d, -f2,3 | grep -qE '^mesh,(separation|drive_impact)$'"
+check "no event kind outside the four" \
+    bash -c "! tail -n +2 '$tmp/e.csv' | cut -d, -f3 | grep -vqE '^(separation|drive_impact|back_impact|back_release)$'"
+"$WGSIM" --units physical --periods 3 --transient 0 --poincare - >"$tmp/pp.csv"
+check "physical units header" bash -c "head -1 '$tmp/pp.csv' | grep -q '^period,t_s,f_mesh_hz,x_n_um,dx_n_m_s,F_N,x1_um'"
+check "physical x_n in micrometres (~100-200 um)" \
+    bash -c "awk -F, 'NR==2 { exit !(\$4 > 50 && \$4 < 400) }' '$tmp/pp.csv'"
+
+# summary
+"$WGSIM" --periods 20 --transient 10 >"$tmp/sum"
+for key in "omega_n = 31901" "steps/s" "ns/step" "motion " "impacts " "kernel full"; do
+    grep -q -- "$key" "$tmp/sum" || { echo "FAIL summary lacks '$key'"; cat "$tmp/sum"; fail=1; }
+done
+
+# exit codes and messages
+expect_exit 2 "unknown option" --frobnicate
+expect_exit 2 "allowed values are rk4, rk4-event" --stepper euler
+expect_exit 2 "allowed values are consistent, printed" --model fancy
+expect_exit 2 "omega = 99 out of range \[0.01, 10\]" --set omega=99
+expect_exit 2 "unknown parameter 'nope'" --set nope=1
+expect_exit 2 "must be an integer in \[8, 65536\]" --steps-per-period 4
+expect_exit 2 "need N >= " --set omega=0.05 --steps-per-period 64
+expect_exit 2 "printed form supports rk4 only" --model printed --stepper rk4-event
+expect_exit 2 "scene 'nosuch' not found" --scene nosuch
+printf '[params]\nomega = 1\nxi_p = 7\n' >"$tmp/bad.ini"
+expect_exit 1 "bad.ini:3: xi_p: value 7 out of range \[0, 2\]" --scene "$tmp/bad.ini"
+expect_exit 0 "motion" --model printed --periods 5 --transient 0
+
+exit $fail
