@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Install wormgear's build and test dependencies from Debian 12 packages
+# (README.md, "Dependencies", says why each is there). Idempotent: installs
+# only what is missing. Run as root.
+set -euo pipefail
+pkgs=(
+  build-essential cmake pkg-config
+  libinih-dev
+  liblcm-dev liblcm-bin libglib2.0-dev
+  libev-dev
+  libsystemd-dev systemd
+  libcairo2-dev
+  iproute2 util-linux procps
+)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
