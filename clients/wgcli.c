@@ -1,0 +1,133 @@
+/* wgcli.c - shared LCM client helpers. */
+#include "wgcli.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/select.h>
+#include <sys/time.h>
+#include <time.h>
+#include <unistd.h>
+
+const char *wgcli_default_url(void)
+{
+    const char *u = getenv("WORMGEAR_URL");
+    return u && *u ? u : WGCLI_DEFAULT_URL;
+}
+
+const char *wgcli_default_prefix(void)
+{
+    const char *p = getenv("WORMGEAR_PREFIX");
+    return p ? p : WGCLI_DEFAULT_PREFIX;
+}
+
+int64_t wgcli_now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+}
+
+const char *wgcli_channel(const wgcli *c, const char *suffix, char *buf, size_t len)
+{
+    snprintf(buf, len, "%s%s", c->prefix, suffix);
+    return buf;
+}
+
+static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_t *m, void *u)
+{
+    (void)rb;
+    (void)ch;
+    wgcli *c = u;
+    if (m->cmd_seq != c->seq || strcmp(m->client, c->client) != 0)
+        return; /* someone else's */
+    wgcli_ack *a = &c->ack;
+    a->got = 1;
+    a->accepted = m->accepted;
+    a->status = m->status;
+    a->cmd_seq = m->cmd_seq;
+    a->steps = m->steps;
+    a->tau = m->tau;
+    a->t_s = m->t_s;
+    snprintf(a->code, sizeof a->code, "%s", m->code);
+    snprintf(a->op, sizeof a->op, "%s", m->op);
+    snprintf(a->message, sizeof a->message, "%s", m->message);
+}
+
+int wgcli_open(wgcli *c, const char *url, const char *prefix, const char *name, char *why,
+               size_t whylen)
+{
+    char host[64] = "host", ch[128];
+    memset(c, 0, sizeof *c);
+    url = url ? url : wgcli_default_url();
+    snprintf(c->prefix, sizeof c->prefix, "%s", prefix ? prefix : wgcli_default_prefix());
+    gethostname(host, sizeof host - 1);
+    snprintf(c->client, sizeof c->client, "%s-%d@%s", name, (int)getpid(), host);
+    c->lcm = lcm_create(url);
+    if (!c->lcm) {
+        snprintf(why, whylen, "cannot open LCM URL '%s'", url);
+        return -1;
+    }
+    c->ack_sub = wormgear_ack_t_subscribe(c->lcm, wgcli_channel(c, "ACK", ch, sizeof ch),
+                                          on_ack, c);
+    return 0;
+}
+
+void wgcli_close(wgcli *c)
+{
+    if (c->lcm)
+        lcm_destroy(c->lcm);
+    c->lcm = NULL;
+}
+
+int64_t wgcli_send(wgcli *c, wormgear_cmd_t *cmd)
+{
+    struct timeval tv;
+    char ch[128];
+    gettimeofday(&tv, NULL);
+    cmd->utime = (int64_t)tv.tv_sec * 1000000 + tv.tv_usec;
+    cmd->seq = ++c->seq;
+    cmd->client = c->client;
+    c->ack.got = 0;
+    if (wormgear_cmd_t_publish(c->lcm, wgcli_channel(c, "CMD", ch, sizeof ch), cmd) != 0)
+        return -1;
+    return cmd->seq;
+}
+
+int wgcli_wait(wgcli *c, int timeout_ms, int (*done)(void *ctx), void *ctx)
+{
+    int64_t end = wgcli_now_ms() + timeout_ms;
+    int fd = lcm_get_fileno(c->lcm);
+    while (!(done && done(ctx))) {
+        int64_t left = end - wgcli_now_ms();
+        if (left <= 0)
+            return -1;
+        fd_set set;
+        FD_ZERO(&set);
+        FD_SET(fd, &set);
+        struct timeval tv = {left / 1000, (left % 1000) * 1000};
+        if (select(fd + 1, &set, NULL, NULL, &tv) > 0)
+            lcm_handle(c->lcm);
+    }
+    return 0;
+}
+
+static int ack_done(void *ctx) { return ((wgcli *)ctx)->ack.got; }
+
+int wgcli_wait_ack(wgcli *c, int timeout_ms) { return wgcli_wait(c, timeout_ms, ack_done, c); }
+
+void wgcli_json_str(void *fp, const char *s)
+{
+    FILE *f = fp;
+    fputc('"', f);
+    for (; s && *s; s++) {
+        unsigned char ch = (unsigned char)*s;
+        if (ch == '"' || ch == '\\')
+            fprintf(f, "\\%c", ch);
+        else if (ch < 0x20)
+            fprintf(f, "\\u%04x", ch);
+        else
+            fputc(ch, f);
+    }
+    fputc('"', f);
+}

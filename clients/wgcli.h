@@ -1,0 +1,75 @@
+/* wgcli.h - shared helpers of the LCM clients (wgctl, wgmon, wgrig, wglog):
+ * the daemon's URL/prefix defaults, channel names, a client id, sending a
+ * command and waiting for its ACK.
+ *
+ * Defaults match wormgeard: URL $WORMGEAR_URL or udpm://239.255.76.67:7667?ttl=0,
+ * prefix $WORMGEAR_PREFIX or WORMGEAR_. A command is matched to its ACK by
+ * (client id, seq); see lcmtypes/PROTOCOL.md. */
+#ifndef WGCLI_H
+#define WGCLI_H
+
+#include <lcm/lcm.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lcmtypes/wormgear_ack_t.h"
+#include "lcmtypes/wormgear_cmd_t.h"
+
+#define WGCLI_DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
+#define WGCLI_DEFAULT_PREFIX "WORMGEAR_"
+
+/* A received ACK, copied out of the LCM message. */
+typedef struct wgcli_ack {
+    int got;
+    int accepted;
+    int status;
+    int64_t cmd_seq, steps;
+    double tau, t_s;
+    char code[32];
+    char op[16];
+    char message[768];
+} wgcli_ack;
+
+typedef struct wgcli {
+    lcm_t *lcm;
+    char prefix[64];
+    char client[96];          /* "<name>-<pid>@<host>" */
+    int64_t seq;              /* last command seq sent */
+    wgcli_ack ack;            /* the ACK of the last command, once it came */
+    void *ack_sub;
+} wgcli;
+
+/* $WORMGEAR_URL or the default; $WORMGEAR_PREFIX or the default. */
+const char *wgcli_default_url(void);
+const char *wgcli_default_prefix(void);
+
+/* Open LCM on url (NULL: default) with prefix (NULL: default); name is the
+ * program name used in the client id. 0, or -1 with a message in why. */
+int wgcli_open(wgcli *c, const char *url, const char *prefix, const char *name, char *why,
+               size_t whylen);
+
+/* Close LCM. Safe on a failed open. */
+void wgcli_close(wgcli *c);
+
+/* "<prefix><suffix>" into buf (e.g. suffix "STATUS"). */
+const char *wgcli_channel(const wgcli *c, const char *suffix, char *buf, size_t len);
+
+/* Stamp cmd (utime, seq = ++c->seq, client) and publish it on CMD.
+ * Returns the seq, or -1 if publishing failed. */
+int64_t wgcli_send(wgcli *c, wormgear_cmd_t *cmd);
+
+/* Handle LCM messages until done(ctx) is true or timeout_ms passes.
+ * Returns 0 when done, -1 on timeout. done may be NULL (just wait). */
+int wgcli_wait(wgcli *c, int timeout_ms, int (*done)(void *ctx), void *ctx);
+
+/* Wait for the ACK of the last command sent; 0 when it came (c->ack), -1
+ * on timeout. */
+int wgcli_wait_ack(wgcli *c, int timeout_ms);
+
+/* Monotonic milliseconds. */
+int64_t wgcli_now_ms(void);
+
+/* Write s as a JSON string literal (quotes and escapes) to f. */
+void wgcli_json_str(void *f, const char *s);
+
+#endif

@@ -1,0 +1,463 @@
+/* wgctl - control wormgeard from the shell over LCM.
+ * Exit 0 accepted, 1 refused or no answer, 2 usage error. */
+#include "wgcli.h"
+
+#include "lcmtypes/wormgear_params_t.h"
+#include "lcmtypes/wormgear_status_t.h"
+#include "wormgear/wg_param.h"
+
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct opts {
+    const char *url, *prefix;
+    double timeout_s;
+    int json;
+    double over;         /* ramp duration */
+    const char *unit;    /* "s" or "tau" */
+    int have_over;
+    int reset_params;
+} opts;
+
+typedef struct ctl {
+    wgcli c;
+    opts o;
+    wormgear_params_t *params; /* copy of the PARAMS answering a get */
+    wormgear_status_t *status;
+} ctl;
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: wgctl [options] COMMAND [ARGS]\n"
+            "Control a running wormgeard over LCM; waits for the daemon's ACK.\n\n"
+            "Commands:\n"
+            "  set NAME=VALUE...          change parameters atomically (all or none)\n"
+            "  ramp NAME [FROM] TO --over DURATION\n"
+            "                             ramp a parameter phase-continuously; DURATION is\n"
+            "                             simulated time: 60s, 250ms, 2min, or 5000tau\n"
+            "  pause | resume             stop / continue the simulation (resume clears a fault)\n"
+            "  reset [--params]           back to the scene's initial state (and parameters)\n"
+            "  step N                     advance N RK4 steps (lockstep mode, or paused)\n"
+            "  mode realtime|fast|lockstep [RATE]\n"
+            "                             change pacing (RATE: realtime factor, 1 = physical)\n"
+            "  save NAME | restore NAME   full state to/from NAME.wgstate in the state dir\n"
+            "  get                        the current parameters, with units\n"
+            "  params                     every parameter: name, unit, range, default, help\n"
+            "  status                     one STATUS message, readable\n\n"
+            "Options:\n"
+            "  --url URL        LCM URL (default $WORMGEAR_URL or %s)\n"
+            "  --prefix P       channel prefix (default $WORMGEAR_PREFIX or %s)\n"
+            "  --timeout SEC    wait this long for the answer (default 3 s)\n"
+            "  --over DURATION  ramp duration (see ramp)\n"
+            "  --params         reset: the scene's parameters too\n"
+            "  --json           machine-readable output on stdout\n"
+            "  -h, --help       this text\n\n"
+            "Exit status: 0 accepted, 1 refused or no answer, 2 usage error.\n",
+            WGCLI_DEFAULT_URL, WGCLI_DEFAULT_PREFIX);
+}
+
+static int bad(const char *msg, const char *arg)
+{
+    fprintf(stderr, "wgctl: ");
+    fprintf(stderr, msg, arg);
+    fprintf(stderr, "\n(try wgctl --help)\n");
+    return 2;
+}
+
+static int number(const char *s, double *v)
+{
+    char *end;
+    *v = strtod(s, &end);
+    return end == s || *end ? -1 : 0;
+}
+
+/* "60s", "250ms", "2min", "5000tau", "60" (seconds). */
+static int duration(const char *s, double *v, const char **unit)
+{
+    char *end;
+    *v = strtod(s, &end);
+    if (end == s)
+        return -1;
+    static const struct { const char *suf; double f; const char *unit; } u[] = {
+        {"", 1, "s"}, {"s", 1, "s"}, {"ms", 1e-3, "s"}, {"us", 1e-6, "s"},
+        {"min", 60, "s"}, {"h", 3600, "s"}, {"tau", 1, "tau"}};
+    for (unsigned i = 0; i < sizeof u / sizeof u[0]; i++)
+        if (strcmp(end, u[i].suf) == 0) {
+            *v *= u[i].f;
+            *unit = u[i].unit;
+            return 0;
+        }
+    return -1;
+}
+
+/* Options may appear anywhere; everything else (negative numbers too) is
+ * positional and collected into pos. */
+static int option(opts *o, const char *name, const char *val, int *used)
+{
+    static const char *const withval[] = {"url", "prefix", "timeout", "over"};
+    *used = 0;
+    for (unsigned i = 0; i < 4; i++)
+        if (strcmp(name, withval[i]) == 0) {
+            if (!val)
+                return bad("option --%s needs a value", name);
+            *used = 1;
+        }
+    if (!strcmp(name, "url")) o->url = val;
+    else if (!strcmp(name, "prefix")) o->prefix = val;
+    else if (!strcmp(name, "timeout")) {
+        if (number(val, &o->timeout_s) || !(o->timeout_s > 0) || o->timeout_s > 86400)
+            return bad("--timeout '%s': seconds in (0, 86400]", val);
+    } else if (!strcmp(name, "over")) {
+        if (duration(val, &o->over, &o->unit) || !(o->over > 0))
+            return bad("--over '%s': a positive duration like 60s, 250ms, 2min, 5000tau", val);
+        o->have_over = 1;
+    } else if (!strcmp(name, "params")) o->reset_params = 1;
+    else if (!strcmp(name, "json")) o->json = 1;
+    else if (!strcmp(name, "help")) { usage(stdout); exit(0); }
+    else return bad("unknown option '--%s'", name);
+    return 0;
+}
+
+static int parse_opts(int argc, char **argv, opts *o, char **pos, int *npos)
+{
+    *o = (opts){.timeout_s = 3.0, .unit = "s"};
+    *npos = 0;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "-h"))
+            a = "--help";
+        if (strncmp(a, "--", 2) != 0 || !a[2]) {
+            if (strcmp(a, "--") != 0)
+                pos[(*npos)++] = argv[i];
+            continue;
+        }
+        char name[32];
+        const char *eq = strchr(a, '='), *val = eq ? eq + 1 : (i + 1 < argc ? argv[i + 1] : NULL);
+        snprintf(name, sizeof name, "%.*s", (int)(eq ? eq - a - 2 : (long)strlen(a) - 2), a + 2);
+        int used, rc = option(o, name, val, &used);
+        if (rc)
+            return rc;
+        if (used && !eq)
+            i++;
+    }
+    return 0;
+}
+
+/* ---- answers --------------------------------------------------------------- */
+
+static int report(ctl *t, const char *what)
+{
+    wgcli_ack *a = &t->c.ack;
+    if (!a->got) {
+        if (t->o.json)
+            printf("{\"accepted\":false,\"code\":\"ETIMEDOUT\",\"message\":\"no ACK within %g s\"}\n",
+                   t->o.timeout_s);
+        fprintf(stderr, "wgctl: %s: no answer within %g s (is wormgeard running with prefix '%s' "
+                        "on this URL?)\n", what, t->o.timeout_s, t->c.prefix);
+        return 1;
+    }
+    if (t->o.json) {
+        printf("{\"accepted\":%s,\"code\":", a->accepted ? "true" : "false");
+        wgcli_json_str(stdout, a->code);
+        printf(",\"status\":%d,\"message\":", a->status);
+        wgcli_json_str(stdout, a->message);
+        printf(",\"tau\":%.17g,\"t_s\":%.17g,\"steps\":%lld,\"seq\":%lld,\"client\":", a->tau,
+               a->t_s, (long long)a->steps, (long long)a->cmd_seq);
+        wgcli_json_str(stdout, t->c.client);
+        printf("}\n");
+    } else if (a->accepted) {
+        printf("ok: %s [tau %.9g, t %.6g s]\n", a->message, a->tau, a->t_s);
+    }
+    if (!a->accepted)
+        fprintf(stderr, "wgctl: %s refused (%s): %s\n", what, a->code, a->message);
+    return a->accepted ? 0 : 1;
+}
+
+static int send_wait(ctl *t, wormgear_cmd_t *cmd)
+{
+    if (wgcli_send(&t->c, cmd) < 0) {
+        fprintf(stderr, "wgctl: cannot publish on %sCMD\n", t->c.prefix);
+        return 1;
+    }
+    wgcli_wait_ack(&t->c, (int)(t->o.timeout_s * 1000));
+    return report(t, cmd->op);
+}
+
+static wormgear_cmd_t blank(const char *op)
+{
+    return (wormgear_cmd_t){.op = (char *)op, .unit = (char *)"", .name = (char *)""};
+}
+
+/* ---- commands ---------------------------------------------------------------- */
+
+static int do_set(ctl *t, int n, char **args)
+{
+    char *names[WG_NPARAM + 8];
+    double vals[WG_NPARAM + 8];
+    if (n < 1 || n > WG_NPARAM)
+        return bad("set needs 1 to %s NAME=VALUE pairs", "29");
+    for (int i = 0; i < n; i++) {
+        char *eq = strchr(args[i], '=');
+        if (!eq || eq == args[i] || number(eq + 1, &vals[i]))
+            return bad("set: '%s' is not NAME=NUMBER", args[i]);
+        *eq = 0;
+        names[i] = args[i];
+    }
+    wormgear_cmd_t c = blank("set");
+    c.nparams = n;
+    c.names = names;
+    c.values = vals;
+    return send_wait(t, &c);
+}
+
+static int do_ramp(ctl *t, int n, char **args)
+{
+    double from = 0, to;
+    if (n < 2 || n > 3)
+        return bad("ramp: expected NAME [FROM] TO --over DURATION%s", "");
+    if (!t->o.have_over)
+        return bad("ramp: --over DURATION is required (e.g. --over 60s)%s", "");
+    if (number(args[n - 1], &to) || (n == 3 && number(args[1], &from)))
+        return bad("ramp: FROM and TO must be numbers (got '%s')", args[n - 1]);
+    wormgear_cmd_t c = blank("ramp");
+    c.nparams = 1;
+    c.names = &args[0];
+    c.values = &to;
+    c.has_from = n == 3;
+    c.from = from;
+    c.duration = t->o.over;
+    c.unit = (char *)t->o.unit;
+    return send_wait(t, &c);
+}
+
+static int do_step(ctl *t, int n, char **args)
+{
+    char *end;
+    long long v = n == 1 ? strtoll(args[0], &end, 10) : 0;
+    if (n != 1 || *end || v < 1)
+        return bad("step: expected a step count N >= 1%s", "");
+    wormgear_cmd_t c = blank("step");
+    c.nsteps = v;
+    return send_wait(t, &c);
+}
+
+static int do_named(ctl *t, const char *op, int n, char **args)
+{
+    if (n != 1)
+        return bad("%s: expected one NAME", op);
+    wormgear_cmd_t c = blank(op);
+    c.name = args[0];
+    return send_wait(t, &c);
+}
+
+static int do_mode(ctl *t, int n, char **args)
+{
+    double rate = 0;
+    if (n < 1 || n > 2 || (n == 2 && (number(args[1], &rate) || !(rate > 0))))
+        return bad("mode: expected realtime|fast|lockstep [RATE > 0]%s", "");
+    wormgear_cmd_t c = blank("mode");
+    c.name = args[0];
+    c.rate = rate;
+    return send_wait(t, &c);
+}
+
+static int do_simple(ctl *t, const char *op, int n)
+{
+    if (n != 0)
+        return bad("%s takes no arguments", op);
+    wormgear_cmd_t c = blank(op);
+    if (!strcmp(op, "reset") && t->o.reset_params)
+        c.name = (char *)"params";
+    return send_wait(t, &c);
+}
+
+static void on_params(const lcm_recv_buf_t *rb, const char *ch, const wormgear_params_t *m,
+                      void *u)
+{
+    (void)rb;
+    (void)ch;
+    ctl *t = u;
+    if (!t->params && m->cmd_seq == t->c.seq && strcmp(m->cmd_client, t->c.client) == 0)
+        t->params = wormgear_params_t_copy(m);
+}
+
+static int get_done(void *u)
+{
+    ctl *t = u;
+    return t->params && t->c.ack.got;
+}
+
+static void print_params(const ctl *t, const wormgear_params_t *p)
+{
+    if (t->o.json) {
+        printf("{\"scene\":");
+        wgcli_json_str(stdout, p->scene);
+        printf(",\"tau\":%.17g,\"omega_n_rad_s\":%.17g,\"steps_per_period\":%d,\"params\":{",
+               p->tau, p->omega_n_rad_s, p->steps_per_period);
+        for (int i = 0; i < p->n; i++)
+            printf("%s\"%s\":%.17g", i ? "," : "", p->name[i], p->value[i]);
+        printf("},\"ramp\":%s}\n", p->ramp_active ? "true" : "false");
+        return;
+    }
+    printf("scene %s, model %s, stepper %s, N = %d, tau %.9g (%.6g s)\n", p->scene, p->model,
+           p->stepper, p->steps_per_period, p->tau, p->tau / p->omega_n_rad_s);
+    for (int i = 0; i < p->n; i++)
+        printf("  %-5s = %-12.9g %s\n", p->name[i], p->value[i], p->unit[i]);
+    if (p->ramp_active)
+        printf("ramp: %s %.9g -> %.9g over %.9g tau from tau %.9g\n", p->ramp_param, p->ramp_from,
+               p->ramp_to, p->ramp_duration_tau, p->ramp_tau0);
+}
+
+static int do_get(ctl *t)
+{
+    char ch[128];
+    wormgear_params_t_subscription_t *s = wormgear_params_t_subscribe(
+        t->c.lcm, wgcli_channel(&t->c, "PARAMS", ch, sizeof ch), on_params, t);
+    wormgear_cmd_t c = blank("get");
+    if (wgcli_send(&t->c, &c) < 0)
+        return 1;
+    wgcli_wait(&t->c, (int)(t->o.timeout_s * 1000), get_done, t);
+    int rc = 1;
+    if (t->params && t->c.ack.got && t->c.ack.accepted) {
+        print_params(t, t->params);
+        rc = 0;
+    } else if ((rc = report(t, "get")) == 0) {
+        fprintf(stderr, "wgctl: get: the PARAMS answer did not arrive\n");
+        rc = 1;
+    }
+    if (t->params)
+        wormgear_params_t_destroy(t->params);
+    wormgear_params_t_unsubscribe(t->c.lcm, s);
+    return rc;
+}
+
+static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_status_t *m,
+                      void *u)
+{
+    (void)rb;
+    (void)ch;
+    ctl *t = u;
+    if (!t->status)
+        t->status = wormgear_status_t_copy(m);
+}
+
+static int status_done(void *u) { return ((ctl *)u)->status != NULL; }
+
+static void print_status(const ctl *t, const wormgear_status_t *s)
+{
+    if (t->o.json) {
+        printf("{\"scene\":");
+        wgcli_json_str(stdout, s->scene);
+        printf(",\"mode\":\"%s\",\"rate\":%.17g,\"run\":\"%s\",\"health\":\"%s\",\"fault\":",
+               s->mode, s->rate, s->run, s->health);
+        wgcli_json_str(stdout, s->fault);
+        printf(",\"tau\":%.17g,\"t_s\":%.17g,\"omega\":%.17g,\"steps\":%lld,\"period\":%lld,"
+               "\"rtf\":%.6g,\"lag_s\":%.6g,\"overruns\":%lld,\"loop_mean_us\":%.6g,"
+               "\"loop_max_us\":%.6g,\"steps_per_s\":%.6g,\"cpu_share\":%.6g,"
+               "\"msgs_dropped\":%lld,\"cmds_accepted\":%lld,\"cmds_refused\":%lld,"
+               "\"motion\":\"%s\",\"impacts_per_period\":%.6g,\"regime\":\"%s\",\"seq\":%lld}\n",
+               s->tau, s->t_s, s->omega, (long long)s->steps, (long long)s->period, s->rtf,
+               s->lag_s, (long long)s->overruns, s->loop_mean_us, s->loop_max_us,
+               s->steps_per_s, s->cpu_share, (long long)s->msgs_dropped,
+               (long long)s->cmds_accepted, (long long)s->cmds_refused, s->motion,
+               s->impacts_per_period, s->regime, (long long)s->seq);
+        return;
+    }
+    printf("scene %s, mode %s (rate %g), %s, health %s%s%s\n", s->scene, s->mode, s->rate,
+           s->run, s->health, s->fault[0] ? ": " : "", s->fault);
+    printf("time      t = %.6f s, tau = %.9g, step %lld, period %lld (N = %d)\n", s->t_s, s->tau,
+           (long long)s->steps, (long long)s->period, s->steps_per_period);
+    printf("omega     %.9g%s\n", s->omega, s->ramp_active ? " (ramping)" : "");
+    printf("pace      real-time factor %.4f, lag %.3f ms, overruns %lld\n", s->rtf,
+           s->lag_s * 1e3, (long long)s->overruns);
+    printf("load      %.4g steps/s, cpu %.1f%%, loop %.1f us mean / %.1f us max\n",
+           s->steps_per_s, s->cpu_share * 100, s->loop_mean_us, s->loop_max_us);
+    printf("motion    %s, %.3g impacts per period, regime %s\n", s->motion,
+           s->impacts_per_period, s->regime);
+    printf("messages  %lld dropped; commands %lld accepted, %lld refused; up %.1f s\n",
+           (long long)s->msgs_dropped, (long long)s->cmds_accepted, (long long)s->cmds_refused,
+           s->uptime_s);
+}
+
+static int do_status(ctl *t)
+{
+    char ch[128];
+    wormgear_status_t_subscription_t *s = wormgear_status_t_subscribe(
+        t->c.lcm, wgcli_channel(&t->c, "STATUS", ch, sizeof ch), on_status, t);
+    wgcli_wait(&t->c, (int)(t->o.timeout_s * 1000), status_done, t);
+    wormgear_status_t_unsubscribe(t->c.lcm, s);
+    if (!t->status) {
+        fprintf(stderr, "wgctl: status: no STATUS on %sSTATUS within %g s\n", t->c.prefix,
+                t->o.timeout_s);
+        return 1;
+    }
+    print_status(t, t->status);
+    wormgear_status_t_destroy(t->status);
+    return 0;
+}
+
+static int do_params(const ctl *t)
+{
+    for (int i = 0; i < WG_NPARAM; i++) {
+        const wg_param_info *r = wg_param_info_get(i);
+        if (t->o.json) {
+            printf("%s{\"name\":\"%s\",\"unit\":\"%s\",\"min\":%.17g,\"max\":%.17g,"
+                   "\"default\":%.17g,\"rampable\":%s,\"help\":", i ? "," : "[", r->name, r->unit,
+                   r->min, r->max, r->def, r->flags & WG_PF_RAMP ? "true" : "false");
+            wgcli_json_str(stdout, r->help);
+            printf("}%s", i == WG_NPARAM - 1 ? "]\n" : "\n");
+        } else {
+            printf("%-5s %-3s [%g, %g] default %g%s: %s\n", r->name, r->unit, r->min, r->max,
+                   r->def, r->flags & WG_PF_RAMP ? " (rampable)" : "", r->help);
+        }
+    }
+    return 0;
+}
+
+static int dispatch(ctl *t, const char *cmd, int n, char **args)
+{
+    if (!strcmp(cmd, "set")) return do_set(t, n, args);
+    if (!strcmp(cmd, "ramp")) return do_ramp(t, n, args);
+    if (!strcmp(cmd, "step")) return do_step(t, n, args);
+    if (!strcmp(cmd, "save") || !strcmp(cmd, "restore")) return do_named(t, cmd, n, args);
+    if (!strcmp(cmd, "mode")) return do_mode(t, n, args);
+    if (!strcmp(cmd, "pause") || !strcmp(cmd, "resume") || !strcmp(cmd, "reset"))
+        return do_simple(t, cmd, n);
+    if (!strcmp(cmd, "get")) return n ? bad("get takes no arguments%s", "") : do_get(t);
+    if (!strcmp(cmd, "status")) return n ? bad("status takes no arguments%s", "") : do_status(t);
+    return bad("unknown command '%s'", cmd);
+}
+
+int main(int argc, char **argv)
+{
+    static ctl t;
+    char *pos[256], why[256];
+    int npos;
+    if (argc > 256)
+        return bad("too many arguments%s", "");
+    int rc = parse_opts(argc, argv, &t.o, pos, &npos);
+    if (rc)
+        return rc;
+    if (npos == 0)
+        return bad("no command given%s", "");
+    if (!strcmp(pos[0], "params"))
+        return npos > 1 ? bad("params takes no arguments%s", "") : do_params(&t);
+    static const char *const known[] = {"set", "ramp", "step", "save", "restore", "mode",
+                                        "pause", "resume", "reset", "get", "status"};
+    unsigned k = 0;
+    while (k < sizeof known / sizeof known[0] && strcmp(known[k], pos[0]))
+        k++;
+    if (k == sizeof known / sizeof known[0])
+        return bad("unknown command '%s'", pos[0]);
+    if (wgcli_open(&t.c, t.o.url, t.o.prefix, "wgctl", why, sizeof why)) {
+        fprintf(stderr, "wgctl: %s\n", why);
+        return 1;
+    }
+    rc = dispatch(&t, pos[0], npos - 1, pos + 1);
+    wgcli_close(&t.c);
+    return rc;
+}

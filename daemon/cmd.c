@@ -1,0 +1,460 @@
+/* cmd.c - CMD: raw subscription, decode, validate, apply, ACK; TICK. */
+#include "cmd.h"
+
+#include "engine.h"
+#include "loop.h"
+#include "snap.h"
+#include "status.h"
+#include "wgd.h"
+#include "wormgear/wg_status.h"
+
+#include <ctype.h>
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+enum { CMD_PENDING = 1 };
+#define STEP_MAX 1e12
+
+typedef int (*op_fn)(wgd *d, const wormgear_cmd_t *c, char *why, size_t len);
+
+/* Printable, bounded copy of untrusted text for messages and logs. */
+static const char *clean(const char *s, char *out, size_t n)
+{
+    size_t i = 0;
+    for (; s && s[i] && i + 1 < n; i++)
+        out[i] = isprint((unsigned char)s[i]) ? s[i] : '?';
+    out[i] = 0;
+    if (s && s[i] && n > 4)
+        memcpy(out + n - 4, "...", 4);
+    return out;
+}
+
+/* ---- ACK ------------------------------------------------------------------ */
+
+static void ack(wgd *d, const char *client, int64_t seq, const char *op, int status,
+                const char *msg)
+{
+    char cl[72], o[24];
+    wormgear_ack_t a = {.client = (char *)clean(client, cl, sizeof cl), .cmd_seq = seq,
+                        .op = (char *)clean(op, o, sizeof o), .accepted = status == WG_OK,
+                        .status = status, .code = (char *)wg_status_name(status),
+                        .message = (char *)msg, .tau = d->sim.tau,
+                        .t_s = engine_seconds(d, d->sim.tau), .steps = (int64_t)d->sim.steps};
+    lcmio_pub_ack(&d->io, &a);
+    if (status == WG_OK) {
+        d->stat.cmds_accepted++;
+        if (strcmp(op, "get") && strcmp(op, "step"))
+            log_msg(&d->log, LOG_INFO, "%s from %s (seq %" PRId64 "): %s", a.op, a.client, seq,
+                    msg);
+        else
+            log_msg(&d->log, LOG_DEBUG, "%s from %s (seq %" PRId64 "): %s", a.op, a.client,
+                    seq, msg);
+    } else {
+        d->stat.cmds_refused++;
+        log_msg(&d->log, LOG_WARNING, "refused %s from %s (seq %" PRId64 "): %s: %s",
+                *a.op ? a.op : "?", *a.client ? a.client : "?", seq, a.code, msg);
+    }
+}
+
+/* ---- parameters ------------------------------------------------------------ */
+
+/* Ids of the named parameters: EINVAL (count, duplicates) or EUNKNOWN. */
+static int lookup_all(const wormgear_cmd_t *c, int *ids, char *why, size_t len)
+{
+    char nm[48];
+    if (c->nparams < 1 || c->nparams > WG_NPARAM) {
+        snprintf(why, len, "%s needs 1 to %d parameters, got %d", c->op, WG_NPARAM, c->nparams);
+        return WG_EINVAL;
+    }
+    for (int i = 0; i < c->nparams; i++) {
+        if ((ids[i] = wg_param_lookup(c->names[i])) < 0) {
+            snprintf(why, len, "unknown parameter '%s' (wgctl params lists them)",
+                     clean(c->names[i], nm, sizeof nm));
+            return WG_EUNKNOWN;
+        }
+        for (int j = 0; j < i; j++)
+            if (ids[j] == ids[i]) {
+                snprintf(why, len, "parameter %s given twice", c->names[i]);
+                return WG_EINVAL;
+            }
+    }
+    return WG_OK;
+}
+
+static int op_set(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
+{
+    int ids[WG_NPARAM], rc = lookup_all(c, ids, why, len);
+    if (rc)
+        return rc;
+    wg_params p = d->sim.p;
+    for (int i = 0; i < c->nparams; i++) {
+        if ((rc = wg_param_check(ids[i], c->values[i], why, len)))
+            return rc;
+        p.v[ids[i]] = c->values[i];
+    }
+    int ramp = d->sim.ramp.active ? d->sim.ramp.id : -1;
+    if ((rc = wg_sim_set_params(&d->sim, &p, why, len)))
+        return rc;
+    size_t n = (size_t)snprintf(why, len, "set");
+    for (int i = 0; i < c->nparams && n < len; i++)
+        n += (size_t)snprintf(why + n, len - n, " %s=%.17g", c->names[i], c->values[i]);
+    if (ramp >= 0 && n < len)
+        snprintf(why + n, len - n, " (cancelled the ramp of %s at %.9g)",
+                 wg_param_info_get(ramp)->name, d->sim.p.v[ramp]);
+    status_decimation(d);
+    status_params(d, "set", c->client, c->seq);
+    return WG_OK;
+}
+
+/* Ramp duration in tau from the command's duration and unit. */
+static int ramp_duration(const wgd *d, const wormgear_cmd_t *c, double *dur, char *why,
+                         size_t len)
+{
+    char u[16];
+    if (strcmp(c->unit, "s") && strcmp(c->unit, "tau")) {
+        snprintf(why, len, "ramp unit '%s' must be s (simulated seconds) or tau",
+                 clean(c->unit, u, sizeof u));
+        return WG_EINVAL;
+    }
+    *dur = c->unit[0] == 's' ? c->duration * d->scene.scale.omega_n_rad_s : c->duration;
+    if (!(*dur > 0) || !isfinite(*dur) || *dur > 1e15) {
+        snprintf(why, len, "ramp duration %g %s must be finite and > 0", c->duration, c->unit);
+        return WG_ERANGE;
+    }
+    return WG_OK;
+}
+
+/* Validate everything the sim does not: count, name, unit, values. */
+static int ramp_check(wgd *d, const wormgear_cmd_t *c, int *id, double *dur, char *why,
+                      size_t len)
+{
+    int rc = lookup_all(c, id, why, len);
+    if (!rc && c->nparams != 1) {
+        snprintf(why, len, "ramp takes exactly one parameter, got %d", c->nparams);
+        rc = WG_EINVAL;
+    }
+    if (rc || (rc = ramp_duration(d, c, dur, why, len)))
+        return rc;
+    if (!(wg_param_info_get(*id)->flags & WG_PF_RAMP)) {
+        snprintf(why, len, "%s cannot be ramped (geometry); use set", c->names[0]);
+        return WG_EINVAL;
+    }
+    if ((rc = wg_param_check(*id, c->values[0], why, len)))
+        return rc;
+    return c->has_from ? wg_param_check(*id, c->from, why, len) : WG_OK;
+}
+
+static int op_ramp(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
+{
+    int id, rc;
+    double dur;
+    if ((rc = ramp_check(d, c, &id, &dur, why, len)))
+        return rc;
+    wg_params old = d->sim.p;
+    wg_ramp old_ramp = d->sim.ramp;
+    double old_hmax = d->sim.hmax;
+    if (c->has_from) {
+        wg_params p = old;
+        p.v[id] = c->from;
+        if ((rc = wg_sim_set_params(&d->sim, &p, why, len)))
+            return rc;
+    }
+    double v0 = d->sim.p.v[id];
+    if ((rc = wg_sim_ramp(&d->sim, id, c->values[0], dur, why, len))) {
+        if (c->has_from) { /* undo the jump: nothing half-applied */
+            char tmp[64];
+            wg_sim_set_params(&d->sim, &old, tmp, sizeof tmp);
+            d->sim.ramp = old_ramp;
+            d->sim.hmax = old_hmax;
+        }
+        return rc;
+    }
+    snprintf(why, len, "ramp %s %.9g -> %.9g over %.9g tau (%.6g s simulated)", c->names[0], v0,
+             c->values[0], dur, engine_seconds(d, dur));
+    status_params(d, "ramp", c->client, c->seq);
+    return WG_OK;
+}
+
+/* ---- run control ----------------------------------------------------------- */
+
+static int op_pause(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
+{
+    (void)c;
+    int was = d->run == RUN_PAUSED;
+    engine_pause(d);
+    loop_sync(d);
+    snprintf(why, len, "%s at tau %.9g", was ? "already paused" : "paused", d->sim.tau);
+    return WG_OK;
+}
+
+static int op_resume(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
+{
+    (void)c;
+    int fault = d->fault;
+    engine_resume(d);
+    loop_sync(d);
+    snprintf(why, len, "running from tau %.9g%s", d->sim.tau,
+             fault ? " (fault cleared: continuing from the last good state)" : "");
+    return WG_OK;
+}
+
+static int op_reset(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
+{
+    int params = strcmp(c->name, "params") == 0;
+    if (!params && c->name[0]) {
+        snprintf(why, len, "reset takes no name, or \"params\" to restore the scene's "
+                           "parameters too");
+        return WG_EINVAL;
+    }
+    cmd_step_cancel(d, WG_ESTATE, "cancelled by reset");
+    engine_reset(d, params);
+    status_decimation(d);
+    status_params(d, "reset", c->client, c->seq);
+    snprintf(why, len, "reset to the scene's initial state%s",
+             params ? " and parameters" : " (parameters kept)");
+    return WG_OK;
+}
+
+static int op_step(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
+{
+    if (c->nsteps < 1 || (double)c->nsteps > STEP_MAX) {
+        snprintf(why, len, "nsteps = %" PRId64 " out of range [1, %g]", c->nsteps, STEP_MAX);
+        return WG_ERANGE;
+    }
+    if (d->step.active) {
+        snprintf(why, len, "a step command is in progress (%" PRIu64 " of %" PRIu64 " left)",
+                 d->step.left, d->step.total);
+        return WG_ESTATE;
+    }
+    if (d->conf.mode != MODE_LOCKSTEP && d->run != RUN_PAUSED) {
+        snprintf(why, len, "step needs lockstep mode or a paused simulation (mode %s, running)",
+                 conf_mode_name(d->conf.mode));
+        return WG_ESTATE;
+    }
+    stepjob *j = &d->step;
+    *j = (stepjob){.active = 1, .left = (uint64_t)c->nsteps, .total = (uint64_t)c->nsteps,
+                   .seq = c->seq};
+    snprintf(j->client, sizeof j->client, "%s", c->client);
+    snprintf(j->op, sizeof j->op, "%s", c->op);
+    cmd_step_progress(d, 200000); /* small steps answer at once; the rest from the loop */
+    return CMD_PENDING;
+}
+
+uint64_t cmd_step_progress(wgd *d, uint64_t max)
+{
+    stepjob *j = &d->step;
+    if (!j->active)
+        return 0;
+    uint64_t n = j->left < max ? j->left : max, done = engine_run(d, n);
+    j->left -= done;
+    if (done < n) {
+        j->active = 0;
+        ack(d, j->client, j->seq, j->op, WG_ENONFINITE, d->fault_msg);
+    } else if (!j->left) {
+        char msg[96];
+        j->active = 0;
+        snprintf(msg, sizeof msg, "stepped %" PRIu64 " steps", j->total);
+        ack(d, j->client, j->seq, j->op, WG_OK, msg);
+    }
+    return done;
+}
+
+void cmd_step_cancel(wgd *d, int status, const char *why)
+{
+    stepjob *j = &d->step;
+    if (!j->active)
+        return;
+    char msg[160];
+    snprintf(msg, sizeof msg, "%s after %" PRIu64 " of %" PRIu64 " steps", why,
+             j->total - j->left, j->total);
+    j->active = 0;
+    ack(d, j->client, j->seq, j->op, status, msg);
+}
+
+static int op_mode(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
+{
+    char nm[24], num[40];
+    int mode = conf_mode_lookup(c->name);
+    if (mode < 0) {
+        snprintf(why, len, "mode '%s' is not one of realtime, fast, lockstep",
+                 clean(c->name, nm, sizeof nm));
+        return WG_EINVAL;
+    }
+    conf tmp = d->conf;
+    snprintf(num, sizeof num, "%.17g", c->rate);
+    if (c->rate != 0.0 && conf_set(&tmp, "rate", num, why, len))
+        return WG_ERANGE;
+    if (mode != MODE_LOCKSTEP)
+        cmd_step_cancel(d, WG_ESTATE, "cancelled by a mode change");
+    d->conf.mode = mode;
+    d->conf.rate = tmp.rate;
+    loop_repace(d);
+    loop_sync(d);
+    status_decimation(d);
+    snprintf(why, len, "mode %s, rate %g", conf_mode_name(mode), d->conf.rate);
+    return WG_OK;
+}
+
+/* ---- state files and queries ---------------------------------------------- */
+
+static int op_save(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
+{
+    snap s;
+    char path[600];
+    snap_take(&s, &d->sim, d->scene.name);
+    int rc = snap_write(&s, d->conf.state_dir, c->name, path, sizeof path, why, len);
+    if (!rc)
+        snprintf(why, len, "saved %s at tau %.9g", path, d->sim.tau);
+    return rc;
+}
+
+static int op_restore(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
+{
+    static const snap zero;
+    snap s = zero;
+    int rc = snap_read(&s, d->conf.state_dir, c->name, why, len);
+    if (rc)
+        return rc;
+    stream_flush(d);
+    if ((rc = snap_apply(&s, &d->sim, why, len)))
+        return rc;
+    cmd_step_cancel(d, WG_ESTATE, "cancelled by restore");
+    d->fault = 0;
+    d->fault_msg[0] = 0;
+    pace_anchor(&d->pace, wgd_now_ns(), d->sim.tau);
+    status_decimation(d);
+    status_params(d, "restore", c->client, c->seq);
+    snprintf(why, len, "restored %s: tau %.9g, step %" PRIu64 "%s%s", c->name, d->sim.tau,
+             d->sim.steps, strcmp(s.scene, d->scene.name) ? ", taken with scene " : "",
+             strcmp(s.scene, d->scene.name) ? s.scene : "");
+    return WG_OK;
+}
+
+static int op_get(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
+{
+    status_params(d, "get", c->client, c->seq);
+    snprintf(why, len, "parameters published on %s", d->io.ch[CH_PARAMS]);
+    return WG_OK;
+}
+
+static const struct {
+    const char *op;
+    op_fn fn;
+    int readonly;
+} ops[] = {{"set", op_set, 0},         {"ramp", op_ramp, 0},     {"pause", op_pause, 0},
+           {"resume", op_resume, 0},   {"reset", op_reset, 0},   {"step", op_step, 0},
+           {"save", op_save, 0},       {"restore", op_restore, 0}, {"get", op_get, 1},
+           {"mode", op_mode, 0}};
+
+static void dispatch(wgd *d, const wormgear_cmd_t *c)
+{
+    char *why = d->why, op[24];
+    size_t len = sizeof d->why;
+    int rc = WG_EINVAL;
+    unsigned i;
+    for (i = 0; i < sizeof ops / sizeof ops[0]; i++)
+        if (strcmp(ops[i].op, c->op) == 0)
+            break;
+    if (i == sizeof ops / sizeof ops[0])
+        snprintf(why, len, "unknown op '%s' (set ramp pause resume reset step save restore "
+                           "get mode)", clean(c->op, op, sizeof op));
+    else if (!d->conf.accept_commands && !ops[i].readonly) {
+        snprintf(why, len, "commands are disabled on this daemon (accept_commands = no)");
+        rc = WG_ESTATE;
+    } else
+        rc = ops[i].fn(d, c, why, len);
+    if (rc != CMD_PENDING)
+        ack(d, c->client, c->seq, c->op, rc, why);
+}
+
+/* ---- decoding --------------------------------------------------------------- */
+
+static int64_t be64(const unsigned char *p)
+{
+    uint64_t v = 0;
+    for (int i = 0; i < 8; i++)
+        v = v << 8 | p[i];
+    return (int64_t)v;
+}
+
+/* Answer an undecodable message, recovering client and seq if the header
+ * (fingerprint, utime, seq, client) is intact. */
+static void undecodable(wgd *d, const unsigned char *b, size_t len)
+{
+    char client[65] = "", msg[320];
+    int64_t seq = -1;
+    int fp = len >= 8 && be64(b) == __wormgear_cmd_t_get_hash();
+    if (fp && len >= 28) {
+        /* the client string: int32 length (NUL included) at 24, bytes from 28 */
+        size_t n = (size_t)((uint32_t)b[24] << 24 | (uint32_t)b[25] << 16 | (uint32_t)b[26] << 8 | b[27]);
+        seq = be64(b + 16);
+        if (n >= 1 && n <= sizeof client && 28 + n <= len && b[28 + n - 1] == 0)
+            memcpy(client, b + 28, n);
+        else
+            seq = -1;
+    }
+    snprintf(msg, sizeof msg, "undecodable CMD message (%zu bytes): %s%s", len,
+             fp ? "truncated or corrupt wormgear.cmd_t"
+                : "not a wormgear.cmd_t (fingerprint mismatch: other type or version)",
+             seq < 0 ? "; client and seq unknown" : "");
+    ack(d, client, seq, "", WG_EDECODE, msg);
+}
+
+void cmd_handle(wgd *d, const void *buf, size_t len)
+{
+    wormgear_cmd_t c;
+    if (len > INT32_MAX || wormgear_cmd_t_decode(buf, 0, (int)len, &c) < 0) {
+        undecodable(d, buf, len);
+        return;
+    }
+    dispatch(d, &c);
+    wormgear_cmd_t_decode_cleanup(&c);
+}
+
+static void on_cmd(const lcm_recv_buf_t *rb, const char *channel, void *user)
+{
+    (void)channel;
+    cmd_handle(user, rb->data, rb->data_size);
+}
+
+/* External lockstep tick: advance nsteps, no ACK. */
+static void on_tick(const lcm_recv_buf_t *rb, const char *channel, void *user)
+{
+    (void)channel;
+    wgd *d = user;
+    wormgear_tick_t t;
+    if (wormgear_tick_t_decode(rb->data, 0, (int)rb->data_size, &t) < 0) {
+        d->stat.drops++;
+        log_msg(&d->log, LOG_WARNING, "undecodable TICK message (%u bytes) ignored",
+                rb->data_size);
+        return;
+    }
+    wormgear_tick_t_decode_cleanup(&t); /* no dynamic members */
+    if (d->stat.tick_seq_next >= 0 && t.seq > d->stat.tick_seq_next)
+        d->stat.drops += (uint64_t)(t.seq - d->stat.tick_seq_next);
+    d->stat.tick_seq_next = t.seq + 1;
+    if (d->conf.mode != MODE_LOCKSTEP || d->run != RUN_RUNNING || d->step.active)
+        return;
+    if (t.nsteps < 1 || t.nsteps > 10000000) {
+        log_msg(&d->log, LOG_WARNING, "TICK nsteps = %" PRId64 " outside [1, 1e7]: ignored",
+                t.nsteps);
+        return;
+    }
+    engine_run(d, (uint64_t)t.nsteps);
+}
+
+int cmd_init(wgd *d)
+{
+    lcm_subscription_t *a = lcm_subscribe(d->io.lcm, d->io.ch[CH_CMD], on_cmd, d);
+    lcm_subscription_t *b = lcm_subscribe(d->io.lcm, d->io.ch[CH_TICK], on_tick, d);
+    if (!a || !b) {
+        snprintf(d->why, sizeof d->why, "LCM: cannot subscribe %s", d->io.ch[CH_CMD]);
+        return WG_EIO;
+    }
+    lcm_subscription_set_queue_capacity(a, 256);
+    return WG_OK;
+}
+
+void cmd_fini(wgd *d) { cmd_step_cancel(d, WG_ESTATE, "cancelled: the daemon is stopping"); }

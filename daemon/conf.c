@@ -1,0 +1,439 @@
+/* conf.c - the configuration key table, INI reader and option parser. */
+#include "conf.h"
+
+#include "wormgear/wg_param.h"
+#include "wormgear/wg_sim.h"
+
+#include <ctype.h>
+#include <getopt.h>
+#include <ini.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { K_STR, K_INT, K_DBL, K_BOOL, K_ENUM };
+
+static const char *const mode_names[] = {"realtime", "fast", "lockstep", NULL};
+static const char *const policy_names[] = {"continue", "freeze", "stop", NULL};
+static const char *const stepper_names[] = {"rk4", "rk4-event", NULL};
+
+typedef struct key {
+    const char *name;
+    int type;
+    size_t off, size;
+    double min, max;
+    const char *const *names; /* K_ENUM values, index = stored int */
+    const char *def;
+    const char *help;
+} key;
+
+#define S(f) offsetof(conf, f), sizeof(((conf *)0)->f)
+static const key keys[] = {
+    {"scene", K_STR, S(scene), 0, 0, NULL, "table3", "scene name or INI file"},
+    {"url", K_STR, S(url), 0, 0, NULL, "udpm://239.255.76.67:7667?ttl=0",
+     "LCM URL (ttl=0: this host only; ttl=1 to reach the LAN)"},
+    {"prefix", K_STR, S(prefix), 0, 0, NULL, "WORMGEAR_",
+     "channel prefix, [A-Za-z0-9_.-]{0,40} (one per rig)"},
+    {"mode", K_ENUM, S(mode), 0, 0, mode_names, "realtime", "pacing: realtime, fast, lockstep"},
+    {"rate", K_DBL, S(rate), 1e-6, 1000, NULL, "1",
+     "realtime rate factor, 1 = physical real time (omega_n of the scene)"},
+    {"steps_per_period", K_INT, S(steps_per_period), WG_STEPS_MIN, WG_STEPS_MAX, NULL, "128",
+     "RK4 steps per mesh period N"},
+    {"stepper", K_ENUM, S(stepper), 0, 0, stepper_names, "rk4-event",
+     "rk4, or rk4-event (split at dead-zone crossings; printed model: rk4)"},
+    {"state_rate_hz", K_DBL, S(state_rate_hz), 0, 100000, NULL, "2000",
+     "STATE samples per wall second, 0 = no STATE"},
+    {"state_decimation", K_INT, S(state_decimation), 0, 1000000000, NULL, "0",
+     "fixed steps per STATE sample; 0 = derive from state_rate_hz"},
+    {"tick_us", K_INT, S(tick_us), 100, 100000, NULL, "1000", "pacing tick, microseconds"},
+    {"catchup_ticks", K_DBL, S(catchup_ticks), 1, 1000, NULL, "10",
+     "catch-up cap: at most this many ticks' worth of steps per tick"},
+    {"overrun_policy", K_ENUM, S(overrun_policy), 0, 0, policy_names, "continue",
+     "on overrun: continue (catch up), freeze (drop the backlog), stop (pause after N)"},
+    {"overrun_stop_after", K_INT, S(overrun_stop_after), 1, 1000000000, NULL, "1000",
+     "consecutive overruns before policy stop pauses the run"},
+    {"startup_grace_s", K_DBL, S(startup_grace_s), 0, 3600, NULL, "2",
+     "overruns ignored by the policy this long after start/resume, seconds"},
+    {"lag_warn_ms", K_DBL, S(lag_warn_ms), 0.1, 1e6, NULL, "50",
+     "health = lagging when behind the pace target by more, milliseconds"},
+    {"status_hz", K_DBL, S(status_hz), 1, 10, NULL, "2", "STATUS heartbeat rate, Hz"},
+    {"state_dir", K_STR, S(state_dir), 0, 0, NULL, NULL,
+     "directory of save/restore files ($STATE_DIRECTORY, else /var/lib/wormgeard)"},
+    {"accept_commands", K_BOOL, S(accept_commands), 0, 1, NULL, "yes",
+     "no: refuse every command but get (monitor-only rig)"},
+    {"start_paused", K_BOOL, S(start_paused), 0, 1, NULL, "no", "start paused"},
+    {"mlock", K_BOOL, S(mlock), 0, 1, NULL, "no", "mlockall(MCL_CURRENT|MCL_FUTURE) at start"},
+    {"foreground", K_BOOL, S(foreground), 0, 1, NULL, "no",
+     "print a one-line status on stdout each second (-F)"},
+    {"verbose", K_BOOL, S(verbose), 0, 1, NULL, "no", "debug logging (-v)"},
+};
+#undef S
+enum { NKEYS = sizeof keys / sizeof keys[0] };
+
+const char *conf_mode_name(int m) { return m >= 0 && m < 3 ? mode_names[m] : "?"; }
+const char *conf_policy_name(int p) { return p >= 0 && p < 3 ? policy_names[p] : "?"; }
+
+static int enum_lookup(const char *const *names, const char *v)
+{
+    for (int i = 0; names[i]; i++)
+        if (strcmp(names[i], v) == 0)
+            return i;
+    return -1;
+}
+
+int conf_mode_lookup(const char *name) { return enum_lookup(mode_names, name); }
+
+static const key *key_find(const char *name)
+{
+    for (int i = 0; i < NKEYS; i++)
+        if (strcmp(keys[i].name, name) == 0)
+            return &keys[i];
+    return NULL;
+}
+
+static void enum_list(const char *const *names, char *buf, size_t len)
+{
+    buf[0] = 0;
+    for (int i = 0; names[i]; i++)
+        snprintf(buf + strlen(buf), len - strlen(buf), "%s%s", i ? ", " : "", names[i]);
+}
+
+static int parse_bool(const char *v)
+{
+    static const char *const t[] = {"yes", "true", "on", "1"}, *const f[] = {"no", "false",
+                                                                         "off", "0"};
+    for (int i = 0; i < 4; i++) {
+        if (strcasecmp(v, t[i]) == 0)
+            return 1;
+        if (strcasecmp(v, f[i]) == 0)
+            return 0;
+    }
+    return -1;
+}
+
+static int valid_prefix(const char *v)
+{
+    if (strlen(v) > 40)
+        return 0;
+    for (const char *p = v; *p; p++)
+        if (!isalnum((unsigned char)*p) && !strchr("_.-", *p))
+            return 0;
+    return 1;
+}
+
+static int set_number(const key *k, void *dst, const char *v, char *why, size_t len)
+{
+    char *end;
+    double x = strtod(v, &end);
+    int isint = k->type == K_INT;
+    if (end == v || *end || !isfinite(x) || x < k->min || x > k->max ||
+        (isint && x != floor(x))) {
+        snprintf(why, len, "%s: '%s' must be %s in [%g, %g]", k->name, v,
+                 isint ? "an integer" : "a number", k->min, k->max);
+        return 2;
+    }
+    if (isint)
+        *(int *)dst = (int)x;
+    else
+        *(double *)dst = x;
+    return 0;
+}
+
+static int set_string(const key *k, char *dst, const char *v, char *why, size_t len)
+{
+    if (!*v && strcmp(k->name, "prefix") != 0) {
+        snprintf(why, len, "%s: must not be empty", k->name);
+        return 2;
+    }
+    if (strlen(v) >= k->size) {
+        snprintf(why, len, "%s: longer than %zu characters", k->name, k->size - 1);
+        return 2;
+    }
+    if (strcmp(k->name, "prefix") == 0 && !valid_prefix(v)) {
+        snprintf(why, len, "prefix: '%s' must match [A-Za-z0-9_.-]{0,40}", v);
+        return 2;
+    }
+    snprintf(dst, k->size, "%s", v);
+    return 0;
+}
+
+static int set_key(conf *c, const key *k, const char *v, char *why, size_t len)
+{
+    void *dst = (char *)c + k->off;
+    char list[128];
+    int i;
+    switch (k->type) {
+    case K_STR: return set_string(k, dst, v, why, len);
+    case K_INT:
+    case K_DBL: return set_number(k, dst, v, why, len);
+    case K_BOOL:
+        if ((i = parse_bool(v)) < 0) {
+            snprintf(why, len, "%s: '%s' must be yes or no", k->name, v);
+            return 2;
+        }
+        *(int *)dst = i;
+        return 0;
+    default:
+        if ((i = enum_lookup(k->names, v)) < 0) {
+            enum_list(k->names, list, sizeof list);
+            snprintf(why, len, "%s: '%s' is not one of %s", k->name, v, list);
+            return 2;
+        }
+        *(int *)dst = i;
+        return 0;
+    }
+}
+
+int conf_set(conf *c, const char *name, const char *value, char *why, size_t whylen)
+{
+    const key *k = key_find(name);
+    if (!k) {
+        snprintf(why, whylen, "unknown key '%s' (see wormgeard --help)", name);
+        return 2;
+    }
+    return set_key(c, k, value, why, whylen);
+}
+
+void conf_defaults(conf *c)
+{
+    char why[256];
+    memset(c, 0, sizeof *c);
+    for (int i = 0; i < NKEYS; i++)
+        if (keys[i].def)
+            set_key(c, &keys[i], keys[i].def, why, sizeof why);
+    const char *sd = getenv("STATE_DIRECTORY"); /* systemd StateDirectory= */
+    snprintf(c->state_dir, sizeof c->state_dir, "%s", sd && *sd ? sd : "/var/lib/wormgeard");
+    char *colon = strchr(c->state_dir, ':'); /* several directories: the first */
+    if (colon)
+        *colon = 0;
+}
+
+/* A scene parameter override ("name=value"), checked against the table. */
+static int add_set(conf *c, const char *name, const char *value, char *why, size_t len)
+{
+    int id = wg_param_lookup(name);
+    double v;
+    if (id < 0) {
+        snprintf(why, len, "unknown parameter '%s' (wormgeard --help lists them)", name);
+        return 2;
+    }
+    if (wg_param_parse(id, value, &v, why, len))
+        return 2;
+    if (c->nsets == CONF_MAX_SETS) {
+        snprintf(why, len, "more than %d parameter overrides", CONF_MAX_SETS);
+        return 2;
+    }
+    snprintf(c->sets[c->nsets++], sizeof c->sets[0], "%s=%s", name, value);
+    return 0;
+}
+
+/* ---- INI file ------------------------------------------------------------ */
+
+typedef struct reader_ctx {
+    FILE *f;
+    conf *c;
+    int line, err;
+    char msg[400];
+} reader_ctx;
+
+static char *read_line(char *str, int num, void *stream)
+{
+    reader_ctx *r = stream;
+    char *s = fgets(str, num, r->f);
+    if (s)
+        r->line++;
+    return s;
+}
+
+static int on_ini(void *user, const char *section, const char *name, const char *value)
+{
+    reader_ctx *r = user;
+    char why[400];
+    int rc;
+    if (r->err)
+        return 1;
+    if (strcmp(section, "params") == 0)
+        rc = add_set(r->c, name, value, why, sizeof why);
+    else if (!*section || strcmp(section, "wormgeard") == 0)
+        rc = conf_set(r->c, name, value, why, sizeof why);
+    else {
+        snprintf(why, sizeof why, "unknown section [%s] (allowed: [wormgeard], [params])",
+                 section);
+        rc = 2;
+    }
+    if (rc) {
+        r->err = r->line;
+        snprintf(r->msg, sizeof r->msg, "%s", why);
+    }
+    return 1;
+}
+
+int conf_read_file(conf *c, const char *path, char *why, size_t whylen)
+{
+    reader_ctx r = {.c = c};
+    r.f = fopen(path, "r");
+    if (!r.f) {
+        snprintf(why, whylen, "%s: cannot open config file", path);
+        return 2;
+    }
+    int line = ini_parse_stream(read_line, &r, on_ini, &r);
+    fclose(r.f);
+    if (r.err) {
+        snprintf(why, whylen, "%s:%d: %s", path, r.err, r.msg);
+        return 2;
+    }
+    if (line) {
+        snprintf(why, whylen, "%s:%d: syntax error (expected [section] or key = value)", path,
+                 line);
+        return 2;
+    }
+    snprintf(c->path, sizeof c->path, "%s", path);
+    return 0;
+}
+
+/* ---- command line -------------------------------------------------------- */
+
+enum { OPT_CONFIG = 'c', OPT_HELP = 'h', OPT_FG = 'F', OPT_VERBOSE = 'v', OPT_SET = 1000,
+       OPT_CHECK, OPT_KEY0 = 2000 };
+
+typedef struct optset {
+    struct option o[NKEYS + 8];
+    char names[NKEYS][40];
+} optset;
+
+static void build_options(optset *s)
+{
+    int n = 0;
+    for (int i = 0; i < NKEYS; i++) {
+        snprintf(s->names[i], sizeof s->names[i], "%s", keys[i].name);
+        for (char *p = s->names[i]; *p; p++)
+            if (*p == '_')
+                *p = '-';
+        s->o[n++] = (struct option){s->names[i],
+                                    keys[i].type == K_BOOL ? optional_argument : required_argument,
+                                    0, OPT_KEY0 + i};
+    }
+    s->o[n++] = (struct option){"config", required_argument, 0, OPT_CONFIG};
+    s->o[n++] = (struct option){"set", required_argument, 0, OPT_SET};
+    s->o[n++] = (struct option){"check-config", no_argument, 0, OPT_CHECK};
+    s->o[n++] = (struct option){"help", no_argument, 0, OPT_HELP};
+    s->o[n] = (struct option){0, 0, 0, 0};
+}
+
+static int apply_set_option(conf *c, const char *arg, char *why, size_t len)
+{
+    char name[64];
+    const char *eq = strchr(arg, '=');
+    if (!eq || eq == arg || (size_t)(eq - arg) >= sizeof name) {
+        snprintf(why, len, "--set '%s': expected name=value", arg);
+        return 2;
+    }
+    snprintf(name, sizeof name, "%.*s", (int)(eq - arg), arg);
+    return add_set(c, name, eq + 1, why, len);
+}
+
+/* One option of the second pass. */
+static int apply_option(conf *c, int opt, const char *arg, char *why, size_t len)
+{
+    switch (opt) {
+    case OPT_FG: c->foreground = 1; return 0;
+    case OPT_VERBOSE: c->verbose = 1; return 0;
+    case OPT_CHECK: c->check_only = 1; return 0;
+    case OPT_SET: return apply_set_option(c, arg, why, len);
+    case OPT_CONFIG:
+    case OPT_HELP: return 0;
+    default:
+        if (opt >= OPT_KEY0 && opt < OPT_KEY0 + NKEYS)
+            return set_key(c, &keys[opt - OPT_KEY0], arg ? arg : "yes", why, len);
+        return 2;
+    }
+}
+
+/* Walk the options; pass 0 only finds --config and --help. */
+static int walk(conf *c, int argc, char **argv, int pass, const char **cfg, char *why,
+                size_t len)
+{
+    optset s;
+    build_options(&s);
+    int opt, help = 0;
+    optind = 0; /* GNU: full re-initialisation (conf_load may run again) */
+    opterr = 0;
+    while ((opt = getopt_long(argc, argv, ":c:hFv", s.o, NULL)) != -1) {
+        if (opt == '?' || opt == ':') {
+            const char *bad = argv[optind - 1];
+            snprintf(why, len, opt == ':' ? "option '%s' needs a value"
+                                          : "unknown option '%s' (see wormgeard --help)",
+                     bad);
+            return 2;
+        }
+        if (pass == 0) {
+            help |= opt == OPT_HELP;
+            if (opt == OPT_CONFIG)
+                *cfg = optarg;
+        } else if (apply_option(c, opt, optarg, why, len)) {
+            return 2;
+        }
+    }
+    if (optind < argc) {
+        snprintf(why, len, "unexpected argument '%s' (see wormgeard --help)", argv[optind]);
+        return 2;
+    }
+    return help;
+}
+
+int conf_load(conf *c, int argc, char **argv, char *why, size_t whylen)
+{
+    const char *cfg = NULL;
+    conf_defaults(c);
+    int rc = walk(c, argc, argv, 0, &cfg, why, whylen);
+    if (rc == 1) {
+        conf_usage(stdout);
+        return 1;
+    }
+    if (rc)
+        return rc;
+    if (cfg && (rc = conf_read_file(c, cfg, why, whylen)))
+        return rc;
+    return walk(c, argc, argv, 1, &cfg, why, whylen);
+}
+
+static void key_range(const key *k, char *buf, size_t len)
+{
+    switch (k->type) {
+    case K_INT:
+    case K_DBL: snprintf(buf, len, "[%g, %g]", k->min, k->max); break;
+    case K_BOOL: snprintf(buf, len, "yes|no"); break;
+    case K_ENUM: enum_list(k->names, buf, len); break;
+    default: buf[0] = 0;
+    }
+}
+
+void conf_usage(FILE *f)
+{
+    fprintf(f, "usage: wormgeard [options]\n"
+               "Real-time simulation daemon of the worm gear drive, controlled over LCM.\n\n"
+               "  -c, --config FILE     INI config file ([wormgeard] keys below, [params] overrides)\n"
+               "      --set name=value  override a scene parameter (repeatable; list below)\n"
+               "  -F                    same as --foreground\n"
+               "  -v                    same as --verbose\n"
+               "      --check-config    load and validate the configuration and the scene, exit\n"
+               "  -h, --help            this text\n\n"
+               "Config keys (file: key = value; command line: --key value):\n");
+    for (int i = 0; i < NKEYS; i++) {
+        char range[96], opt[40];
+        snprintf(opt, sizeof opt, "%s", keys[i].name);
+        for (char *p = opt; *p; p++)
+            *p = *p == '_' ? '-' : *p;
+        key_range(&keys[i], range, sizeof range);
+        fprintf(f, "  --%-20s %s\n  %-22s   default %s%s%s\n", opt, keys[i].help, "",
+                keys[i].def ? keys[i].def : "(see text)", *range ? "; " : "", range);
+    }
+    fprintf(f, "\nScene parameters for --set and [params] (name unit [min, max] default):\n");
+    for (int i = 0; i < WG_NPARAM; i++) {
+        const wg_param_info *r = wg_param_info_get(i);
+        fprintf(f, "  %-5s %-3s [%g, %g] %g%s: %s\n", r->name, r->unit, r->min, r->max, r->def,
+                r->flags & WG_PF_RAMP ? " (rampable)" : "", r->help);
+    }
+    fprintf(f, "\nExit status: 0 clean stop (SIGTERM/SIGINT), 1 runtime failure, 2 usage or "
+               "config error.\nProtocol: lcmtypes/PROTOCOL.md; control with wgctl.\n");
+}

@@ -1,0 +1,71 @@
+/* conf.h - wormgeard configuration: one key table for the INI file, the
+ * command line and --help.
+ *
+ * Precedence: built-in defaults < config file (-c FILE, INI, keys in a
+ * [wormgeard] section or at top level) < command-line options. Every key is
+ * also a long option (`steps_per_period` -> `--steps-per-period`). Errors
+ * name the file, line, key and the allowed values or range. */
+#ifndef WGD_CONF_H
+#define WGD_CONF_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+enum { MODE_REALTIME, MODE_FAST, MODE_LOCKSTEP };
+enum { POLICY_CONTINUE, POLICY_FREEZE, POLICY_STOP };
+enum { CONF_MAX_SETS = 32 };
+
+typedef struct conf {
+    char path[512];           /* config file read ("" = none) */
+    char scene[256];          /* scene name or INI file */
+    char url[256];            /* LCM URL */
+    char prefix[64];          /* channel prefix */
+    int mode;                 /* MODE_* */
+    double rate;              /* realtime rate factor */
+    int steps_per_period;     /* N */
+    int stepper;              /* enum wg_stepper_kind */
+    double state_rate_hz;     /* STATE samples per wall second (0: off) */
+    int state_decimation;     /* fixed steps per STATE sample (0: from state_rate_hz) */
+    int tick_us;              /* pacing tick */
+    double catchup_ticks;     /* catch-up cap, in ticks' worth of steps */
+    int overrun_policy;       /* POLICY_* */
+    int overrun_stop_after;   /* consecutive overruns that stop the run */
+    double startup_grace_s;   /* overruns ignored this long after (re)start */
+    double lag_warn_ms;       /* health = lagging above this lag */
+    double status_hz;         /* STATUS rate, 1..10 */
+    char state_dir[512];      /* save/restore directory */
+    int accept_commands;      /* 0: refuse every command except get */
+    int start_paused;
+    int mlock;                /* mlockall at start */
+    int foreground;           /* one-line status on stdout each second */
+    int verbose;
+    int check_only;           /* --check-config: load, validate, exit */
+    int nsets;
+    char sets[CONF_MAX_SETS][128]; /* --set name=value (validated by the param table) */
+} conf;
+
+/* Fill c with the built-in defaults ($STATE_DIRECTORY honoured). */
+void conf_defaults(conf *c);
+
+/* Defaults, then the config file named by -c/--config, then the options.
+ * Returns 0 to run, 1 when --help was printed (exit 0), 2 on a usage or
+ * config error with the message in why ("file:line: key: ..."). Does not
+ * keep argv; may be called again (SIGHUP reload). */
+int conf_load(conf *c, int argc, char **argv, char *why, size_t whylen);
+
+/* Read one INI file into c (keys as in the table). 0, or 2 with why. */
+int conf_read_file(conf *c, const char *path, char *why, size_t whylen);
+
+/* Set one key from text, as the file and the options do. 0, or 2 with why
+ * naming the key and its allowed values. */
+int conf_set(conf *c, const char *key, const char *value, char *why, size_t whylen);
+
+/* Names of enum values, for logs and STATUS. */
+const char *conf_mode_name(int mode);
+const char *conf_policy_name(int policy);
+int conf_mode_lookup(const char *name);
+
+/* Print the --help text (every key with its default and range). */
+void conf_usage(FILE *f);
+
+#endif

@@ -1,0 +1,43 @@
+/* engine.h - the simulation inside the daemon: scene, wg_sim, the step
+ * path, blow-up handling.
+ *
+ * The step path is engine_run: it integrates with the stream sink and, on
+ * a non-finite or absurd state (WG_ENONFINITE from wg_sim_run, which keeps
+ * the last good step), raises a fault: health FAULT on STATUS at once, the
+ * simulation paused on its last good state. The daemon never exits on it. */
+#ifndef WGD_ENGINE_H
+#define WGD_ENGINE_H
+
+#include <stdint.h>
+
+struct wgd;
+
+/* Load the scene, apply the --set overrides, set up the sim at the scene's
+ * initial state. WG_OK or a status with d->why. */
+int engine_init(struct wgd *d);
+
+/* Free the sim. */
+void engine_fini(struct wgd *d);
+
+/* Run n steps (the step path). Returns the steps done; on a blow-up raises
+ * the fault and returns fewer. Updates the step cost estimate. */
+uint64_t engine_run(struct wgd *d, uint64_t n);
+
+/* Back to the scene's initial state (tau = 0); with params also the scene's
+ * parameters. Re-anchors pacing. */
+void engine_reset(struct wgd *d, int params);
+
+/* Current step size h (tau), including during a ramp (approximate). */
+double engine_h(const struct wgd *d);
+
+/* Simulated physical seconds of a tau. */
+double engine_seconds(const struct wgd *d, double tau);
+
+/* Pause with a fault message (health FAULT until a resume/reset/restore). */
+void engine_fault(struct wgd *d, const char *msg);
+
+/* Pause or resume; resume clears a fault and re-anchors pacing. */
+void engine_pause(struct wgd *d);
+void engine_resume(struct wgd *d);
+
+#endif

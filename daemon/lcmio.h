@@ -1,0 +1,63 @@
+/* lcmio.h - the LCM side of wormgeard: one lcm_t, the channel names, a
+ * per-channel seq counter and one preallocated encode buffer.
+ *
+ * Publishing never allocates in our code: messages are encoded with the
+ * generated _encode into io->buf and handed to lcm_publish. A failed encode
+ * or publish counts as a dropped message (the seq still advances, so
+ * receivers see the gap). */
+#ifndef WGD_LCMIO_H
+#define WGD_LCMIO_H
+
+#include <lcm/lcm.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lcmtypes/wormgear_ack_t.h"
+#include "lcmtypes/wormgear_cmd_t.h"
+#include "lcmtypes/wormgear_contact_t.h"
+#include "lcmtypes/wormgear_params_t.h"
+#include "lcmtypes/wormgear_poincare_t.h"
+#include "lcmtypes/wormgear_state_t.h"
+#include "lcmtypes/wormgear_status_t.h"
+#include "lcmtypes/wormgear_tick_t.h"
+
+enum lcmio_channel { CH_CMD, CH_ACK, CH_PARAMS, CH_STATE, CH_POINCARE, CH_CONTACT, CH_STATUS,
+                     CH_TICK, CH_COUNT };
+enum { LCMIO_BUF = 61440 }; /* every message stays below 60 KB */
+
+typedef struct lcmio {
+    lcm_t *lcm;
+    char ch[CH_COUNT][112];  /* prefix + name */
+    int64_t seq[CH_COUNT];   /* next seq per outgoing channel */
+    uint64_t published, dropped;
+    unsigned char buf[LCMIO_BUF];
+} lcmio;
+
+/* Suffixes of the channels: "CMD", "ACK", ... */
+const char *lcmio_channel_suffix(int ch);
+
+/* Create the LCM instance for url and build the channel names. WG_OK or
+ * WG_EIO with why (bad URL, no multicast route: see docs/daemon.md). */
+int lcmio_init(lcmio *io, const char *url, const char *prefix, char *why, size_t whylen);
+
+/* Destroy the LCM instance (subscriptions go with it). */
+void lcmio_fini(lcmio *io);
+
+/* File descriptor to watch for incoming messages. */
+int lcmio_fileno(const lcmio *io);
+
+/* Handle every message already waiting, at most max; returns the count. */
+int lcmio_drain(lcmio *io, int max);
+
+/* Microseconds since the epoch (utime of outgoing messages). */
+int64_t lcmio_now_us(void);
+
+/* Stamp utime and seq, encode and publish. 0, or -1 (counted as dropped). */
+int lcmio_pub_ack(lcmio *io, wormgear_ack_t *m);
+int lcmio_pub_params(lcmio *io, wormgear_params_t *m);
+int lcmio_pub_state(lcmio *io, wormgear_state_t *m);
+int lcmio_pub_poincare(lcmio *io, wormgear_poincare_t *m);
+int lcmio_pub_contact(lcmio *io, wormgear_contact_t *m);
+int lcmio_pub_status(lcmio *io, wormgear_status_t *m);
+
+#endif

@@ -1,0 +1,97 @@
+/* log.c - stderr logging with syslog prefixes and per-call-site rate limits. */
+#include "log.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+static int64_t mono_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
+static const char *prio_word(int prio)
+{
+    static const char *const w[] = {"emergency", "alert", "critical", "error",
+                                    "warning",   "notice", "info",   "debug"};
+    return w[prio & 7];
+}
+
+static void emit(const log_ctx *l, int prio, const char *text)
+{
+    if (l->prefix)
+        fprintf(stderr, "<%d>%s\n", prio & 7, text);
+    else
+        fprintf(stderr, "wormgeard: %s: %s\n", prio_word(prio), text);
+}
+
+void log_init(log_ctx *l, int verbose)
+{
+    memset(l, 0, sizeof *l);
+    l->prefix = getenv("JOURNAL_STREAM") != NULL || !isatty(STDERR_FILENO);
+    l->max_prio = verbose ? LOG_DEBUG : LOG_INFO;
+    l->window_ns = 10 * (int64_t)1000000000;
+}
+
+static void flush_slot(log_ctx *l, log_slot *s)
+{
+    if (s->suppressed) {
+        char text[160];
+        snprintf(text, sizeof text, "%u similar messages suppressed (rate limit)",
+                 s->suppressed);
+        emit(l, s->prio, text);
+    }
+    s->suppressed = 0;
+}
+
+void log_fini(log_ctx *l)
+{
+    for (int i = 0; i < LOG_SLOTS; i++)
+        flush_slot(l, &l->slot[i]);
+    fflush(stderr);
+}
+
+/* The slot of call site fmt: found, or the stalest one recycled. */
+static log_slot *slot_of(log_ctx *l, const char *fmt)
+{
+    log_slot *old = &l->slot[0];
+    for (int i = 0; i < LOG_SLOTS; i++) {
+        if (l->slot[i].fmt == fmt)
+            return &l->slot[i];
+        if (l->slot[i].window_ns < old->window_ns)
+            old = &l->slot[i];
+    }
+    flush_slot(l, old);
+    *old = (log_slot){.fmt = fmt, .window_ns = 0};
+    return old;
+}
+
+void log_msg(log_ctx *l, int prio, const char *fmt, ...)
+{
+    if (prio > l->max_prio)
+        return;
+    int64_t now = mono_ns();
+    log_slot *s = slot_of(l, fmt);
+    if (now - s->window_ns >= l->window_ns) {
+        flush_slot(l, s);
+        s->window_ns = now;
+        s->count = 0;
+    }
+    s->prio = prio;
+    if (++s->count > LOG_BURST) {
+        s->suppressed++;
+        l->suppressed++;
+        return;
+    }
+    char text[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    emit(l, prio, text);
+}

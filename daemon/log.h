@@ -1,0 +1,43 @@
+/* log.h - wormgeard logging: one call, syslog priorities, rate-limited.
+ *
+ * Messages go to stderr. Under systemd (JOURNAL_STREAM set) or when stderr is
+ * not a terminal, each line starts with "<N>" (sd-daemon(3) priority prefix);
+ * on a terminal with "wormgeard: warning: ". Each call site (its format
+ * string) may log `burst` messages per `window` seconds; further ones are
+ * counted and reported once the window ends ("... N similar messages
+ * suppressed"), so a client spamming bad commands cannot flood the journal. */
+#ifndef WGD_LOG_H
+#define WGD_LOG_H
+
+#include <stdint.h>
+#include <syslog.h>
+
+enum { LOG_SLOTS = 16, LOG_BURST = 5 };
+
+typedef struct log_slot {
+    const char *fmt;      /* call site key */
+    int64_t window_ns;    /* start of the current window */
+    unsigned count;       /* messages in the window */
+    unsigned suppressed;  /* of which not printed */
+    int prio;
+} log_slot;
+
+typedef struct log_ctx {
+    int prefix;           /* 1: "<N>" prefixes */
+    int max_prio;         /* drop messages less severe than this (LOG_INFO) */
+    int64_t window_ns;    /* rate-limit window (10 s) */
+    log_slot slot[LOG_SLOTS];
+    uint64_t suppressed;  /* total, for STATUS/tests */
+} log_ctx;
+
+/* Set up: prefix chosen from the environment, max_prio LOG_INFO or LOG_DEBUG. */
+void log_init(log_ctx *l, int verbose);
+
+/* Report suppressed counts still pending. */
+void log_fini(log_ctx *l);
+
+/* Log one line at syslog priority prio (LOG_ERR ... LOG_DEBUG), rate-limited
+ * per format string. */
+void log_msg(log_ctx *l, int prio, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+#endif

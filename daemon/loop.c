@@ -1,0 +1,244 @@
+/* loop.c - libev loop: LCM, timerfd pacing, fast-mode idle, signals. */
+#include "loop.h"
+
+#include "cmd.h"
+#include "engine.h"
+#include "sdn.h"
+#include "status.h"
+#include "wgd.h"
+#include "wormgear/wg_status.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/timerfd.h>
+#include <unistd.h>
+
+enum { FAST_CHUNK_NS = 1000000, STEP_CHUNK_NS = 2000000 };
+
+static int arm_timer(wgd *d)
+{
+    struct timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    long tick = d->conf.tick_us * 1000L;
+    struct itimerspec its = {.it_interval = {tick / 1000000000L, tick % 1000000000L}};
+    its.it_value = now;
+    its.it_value.tv_nsec += tick;
+    its.it_value.tv_sec += its.it_value.tv_nsec / 1000000000L;
+    its.it_value.tv_nsec %= 1000000000L;
+    return timerfd_settime(d->tfd, TFD_TIMER_ABSTIME, &its, NULL);
+}
+
+void loop_repace(wgd *d)
+{
+    pace_cfg pc = {.tau_per_ns = d->conf.rate * d->scene.scale.omega_n_rad_s * 1e-9,
+                   .tick_ns = (int64_t)d->conf.tick_us * 1000,
+                   .catchup_ticks = d->conf.catchup_ticks,
+                   .policy = d->conf.overrun_policy,
+                   .stop_after = d->conf.overrun_stop_after,
+                   .grace_ns = (int64_t)(d->conf.startup_grace_s * 1e9)};
+    uint64_t ov = d->pace.overruns, gov = d->pace.grace_overruns;
+    pace_init(&d->pace, &pc, wgd_now_ns(), d->sim.tau);
+    d->pace.overruns = ov;
+    d->pace.grace_overruns = gov;
+}
+
+void loop_sync(wgd *d)
+{
+    if (!d->loop)
+        return;
+    int want = d->conf.mode == MODE_FAST && d->run == RUN_RUNNING;
+    if (want && !ev_is_active(&d->fast_w))
+        ev_idle_start(d->loop, &d->fast_w);
+    else if (!want && ev_is_active(&d->fast_w))
+        ev_idle_stop(d->loop, &d->fast_w);
+}
+
+/* Realtime: run the steps due now; apply the overrun policy. */
+static void realtime(wgd *d, int64_t now)
+{
+    pace_due due = pace_steps_due(&d->pace, now, d->sim.tau, engine_h(d));
+    if (due.overrun)
+        log_msg(&d->log, LOG_WARNING, "overrun: more than %g ticks behind (lag %.3f ms, "
+                "policy %s)", d->conf.catchup_ticks, pace_lag_s(&d->pace) * 1e3,
+                conf_policy_name(d->conf.overrun_policy));
+    engine_run(d, due.steps);
+    if (due.stop && !d->fault) {
+        char msg[160];
+        snprintf(msg, sizeof msg, "stopped after %d consecutive overruns (overrun_policy = "
+                 "stop): cannot keep up with rate %g", d->conf.overrun_stop_after, d->conf.rate);
+        engine_fault(d, msg);
+        loop_sync(d);
+    }
+}
+
+static void first_ready(wgd *d)
+{
+    char line[400];
+    if (d->sd.ready || (d->sim.steps == 0 && d->run == RUN_RUNNING &&
+                        d->conf.mode != MODE_LOCKSTEP))
+        return;
+    status_line(d, line, sizeof line);
+    sdn_ready(&d->sd, line);
+    log_msg(&d->log, LOG_INFO, "ready: %s", line);
+}
+
+static void reload(wgd *d);
+
+static void on_tick(struct ev_loop *loop, ev_io *w, int revents)
+{
+    (void)loop;
+    (void)revents;
+    wgd *d = w->data;
+    uint64_t expirations;
+    if (read(d->tfd, &expirations, sizeof expirations) < 0 && errno != EAGAIN)
+        log_msg(&d->log, LOG_ERR, "timerfd read: %s", strerror(errno));
+    int64_t t0 = wgd_now_ns();
+    if (d->reload)
+        reload(d);
+    if (d->run == RUN_RUNNING && d->conf.mode == MODE_REALTIME)
+        realtime(d, t0);
+    if (d->step.active)
+        cmd_step_progress(d, d->stat.ns_per_step > 0
+                                 ? (uint64_t)(STEP_CHUNK_NS / d->stat.ns_per_step) + 1
+                                 : 10000);
+    status_tick(d, t0);
+    sdn_watchdog(&d->sd, t0); /* only a loop that steps reaches this */
+    first_ready(d);
+    status_loop(d, wgd_now_ns() - t0);
+}
+
+static void on_fast(struct ev_loop *loop, ev_idle *w, int revents)
+{
+    (void)loop;
+    (void)revents;
+    wgd *d = w->data;
+    int64_t t0 = wgd_now_ns();
+    engine_run(d, pace_fast_chunk(d->stat.ns_per_step, FAST_CHUNK_NS));
+    if (d->run != RUN_RUNNING)
+        loop_sync(d);
+    status_loop(d, wgd_now_ns() - t0);
+}
+
+static void on_lcm(struct ev_loop *loop, ev_io *w, int revents)
+{
+    (void)loop;
+    (void)revents;
+    wgd *d = w->data;
+    lcmio_drain(&d->io, 64);
+}
+
+static void on_signal(struct ev_loop *loop, ev_signal *w, int revents)
+{
+    (void)revents;
+    wgd *d = w->data;
+    if (w->signum == SIGHUP) {
+        d->reload = 1; /* the next tick reloads */
+        return;
+    }
+    d->stop = w->signum;
+    ev_break(loop, EVBREAK_ALL);
+}
+
+/* Keys that need a restart to change. */
+static void restart_only(wgd *d, const conf *c)
+{
+    if (strcmp(c->scene, d->conf.scene) || strcmp(c->url, d->conf.url) ||
+        strcmp(c->prefix, d->conf.prefix) || c->steps_per_period != d->conf.steps_per_period ||
+        c->stepper != d->conf.stepper || c->mlock != d->conf.mlock || c->nsets != d->conf.nsets)
+        log_msg(&d->log, LOG_WARNING, "reload: scene, url, prefix, steps_per_period, stepper, "
+                "mlock and [params] changes take effect at the next restart");
+}
+
+static void reload(wgd *d)
+{
+    conf c;
+    char why[640];
+    d->reload = 0;
+    sdn_reloading(&d->sd);
+    if (conf_load(&c, d->argc, d->argv, why, sizeof why)) {
+        log_msg(&d->log, LOG_ERR, "reload: %s; keeping the running configuration", why);
+    } else {
+        restart_only(d, &c);
+        int tick = c.tick_us != d->conf.tick_us;
+        if (c.mode != MODE_LOCKSTEP && d->conf.mode == MODE_LOCKSTEP)
+            cmd_step_cancel(d, WG_ESTATE, "cancelled by a mode change (reload)");
+        conf keep = d->conf;
+        d->conf = c; /* live keys from c, restart-only keys as running */
+        snprintf(d->conf.scene, sizeof d->conf.scene, "%s", keep.scene);
+        snprintf(d->conf.url, sizeof d->conf.url, "%s", keep.url);
+        snprintf(d->conf.prefix, sizeof d->conf.prefix, "%s", keep.prefix);
+        d->conf.steps_per_period = keep.steps_per_period;
+        d->conf.stepper = keep.stepper;
+        d->conf.mlock = keep.mlock;
+        d->conf.nsets = keep.nsets;
+        memcpy(d->conf.sets, keep.sets, sizeof keep.sets);
+        d->log.max_prio = c.verbose ? LOG_DEBUG : LOG_INFO;
+        loop_repace(d);
+        if (tick && arm_timer(d))
+            log_msg(&d->log, LOG_ERR, "reload: timerfd: %s", strerror(errno));
+        loop_sync(d);
+        status_decimation(d);
+        status_params(d, "reload", "", -1);
+        log_msg(&d->log, LOG_NOTICE, "reloaded %s: mode %s, rate %g",
+                d->conf.path[0] ? d->conf.path : "(no config file)",
+                conf_mode_name(d->conf.mode), d->conf.rate);
+    }
+    char line[400];
+    status_line(d, line, sizeof line);
+    sdn_ready(&d->sd, line);
+}
+
+static void start_signal(wgd *d, ev_signal *w, int signum)
+{
+    ev_signal_init(w, on_signal, signum);
+    w->data = d;
+    ev_signal_start(d->loop, w);
+}
+
+int loop_init(wgd *d)
+{
+    d->tfd = -1;
+    d->loop = ev_loop_new(EVFLAG_AUTO);
+    if (!d->loop) {
+        snprintf(d->why, sizeof d->why, "libev: cannot create the event loop");
+        return WG_EIO;
+    }
+    d->tfd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
+    if (d->tfd < 0 || arm_timer(d)) {
+        snprintf(d->why, sizeof d->why, "timerfd: %s", strerror(errno));
+        return WG_EIO;
+    }
+    ev_io_init(&d->tick_w, on_tick, d->tfd, EV_READ);
+    ev_io_init(&d->lcm_w, on_lcm, lcmio_fileno(&d->io), EV_READ);
+    ev_idle_init(&d->fast_w, on_fast);
+    d->tick_w.data = d->lcm_w.data = d->fast_w.data = d;
+    ev_set_priority(&d->lcm_w, EV_MAXPRI); /* commands before stepping */
+    ev_io_start(d->loop, &d->tick_w);
+    ev_io_start(d->loop, &d->lcm_w);
+    start_signal(d, &d->sig_int, SIGINT);
+    start_signal(d, &d->sig_term, SIGTERM);
+    start_signal(d, &d->sig_hup, SIGHUP);
+    loop_repace(d);
+    loop_sync(d);
+    return WG_OK;
+}
+
+void loop_fini(wgd *d)
+{
+    if (d->loop) {
+        ev_io_stop(d->loop, &d->tick_w);
+        ev_io_stop(d->loop, &d->lcm_w);
+        ev_idle_stop(d->loop, &d->fast_w);
+        ev_signal_stop(d->loop, &d->sig_int);
+        ev_signal_stop(d->loop, &d->sig_term);
+        ev_signal_stop(d->loop, &d->sig_hup);
+        ev_loop_destroy(d->loop);
+        d->loop = NULL;
+    }
+    if (d->tfd >= 0)
+        close(d->tfd);
+    d->tfd = -1;
+}
+
+void loop_run(wgd *d) { ev_run(d->loop, 0); }

@@ -1,0 +1,130 @@
+/* main.c - wormgeard: start the modules in dependency order, run the loop,
+ * finalise in reverse. Exit 0 on SIGTERM/SIGINT, 1 on a runtime failure at
+ * start, 2 on a usage or configuration error. */
+#include "cmd.h"
+#include "engine.h"
+#include "loop.h"
+#include "sdn.h"
+#include "status.h"
+#include "wgd.h"
+#include "wormgear/wg_status.h"
+
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+
+static int m_engine(wgd *d)
+{
+    int rc = engine_init(d);
+    return rc == WG_OK ? 0 : rc == WG_ENOMEM ? 1 : 2; /* bad scene/params: config error */
+}
+
+static int m_lcm(wgd *d)
+{
+    if (d->conf.mlock && mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
+        log_msg(&d->log, LOG_WARNING, "mlockall: %s (raise LimitMEMLOCK=)", strerror(errno));
+    if (lcmio_init(&d->io, d->conf.url, d->conf.prefix, d->why, sizeof d->why))
+        return 1;
+    d->io_ok = 1;
+    return 0;
+}
+
+static int m_stream(wgd *d)
+{
+    int on = d->conf.state_rate_hz > 0 || d->conf.state_decimation > 0;
+    stream_init(&d->st, d->sim.nstate, d->scene.scale.omega_n_rad_s, on);
+    return 0;
+}
+
+static int m_cmd(wgd *d) { return cmd_init(d) ? 1 : 0; }
+static int m_loop(wgd *d) { return loop_init(d) ? 1 : 0; }
+static int m_status(wgd *d) { return status_init(d), 0; }
+static int m_sdn(wgd *d) { return sdn_init(&d->sd), 0; }
+static void f_lcm(wgd *d) { lcmio_fini(&d->io); }
+static void f_stream(wgd *d) { stream_fini(&d->st); }
+static void f_sdn(wgd *d) { sdn_fini(&d->sd); }
+
+/* In dependency order; finalised in reverse. */
+static const struct module {
+    const char *name;
+    int (*init)(wgd *d); /* 0, 1 runtime failure, 2 config error */
+    void (*fini)(wgd *d);
+} modules[] = {
+    {"engine", m_engine, engine_fini}, {"lcm", m_lcm, f_lcm},          {"stream", m_stream, f_stream},
+    {"cmd", m_cmd, cmd_fini},          {"loop", m_loop, loop_fini},    {"status", m_status, status_fini},
+    {"sdn", m_sdn, f_sdn},
+};
+enum { NMOD = sizeof modules / sizeof modules[0] };
+
+static void finish(wgd *d, int up_to)
+{
+    for (int i = up_to - 1; i >= 0; i--)
+        modules[i].fini(d);
+}
+
+static void started(wgd *d)
+{
+    char kn[64];
+    log_msg(&d->log, LOG_INFO,
+            "scene %s (%s, kernel %s, stepper %s, N = %d), mode %s rate %g, url %s, channels "
+            "%s*, state dir %s", d->scene.name, wg_model_name(d->sim.cfg.model),
+            wg_sim_kernel_name(&d->sim, kn, sizeof kn), wg_stepper_name(d->sim.cfg.stepper),
+            d->sim.cfg.steps_per_period, conf_mode_name(d->conf.mode), d->conf.rate,
+            d->conf.url, d->conf.prefix, d->conf.state_dir);
+    status_params(d, "start", "", -1);
+}
+
+static int run(wgd *d)
+{
+    int i, rc = 0;
+    for (i = 0; i < NMOD && !rc; i++)
+        if ((rc = modules[i].init(d)))
+            log_msg(&d->log, LOG_ERR, "%s: %s", modules[i].name, d->why);
+    if (rc) {
+        finish(d, i - 1);
+        return rc;
+    }
+    if (d->conf.check_only) {
+        printf("configuration ok: scene %s, N = %d, url %s\n", d->scene.name,
+               d->sim.cfg.steps_per_period, d->conf.url);
+        finish(d, NMOD);
+        return 0;
+    }
+    started(d);
+    loop_run(d);
+    log_msg(&d->log, LOG_INFO, "stopping on %s", strsignal(d->stop));
+    stream_flush(d);
+    status_publish(d);
+    finish(d, NMOD);
+    sdn_stopping();
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    wgd *d = calloc(1, sizeof *d);
+    if (!d) {
+        fprintf(stderr, "wormgeard: out of memory\n");
+        return 1;
+    }
+    d->argc = argc;
+    d->argv = argv;
+    d->tfd = -1;
+    d->start_ns = wgd_now_ns();
+    log_init(&d->log, 0);
+    int rc = conf_load(&d->conf, argc, argv, d->why, sizeof d->why);
+    if (rc == 2)
+        fprintf(stderr, "wormgeard: %s\n(try wormgeard --help)\n", d->why);
+    if (rc == 0) {
+        d->log.max_prio = d->conf.verbose ? LOG_DEBUG : LOG_INFO;
+        rc = run(d);
+    } else if (rc == 1) {
+        rc = 0;
+    }
+    log_fini(&d->log);
+    free(d);
+    return rc;
+}

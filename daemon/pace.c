@@ -1,0 +1,81 @@
+/* pace.c - pacing as a pure function of the monotonic clock. */
+#include "pace.h"
+
+#include "conf.h"
+
+#include <math.h>
+
+void pace_init(pace *p, const pace_cfg *cfg, int64_t now_ns, double tau)
+{
+    *p = (pace){.cfg = *cfg};
+    pace_anchor(p, now_ns, tau);
+}
+
+void pace_anchor(pace *p, int64_t now_ns, double tau)
+{
+    p->t0_ns = now_ns;
+    p->tau0 = tau;
+    p->consecutive = 0;
+    p->lag_tau = 0.0;
+}
+
+void pace_set_rate(pace *p, double tau_per_ns, int64_t now_ns, double tau)
+{
+    p->cfg.tau_per_ns = tau_per_ns;
+    pace_anchor(p, now_ns, tau);
+}
+
+double pace_target(const pace *p, int64_t now_ns)
+{
+    return p->tau0 + (double)(now_ns - p->t0_ns) * p->cfg.tau_per_ns;
+}
+
+double pace_lag_s(const pace *p)
+{
+    return p->cfg.tau_per_ns > 0 ? p->lag_tau / p->cfg.tau_per_ns * 1e-9 : 0.0;
+}
+
+/* Steps allowed in one tick: catchup_ticks ticks' worth, at least one. */
+static uint64_t cap_steps(const pace *p, double h)
+{
+    double c = ceil(p->cfg.catchup_ticks * (double)p->cfg.tick_ns * p->cfg.tau_per_ns / h);
+    return c < 1.0 ? 1 : c > 1e12 ? (uint64_t)1e12 : (uint64_t)c;
+}
+
+pace_due pace_steps_due(pace *p, int64_t now_ns, double tau, double h)
+{
+    pace_due d = {0, 0, 0};
+    double backlog = pace_target(p, now_ns) - tau;
+    /* steps whose end is on or before the target (tolerate rounding of tau) */
+    double n = backlog > 0 ? floor(backlog / h + 1e-9) : 0.0;
+    uint64_t cap = cap_steps(p, h);
+    if (n > (double)cap) {
+        d.overrun = 1;
+        n = (double)cap;
+        if (now_ns - p->t0_ns < p->cfg.grace_ns) {
+            p->grace_overruns++;
+        } else {
+            p->overruns++;
+            p->consecutive++;
+            d.stop = p->cfg.policy == POLICY_STOP &&
+                     p->consecutive >= (uint64_t)p->cfg.stop_after;
+        }
+        if (p->cfg.policy == POLICY_FREEZE) { /* drop the backlog, keep the grace clock */
+            p->tau0 = tau + n * h - (double)(now_ns - p->t0_ns) * p->cfg.tau_per_ns;
+        }
+    } else {
+        p->consecutive = 0;
+    }
+    d.steps = (uint64_t)n;
+    double left = pace_target(p, now_ns) - (tau + n * h);
+    p->lag_tau = left > 0 ? left : 0.0;
+    return d;
+}
+
+uint64_t pace_fast_chunk(double ns_per_step, int64_t chunk_ns)
+{
+    if (!(ns_per_step > 0))
+        return 64;
+    double n = (double)chunk_ns / ns_per_step;
+    return n < 64 ? 64 : n > 1e7 ? 10000000 : (uint64_t)n;
+}

@@ -1,0 +1,216 @@
+/* status.c - STATUS, PARAMS, foreground line and periodic bookkeeping. */
+#include "status.h"
+
+#include "engine.h"
+#include "sdn.h"
+#include "wgd.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+enum { FLUSH_NS = 20000000, SEC_NS = 1000000000 };
+
+static double cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+const char *status_health_name(int h)
+{
+    return h == HEALTH_FAULT ? "fault" : h == HEALTH_LAGGING ? "lagging" : "ok";
+}
+
+const char *status_run_name(const wgd *d)
+{
+    return d->step.active ? "stepping" : d->run == RUN_RUNNING ? "running" : "paused";
+}
+
+static void interval_start(wgd *d, int64_t now)
+{
+    stats *s = &d->stat;
+    s->t_ns = now;
+    s->tau = d->sim.tau;
+    s->steps = d->sim.steps;
+    s->cpu_s = cpu_seconds();
+    s->loop_sum_ns = s->loop_max_ns = 0;
+    s->loops = 0;
+    d->st.sections = d->st.impacts = 0;
+}
+
+void status_init(wgd *d)
+{
+    int64_t now = wgd_now_ns();
+    memset(&d->stat, 0, sizeof d->stat);
+    d->stat.tick_seq_next = -1;
+    interval_start(d, now);
+    d->stat.next_status_ns = now + (int64_t)(SEC_NS / d->conf.status_hz);
+    d->stat.next_params_ns = now + SEC_NS;
+    d->stat.next_fg_ns = now + SEC_NS;
+    d->stat.next_flush_ns = now + FLUSH_NS;
+    status_decimation(d);
+}
+
+void status_fini(wgd *d) { (void)d; }
+
+void status_loop(wgd *d, int64_t dur_ns)
+{
+    stats *s = &d->stat;
+    s->loop_sum_ns += (double)dur_ns;
+    s->loop_max_ns = fmax(s->loop_max_ns, (double)dur_ns);
+    s->loops++;
+}
+
+/* Steps per wall second the current mode aims at (0: unknown). */
+static double step_rate(const wgd *d)
+{
+    if (d->conf.mode == MODE_REALTIME)
+        return d->pace.cfg.tau_per_ns * 1e9 / engine_h(d);
+    return d->stat.ns_per_step > 0 ? 1e9 / d->stat.ns_per_step : 0.0;
+}
+
+void status_decimation(wgd *d)
+{
+    int dec = d->conf.state_decimation;
+    if (dec <= 0) {
+        double r = step_rate(d), want = d->conf.state_rate_hz;
+        dec = r > 0 && want > 0 ? (int)fmin(1e9, fmax(1.0, round(r / want)))
+                                : d->sim.cfg.steps_per_period / 8;
+    }
+    stream_set_decimation(&d->st, dec);
+}
+
+static void compute(wgd *d, int64_t now)
+{
+    stats *s = &d->stat;
+    double wall = (double)(now - s->t_ns) * 1e-9;
+    if (wall <= 0)
+        return;
+    s->rtf = engine_seconds(d, d->sim.tau - s->tau) / wall;
+    s->steps_per_s = (double)(d->sim.steps - s->steps) / wall;
+    s->cpu_share = (cpu_seconds() - s->cpu_s) / wall;
+    s->loop_mean_us = s->loops ? s->loop_sum_ns / (double)s->loops * 1e-3 : 0.0;
+    s->loop_max_us = s->loop_max_ns * 1e-3;
+    s->impacts_per_period =
+        d->st.sections ? (double)d->st.impacts / (double)d->st.sections : 0.0;
+    int late = d->conf.mode == MODE_REALTIME && d->run == RUN_RUNNING &&
+               (pace_lag_s(&d->pace) * 1e3 > d->conf.lag_warn_ms ||
+                d->pace.consecutive > 0);
+    s->health = d->fault ? HEALTH_FAULT : late ? HEALTH_LAGGING : HEALTH_OK;
+}
+
+static void fill_status(const wgd *d, wormgear_status_t *m)
+{
+    const stats *s = &d->stat;
+    *m = (wormgear_status_t){
+        .scene = (char *)d->scene.name, .mode = (char *)conf_mode_name(d->conf.mode),
+        .rate = d->conf.rate, .run = (char *)status_run_name(d),
+        .health = (char *)status_health_name(s->health), .fault = (char *)d->fault_msg,
+        .tau = d->sim.tau, .t_s = engine_seconds(d, d->sim.tau),
+        .omega = d->sim.p.v[WG_P_OMEGA], .steps = (int64_t)d->sim.steps,
+        .period = (int64_t)d->sim.period, .steps_per_period = d->sim.cfg.steps_per_period,
+        .rtf = s->rtf, .lag_s = d->conf.mode == MODE_REALTIME ? pace_lag_s(&d->pace) : 0.0,
+        .overruns = (int64_t)d->pace.overruns, .loop_mean_us = s->loop_mean_us,
+        .loop_max_us = s->loop_max_us, .steps_per_s = s->steps_per_s,
+        .cpu_share = s->cpu_share, .msgs_dropped = (int64_t)(d->io.dropped + s->drops),
+        .cmds_accepted = (int64_t)s->cmds_accepted, .cmds_refused = (int64_t)s->cmds_refused,
+        .motion = d->st.sections || d->sim.period ? (char *)wg_motion_name(d->st.motion)
+                                                  : (char *)"unknown",
+        .impacts_per_period = s->impacts_per_period, .regime = (char *)"unknown",
+        .ramp_active = (int8_t)d->sim.ramp.active,
+        .uptime_s = (double)(wgd_now_ns() - d->start_ns) * 1e-9};
+}
+
+void status_publish(wgd *d)
+{
+    int64_t now = wgd_now_ns();
+    compute(d, now);
+    wormgear_status_t m;
+    fill_status(d, &m);
+    lcmio_pub_status(&d->io, &m);
+}
+
+void status_line(const wgd *d, char *buf, unsigned len)
+{
+    const stats *s = &d->stat;
+    snprintf(buf, len,
+             "%s %s %s | t %.4f s tau %.6g | omega %.4g | rtf %.3f lag %.1f ms | %.3g steps/s "
+             "cpu %.0f%% | %s %.2f imp/period | overruns %llu | cmds %llu/%llu refused",
+             conf_mode_name(d->conf.mode), status_run_name(d), status_health_name(s->health),
+             engine_seconds(d, d->sim.tau), d->sim.tau, d->sim.p.v[WG_P_OMEGA], s->rtf,
+             pace_lag_s(&d->pace) * 1e3, s->steps_per_s, s->cpu_share * 100.0,
+             d->sim.period ? wg_motion_name(d->st.motion) : "-", s->impacts_per_period,
+             (unsigned long long)d->pace.overruns, (unsigned long long)s->cmds_accepted,
+             (unsigned long long)s->cmds_refused);
+}
+
+void status_params(wgd *d, const char *reason, const char *client, int64_t cmd_seq)
+{
+    char *name[WG_NPARAM], *unit[WG_NPARAM];
+    double val[WG_NPARAM], lo[WG_NPARAM], hi[WG_NPARAM], def[WG_NPARAM];
+    int8_t ramp[WG_NPARAM];
+    for (int i = 0; i < WG_NPARAM; i++) {
+        const wg_param_info *r = wg_param_info_get(i);
+        name[i] = (char *)r->name;
+        unit[i] = (char *)r->unit;
+        val[i] = d->sim.p.v[i];
+        lo[i] = r->min;
+        hi[i] = r->max;
+        def[i] = r->def;
+        ramp[i] = (int8_t)((r->flags & WG_PF_RAMP) != 0);
+    }
+    const wg_ramp *rp = &d->sim.ramp;
+    wormgear_params_t m = {
+        .reason = (char *)reason, .cmd_client = (char *)client, .cmd_seq = cmd_seq,
+        .scene = d->scene.name, .model = (char *)wg_model_name(d->sim.cfg.model),
+        .stepper = (char *)wg_stepper_name(d->sim.cfg.stepper),
+        .steps_per_period = d->sim.cfg.steps_per_period,
+        .omega_n_rad_s = d->scene.scale.omega_n_rad_s, .length_m = d->scene.scale.length_m,
+        .mesh_stiffness_N_m = d->scene.scale.mesh_stiffness_N_m, .tau = d->sim.tau,
+        .n = WG_NPARAM, .name = name, .unit = unit, .value = val, .min = lo, .max = hi,
+        .def = def, .rampable = ramp, .ramp_active = (int8_t)rp->active,
+        .ramp_param = rp->active ? (char *)wg_param_info_get(rp->id)->name : (char *)"",
+        .ramp_from = rp->v0, .ramp_to = rp->v1, .ramp_tau0 = rp->tau0,
+        .ramp_duration_tau = rp->dur};
+    lcmio_pub_params(&d->io, &m);
+}
+
+static void foreground(wgd *d)
+{
+    char line[400];
+    status_line(d, line, sizeof line);
+    printf("%s\n", line);
+    fflush(stdout);
+}
+
+void status_tick(wgd *d, int64_t now)
+{
+    stats *s = &d->stat;
+    if (now >= s->next_flush_ns) {
+        stream_flush(d);
+        status_decimation(d);
+        s->next_flush_ns = now + FLUSH_NS;
+    }
+    if (now >= s->next_status_ns) {
+        compute(d, now);
+        wormgear_status_t m;
+        fill_status(d, &m);
+        lcmio_pub_status(&d->io, &m);
+        interval_start(d, now);
+        s->next_status_ns = now + (int64_t)(SEC_NS / d->conf.status_hz);
+    }
+    if (now >= s->next_params_ns) {
+        status_params(d, "periodic", "", -1);
+        s->next_params_ns = now + SEC_NS;
+        char line[400];
+        status_line(d, line, sizeof line);
+        sdn_status(line);
+    }
+    if (d->conf.foreground && now >= s->next_fg_ns) {
+        foreground(d);
+        s->next_fg_ns = now + SEC_NS;
+    }
+}

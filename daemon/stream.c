@@ -1,0 +1,142 @@
+/* stream.c - batched STATE / POINCARE / CONTACT publishing from the sink. */
+#include "stream.h"
+
+#include "wgd.h"
+
+#include <string.h>
+
+void stream_init(stream *s, int nstate, double omega_n, int state_on)
+{
+    memset(s, 0, sizeof *s);
+    s->nstate = nstate;
+    s->omega_n = omega_n;
+    s->st_on = state_on;
+    s->decimation = 1;
+    s->countdown = 0;
+    for (int i = 0; i < PC_MAX; i++)
+        s->pc_rows[i] = s->pc_y[i];
+}
+
+void stream_fini(stream *s) { (void)s; }
+
+void stream_set_decimation(stream *s, int decimation)
+{
+    s->decimation = decimation < 1 ? 1 : decimation;
+    if (s->countdown >= (uint64_t)s->decimation)
+        s->countdown = (uint64_t)s->decimation - 1;
+}
+
+static void flush_state(wgd *d)
+{
+    stream *s = &d->st;
+    double(*c)[ST_MAX] = s->st;
+    wormgear_state_t m = {.step0 = s->st_step0, .decimation = s->decimation, .n = s->st_n,
+                          .tau = c[0], .t_s = c[1], .omega = c[2], .xn = c[3], .dxn = c[4],
+                          .force = c[5], .fb_x1 = c[6], .fb_y1 = c[7], .fb_z1 = c[8],
+                          .fb_x2 = c[9], .fb_y2 = c[10], .fb_z2 = c[11]};
+    lcmio_pub_state(&d->io, &m);
+    s->st_n = 0;
+}
+
+static void flush_poincare(wgd *d)
+{
+    stream *s = &d->st;
+    double(*c)[PC_MAX] = s->pc;
+    wormgear_poincare_t m = {.nstate = s->nstate, .n = s->pc_n, .period = s->pc_period,
+                             .tau = c[0], .t_s = c[1], .omega = c[2], .xn = c[3], .dxn = c[4],
+                             .force = c[5], .min_xn = c[6], .max_xn = c[7],
+                             .motion = s->pc_motion, .impacts = s->pc_impacts, .y = s->pc_rows};
+    lcmio_pub_poincare(&d->io, &m);
+    s->pc_n = 0;
+}
+
+static void flush_contact(wgd *d)
+{
+    stream *s = &d->st;
+    wormgear_contact_t m = {.n = s->ct_n, .tau = s->ct_tau, .t_s = s->ct_ts,
+                            .velocity = s->ct_vel, .period = s->ct_period,
+                            .contact = s->ct_contact, .kind = s->ct_kind};
+    lcmio_pub_contact(&d->io, &m);
+    s->ct_n = 0;
+}
+
+void stream_flush(wgd *d)
+{
+    if (d->st.st_n)
+        flush_state(d);
+    if (d->st.pc_n)
+        flush_poincare(d);
+    if (d->st.ct_n)
+        flush_contact(d);
+}
+
+static void on_step(void *ctx, const wg_sim *sim)
+{
+    wgd *d = ctx;
+    stream *s = &d->st;
+    if (s->countdown--)
+        return;
+    s->countdown = (uint64_t)s->decimation - 1;
+    if (s->st_n == 0)
+        s->st_step0 = (int64_t)sim->steps;
+    wg_outputs o;
+    wg_sim_outputs(sim, &o);
+    int i = s->st_n++;
+    double(*c)[ST_MAX] = s->st;
+    c[0][i] = sim->tau;
+    c[1][i] = sim->tau / s->omega_n;
+    c[2][i] = sim->p.v[WG_P_OMEGA];
+    c[3][i] = o.xn;
+    c[4][i] = o.dxn;
+    c[5][i] = o.F;
+    for (int j = 0; j < 6; j++)
+        c[6 + j][i] = o.fb[j];
+    if (s->st_n == ST_MAX)
+        flush_state(d);
+}
+
+static void on_section(void *ctx, const wg_section *sec)
+{
+    wgd *d = ctx;
+    stream *s = &d->st;
+    int i = s->pc_n++;
+    double(*c)[PC_MAX] = s->pc;
+    s->pc_period[i] = (int64_t)sec->stats.period;
+    c[0][i] = sec->tau;
+    c[1][i] = sec->tau / s->omega_n;
+    c[2][i] = sec->omega;
+    c[3][i] = sec->out.xn;
+    c[4][i] = sec->out.dxn;
+    c[5][i] = sec->out.F;
+    c[6][i] = sec->stats.min_xn;
+    c[7][i] = sec->stats.max_xn;
+    s->pc_motion[i] = (int8_t)sec->stats.motion;
+    s->pc_impacts[i] = sec->stats.impacts;
+    memcpy(s->pc_y[i], sec->y, sizeof s->pc_y[i]);
+    s->sections++;
+    s->impacts += (uint64_t)sec->stats.impacts;
+    s->motion = sec->stats.motion;
+    s->last = sec->stats;
+    if (s->pc_n == PC_MAX)
+        flush_poincare(d);
+}
+
+static void on_event(void *ctx, const wg_event *ev)
+{
+    wgd *d = ctx;
+    stream *s = &d->st;
+    int i = s->ct_n++;
+    s->ct_tau[i] = ev->tau;
+    s->ct_ts[i] = ev->tau / s->omega_n;
+    s->ct_vel[i] = ev->velocity;
+    s->ct_period[i] = (int64_t)ev->period;
+    s->ct_contact[i] = (int8_t)ev->contact;
+    s->ct_kind[i] = (int8_t)ev->kind;
+    if (s->ct_n == CT_MAX)
+        flush_contact(d);
+}
+
+wg_sink stream_sink(wgd *d)
+{
+    return (wg_sink){d, d->st.st_on ? on_step : NULL, on_section, on_event};
+}

@@ -1,0 +1,62 @@
+/* stream.h - the batched output streams STATE, POINCARE and CONTACT.
+ *
+ * The simulation's sink callbacks append to fixed-size batches held here
+ * (no allocation in the step path); a batch is published when it is full
+ * or when stream_flush runs (every 20 ms from the loop: ~50 messages/s per
+ * channel). STATE is decimated to a sample every `decimation` steps;
+ * POINCARE and CONTACT are never decimated. The section callback also keeps
+ * the motion class and impact counts STATUS reports. */
+#ifndef WGD_STREAM_H
+#define WGD_STREAM_H
+
+#include <stdint.h>
+
+#include "wormgear/wg_sim.h"
+
+enum { ST_MAX = 400, PC_MAX = 200, CT_MAX = 1024, ST_NCOL = 12 };
+
+struct wgd;
+
+typedef struct stream {
+    double omega_n;                 /* tau -> seconds */
+    /* STATE */
+    int st_on;                      /* 0: no STATE at all (state_rate_hz = 0) */
+    int st_n, decimation;
+    uint64_t countdown;             /* steps until the next sample */
+    int64_t st_step0;
+    double st[ST_NCOL][ST_MAX];     /* tau t_s omega xn dxn F fb[6] */
+    /* POINCARE */
+    int pc_n, nstate;
+    int64_t pc_period[PC_MAX];
+    double pc[9][PC_MAX];           /* tau t_s omega xn dxn F min max (unused) */
+    int8_t pc_motion[PC_MAX];
+    int32_t pc_impacts[PC_MAX];
+    double pc_y[PC_MAX][WG_NSTATE_MAX];
+    double *pc_rows[PC_MAX];
+    /* CONTACT */
+    int ct_n;
+    double ct_tau[CT_MAX], ct_ts[CT_MAX], ct_vel[CT_MAX];
+    int64_t ct_period[CT_MAX];
+    int8_t ct_contact[CT_MAX], ct_kind[CT_MAX];
+    /* statistics for STATUS (reset by the reader) */
+    uint64_t sections, impacts;
+    int motion;                     /* of the last completed period */
+    wg_period last;
+} stream;
+
+/* Empty batches for a sim with nstate values; omega_n converts tau to s. */
+void stream_init(stream *s, int nstate, double omega_n, int state_on);
+
+/* Nothing to free; present for the init/fini pairing. */
+void stream_fini(stream *s);
+
+/* The sink to pass to wg_sim_run (ctx = the daemon). */
+wg_sink stream_sink(struct wgd *d);
+
+/* Publish every non-empty batch now. */
+void stream_flush(struct wgd *d);
+
+/* Set the STATE decimation (steps per sample, >= 1). */
+void stream_set_decimation(stream *s, int decimation);
+
+#endif

@@ -1,0 +1,94 @@
+/* wgd.h - the one daemon struct of wormgeard.
+ *
+ * Everything mutable lives here: configuration, logging, the simulation,
+ * the LCM side, the output batches, pacing, statistics, the systemd
+ * notifier and the libev watchers. main.c initialises the modules in the
+ * order below and finalises them in reverse. Only one thread touches it
+ * (the libev loop); signal handling is libev's ev_signal, whose callbacks
+ * only set flags. */
+#ifndef WGD_H
+#define WGD_H
+
+#include <ev.h>
+#include <stdint.h>
+
+#include "conf.h"
+#include "lcmio.h"
+#include "log.h"
+#include "pace.h"
+#include "stream.h"
+#include "wormgear/wg_scene.h"
+#include "wormgear/wg_sim.h"
+
+enum { RUN_RUNNING, RUN_PAUSED };
+enum { HEALTH_OK, HEALTH_LAGGING, HEALTH_FAULT };
+
+/* A `step` command in progress (its ACK is sent when it completes). */
+typedef struct stepjob {
+    int active;
+    uint64_t left, total;
+    char client[64];
+    char op[16];
+    int64_t seq;
+} stepjob;
+
+/* Accumulators and derived figures for STATUS (status.c). */
+typedef struct stats {
+    int64_t t_ns;              /* start of the current STATUS interval */
+    double tau;                /* simulated time then */
+    uint64_t steps;            /* sim steps then */
+    double cpu_s;              /* process CPU time then */
+    double loop_sum_ns, loop_max_ns;
+    uint64_t loops;
+    double ns_per_step;        /* smoothed cost of one step */
+    /* last computed figures */
+    double rtf, steps_per_s, cpu_share, loop_mean_us, loop_max_us, impacts_per_period;
+    int health;
+    int64_t next_status_ns, next_params_ns, next_fg_ns, next_flush_ns;
+    uint64_t cmds_accepted, cmds_refused, drops; /* drops: tick gaps and the like */
+    int64_t tick_seq_next;     /* expected TICK seq (-1: none seen) */
+} stats;
+
+/* systemd notification state (sdn.c). */
+typedef struct sdn {
+    int ready;                 /* READY=1 sent */
+    uint64_t wd_usec;          /* WatchdogSec (0: off) */
+    int64_t next_wd_ns;
+} sdn;
+
+typedef struct wgd {
+    int argc;
+    char **argv;
+    conf conf;
+    log_ctx log;
+    /* simulation (engine.c) */
+    wg_scene scene;
+    wg_params scene_params;    /* the scene's parameters with the --set overrides */
+    wg_sim sim;
+    int sim_ok;
+    int run;                   /* RUN_RUNNING / RUN_PAUSED */
+    int fault;                 /* a blow-up or a policy stop happened */
+    char fault_msg[320];
+    stepjob step;
+    /* transport and outputs */
+    lcmio io;
+    int io_ok;
+    stream st;
+    pace pace;
+    stats stat;
+    sdn sd;
+    /* loop (loop.c) */
+    struct ev_loop *loop;
+    ev_io lcm_w, tick_w;
+    ev_idle fast_w;
+    ev_signal sig_int, sig_term, sig_hup;
+    int tfd;
+    int stop, reload;          /* set by the signal callbacks */
+    int64_t start_ns;
+    char why[640];             /* scratch for messages */
+} wgd;
+
+/* CLOCK_MONOTONIC in nanoseconds. */
+int64_t wgd_now_ns(void);
+
+#endif
