@@ -22,6 +22,9 @@ typedef struct work {
     double *rec;               /* record x nstate Poincare states */
     wg_period *stats;          /* record period statistics */
     int nrec;                  /* sections stored by the current recording */
+    wg_params hkey;            /* parameters (omega zeroed) hmax was found for */
+    double hmax;               /* RK4 limit, independent of omega */
+    int hvalid;
     volatile sig_atomic_t *stop;
 } work;
 
@@ -43,11 +46,19 @@ double wg_chain_value(const wg_chain *c, int i)
     return j == c->npts - 1 ? c->v1 : c->v0 + (c->v1 - c->v0) * j / (c->npts - 1);
 }
 
-/* Steps per period for p: the requested N, raised to 1.25x the RK4 limit. */
-static int steps_for(const wg_sweep_opts *o, const wg_params *p)
+/* Steps per period for p: the requested N, raised to 1.25x the RK4 limit.
+ * The limit does not depend on omega, so an omega sweep computes it once. */
+static int steps_for(work *w, const wg_params *p)
 {
-    int need = wg_min_steps(wg_rk4_hmax(o->model, p), p->v[WG_P_OMEGA]);
-    int n = o->steps, lim = (int)ceil(1.25 * need);
+    wg_params key = *p;
+    key.v[WG_P_OMEGA] = 0.0;
+    if (!w->hvalid || memcmp(&key, &w->hkey, sizeof key) != 0) {
+        w->hmax = wg_rk4_hmax(w->o->model, p);
+        w->hkey = key;
+        w->hvalid = 1;
+    }
+    int need = wg_min_steps(w->hmax, p->v[WG_P_OMEGA]);
+    int n = w->o->steps, lim = (int)ceil(1.25 * need);
     if (n < lim)
         n = (lim + 7) / 8 * 8;
     return n > WG_STEPS_MAX ? WG_STEPS_MAX : n;
@@ -249,7 +260,7 @@ static int point_analyse(work *w, const wg_params *p, double *y, wg_point *pt, c
 {
     memset(pt, 0, sizeof *pt);
     pt->lle = NAN;
-    pt->steps = steps_for(w->o, p);
+    pt->steps = steps_for(w, p);
     int rc = ensure_sim(w, &w->sim, &w->n_sim, pt->steps, p, why, whylen);
     if (rc)
         return rc;
@@ -287,7 +298,6 @@ int wg_point_run(const wg_params *p, const wg_sweep_opts *o, double *y, wg_point
         return rc;
     }
     rc = point_analyse(&w, p, y, pt, why, whylen);
-    pt->value = p->v[WG_P_OMEGA];
     work_fini(&w);
     return rc;
 }

@@ -75,11 +75,14 @@ wg_map wg_simmap_map(wg_simmap *sm);
  * WG_OK or WG_ENONFINITE. */
 int wg_simmap_step(void *ctx, double *x);
 
-/* Largest Lyapunov exponent by a twin trajectory renormalised every map
- * step (Benettin): `base` and `twin` are two maps of the same system (they
- * may share nothing), x the start (advanced in place along the orbit), d0
- * the separation (Euclidean). *lle receives the exponent per map step
- * (per mesh period for a wg_simmap of 1 period). WG_OK or a map error. */
+/* Largest Lyapunov exponent by a twin trajectory (Benettin): `base` and
+ * `twin` are two maps of the same system (they may share nothing), x the
+ * start (advanced in place along the orbit), d0 the initial separation
+ * (Euclidean). The twin is pulled back to distance d0 whenever the
+ * separation leaves [d0/1e3, d0*1e3] (checked every map step), so it stays
+ * in the linear regime while a wg_simmap twin is rarely reset. *lle gets the
+ * exponent per map step (per mesh period for a 1-period wg_simmap). WG_OK,
+ * WG_EINVAL (dim > 64, steps < 1, d0 <= 0) or a map error. */
 int wg_lle_twin(const wg_map *base, const wg_map *twin, double *x, int steps, double d0,
                 double *lle);
 

@@ -90,7 +90,8 @@ int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
                   volatile sig_atomic_t *stop, wg_progress_fn progress, void *ctx);
 
 /* Analyse one point at parameters p starting from y (psi = 0): the same
- * code as a chain's point. *pt gets the result, y the final state. */
+ * code as a chain's point. *pt gets the result (value and value2 are left
+ * 0 for the caller), y the final state. */
 int wg_point_run(const wg_params *p, const wg_sweep_opts *o, double *y, wg_point *pt,
                  char *why, size_t whylen);
 

@@ -1,0 +1,448 @@
+/* plot.c - cairo figures for sweeps and orbits (see plot.h). */
+#include "plot.h"
+
+#include <cairo.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#define FONT "DejaVu Sans"
+
+/* A plotting area: pixel box and data ranges. */
+typedef struct frame {
+    double x0, y0, w, h;
+    double xmin, xmax, ymin, ymax;
+} frame;
+
+static double px(const frame *f, double x) { return f->x0 + (x - f->xmin) / (f->xmax - f->xmin) * f->w; }
+static double py(const frame *f, double y) { return f->y0 + f->h - (y - f->ymin) / (f->ymax - f->ymin) * f->h; }
+
+static const double C_UP[3] = {0.12, 0.40, 0.80}, C_DOWN[3] = {0.85, 0.25, 0.10};
+
+void plot_regime_colour(const wg_point *p, int strong, double rgb[3])
+{
+    static const double pal[][2][3] = {
+        {{1.00, 1.00, 1.00}, {0.85, 0.88, 0.92}}, /* period 1 */
+        {{1.00, 0.95, 0.69}, {0.99, 0.85, 0.30}}, /* period 2 */
+        {{1.00, 0.84, 0.62}, {0.98, 0.62, 0.22}}, /* period 4 */
+        {{1.00, 0.70, 0.54}, {0.85, 0.38, 0.12}}, /* period 8..32, powers of 2 */
+        {{0.78, 0.90, 1.00}, {0.35, 0.62, 0.90}}, /* other periods */
+        {{0.88, 0.88, 0.88}, {0.60, 0.60, 0.60}}, /* periodic, n unresolved */
+        {{0.78, 0.94, 0.78}, {0.30, 0.72, 0.30}}, /* quasi-periodic */
+        {{1.00, 0.70, 0.78}, {0.80, 0.10, 0.25}}, /* chaotic */
+        {{0.45, 0.45, 0.45}, {0.15, 0.15, 0.15}}, /* none / diverged */
+    };
+    int k = 8;
+    if (p->regime == WG_REGIME_PERIODIC) {
+        int n = p->period;
+        k = n == 1 ? 0 : n == 2 ? 1 : n == 4 ? 2 : n == 0 ? 5 : (n & (n - 1)) == 0 ? 3 : 4;
+    } else if (p->regime == WG_REGIME_QUASIPERIODIC) {
+        k = 6;
+    } else if (p->regime == WG_REGIME_CHAOTIC) {
+        k = 7;
+    }
+    memcpy(rgb, pal[k][strong ? 1 : 0], sizeof(double) * 3);
+}
+
+/* ---- small drawing helpers ------------------------------------------------ */
+
+static void set_rgb(cairo_t *cr, const double c[3], double a)
+{
+    cairo_set_source_rgba(cr, c[0], c[1], c[2], a);
+}
+
+static void text(cairo_t *cr, double x, double y, double size, double align, const char *s)
+{
+    cairo_text_extents_t e;
+    cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, size);
+    cairo_text_extents(cr, s, &e);
+    cairo_move_to(cr, x - align * e.x_advance, y);
+    cairo_show_text(cr, s);
+}
+
+static void vtext(cairo_t *cr, double x, double y, double size, const char *s)
+{
+    cairo_save(cr);
+    cairo_translate(cr, x, y);
+    cairo_rotate(cr, -M_PI / 2);
+    text(cr, 0, 0, size, 0.5, s);
+    cairo_restore(cr);
+}
+
+/* Tick step: 1, 2 or 5 times a power of ten, about n ticks over the range. */
+static double tick_step(double lo, double hi, int n)
+{
+    double raw = (hi - lo) / n, p = pow(10.0, floor(log10(raw))), m = raw / p;
+    return (m < 1.5 ? 1.0 : m < 3.5 ? 2.0 : m < 7.5 ? 5.0 : 10.0) * p;
+}
+
+static void axes(cairo_t *cr, const frame *f, const char *xlabel, const char *ylabel,
+                 int xnumbers)
+{
+    char buf[32];
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 1.0);
+    cairo_rectangle(cr, f->x0, f->y0, f->w, f->h);
+    cairo_stroke(cr);
+    double sx = tick_step(f->xmin, f->xmax, 10), sy = tick_step(f->ymin, f->ymax, 6);
+    for (double x = ceil(f->xmin / sx - 1e-9) * sx; x <= f->xmax + 1e-9 * sx; x += sx) {
+        cairo_move_to(cr, px(f, x), f->y0 + f->h);
+        cairo_line_to(cr, px(f, x), f->y0 + f->h - 6);
+        cairo_stroke(cr);
+        snprintf(buf, sizeof buf, "%g", fabs(x) < 1e-12 * sx ? 0.0 : x);
+        if (xnumbers)
+            text(cr, px(f, x), f->y0 + f->h + 18, 13, 0.5, buf);
+    }
+    for (double y = ceil(f->ymin / sy - 1e-9) * sy; y <= f->ymax + 1e-9 * sy; y += sy) {
+        cairo_move_to(cr, f->x0, py(f, y));
+        cairo_line_to(cr, f->x0 + 6, py(f, y));
+        cairo_stroke(cr);
+        snprintf(buf, sizeof buf, "%g", fabs(y) < 1e-12 * sy ? 0.0 : y);
+        text(cr, f->x0 - 6, py(f, y) + 5, 13, 1.0, buf);
+    }
+    if (xlabel && xnumbers)
+        text(cr, f->x0 + f->w / 2, f->y0 + f->h + 40, 15, 0.5, xlabel);
+    if (ylabel)
+        vtext(cr, f->x0 - 58, f->y0 + f->h / 2, 15, ylabel);
+}
+
+/* Dashed horizontal guide at data y, labelled at the right. */
+static void hguide(cairo_t *cr, const frame *f, double y, const char *label)
+{
+    if (y < f->ymin || y > f->ymax)
+        return;
+    double dash[] = {6.0, 4.0};
+    cairo_save(cr);
+    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+    cairo_set_dash(cr, dash, 2, 0);
+    cairo_set_line_width(cr, 1.2);
+    cairo_move_to(cr, f->x0, py(f, y));
+    cairo_line_to(cr, f->x0 + f->w, py(f, y));
+    cairo_stroke(cr);
+    cairo_restore(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, f->x0 + f->w + 4, py(f, y) + 4, 12, 0.0, label);
+}
+
+static void vguide(cairo_t *cr, const frame *f, double x, const char *label)
+{
+    if (x < f->xmin || x > f->xmax)
+        return;
+    double dash[] = {6.0, 4.0};
+    cairo_save(cr);
+    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+    cairo_set_dash(cr, dash, 2, 0);
+    cairo_set_line_width(cr, 1.2);
+    cairo_move_to(cr, px(f, x), f->y0);
+    cairo_line_to(cr, px(f, x), f->y0 + f->h);
+    cairo_stroke(cr);
+    cairo_restore(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, px(f, x), f->y0 - 4, 12, 0.5, label);
+}
+
+static int finish(cairo_surface_t *s, cairo_t *cr, const char *path, char *why, size_t whylen)
+{
+    cairo_destroy(cr);
+    cairo_status_t st = cairo_surface_write_to_png(s, path);
+    cairo_surface_destroy(s);
+    if (st != CAIRO_STATUS_SUCCESS) {
+        snprintf(why, whylen, "cannot write %s: %s", path, cairo_status_to_string(st));
+        return -1;
+    }
+    return 0;
+}
+
+static cairo_t *canvas(int w, int h, cairo_surface_t **s)
+{
+    *s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
+    cairo_t *cr = cairo_create(*s);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    return cr;
+}
+
+/* ---- bifurcation diagram ---------------------------------------------------- */
+
+/* Data ranges of the Poincare x_n of both sweeps. */
+static void bif_range(const plot_bif *pb, double *lo, double *hi, double *xlo, double *xhi)
+{
+    *lo = INFINITY, *hi = -INFINITY, *xlo = INFINITY, *xhi = -INFINITY;
+    const wg_point *sets[2] = {pb->up, pb->down};
+    int ns[2] = {pb->nup, pb->ndown};
+    for (int s = 0; s < 2; s++)
+        for (int i = 0; i < ns[s]; i++) {
+            const wg_point *p = &sets[s][i];
+            *xlo = fmin(*xlo, p->value);
+            *xhi = fmax(*xhi, p->value);
+            for (int k = 0; k < p->nsec; k++) {
+                *lo = fmin(*lo, p->xn[k]);
+                *hi = fmax(*hi, p->xn[k]);
+            }
+        }
+    if (!(*xhi > *xlo))
+        *xhi = *xlo + 1.0;
+}
+
+/* Shade cells of the points' regimes between y0 and y0 + h (pixels). */
+static void shade(cairo_t *cr, const frame *f, const wg_point *pts, int n, double y0, double h)
+{
+    for (int i = 0; i < n; i++) {
+        double rgb[3], v = pts[i].value;
+        double a = i > 0 ? 0.5 * (v + pts[i - 1].value) : v;
+        double b = i + 1 < n ? 0.5 * (v + pts[i + 1].value) : v;
+        if (i == 0 && n > 1)
+            a = v - (b - v);
+        if (i + 1 == n && n > 1)
+            b = v + (v - a);
+        double xa = px(f, fmin(a, b)), xb = px(f, fmax(a, b));
+        xa = fmax(xa, f->x0);
+        xb = fmin(xb, f->x0 + f->w);
+        plot_regime_colour(&pts[i], 0, rgb);
+        set_rgb(cr, rgb, 1.0);
+        cairo_rectangle(cr, xa, y0, xb - xa + 0.5, h);
+        cairo_fill(cr);
+    }
+}
+
+static void dots(cairo_t *cr, const frame *f, const wg_point *pts, int n, const double c[3])
+{
+    set_rgb(cr, c, 0.7);
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < pts[i].nsec; k++)
+            cairo_rectangle(cr, px(f, pts[i].value) - 1.2, py(f, pts[i].xn[k]) - 1.2, 2.4, 2.4);
+    cairo_fill(cr);
+}
+
+static void min_curve(cairo_t *cr, const frame *f, const wg_point *pts, int n, const double c[3])
+{
+    set_rgb(cr, c, 0.9);
+    cairo_set_line_width(cr, 1.4);
+    for (int i = 0; i < n; i++) {
+        double x = px(f, pts[i].value), y = py(f, fmax(f->ymin, pts[i].min_xn));
+        if (i == 0)
+            cairo_move_to(cr, x, y);
+        else
+            cairo_line_to(cr, x, y);
+    }
+    cairo_stroke(cr);
+}
+
+static void legend_box(cairo_t *cr, double x, double y, const double rgb[3], const char *label)
+{
+    set_rgb(cr, rgb, 1.0);
+    cairo_rectangle(cr, x, y - 11, 14, 14);
+    cairo_fill_preserve(cr);
+    cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+    cairo_set_line_width(cr, 0.6);
+    cairo_stroke(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, x + 19, y, 12, 0.0, label);
+}
+
+static void bif_legend(cairo_t *cr, double x, double y)
+{
+    static const struct {
+        int regime, period;
+        const char *label;
+    } items[] = {{WG_REGIME_PERIODIC, 1, "period 1"}, {WG_REGIME_PERIODIC, 2, "period 2"},
+                 {WG_REGIME_PERIODIC, 4, "period 4"}, {WG_REGIME_PERIODIC, 8, "period 8-32"},
+                 {WG_REGIME_PERIODIC, 3, "other period"},
+                 {WG_REGIME_QUASIPERIODIC, 0, "quasi-periodic"},
+                 {WG_REGIME_CHAOTIC, 0, "chaotic"}};
+    for (unsigned i = 0; i < sizeof items / sizeof items[0]; i++) {
+        wg_point p = {.regime = items[i].regime, .period = items[i].period};
+        double rgb[3];
+        plot_regime_colour(&p, 0, rgb);
+        legend_box(cr, x + 125.0 * i, y, rgb, items[i].label);
+    }
+    legend_box(cr, x + 125.0 * 7 + 10, y, C_UP, "up sweep");
+    legend_box(cr, x + 125.0 * 8 + 10, y, C_DOWN, "down sweep");
+}
+
+/* The strips "up"/"down" and the main panel with shading, dots, guides. */
+static void bif_main(cairo_t *cr, const plot_bif *pb, const frame *f)
+{
+    shade(cr, f, pb->up, pb->nup, f->y0, f->h);
+    shade(cr, f, pb->up, pb->nup, f->y0 - 34, 14);
+    shade(cr, f, pb->down, pb->ndown, f->y0 - 18, 14);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, f->x0 - 6, f->y0 - 23, 11, 1.0, "up");
+    text(cr, f->x0 - 6, f->y0 - 7, 11, 1.0, "down");
+    dots(cr, f, pb->down, pb->ndown, C_DOWN);
+    dots(cr, f, pb->up, pb->nup, C_UP);
+    char lab[32];
+    snprintf(lab, sizeof lab, "+b = %g", pb->b);
+    hguide(cr, f, pb->b, lab);
+    snprintf(lab, sizeof lab, "-b = %g", -pb->b);
+    if (-pb->b >= f->ymin)
+        hguide(cr, f, -pb->b, lab);
+    else
+        text(cr, f->x0 + f->w + 4, f->y0 + f->h, 12, 0.0, "(-b below)");
+    axes(cr, f, pb->xlabel, "Poincare x_n (psi = 0)", 0);
+}
+
+int plot_bifurcation(const char *path, const plot_bif *pb, char *why, size_t whylen)
+{
+    cairo_surface_t *s;
+    cairo_t *cr = canvas(1400, 1000, &s);
+    double lo, hi, xlo, xhi;
+    bif_range(pb, &lo, &hi, &xlo, &xhi);
+    if (!isfinite(lo)) {
+        lo = pb->b - 1.0;
+        hi = pb->b + 1.0;
+    }
+    lo = fmin(lo, pb->b);
+    hi = fmax(hi, pb->b);
+    double pad = 0.05 * (hi - lo + 1e-9);
+    frame top = {90, 110, 1210, 560, xlo, xhi, lo - pad, hi + pad};
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, 700, 32, 20, 0.5, pb->title ? pb->title : "bifurcation diagram");
+    bif_legend(cr, 90, 62);
+    bif_main(cr, pb, &top);
+    /* min x_n panel, spanning +-b */
+    double mlo = -pb->b, mhi = pb->b;
+    const wg_point *sets[2] = {pb->up, pb->down};
+    int ns[2] = {pb->nup, pb->ndown};
+    for (int k = 0; k < 2; k++)
+        for (int i = 0; i < ns[k]; i++)
+            if (isfinite(sets[k][i].min_xn)) {
+                mlo = fmin(mlo, sets[k][i].min_xn);
+                mhi = fmax(mhi, sets[k][i].min_xn);
+            }
+    double mp = 0.06 * (mhi - mlo);
+    frame bot = {90, 700, 1210, 220, xlo, xhi, mlo - mp, mhi + mp};
+    min_curve(cr, &bot, pb->down, pb->ndown, C_DOWN);
+    min_curve(cr, &bot, pb->up, pb->nup, C_UP);
+    hguide(cr, &bot, pb->b, "+b");
+    hguide(cr, &bot, -pb->b, "-b");
+    axes(cr, &bot, pb->xlabel, "min x_n over the orbit", 1);
+    return finish(s, cr, path, why, whylen);
+}
+
+/* ---- regime map ----------------------------------------------------------- */
+
+static void map_cell_colour(const wg_point *p, int mode, double rgb[3])
+{
+    static const double mot[3][3] = {{0.85, 0.90, 0.97}, {0.99, 0.75, 0.30}, {0.80, 0.10, 0.25}};
+    if (mode == PLOT_MAP_MOTION && p->regime != WG_REGIME_NONE) {
+        memcpy(rgb, mot[p->motion < 0 || p->motion > 2 ? 0 : p->motion], sizeof(double) * 3);
+        return;
+    }
+    plot_regime_colour(p, 1, rgb);
+}
+
+static void map_legend(cairo_t *cr, int mode, double x, double y)
+{
+    if (mode == PLOT_MAP_MOTION) {
+        static const char *lab[3] = {"no impact", "single-sided", "double-sided"};
+        for (int m = 0; m < 3; m++) {
+            wg_point p = {.regime = WG_REGIME_PERIODIC, .motion = m};
+            double rgb[3];
+            map_cell_colour(&p, mode, rgb);
+            legend_box(cr, x + 150.0 * m, y, rgb, lab[m]);
+        }
+        return;
+    }
+    static const int per[] = {1, 2, 4, 8, 3, 0};
+    static const char *lab[] = {"P1", "P2", "P4", "P8-32", "other P", "P unresolved"};
+    for (int i = 0; i < 6; i++) {
+        wg_point p = {.regime = WG_REGIME_PERIODIC, .period = per[i]};
+        double rgb[3];
+        plot_regime_colour(&p, 1, rgb);
+        legend_box(cr, x + 110.0 * i, y, rgb, lab[i]);
+    }
+    wg_point q = {.regime = WG_REGIME_QUASIPERIODIC}, c = {.regime = WG_REGIME_CHAOTIC};
+    double rgb[3];
+    plot_regime_colour(&q, 1, rgb);
+    legend_box(cr, x + 660, y, rgb, "quasi-periodic");
+    plot_regime_colour(&c, 1, rgb);
+    legend_box(cr, x + 790, y, rgb, "chaotic");
+}
+
+int plot_regime_map(const char *path, const plot_map *pm, char *why, size_t whylen)
+{
+    cairo_surface_t *s;
+    cairo_t *cr = canvas(1200, 900, &s);
+    double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
+    for (int r = 0; r < pm->nrows; r++) {
+        const wg_chain *c = &pm->rows[r];
+        xlo = fmin(xlo, fmin(c->v0, c->v1));
+        xhi = fmax(xhi, fmax(c->v0, c->v1));
+        ylo = fmin(ylo, c->base.v[c->param2]);
+        yhi = fmax(yhi, c->base.v[c->param2]);
+    }
+    int nr = pm->nrows, nx = pm->nrows ? pm->rows[0].npts : 1;
+    double dx = nx > 1 ? (xhi - xlo) / (nx - 1) : 1.0, dy = nr > 1 ? (yhi - ylo) / (nr - 1) : 1.0;
+    frame f = {110, 90, 1020, 700, xlo - dx / 2, xhi + dx / 2, ylo - dy / 2, yhi + dy / 2};
+    for (int r = 0; r < nr; r++) {
+        const wg_chain *c = &pm->rows[r];
+        double yv = c->base.v[c->param2];
+        for (int i = 0; i < c->ndone; i++) {
+            double rgb[3];
+            map_cell_colour(&c->pts[i], pm->mode, rgb);
+            set_rgb(cr, rgb, 1.0);
+            double xa = px(&f, c->pts[i].value - dx / 2), xb = px(&f, c->pts[i].value + dx / 2);
+            double ya = py(&f, yv + dy / 2), yb = py(&f, yv - dy / 2);
+            cairo_rectangle(cr, xa, ya, xb - xa + 0.6, yb - ya + 0.6);
+            cairo_fill(cr);
+        }
+    }
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, 600, 32, 20, 0.5, pm->title ? pm->title : "regime map");
+    map_legend(cr, pm->mode, 110, 64);
+    axes(cr, &f, pm->xlabel, pm->ylabel, 1);
+    return finish(s, cr, path, why, whylen);
+}
+
+/* ---- x-y plots -------------------------------------------------------------- */
+
+int plot_xy_png(const char *path, const plot_xy *p, char *why, size_t whylen)
+{
+    cairo_surface_t *s;
+    cairo_t *cr = canvas(1000, 800, &s);
+    double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
+    for (int i = 0; i < p->n; i++) {
+        xlo = fmin(xlo, p->x[i]), xhi = fmax(xhi, p->x[i]);
+        ylo = fmin(ylo, p->y[i]), yhi = fmax(yhi, p->y[i]);
+    }
+    if (p->b > 0 && p->b_on_x && !p->dots) /* curves: show where +b is; clouds: zoom */
+        xlo = fmin(xlo, p->b), xhi = fmax(xhi, p->b);
+    if (p->b > 0 && !p->b_on_x && !p->dots)
+        ylo = fmin(ylo, p->b), yhi = fmax(yhi, p->b);
+    if (!(xhi > xlo))
+        xlo -= 0.5, xhi += 0.5;
+    if (!(yhi > ylo))
+        ylo -= 0.5, yhi += 0.5;
+    double mx = 0.05 * (xhi - xlo), my = 0.05 * (yhi - ylo);
+    frame f = {100, 70, 820, 640, xlo - mx, xhi + mx, ylo - my, yhi + my};
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, 500, 36, 18, 0.5, p->title ? p->title : "");
+    set_rgb(cr, C_UP, p->dots ? 0.8 : 0.9);
+    cairo_set_line_width(cr, 1.0);
+    for (int i = 0; i < p->n; i++) {
+        if (p->dots)
+            cairo_rectangle(cr, px(&f, p->x[i]) - 1.5, py(&f, p->y[i]) - 1.5, 3, 3);
+        else if (i == 0)
+            cairo_move_to(cr, px(&f, p->x[i]), py(&f, p->y[i]));
+        else
+            cairo_line_to(cr, px(&f, p->x[i]), py(&f, p->y[i]));
+    }
+    if (p->dots)
+        cairo_fill(cr);
+    else
+        cairo_stroke(cr);
+    if (p->b > 0) {
+        for (int sgn = -1; sgn <= 1; sgn += 2) {
+            char lab[32];
+            snprintf(lab, sizeof lab, "%sb", sgn > 0 ? "+" : "-");
+            if (p->b_on_x)
+                vguide(cr, &f, sgn * p->b, lab);
+            else
+                hguide(cr, &f, sgn * p->b, lab);
+        }
+    }
+    axes(cr, &f, p->xlabel, p->ylabel, 1);
+    return finish(s, cr, path, why, whylen);
+}

@@ -1,0 +1,210 @@
+/* sweep_md.c - the Markdown transitions table of a study (the paper's
+ * Table 3, computed): one row per transition, the up and down sweeps side by
+ * side, matched by kind, periods and proximity. */
+#include "sweep_out.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *pname(int id)
+{
+    const wg_param_info *r = wg_param_info_get(id);
+    return r ? r->name : "?";
+}
+
+static double grid_step(const wg_chain *c)
+{
+    return c && c->npts > 1 ? fabs(c->v1 - c->v0) / (c->npts - 1) : 0.0;
+}
+
+static const char *per_name(int n, char *buf, size_t len)
+{
+    if (n)
+        snprintf(buf, len, "P%d", n);
+    else
+        snprintf(buf, len, "aperiodic");
+    return buf;
+}
+
+/* Text of one sweep's side of a row. */
+static void cell(const wg_transition *t, char *buf, size_t len)
+{
+    if (!t) {
+        snprintf(buf, len, "-");
+        return;
+    }
+    switch (t->kind) {
+    case WG_TR_CHAOS:
+    case WG_TR_QUASI:
+        snprintf(buf, len, "[%.4f, %.4f] (%d pts%s%d other)", t->lo, t->hi, t->from,
+                 t->to ? ", " : "", t->to);
+        if (!t->to) /* drop the ", 0 other" */
+            snprintf(buf, len, "[%.4f, %.4f] (%d pts)", t->lo, t->hi, t->from);
+        break;
+    default:
+        snprintf(buf, len, "%.4f (%.4f-%.4f)", t->at, t->lo, t->hi);
+    }
+}
+
+/* Description column. */
+static void detail(const wg_transition *t, char *buf, size_t len)
+{
+    char a[24], b[24];
+    switch (t->kind) {
+    case WG_TR_GRAZING:
+    case WG_TR_BACKSIDE:
+        snprintf(buf, len, "%s -> %s", wg_motion_name(t->from), wg_motion_name(t->to));
+        break;
+    case WG_TR_CHAOS:
+        snprintf(buf, len, "largest Lyapunov exponent > 0");
+        break;
+    case WG_TR_QUASI:
+        snprintf(buf, len, "no period <= 32, |LLE| small");
+        break;
+    default:
+        snprintf(buf, len, "%s -> %s", per_name(t->from, a, sizeof a), per_name(t->to, b, sizeof b));
+    }
+}
+
+static const char *row_name(const wg_transition *t)
+{
+    if (t->kind == WG_TR_GRAZING)
+        return t->to > t->from ? "grazing: impacts begin" : "grazing: impacts end";
+    if (t->kind == WG_TR_BACKSIDE)
+        return t->to > t->from ? "back-side impacts begin" : "back-side impacts end";
+    if (t->kind == WG_TR_CHAOS)
+        return "chaotic interval";
+    if (t->kind == WG_TR_QUASI)
+        return "quasi-periodic interval";
+    return wg_trans_name(t->kind);
+}
+
+/* Same transition seen by the other sweep? */
+static int same(const wg_transition *a, const wg_transition *b, double win)
+{
+    if (a->kind != b->kind)
+        return 0;
+    if (a->kind == WG_TR_CHAOS || a->kind == WG_TR_QUASI)
+        return a->lo <= b->hi + win && b->lo <= a->hi + win;
+    return a->from == b->from && a->to == b->to && fabs(a->at - b->at) <= win;
+}
+
+static void jump_row(FILE *f, const wg_transition *t)
+{
+    fprintf(f, "| jump (hysteresis) | %.4f (%.4f-%.4f) | %.4f (%.4f-%.4f) | up and down "
+               "attractors differ over [%.4f, %.4f]; up: %s -> %s |\n",
+            0.5 * (t->lo + t->hi), t->lo, t->hi, 0.5 * (t->lo2 + t->hi2), t->lo2, t->hi2, t->hi2,
+            t->lo, t->from ? "periodic" : "aperiodic", t->to ? "periodic" : "aperiodic");
+}
+
+static void rows(FILE *f, wg_transition *t, int n, double win)
+{
+    char *used = calloc((size_t)n + 1, 1);
+    if (!used)
+        return;
+    for (int i = 0; i < n; i++) {
+        if (used[i])
+            continue;
+        used[i] = 1;
+        if (t[i].kind == WG_TR_JUMP) {
+            jump_row(f, &t[i]);
+            continue;
+        }
+        const wg_transition *up = t[i].dir > 0 ? &t[i] : NULL, *dn = up ? NULL : &t[i];
+        double best = INFINITY;
+        int bj = -1;
+        for (int j = i + 1; j < n; j++) /* the nearest partner from the other sweep */
+            if (!used[j] && t[j].dir == -t[i].dir && same(&t[i], &t[j], win) &&
+                fabs(t[j].at - t[i].at) < best)
+                best = fabs(t[j].at - t[i].at), bj = j;
+        if (bj >= 0) {
+            used[bj] = 1;
+            if (up)
+                dn = &t[bj];
+            else
+                up = &t[bj];
+        }
+        char cu[96], cd[96], de[96];
+        cell(up, cu, sizeof cu);
+        cell(dn, cd, sizeof cd);
+        detail(&t[i], de, sizeof de);
+        fprintf(f, "| %s | %s | %s | %s |\n", row_name(&t[i]), cu, cd, de);
+    }
+    free(used);
+}
+
+/* The up sweep as a sequence of regime segments. */
+static void route(FILE *f, const wg_chain *c)
+{
+    char a[24], b[24];
+    fputs("Route of the up sweep: ", f);
+    for (int i = 0; i < c->ndone;) {
+        int j = i;
+        out_label(&c->pts[i], a, sizeof a);
+        while (j + 1 < c->ndone && strcmp(out_label(&c->pts[j + 1], b, sizeof b), a) == 0)
+            j++;
+        if (j > i)
+            fprintf(f, "%s%s %.4f-%.4f", i ? " | " : "", a, c->pts[i].value, c->pts[j].value);
+        else
+            fprintf(f, "%s%s %.4f", i ? " | " : "", a, c->pts[i].value);
+        i = j + 1;
+    }
+    fputs("\n\n", f);
+}
+
+void out_group_table(FILE *f, const sweep_study *st, const sweep_group *g)
+{
+    wg_transition *t = malloc(sizeof *t * STUDY_MAX_TRANS);
+    if (!t)
+        return;
+    int n = wg_transitions(g->up ? g->up->pts : NULL, g->up ? g->up->ndone : 0,
+                           g->down ? g->down->pts : NULL, g->down ? g->down->ndone : 0, st->b, t,
+                           STUDY_MAX_TRANS);
+    const wg_chain *c = g->up ? g->up : g->down;
+    double h = grid_step(c);
+    const char *p = pname(st->param);
+    fprintf(f, "| transition | up sweep: %s | down sweep: %s | detail |\n|---|---|---|---|\n", p,
+            p);
+    rows(f, t, n, fmax(4.0 * h, 0.02 * (c ? fabs(c->v1 - c->v0) : 0.0)));
+    if (!n)
+        fputs("| (none found) | - | - | - |\n", f);
+    fprintf(f, "\nLocations are brackets between neighbouring grid points (step %.4g); grazing "
+               "is interpolated on min x_n = b.\n\n",
+            h);
+    if (g->up)
+        route(f, g->up);
+    free(t);
+}
+
+int out_markdown(const char *path, const sweep_study *st, char *why, size_t whylen)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        snprintf(why, whylen, "cannot write %s", path);
+        return -1;
+    }
+    const wg_sweep_opts *o = st->o;
+    fprintf(f, "# Transitions: scene %s, sweep of %s%s\n\n", st->scene, pname(st->param),
+            st->partial ? " (PARTIAL: interrupted)" : "");
+    if (st->command)
+        fprintf(f, "Command: `%s`\n\n", st->command);
+    fprintf(f, "Model %s, stepper %s, N = %d steps per mesh period (raised where RK4 needs "
+               "more), transient %d + record %d periods per point (up to %d extensions), LLE "
+               "over %d periods (chaotic above %g per period), period tolerance max(%g, %g x "
+               "one-period error). Wall time %.1f s on %d thread(s) x %d process(es).\n\n",
+            wg_model_name(o->model), wg_stepper_name(o->stepper), o->steps, o->transient,
+            o->record, o->extend, o->lle_periods, o->lle_tol, o->tol_floor, o->tol_factor,
+            st->wall_s, st->threads, st->ranks);
+    for (int k = 0; k < st->ngroups; k++) {
+        if (st->gparam >= 0)
+            fprintf(f, "## %s = %g\n\n", pname(st->gparam), st->g[k].gval);
+        out_group_table(f, st, &st->g[k]);
+    }
+    int bad = ferror(f);
+    if (fclose(f) || bad) {
+        snprintf(why, whylen, "error writing %s", path);
+        return -1;
+    }
+    return 0;
+}

@@ -1,0 +1,288 @@
+/* sweep_out.c - writers of a sweep study (see sweep_out.h). */
+#include "sweep_out.h"
+#include "plot.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *pname(int id)
+{
+    const wg_param_info *r = wg_param_info_get(id);
+    return r ? r->name : "?";
+}
+
+static FILE *open_w(const char *path, char *why, size_t whylen)
+{
+    FILE *f = fopen(path, "w");
+    if (!f)
+        snprintf(why, whylen, "cannot write %s", path);
+    return f;
+}
+
+static int close_w(FILE *f, const char *path, char *why, size_t whylen)
+{
+    int bad = ferror(f);
+    if (fclose(f) || bad) {
+        snprintf(why, whylen, "error writing %s", path);
+        return -1;
+    }
+    return 0;
+}
+
+const char *out_label(const wg_point *p, char *buf, size_t len)
+{
+    switch (p->regime) {
+    case WG_REGIME_PERIODIC:
+        if (p->period)
+            snprintf(buf, len, "P%d", p->period);
+        else
+            snprintf(buf, len, "P? (n>32)");
+        break;
+    case WG_REGIME_QUASIPERIODIC: snprintf(buf, len, "quasi"); break;
+    case WG_REGIME_CHAOTIC: snprintf(buf, len, "chaos"); break;
+    case WG_REGIME_DIVERGED: snprintf(buf, len, "diverged"); break;
+    default: snprintf(buf, len, "-"); break;
+    }
+    return buf;
+}
+
+/* Chains of a group in a fixed order: up then down. */
+static int group_chains(const sweep_group *g, const wg_chain *c[2], const char *dir[2])
+{
+    int n = 0;
+    if (g->up)
+        c[n] = g->up, dir[n++] = "up";
+    if (g->down)
+        c[n] = g->down, dir[n++] = "down";
+    return n;
+}
+
+/* ---- CSV --------------------------------------------------------------- */
+
+static void csv_point(FILE *f, const sweep_study *st, const sweep_group *g, const char *dir,
+                      int i, const wg_point *p)
+{
+    if (st->gparam >= 0)
+        fprintf(f, "%.10g,", g->gval);
+    fprintf(f, "%s,%d,%.10g,%s,%d,%d,%s,%.6g,%.12g,%.12g,%.6g,%.3e,%.3e,%.3e,%d", dir, i,
+            p->value, wg_regime_name(p->regime), p->period, p->converged,
+            wg_motion_name(p->motion), p->impacts, p->min_xn, p->max_xn, p->lle, p->err, p->tol,
+            p->resid, p->steps);
+    if (p->nfloq)
+        fprintf(f, ",%.9g,%.9g,%.9g\n", p->floq_re[0], p->floq_im[0],
+                hypot(p->floq_re[0], p->floq_im[0]));
+    else
+        fprintf(f, ",,,\n");
+}
+
+int out_points_csv(const char *path, const sweep_study *st, char *why, size_t whylen)
+{
+    FILE *f = open_w(path, why, whylen);
+    if (!f)
+        return -1;
+    if (st->gparam >= 0)
+        fprintf(f, "%s,", pname(st->gparam));
+    fprintf(f, "dir,index,%s,regime,period,converged,motion,impacts_per_period,min_xn,max_xn,"
+               "lle_per_period,err,tol,resid,steps_per_period,floquet1_re,floquet1_im,"
+               "floquet1_abs\n",
+            pname(st->param));
+    for (int k = 0; k < st->ngroups; k++) {
+        const wg_chain *c[2];
+        const char *dir[2];
+        int nc = group_chains(&st->g[k], c, dir);
+        for (int j = 0; j < nc; j++)
+            for (int i = 0; i < c[j]->ndone; i++)
+                csv_point(f, st, &st->g[k], dir[j], i, &c[j]->pts[i]);
+    }
+    return close_w(f, path, why, whylen);
+}
+
+int out_poincare_csv(const char *path, const sweep_study *st, char *why, size_t whylen)
+{
+    FILE *f = open_w(path, why, whylen);
+    if (!f)
+        return -1;
+    if (st->gparam >= 0)
+        fprintf(f, "%s,", pname(st->gparam));
+    fprintf(f, "dir,index,%s,k,x_n,dx_n\n", pname(st->param));
+    for (int k = 0; k < st->ngroups; k++) {
+        const wg_chain *c[2];
+        const char *dir[2];
+        int nc = group_chains(&st->g[k], c, dir);
+        for (int j = 0; j < nc; j++)
+            for (int i = 0; i < c[j]->ndone; i++) {
+                const wg_point *p = &c[j]->pts[i];
+                for (int s = 0; s < p->nsec; s++) {
+                    if (st->gparam >= 0)
+                        fprintf(f, "%.10g,", st->g[k].gval);
+                    fprintf(f, "%s,%d,%.10g,%d,%.12g,%.12g\n", dir[j], i, p->value, s, p->xn[s],
+                            p->dxn[s]);
+                }
+            }
+    }
+    return close_w(f, path, why, whylen);
+}
+
+int out_map_csv(const char *path, const wg_chain *rows, int nrows, char *why, size_t whylen)
+{
+    FILE *f = open_w(path, why, whylen);
+    if (!f)
+        return -1;
+    if (nrows)
+        fprintf(f, "%s,%s,regime,period,motion,impacts_per_period,min_xn,max_xn,lle_per_period\n",
+                pname(rows[0].param2), pname(rows[0].param));
+    for (int r = 0; r < nrows; r++)
+        for (int i = 0; i < rows[r].ndone; i++) {
+            const wg_point *p = &rows[r].pts[i];
+            fprintf(f, "%.10g,%.10g,%s,%d,%s,%.6g,%.12g,%.12g,%.6g\n", p->value2, p->value,
+                    wg_regime_name(p->regime), p->period, wg_motion_name(p->motion), p->impacts,
+                    p->min_xn, p->max_xn, p->lle);
+        }
+    return close_w(f, path, why, whylen);
+}
+
+/* ---- JSON ---------------------------------------------------------------- */
+
+/* A number, or null when not finite (JSON has no NaN). */
+static void jnum(FILE *f, double v)
+{
+    if (isfinite(v))
+        fprintf(f, "%.12g", v);
+    else
+        fputs("null", f);
+}
+
+static void json_point(FILE *f, const wg_point *p)
+{
+    fprintf(f, "{\"value\":%.12g,\"regime\":\"%s\",\"period\":%d,\"converged\":%s,"
+               "\"motion\":\"%s\",\"impacts_per_period\":%.6g,\"min_xn\":",
+            p->value, wg_regime_name(p->regime), p->period, p->converged ? "true" : "false",
+            wg_motion_name(p->motion), p->impacts);
+    jnum(f, p->min_xn);
+    fputs(",\"max_xn\":", f);
+    jnum(f, p->max_xn);
+    fputs(",\"lle_per_period\":", f);
+    jnum(f, p->lle);
+    fprintf(f, ",\"err\":%.3e,\"tol\":%.3e,\"resid\":", p->err, p->tol);
+    jnum(f, p->resid);
+    fprintf(f, ",\"steps_per_period\":%d,\"poincare_xn\":[", p->steps);
+    for (int s = 0; s < p->nsec; s++)
+        fprintf(f, "%s%.10g", s ? "," : "", p->xn[s]);
+    fputs("],\"poincare_dxn\":[", f);
+    for (int s = 0; s < p->nsec; s++)
+        fprintf(f, "%s%.10g", s ? "," : "", p->dxn[s]);
+    fputs("]", f);
+    if (p->nfloq) {
+        fputs(",\"floquet\":[", f);
+        for (int s = 0; s < p->nfloq; s++)
+            fprintf(f, "%s[%.9g,%.9g]", s ? "," : "", p->floq_re[s], p->floq_im[s]);
+        fputs("]", f);
+    }
+    fputs("}", f);
+}
+
+static void json_chain(FILE *f, const char *name, const wg_chain *c)
+{
+    fprintf(f, ",\"%s\":{\"status\":\"%s\",\"points\":[", name,
+            c->status ? c->why : "ok");
+    for (int i = 0; i < c->ndone; i++) {
+        fputs(i ? ",\n" : "\n", f);
+        json_point(f, &c->pts[i]);
+    }
+    fprintf(f, "],\"complete\":%s}", c->ndone == c->npts ? "true" : "false");
+}
+
+static void json_transitions(FILE *f, const sweep_study *st, const sweep_group *g)
+{
+    wg_transition *t = malloc(sizeof *t * STUDY_MAX_TRANS);
+    int n = t ? wg_transitions(g->up ? g->up->pts : NULL, g->up ? g->up->ndone : 0,
+                               g->down ? g->down->pts : NULL, g->down ? g->down->ndone : 0,
+                               st->b, t, STUDY_MAX_TRANS)
+              : 0;
+    fputs(",\"transitions\":[", f);
+    for (int i = 0; i < n; i++) {
+        fprintf(f, "%s\n{\"kind\":\"%s\",\"dir\":%d,\"lo\":%.10g,\"hi\":%.10g,\"at\":%.10g,"
+                   "\"from\":%d,\"to\":%d,\"lo2\":",
+                i ? "," : "", wg_trans_name(t[i].kind), t[i].dir, t[i].lo, t[i].hi, t[i].at,
+                t[i].from, t[i].to);
+        jnum(f, t[i].lo2);
+        fputs(",\"hi2\":", f);
+        jnum(f, t[i].hi2);
+        fputs("}", f);
+    }
+    fputs("]", f);
+    free(t);
+}
+
+static void json_opts(FILE *f, const wg_sweep_opts *o)
+{
+    fprintf(f, "\"options\":{\"model\":\"%s\",\"stepper\":\"%s\",\"steps_per_period\":%d,"
+               "\"transient\":%d,\"record\":%d,\"extend\":%d,\"lle_periods\":%d,"
+               "\"lle_d0\":%g,\"lle_tol\":%g,\"tol_factor\":%g,\"tol_floor\":%g,"
+               "\"floquet\":%s}",
+            wg_model_name(o->model), wg_stepper_name(o->stepper), o->steps, o->transient,
+            o->record, o->extend, o->lle_periods, o->lle_d0, o->lle_tol, o->tol_factor,
+            o->tol_floor, o->floquet ? "true" : "false");
+}
+
+int out_json(const char *path, const sweep_study *st, char *why, size_t whylen)
+{
+    FILE *f = open_w(path, why, whylen);
+    if (!f)
+        return -1;
+    fprintf(f, "{\"scene\":\"%s\",\"param\":\"%s\",\"group_param\":", st->scene,
+            pname(st->param));
+    if (st->gparam >= 0)
+        fprintf(f, "\"%s\"", pname(st->gparam));
+    else
+        fputs("null", f);
+    fprintf(f, ",\"b\":%g,\"partial\":%s,\"wall_s\":%.3f,\"threads\":%d,\"ranks\":%d,\n",
+            st->b, st->partial ? "true" : "false", st->wall_s, st->threads, st->ranks);
+    json_opts(f, st->o);
+    fputs(",\n\"groups\":[", f);
+    for (int k = 0; k < st->ngroups; k++) {
+        const sweep_group *g = &st->g[k];
+        fprintf(f, "%s\n{\"value\":", k ? "," : "");
+        jnum(f, st->gparam >= 0 ? g->gval : NAN);
+        if (g->up)
+            json_chain(f, "up", g->up);
+        if (g->down)
+            json_chain(f, "down", g->down);
+        json_transitions(f, st, g);
+        fputs("}", f);
+    }
+    fputs("]}\n", f);
+    return close_w(f, path, why, whylen);
+}
+
+/* ---- PNG ------------------------------------------------------------------- */
+
+int out_pngs(const char *prefix, const sweep_study *st, char *why, size_t whylen)
+{
+    wg_transition *t = malloc(sizeof *t * STUDY_MAX_TRANS);
+    if (!t) {
+        snprintf(why, whylen, "out of memory");
+        return -1;
+    }
+    int rc = 0;
+    for (int k = 0; k < st->ngroups && !rc; k++) {
+        const sweep_group *g = &st->g[k];
+        char path[1024], title[256];
+        if (st->gparam >= 0) {
+            snprintf(path, sizeof path, "%s-%s=%g.png", prefix, pname(st->gparam), g->gval);
+            snprintf(title, sizeof title, "%s: Poincare x_n vs %s, %s = %g%s", st->scene,
+                     pname(st->param), pname(st->gparam), g->gval, st->partial ? " (partial)" : "");
+        } else {
+            snprintf(path, sizeof path, "%s.png", prefix);
+            snprintf(title, sizeof title, "%s: Poincare x_n vs %s%s", st->scene, pname(st->param),
+                     st->partial ? " (partial)" : "");
+        }
+        plot_bif pb = {title, pname(st->param), g->up ? g->up->pts : NULL,
+                       g->down ? g->down->pts : NULL, g->up ? g->up->ndone : 0,
+                       g->down ? g->down->ndone : 0, st->b, NULL, 0};
+        rc = plot_bifurcation(path, &pb, why, whylen);
+    }
+    free(t);
+    return rc;
+}

@@ -1,0 +1,57 @@
+/* sweep_out.h - a sweep study in memory and its writers: CSV of points,
+ * long CSV of Poincare values, JSON, the Markdown transitions table, PNGs.
+ * Shared by wgsweep and wgrig. Writers return 0 or -1 with why. */
+#ifndef WG_SWEEP_OUT_H
+#define WG_SWEEP_OUT_H
+
+#include <stdio.h>
+#include "wormgear/wg_sweep.h"
+
+enum { STUDY_MAX_GROUPS = 64, STUDY_MAX_TRANS = 512 };
+
+/* One value of the group parameter: its up and down chains (either NULL). */
+typedef struct sweep_group {
+    double gval;
+    wg_chain *up, *down;
+} sweep_group;
+
+/* A 1-D study: sweeps of `param` for each group value of `gparam`. */
+typedef struct sweep_study {
+    const char *scene;
+    const char *command;     /* the command line, for the record */
+    int param, gparam;       /* gparam -1: a single group */
+    int ngroups;
+    sweep_group g[STUDY_MAX_GROUPS];
+    double b;                /* backlash of the scene */
+    const wg_sweep_opts *o;
+    int partial;             /* interrupted: some chains incomplete */
+    double wall_s;
+    int threads, ranks;
+} sweep_study;
+
+/* Points of every chain, one row each (CSV). */
+int out_points_csv(const char *path, const sweep_study *st, char *why, size_t whylen);
+
+/* Poincare values: group,dir,index,value,k,x_n,dx_n (CSV, long form). */
+int out_poincare_csv(const char *path, const sweep_study *st, char *why, size_t whylen);
+
+/* Everything (options, points with Poincare values and multipliers,
+ * transitions) as JSON. */
+int out_json(const char *path, const sweep_study *st, char *why, size_t whylen);
+
+/* The transitions table of every group in Markdown. */
+int out_markdown(const char *path, const sweep_study *st, char *why, size_t whylen);
+
+/* Write the Markdown table of one group to f (used by out_markdown). */
+void out_group_table(FILE *f, const sweep_study *st, const sweep_group *g);
+
+/* One bifurcation diagram per group: prefix.png, or prefix-NAME=V.png. */
+int out_pngs(const char *prefix, const sweep_study *st, char *why, size_t whylen);
+
+/* 2-D map: rows as CSV (row value, x value, regime, ...). */
+int out_map_csv(const char *path, const wg_chain *rows, int nrows, char *why, size_t whylen);
+
+/* Label of a point: "P1", "P2", "P? (n>32)", "quasi", "chaos", "-". */
+const char *out_label(const wg_point *p, char *buf, size_t len);
+
+#endif

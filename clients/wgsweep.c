@@ -1,0 +1,496 @@
+/* wgsweep - bifurcation analysis offline: 1-D sweeps (up and down, with
+ * continuation) of omega or any table parameter, optionally for several
+ * values of a second parameter; 2-D regime maps; single-point views.
+ * Exit 0 ok, 1 runtime error, 2 usage error, 130 interrupted (partial
+ * results written). */
+#include "plot.h"
+#include "sweep_at.h"
+#include "sweep_out.h"
+#include "sweep_par.h"
+#include "wormgear/wg_scene.h"
+#include "wormgear/wg_status.h"
+
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+static volatile sig_atomic_t g_stop; /* set by the signal handler only */
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    g_stop = 1;
+}
+
+typedef struct opts {
+    const char *scene, *out;
+    const char *sets[64];
+    int nsets;
+    int param;
+    double from, to, step;
+    int points, up, down;
+    int gparam, ngvals;
+    double gvals[STUDY_MAX_GROUPS];
+    int mparam, mrows;      /* --map NAME=A:B:M */
+    double mfrom, mto;
+    int threads, png, json, quiet;
+    int at_set, at_periods;
+    double at;
+    wg_sweep_opts so;
+} opts;
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+        "usage: wgsweep [options]\n"
+        "Bifurcation analysis of the worm-gear model: sweeps with continuation, regime\n"
+        "detection (period, Lyapunov exponent, Floquet multipliers), transitions table.\n\n"
+        "  --scene NAME|FILE       scene (default table3)\n"
+        "  --set key=value         override a parameter (repeatable)\n"
+        "  --param NAME            parameter swept (default omega; any table parameter)\n"
+        "  --from A --to B         sweep range (default: omega 0.1 .. 2.5)\n"
+        "  --points N | --step D   grid: N points, or spacing D (default 241 points)\n"
+        "  --dir up|down|both      sweep directions (default both)\n"
+        "  --values NAME=v1,v2..   one up/down pair per value of another parameter\n"
+        "  --map NAME=A:B:M        2-D regime map: M rows of NAME, each an up sweep\n"
+        "  --transient T           periods before recording, per point (default 300)\n"
+        "  --record R              periods recorded for the period test (64..4096, default 128)\n"
+        "  --extend E              extra transients while no period is found (default 3)\n"
+        "  --lle-periods L         twin-trajectory periods for aperiodic points (default 300)\n"
+        "  --lle-tol X             |LLE| per period below X: quasi-periodic (default 0.01)\n"
+        "  --tol-factor F          period tolerance = max(floor, F x one-period error) (10)\n"
+        "  --tol-floor X           (default 1e-9)\n"
+        "  --steps-per-period N    RK4 steps per mesh period (default 256; raised to 1.25x\n"
+        "                          the RK4 stability limit where needed)\n"
+        "  --stepper rk4|rk4-event (default rk4-event)\n"
+        "  --floquet               Floquet multipliers of every periodic point\n"
+        "  --threads K             chains in parallel (default: online CPUs)\n"
+        "  --out PREFIX            output prefix (default sweep): PREFIX.csv,\n"
+        "                          PREFIX-poincare.csv, PREFIX.json, PREFIX.md, PNGs\n"
+        "  --no-png, --no-json     skip those outputs\n"
+        "  --at V                  single point: summary, LLE, Floquet, phase portrait,\n"
+        "                          Poincare map and time trace (PREFIX-at-NAME=V-*)\n"
+        "  --at-periods P          Poincare periods for --at (default 2000)\n"
+        "  --quiet                 no progress bar\n"
+        "  -h, --help              this text\n\n"
+        "Ctrl-C stops after the current points and writes what is done (exit 130).\n"
+        "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted.\n");
+}
+
+static int bad(const char *what, const char *arg)
+{
+    fprintf(stderr, "wgsweep: %s '%s'\n(try wgsweep --help)\n", what, arg);
+    return 2;
+}
+
+static int num(const char *s, double *v)
+{
+    char *end;
+    *v = strtod(s, &end);
+    return end != s && !*end && isfinite(*v) ? 0 : -1;
+}
+
+static int inum(const char *s, long lo, long hi, int *v)
+{
+    char *end;
+    long x = strtol(s, &end, 10);
+    if (end == s || *end || x < lo || x > hi)
+        return -1;
+    *v = (int)x;
+    return 0;
+}
+
+/* NAME=v1,v2,... */
+static int parse_values(const char *arg, opts *o)
+{
+    char buf[1024], *save = NULL;
+    snprintf(buf, sizeof buf, "%s", arg);
+    char *eq = strchr(buf, '=');
+    if (!eq)
+        return -1;
+    *eq = 0;
+    if ((o->gparam = wg_param_lookup(buf)) < 0)
+        return -1;
+    o->ngvals = 0;
+    for (char *t = strtok_r(eq + 1, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+        double v;
+        if (o->ngvals == STUDY_MAX_GROUPS || num(t, &v) ||
+            wg_param_check(o->gparam, v, NULL, 0))
+            return -1;
+        o->gvals[o->ngvals++] = v;
+    }
+    return o->ngvals ? 0 : -1;
+}
+
+/* NAME=A:B:M */
+static int parse_map(const char *arg, opts *o)
+{
+    char buf[256];
+    snprintf(buf, sizeof buf, "%s", arg);
+    char *eq = strchr(buf, '='), *c1 = eq ? strchr(eq + 1, ':') : NULL;
+    char *c2 = c1 ? strchr(c1 + 1, ':') : NULL;
+    if (!c2)
+        return -1;
+    *eq = *c1 = *c2 = 0;
+    if ((o->mparam = wg_param_lookup(buf)) < 0 || num(eq + 1, &o->mfrom) || num(c1 + 1, &o->mto) ||
+        inum(c2 + 1, 1, 100000, &o->mrows))
+        return -1;
+    return wg_param_check(o->mparam, o->mfrom, NULL, 0) || wg_param_check(o->mparam, o->mto, NULL, 0);
+}
+
+/* Options that set analysis numbers (wg_sweep_opts). */
+static int parse_numeric(int c, const char *a, opts *o)
+{
+    wg_sweep_opts *s = &o->so;
+    switch (c) {
+    case 'T': return inum(a, 0, 100000000, &s->transient) ? bad("--transient: need 0..1e8, got", a) : 0;
+    case 'R': return inum(a, 64, 4096, &s->record) ? bad("--record: need 64..4096, got", a) : 0;
+    case 'E': return inum(a, 0, 1000, &s->extend) ? bad("--extend: need 0..1000, got", a) : 0;
+    case 'L': return inum(a, 1, 100000000, &s->lle_periods) ? bad("--lle-periods: need >= 1, got", a) : 0;
+    case 'l': return num(a, &s->lle_tol) || s->lle_tol <= 0 ? bad("--lle-tol: need > 0, got", a) : 0;
+    case 'F': return num(a, &s->tol_factor) || s->tol_factor <= 0 ? bad("--tol-factor: need > 0, got", a) : 0;
+    case 'f': return num(a, &s->tol_floor) || s->tol_floor <= 0 ? bad("--tol-floor: need > 0, got", a) : 0;
+    case 'N': return inum(a, WG_STEPS_MIN, WG_STEPS_MAX, &s->steps) ? bad("--steps-per-period: need 8..65536, got", a) : 0;
+    case 'k': return (s->stepper = wg_stepper_lookup(a)) < 0 ? bad("--stepper: rk4 or rk4-event, got", a) : 0;
+    default: return bad("unknown option", a);
+    }
+}
+
+static int parse_range(int c, const char *a, opts *o)
+{
+    switch (c) {
+    case 'a': return num(a, &o->from) ? bad("--from: not a number:", a) : 0;
+    case 'b': return num(a, &o->to) ? bad("--to: not a number:", a) : 0;
+    case 'n': return inum(a, 1, 1000000, &o->points) ? bad("--points: need 1..1e6, got", a) : 0;
+    case 'd': return num(a, &o->step) || o->step <= 0 ? bad("--step: need > 0, got", a) : 0;
+    case 'D':
+        if (strcmp(a, "both") && strcmp(a, "up") && strcmp(a, "down"))
+            return bad("--dir: up, down or both, got", a);
+        o->up = strcmp(a, "down") != 0;
+        o->down = strcmp(a, "up") != 0;
+        return 0;
+    case 'p': return (o->param = wg_param_lookup(a)) < 0 ? bad("--param: unknown parameter", a) : 0;
+    case 'V': return parse_values(a, o) ? bad("--values: need NAME=v1,v2,... in range, got", a) : 0;
+    case 'M': return parse_map(a, o) ? bad("--map: need NAME=A:B:M in range, got", a) : 0;
+    case 'A': o->at_set = 1; return num(a, &o->at) ? bad("--at: not a number:", a) : 0;
+    case 'P': return inum(a, 1, 10000000, &o->at_periods) ? bad("--at-periods: need >= 1, got", a) : 0;
+    case 'j': return inum(a, 1, 256, &o->threads) ? bad("--threads: need 1..256, got", a) : 0;
+    default: return parse_numeric(c, a, o);
+    }
+}
+
+static int parse_opts(int argc, char **argv, opts *o)
+{
+    static const struct option lo[] = {
+        {"scene", 1, 0, 's'}, {"set", 1, 0, 'S'}, {"param", 1, 0, 'p'}, {"from", 1, 0, 'a'},
+        {"to", 1, 0, 'b'}, {"points", 1, 0, 'n'}, {"step", 1, 0, 'd'}, {"dir", 1, 0, 'D'},
+        {"values", 1, 0, 'V'}, {"map", 1, 0, 'M'}, {"transient", 1, 0, 'T'},
+        {"record", 1, 0, 'R'}, {"extend", 1, 0, 'E'}, {"lle-periods", 1, 0, 'L'},
+        {"lle-tol", 1, 0, 'l'}, {"tol-factor", 1, 0, 'F'}, {"tol-floor", 1, 0, 'f'},
+        {"steps-per-period", 1, 0, 'N'}, {"stepper", 1, 0, 'k'}, {"floquet", 0, 0, 'Q'},
+        {"threads", 1, 0, 'j'}, {"out", 1, 0, 'o'}, {"no-png", 0, 0, 'G'}, {"no-json", 0, 0, 'J'},
+        {"at", 1, 0, 'A'}, {"at-periods", 1, 0, 'P'}, {"quiet", 0, 0, 'q'},
+        {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
+    memset(o, 0, sizeof *o);
+    o->scene = "table3", o->out = "sweep", o->param = WG_P_OMEGA, o->from = 0.1, o->to = 2.5;
+    o->points = 241, o->up = o->down = 1, o->gparam = -1, o->mparam = -1, o->png = o->json = 1;
+    o->at_periods = 2000;
+    long nc = sysconf(_SC_NPROCESSORS_ONLN);
+    o->threads = nc < 1 ? 1 : nc > 256 ? 256 : (int)nc;
+    wg_sweep_opts_default(&o->so);
+    int c, rc;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
+        switch (c) {
+        case 's': o->scene = optarg; break;
+        case 'S':
+            if (o->nsets == 64)
+                return bad("too many --set options, at most", "64");
+            o->sets[o->nsets++] = optarg;
+            break;
+        case 'o': o->out = optarg; break;
+        case 'Q': o->so.floquet = 1; break;
+        case 'G': o->png = 0; break;
+        case 'J': o->json = 0; break;
+        case 'q': o->quiet = 1; break;
+        case 'h': usage(stdout); exit(0);
+        case '?': return bad("unknown option or missing argument:", argv[optind - 1]);
+        default:
+            if ((rc = parse_range(c, optarg, o)))
+                return rc;
+        }
+    }
+    if (optind < argc)
+        return bad("unexpected argument", argv[optind]);
+    if (o->step > 0)
+        o->points = (int)floor(fabs(o->to - o->from) / o->step + 1.5e-9) + 1;
+    return 0;
+}
+
+/* ---- progress ---------------------------------------------------------- */
+
+typedef struct progress {
+    long total, done;
+    double t0, last;
+    int tty, quiet, lastpct;
+} progress;
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void on_progress(void *ctx, int chain, int ndone)
+{
+    (void)chain, (void)ndone;
+    progress *p = ctx;
+    p->done++;
+    if (p->quiet)
+        return;
+    double t = now_s(), el = t - p->t0;
+    int pct = (int)(100 * p->done / (p->total ? p->total : 1));
+    if (p->tty ? (t - p->last < 0.2 && p->done < p->total) : pct / 10 == p->lastpct / 10)
+        return;
+    p->last = t;
+    p->lastpct = pct;
+    double eta = p->done ? el * (p->total - p->done) / p->done : 0.0;
+    char bar[41];
+    int w = (int)(40 * p->done / (p->total ? p->total : 1));
+    for (int i = 0; i < 40; i++)
+        bar[i] = i < w ? '#' : '.';
+    bar[40] = 0;
+    fprintf(stderr, "%s[%s] %3d%% %ld/%ld points, %.0f s, eta %.0f s%s", p->tty ? "\r" : "", bar,
+            pct, p->done, p->total, el, eta, p->tty ? "" : "\n");
+    if (p->tty && p->done == p->total)
+        fputc('\n', stderr);
+}
+
+/* ---- building and running ------------------------------------------------ */
+
+static int new_chain(wg_chain *c, const wg_params *base, const opts *o, int dir, int param2)
+{
+    memset(c, 0, sizeof *c);
+    c->base = *base;
+    c->param = o->param;
+    c->v0 = fmin(o->from, o->to);
+    c->v1 = fmax(o->from, o->to);
+    c->npts = o->points;
+    c->dir = dir;
+    c->param2 = param2;
+    c->pts = calloc((size_t)o->points, sizeof(wg_point));
+    return c->pts ? 0 : -1;
+}
+
+static char *join_args(int argc, char **argv)
+{
+    size_t len = 1;
+    for (int i = 0; i < argc; i++)
+        len += strlen(argv[i]) + 1;
+    char *s = malloc(len);
+    if (!s)
+        return NULL;
+    s[0] = 0;
+    for (int i = 0; i < argc; i++) {
+        strcat(s, argv[i]);
+        if (i + 1 < argc)
+            strcat(s, " ");
+    }
+    return s;
+}
+
+static void install_signals(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+}
+
+static int run_all(wg_chain *cs, int n, const opts *o, int size, double *wall)
+{
+    long total = 0;
+    for (int i = 0; i < n; i++)
+        total += cs[i].npts;
+    progress pg = {total / size, 0, now_s(), 0.0, isatty(2), o->quiet, -1};
+    int rc = par_run(cs, n, &o->so, o->threads, &g_stop, on_progress, &pg);
+    *wall = now_s() - pg.t0;
+    return rc;
+}
+
+static int write_study(const opts *o, sweep_study *st)
+{
+    char path[1024], why[512];
+    int rc = 0;
+    snprintf(path, sizeof path, "%s.csv", o->out);
+    rc |= out_points_csv(path, st, why, sizeof why);
+    snprintf(path, sizeof path, "%s-poincare.csv", o->out);
+    rc |= out_poincare_csv(path, st, why, sizeof why);
+    snprintf(path, sizeof path, "%s.md", o->out);
+    rc |= out_markdown(path, st, why, sizeof why);
+    if (o->json) {
+        snprintf(path, sizeof path, "%s.json", o->out);
+        rc |= out_json(path, st, why, sizeof why);
+    }
+    if (o->png)
+        rc |= out_pngs(o->out, st, why, sizeof why);
+    if (rc)
+        fprintf(stderr, "wgsweep: %s\n", why);
+    return rc ? 1 : 0;
+}
+
+static int write_map(const opts *o, const wg_chain *rows, int n, int partial)
+{
+    char path[1024], why[512], title[256];
+    int rc = 0;
+    snprintf(path, sizeof path, "%s-map.csv", o->out);
+    rc |= out_map_csv(path, rows, n, why, sizeof why);
+    const char *xn = wg_param_info_get(o->param)->name, *yn = wg_param_info_get(o->mparam)->name;
+    for (int mode = 0; o->png && mode < 2 && !rc; mode++) {
+        snprintf(path, sizeof path, "%s-map%s.png", o->out, mode ? "-motion" : "");
+        snprintf(title, sizeof title, "%s over (%s, %s), up sweeps%s",
+                 mode ? "motion class" : "regime", xn, yn, partial ? " (partial)" : "");
+        plot_map pm = {title, xn, yn, rows, n, mode};
+        rc |= plot_regime_map(path, &pm, why, sizeof why);
+    }
+    if (rc)
+        fprintf(stderr, "wgsweep: %s\n", why);
+    return rc ? 1 : 0;
+}
+
+/* 2-D map: one up chain per row value. */
+static int do_map(const opts *o, const wg_scene *sc, int rank, int size)
+{
+    wg_chain *rows = calloc((size_t)o->mrows, sizeof *rows);
+    int rc = rows ? 0 : 1;
+    for (int r = 0; r < o->mrows && !rc; r++) {
+        wg_params p = sc->p;
+        p.v[o->mparam] = o->mrows > 1 ? o->mfrom + (o->mto - o->mfrom) * r / (o->mrows - 1) : o->mfrom;
+        rc = new_chain(&rows[r], &p, o, +1, o->mparam);
+    }
+    double wall = 0.0;
+    if (!rc)
+        rc = run_all(rows, o->mrows, o, size, &wall);
+    int partial = par_any(g_stop);
+    if (rank == 0 && rows) {
+        for (int r = 0; r < o->mrows; r++)
+            if (rows[r].status)
+                fprintf(stderr, "wgsweep: row %d: %s\n", r, rows[r].why);
+        rc = write_map(o, rows, o->mrows, partial) || rc;
+        if (!o->quiet)
+            fprintf(stderr, "wgsweep: %d rows x %d points in %.1f s\n", o->mrows, o->points, wall);
+    }
+    for (int r = 0; rows && r < o->mrows; r++)
+        free(rows[r].pts);
+    free(rows);
+    return partial ? 130 : rc ? 1 : 0;
+}
+
+/* 1-D study: up/down chains per group value. */
+static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank, int size)
+{
+    sweep_study st;
+    memset(&st, 0, sizeof st);
+    st.scene = sc->name;
+    st.command = cmd;
+    st.param = o->param;
+    st.gparam = o->gparam;
+    st.ngroups = o->gparam >= 0 ? o->ngvals : 1;
+    st.b = sc->p.v[WG_P_B];
+    st.o = &o->so;
+    st.threads = o->threads;
+    st.ranks = size;
+    int per = o->up + o->down, n = st.ngroups * per, rc = 0;
+    wg_chain *cs = calloc((size_t)n, sizeof *cs);
+    for (int k = 0; k < st.ngroups && cs && !rc; k++) {
+        wg_params p = sc->p;
+        if (o->gparam >= 0)
+            p.v[o->gparam] = st.g[k].gval = o->gvals[k];
+        wg_chain *c = &cs[k * per];
+        if (o->up && !(rc = new_chain(c, &p, o, +1, o->gparam)))
+            st.g[k].up = c++;
+        if (o->down && !rc && !(rc = new_chain(c, &p, o, -1, o->gparam)))
+            st.g[k].down = c;
+    }
+    if (!cs || rc) {
+        fprintf(stderr, "wgsweep: out of memory\n");
+        rc = 1;
+    } else {
+        rc = run_all(cs, n, o, size, &st.wall_s);
+    }
+    st.partial = par_any(g_stop);
+    if (rank == 0 && cs) {
+        for (int i = 0; i < n; i++)
+            if (cs[i].status)
+                fprintf(stderr, "wgsweep: chain %d stopped: %s\n", i, cs[i].why);
+        rc = write_study(o, &st) || rc;
+        if (!o->quiet)
+            fprintf(stderr, "wgsweep: %d chains x %d points in %.1f s%s; wrote %s.{csv,md%s}\n",
+                    n, o->points, st.wall_s, st.partial ? " (interrupted)" : "", o->out,
+                    o->json ? ",json" : "");
+    }
+    for (int i = 0; cs && i < n; i++)
+        free(cs[i].pts);
+    free(cs);
+    return st.partial ? 130 : rc ? 1 : 0;
+}
+
+static int do_at(const opts *o, const wg_scene *sc)
+{
+    wg_params p = sc->p;
+    char why[256];
+    if (wg_param_check(o->param, o->at, why, sizeof why)) {
+        fprintf(stderr, "wgsweep: --at: %s\n", why);
+        return 2;
+    }
+    p.v[o->param] = o->at;
+    double y[WG_NSTATE_MAX] = {0};
+    wg_scene_initial(sc, y);
+    at_opts ao = {o->out, wg_param_info_get(o->param)->name, o->at, o->at_periods, 20, o->png};
+    return at_view(&p, y, &o->so, &ao, stdout);
+}
+
+int main(int argc, char **argv)
+{
+    int rank, size;
+    if (par_init(&argc, &argv, &rank, &size)) {
+        fprintf(stderr, "wgsweep: MPI initialisation failed\n");
+        return 1;
+    }
+    opts o;
+    int rc = parse_opts(argc, argv, &o);
+    wg_scene sc;
+    char why[640];
+    if (!rc && (rc = wg_scene_open(&sc, o.scene, why, sizeof why))) {
+        fprintf(stderr, "wgsweep: %s\n", why);
+        rc = 2;
+    }
+    for (int i = 0; !rc && i < o.nsets; i++)
+        if (wg_param_assign(&sc.p, o.sets[i], why, sizeof why)) {
+            fprintf(stderr, "wgsweep: --set %s\n", why);
+            rc = 2;
+        }
+    if (!rc) {
+        o.so.model = sc.model;
+        if (sc.model == WG_MODEL_PRINTED)
+            o.so.stepper = WG_STEPPER_RK4;
+        install_signals();
+        char *cmd = join_args(argc, argv);
+        if (o.at_set)
+            rc = rank == 0 ? do_at(&o, &sc) : 0;
+        else if (o.mparam >= 0)
+            rc = do_map(&o, &sc, rank, size);
+        else
+            rc = do_study(&o, &sc, cmd, rank, size);
+        free(cmd);
+    }
+    par_fini();
+    return rc;
+}
