@@ -53,7 +53,7 @@ int wg_stepper_lookup(const char *name)
 
 static int nd_of(const wg_sim *s) { return s->nstate / 2; }
 
-static int zone_of(double x, double c) { return x > c ? 1 : x < -c ? -1 : 0; }
+static inline int zone_of(double x, double c) { return (x > c) - (x < -c); }
 
 /* min/max without libm's NaN rules (the state is finite here). */
 static inline double dmin(double a, double b) { return a < b ? a : b; }
@@ -693,8 +693,9 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
         s->kernel(y0, y1, kctx, e, h);
         int nc = ncontacts(s), changed = 0;
         contacts(s, y1, &e[2], q1, v1);
-        for (int j = 0; j < nc; j++)
-            changed |= zone_of(q1[j], threshold(s, j)) != s->zone[j];
+        changed = (zone_of(q1[0], s->kc.b) ^ s->zone[0]);
+        for (int j = 1; j < nc; j++) /* branch-free: any bearing left its zone */
+            changed |= zone_of(q1[j], s->kc.bj) ^ s->zone[j];
         evbuf b;
         b.n = 0;
         if (changed) {
