@@ -76,6 +76,7 @@ typedef struct wg_kcoef {
     double dp;        /* 2 xi_p */
     double b, bj;     /* dead zones */
     double w[7], zc[7]; /* zone-locked g: g = w x - zc (rk4-event) */
+    double rot[3][2];   /* cos, sin of phi1, phi2, phi: excitation by rotation */
 } wg_kcoef;
 
 typedef struct wg_ramp {
