@@ -2,6 +2,7 @@
 #include "plot.h"
 
 #include <cairo.h>
+#include <fontconfig/fontconfig.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -42,6 +43,12 @@ void plot_regime_colour(const wg_point *p, int strong, double rgb[3])
         k = 7;
     }
     memcpy(rgb, pal[k][strong ? 1 : 0], sizeof(double) * 3);
+}
+
+void plot_fini(void)
+{
+    cairo_debug_reset_static_data();
+    FcFini();
 }
 
 /* ---- small drawing helpers ------------------------------------------------ */

@@ -54,4 +54,8 @@ int plot_xy_png(const char *path, const plot_xy *px, char *why, size_t whylen);
  * gives the saturated variant used in maps. Also used for legends. */
 void plot_regime_colour(const wg_point *p, int strong, double rgb[3]);
 
+/* Release cairo's and fontconfig's caches (call once at exit, after the
+ * last plot; keeps leak checkers quiet). */
+void plot_fini(void);
+
 #endif

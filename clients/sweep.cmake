@@ -2,7 +2,7 @@
 # The plotting and output modules are their own files so wgrig can reuse
 # them. -DWG_MPI=ON builds the MPI layer (OpenMPI from Debian).
 option(WG_MPI "Build wgsweep with MPI (chains spread over ranks)" OFF)
-pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo)
+pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo fontconfig)
 add_library(wgplot STATIC
   ${CMAKE_CURRENT_LIST_DIR}/plot.c
   ${CMAKE_CURRENT_LIST_DIR}/sweep_out.c

@@ -491,6 +491,7 @@ int main(int argc, char **argv)
             rc = do_study(&o, &sc, cmd, rank, size);
         free(cmd);
     }
+    plot_fini();
     par_fini();
     return rc;
 }

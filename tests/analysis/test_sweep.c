@@ -1,0 +1,206 @@
+/* Real sweeps of the table3 scene: a known period-doubling cascade
+ * (P1 -> P2 between omega 1.19 and 1.20, P2 -> P4 between 1.21 and 1.22)
+ * found by the sweep and predicted by a Floquet multiplier crossing -1; the
+ * LLE sign of a chaotic and a periodic point; the error estimate behind the
+ * period tolerance; threads giving the same bytes as one thread; Ctrl-C. */
+#include "test.h"
+#include "wormgear/wg_scene.h"
+#include "wormgear/wg_status.h"
+#include "wormgear/wg_sweep.h"
+
+#include <string.h>
+
+static wg_params table3(void)
+{
+    wg_scene sc;
+    char why[256];
+    int rc = wg_scene_open(&sc, "table3", why, sizeof why);
+    if (rc)
+        fprintf(stderr, "%s\n", why);
+    ASSERT_EQ_INT(rc, WG_OK);
+    return sc.p;
+}
+
+static wg_chain chain(const wg_params *p, double v0, double v1, int n, int dir, wg_point *pts)
+{
+    wg_chain c;
+    memset(&c, 0, sizeof c);
+    c.base = *p;
+    c.param = WG_P_OMEGA;
+    c.v0 = v0;
+    c.v1 = v1;
+    c.npts = n;
+    c.dir = dir;
+    c.param2 = -1;
+    c.pts = pts;
+    return c;
+}
+
+static const wg_transition *find_pd(const wg_transition *t, int n, int from)
+{
+    for (int i = 0; i < n; i++)
+        if (t[i].kind == WG_TR_DOUBLING && t[i].dir == +1 && t[i].from == from)
+            return &t[i];
+    return NULL;
+}
+
+/* Real part of the dominant multiplier (largest modulus, real) of the
+ * period-n orbit refined by Newton from y at omega (y becomes the orbit).
+ * Near the doublings the dominant multipliers come as a near-equal real
+ * pair, so the QR may return them with a tiny imaginary part. */
+static double neg_multiplier(wg_sim *sim, wg_params p, double omega, int n, double *y)
+{
+    char why[256];
+    p.v[WG_P_OMEGA] = omega;
+    ASSERT_EQ_INT(wg_sim_set_params(sim, &p, why, sizeof why), WG_OK);
+    wg_simmap sm = {sim, n};
+    wg_map m = wg_simmap_map(&sm);
+    double res, wr[WG_NSTATE_MAX], wi[WG_NSTATE_MAX];
+    ASSERT_EQ_INT(wg_fixed_point(&m, y, 1e-6, 1e-10, 10, &res), WG_OK);
+    ASSERT_EQ_INT(wg_floquet(&m, y, 1e-6, wr, wi), WG_OK);
+    ASSERT_TRUE(fabs(wi[0]) < 1e-3);
+    return wr[0];
+}
+
+static void test_period_doubling_sweep_and_floquet(void)
+{
+    wg_params p = table3();
+    static wg_point pts[6];
+    wg_sweep_opts o;
+    wg_sweep_opts_default(&o);
+    o.floquet = 1;
+    wg_chain c = chain(&p, 1.17, 1.22, 6, +1, pts);
+    ASSERT_EQ_INT(wg_chains_run(&c, 1, &o, 1, NULL, NULL, NULL), WG_OK);
+    ASSERT_EQ_INT(c.ndone, 6);
+    wg_transition t[32];
+    int nt = wg_transitions(pts, 6, NULL, 0, p.v[WG_P_B], t, 32);
+    const wg_transition *pd[2] = {find_pd(t, nt, 1), find_pd(t, nt, 2)};
+    ASSERT_TRUE(pd[0] && pd[1]);
+    if (!pd[0] || !pd[1])
+        return;
+    ASSERT_NEAR(pd[0]->lo, 1.19, 1e-12);
+    ASSERT_NEAR(pd[1]->lo, 1.21, 1e-12);
+    /* the sweep's own multipliers just below each doubling: near -1, above */
+    ASSERT_TRUE(pts[2].nfloq == 14 && pts[2].floq_re[0] < -0.7 && pts[2].floq_re[0] > -1.0);
+    ASSERT_TRUE(pts[4].nfloq == 14 && pts[4].floq_re[0] < -0.9 && pts[4].floq_re[0] > -1.0);
+    /* Floquet: follow the period-n orbit across the bracket (unstable past
+     * it) and locate the multiplier crossing -1 inside the bracket */
+    wg_sim sim;
+    char why[256];
+    wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, pts[0].steps};
+    ASSERT_EQ_INT(wg_sim_init(&sim, &p, &cfg, why, sizeof why), WG_OK);
+    for (int k = 0; k < 2; k++) {
+        int i = k == 0 ? 2 : 4, n = k == 0 ? 1 : 2;
+        double y[WG_NSTATE_MAX];
+        memcpy(y, pts[i].y_end, sizeof y);
+        double mlo = neg_multiplier(&sim, p, pd[k]->lo, n, y);
+        double mhi = neg_multiplier(&sim, p, pd[k]->hi, n, y);
+        ASSERT_TRUE(mlo > -1.0);
+        ASSERT_TRUE(mhi < -1.0);
+        double wstar = pd[k]->lo + (pd[k]->hi - pd[k]->lo) * (-1.0 - mlo) / (mhi - mlo);
+        printf("  doubling P%d -> P%d: sweep bracket (%.3f, %.3f), Floquet -1 at %.4f "
+               "(multipliers %.4f, %.4f)\n", n, 2 * n, pd[k]->lo, pd[k]->hi, wstar, mlo, mhi);
+        ASSERT_TRUE(wstar > pd[k]->lo && wstar < pd[k]->hi);
+    }
+    wg_sim_fini(&sim);
+}
+
+static void test_lle_sign_on_the_model(void)
+{
+    wg_params p = table3();
+    wg_sweep_opts o;
+    wg_sweep_opts_default(&o);
+    o.extend = 1;
+    double y[WG_NSTATE_MAX];
+    wg_point pt;
+    char why[256];
+    p.v[WG_P_OMEGA] = 0.70; /* chaotic from the equilibrium (single-sided impacts) */
+    wg_equilibrium(WG_MODEL_CONSISTENT, &p, y);
+    ASSERT_EQ_INT(wg_point_run(&p, &o, y, &pt, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(pt.regime, WG_REGIME_CHAOTIC);
+    ASSERT_TRUE(pt.lle > 0.1);
+    /* a stable period-1 orbit: the exponent is log |largest multiplier| */
+    p.v[WG_P_OMEGA] = 0.85;
+    wg_equilibrium(WG_MODEL_CONSISTENT, &p, y);
+    o.floquet = 1;
+    ASSERT_EQ_INT(wg_point_run(&p, &o, y, &pt, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(pt.regime, WG_REGIME_PERIODIC);
+    ASSERT_EQ_INT(pt.period, 1);
+    wg_sim a, b;
+    wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, pt.steps};
+    ASSERT_EQ_INT(wg_sim_init(&a, &p, &cfg, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(wg_sim_init(&b, &p, &cfg, why, sizeof why), WG_OK);
+    wg_simmap sa = {&a, 1}, sb = {&b, 1};
+    wg_map ma = wg_simmap_map(&sa), mb = wg_simmap_map(&sb);
+    double lle;
+    ASSERT_EQ_INT(wg_lle_twin(&ma, &mb, y, 300, 1e-7, &lle), WG_OK);
+    ASSERT_TRUE(lle < 0.0);
+    ASSERT_NEAR(lle, log(hypot(pt.floq_re[0], pt.floq_im[0])), 0.02);
+    wg_sim_fini(&a);
+    wg_sim_fini(&b);
+}
+
+static void test_error_estimate_order(void)
+{
+    /* the one-period error behind the tolerance falls ~16x per halving of h
+     * on a non-impacting orbit (RK4, order 4) */
+    wg_params p = table3();
+    p.v[WG_P_OMEGA] = 2.0;
+    wg_sweep_opts o;
+    wg_sweep_opts_default(&o);
+    double err[2];
+    for (int k = 0; k < 2; k++) {
+        double y[WG_NSTATE_MAX];
+        wg_point pt;
+        char why[256];
+        o.steps = k ? 256 : 128;
+        wg_equilibrium(WG_MODEL_CONSISTENT, &p, y);
+        ASSERT_EQ_INT(wg_point_run(&p, &o, y, &pt, why, sizeof why), WG_OK);
+        ASSERT_EQ_INT(pt.period, 1);
+        ASSERT_NEAR(pt.tol, fmax(o.tol_floor, o.tol_factor * pt.err), 0.0);
+        err[k] = pt.err;
+    }
+    printf("  one-period error: N=128 %.3e, N=256 %.3e, ratio %.1f\n", err[0], err[1],
+           err[0] / err[1]);
+    ASSERT_TRUE(err[0] / err[1] > 10.0 && err[0] / err[1] < 24.0);
+}
+
+static void test_threads_identical(void)
+{
+    wg_params p = table3();
+    wg_sweep_opts o;
+    wg_sweep_opts_default(&o);
+    o.transient = 150;
+    enum { NC = 4, NP = 4 };
+    static wg_point a[NC][NP], b[NC][NP];
+    wg_chain ca[NC], cb[NC];
+    for (int i = 0; i < NC; i++) {
+        wg_params q = p;
+        q.v[WG_P_XI_P] = i < 2 ? 0.08 : 0.10;
+        ca[i] = chain(&q, 1.18, 1.21, NP, i % 2 ? -1 : 1, a[i]);
+        cb[i] = chain(&q, 1.18, 1.21, NP, i % 2 ? -1 : 1, b[i]);
+    }
+    ASSERT_EQ_INT(wg_chains_run(ca, NC, &o, 1, NULL, NULL, NULL), WG_OK);
+    ASSERT_EQ_INT(wg_chains_run(cb, NC, &o, 2, NULL, NULL, NULL), WG_OK);
+    for (int i = 0; i < NC; i++) {
+        ASSERT_EQ_INT(ca[i].ndone, NP);
+        ASSERT_EQ_INT(cb[i].ndone, NP);
+        ASSERT_TRUE(memcmp(a[i], b[i], sizeof a[i]) == 0);
+    }
+}
+
+static void test_stop_flag(void)
+{
+    wg_params p = table3();
+    wg_sweep_opts o;
+    wg_sweep_opts_default(&o);
+    static wg_point pts[3];
+    wg_chain c = chain(&p, 1.0, 1.1, 3, 1, pts);
+    volatile sig_atomic_t stop = 1;
+    ASSERT_EQ_INT(wg_chains_run(&c, 1, &o, 1, &stop, NULL, NULL), WG_OK);
+    ASSERT_EQ_INT(c.ndone, 0); /* nothing started after the request */
+    ASSERT_EQ_INT(c.status, WG_OK);
+}
+
+TEST_MAIN(TEST(test_period_doubling_sweep_and_floquet), TEST(test_lle_sign_on_the_model),
+          TEST(test_error_estimate_order), TEST(test_threads_identical), TEST(test_stop_flag))
