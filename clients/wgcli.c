@@ -75,6 +75,9 @@ int wgcli_open(wgcli *c, const char *url, const char *prefix, const char *name, 
 
 void wgcli_close(wgcli *c)
 {
+    if (c->lcm && c->ack_sub)
+        wormgear_ack_t_unsubscribe(c->lcm, c->ack_sub);
+    c->ack_sub = NULL;
     if (c->lcm)
         lcm_destroy(c->lcm);
     c->lcm = NULL;

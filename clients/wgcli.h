@@ -36,7 +36,7 @@ typedef struct wgcli {
     char client[96];          /* "<name>-<pid>@<host>" */
     int64_t seq;              /* last command seq sent */
     wgcli_ack ack;            /* the ACK of the last command, once it came */
-    void *ack_sub;
+    wormgear_ack_t_subscription_t *ack_sub;
 } wgcli;
 
 /* $WORMGEAR_URL or the default; $WORMGEAR_PREFIX or the default. */

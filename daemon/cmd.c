@@ -6,6 +6,7 @@
 #include "snap.h"
 #include "status.h"
 #include "wgd.h"
+#include "wire.h"
 #include "wormgear/wg_status.h"
 
 #include <ctype.h>
@@ -371,33 +372,14 @@ static void dispatch(wgd *d, const wormgear_cmd_t *c)
 
 /* ---- decoding --------------------------------------------------------------- */
 
-static int64_t be64(const unsigned char *p)
+/* Answer a message that does not decode, addressed to its sender when the
+ * header survived. */
+static void undecodable(wgd *d, const void *buf, size_t len, const char *reason)
 {
-    uint64_t v = 0;
-    for (int i = 0; i < 8; i++)
-        v = v << 8 | p[i];
-    return (int64_t)v;
-}
-
-/* Answer an undecodable message, recovering client and seq if the header
- * (fingerprint, utime, seq, client) is intact. */
-static void undecodable(wgd *d, const unsigned char *b, size_t len)
-{
-    char client[65] = "", msg[320];
-    int64_t seq = -1;
-    int fp = len >= 8 && be64(b) == __wormgear_cmd_t_get_hash();
-    if (fp && len >= 28) {
-        /* the client string: int32 length (NUL included) at 24, bytes from 28 */
-        size_t n = (size_t)((uint32_t)b[24] << 24 | (uint32_t)b[25] << 16 | (uint32_t)b[26] << 8 | b[27]);
-        seq = be64(b + 16);
-        if (n >= 1 && n <= sizeof client && 28 + n <= len && b[28 + n - 1] == 0)
-            memcpy(client, b + 28, n);
-        else
-            seq = -1;
-    }
-    snprintf(msg, sizeof msg, "undecodable CMD message (%zu bytes): %s%s", len,
-             fp ? "truncated or corrupt wormgear.cmd_t"
-                : "not a wormgear.cmd_t (fingerprint mismatch: other type or version)",
+    char client[65], msg[400];
+    int64_t seq;
+    wire_cmd_header(buf, len, client, sizeof client, &seq);
+    snprintf(msg, sizeof msg, "undecodable CMD message (%zu bytes): %s%s", len, reason,
              seq < 0 ? "; client and seq unknown" : "");
     ack(d, client, seq, "", WG_EDECODE, msg);
 }
@@ -405,8 +387,17 @@ static void undecodable(wgd *d, const unsigned char *b, size_t len)
 void cmd_handle(wgd *d, const void *buf, size_t len)
 {
     wormgear_cmd_t c;
-    if (len > INT32_MAX || wormgear_cmd_t_decode(buf, 0, (int)len, &c) < 0) {
-        undecodable(d, buf, len);
+    char why[160];
+    if (len > INT32_MAX) {
+        undecodable(d, buf, len, "too large");
+        return;
+    }
+    if (wire_cmd_check(buf, len, why, sizeof why)) { /* decode only what decodes whole */
+        undecodable(d, buf, len, why);
+        return;
+    }
+    if (wormgear_cmd_t_decode(buf, 0, (int)len, &c) < 0) {
+        undecodable(d, buf, len, "rejected by the decoder");
         return;
     }
     dispatch(d, &c);

@@ -74,11 +74,13 @@ static void realtime(wgd *d, int64_t now)
 
 static void first_ready(wgd *d)
 {
-    char line[400];
+    char line[800];
     if (d->sd.ready || (d->sim.steps == 0 && d->run == RUN_RUNNING &&
                         d->conf.mode != MODE_LOCKSTEP))
         return;
-    status_line(d, line, sizeof line);
+    snprintf(line, sizeof line, "scene %s, %s rate %g, N = %d, channels %s* on %s",
+             d->scene.name, conf_mode_name(d->conf.mode), d->conf.rate,
+             d->sim.cfg.steps_per_period, d->conf.prefix, d->conf.url);
     sdn_ready(&d->sd, line);
     log_msg(&d->log, LOG_INFO, "ready: %s", line);
 }
