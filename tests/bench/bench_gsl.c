@@ -1,0 +1,157 @@
+/* bench_gsl - cost of one RK4 step: wg_sim's specialised kernels (rk4 and
+ * rk4-event) against GSL odeiv2's rk4 stepper and a plain hand-written RK4,
+ * both of those on the same right-hand side (wg_exc_eval at the stage time +
+ * the reference wg_rhs). All contenders run in this process, interleaved
+ * within each repetition, each continuing its own trajectory on the settled
+ * orbit; the ratios are taken per repetition and the median is reported.
+ * Steps are h = 2 pi/(omega N), N = 128; GSL's local time restarts every
+ * mesh period, as ours does.
+ * usage: bench_gsl [our steps per rep (2e6)] [reps (9)] */
+#include "bench_common.h"
+#include "wormgear/wg_scene.h"
+#include "wormgear/wg_sim.h"
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
+#include <math.h>
+
+enum { N = 128, MAXREP = 31 };
+
+typedef struct gslrun {
+    bench_ode o;
+    gsl_odeiv2_system sys;
+    gsl_odeiv2_step *st;
+    double y[14], yerr[14];
+    int k; /* step within the period */
+    double h;
+} gslrun;
+
+static void gsl_steps(gslrun *g, long n)
+{
+    for (long i = 0; i < n; i++) {
+        gsl_odeiv2_step_apply(g->st, g->k * g->h, g->h, g->y, g->yerr, NULL, NULL, &g->sys);
+        if (++g->k == N)
+            g->k = 0; /* local time restarts at psi = 0 */
+    }
+}
+
+static void hand_steps(bench_ode *o, double *y, int *k, double h, long n)
+{
+    for (long i = 0; i < n; i++) {
+        bench_hand_rk4(o, *k * h, h, y);
+        if (++*k == N)
+            *k = 0;
+    }
+}
+
+typedef struct row {
+    const char *scene, *label;
+    double omega;
+} row;
+
+int main(int argc, char **argv)
+{
+    long n = argc > 1 ? (long)atof(argv[1]) : 2000000;
+    int reps = argc > 2 ? atoi(argv[2]) : 9;
+    reps = reps < 1 ? 1 : reps > MAXREP ? MAXREP : reps;
+    long ng = n / 10 > 1000 ? n / 10 : 1000; /* GSL and hand RK4 are ~10x slower */
+    static const row rows[] = {
+        {"table3", "table3 (no impact)", 0.5},     {"table3", "table3 (impacting)", 0.7},
+        {"table3", "table3 (chaotic band)", 1.45}, {"lowfreq", "lowfreq", 0.5},
+        {"realistic", "realistic", 0.5},           {"torsional", "torsional", 0.5},
+    };
+    gsl_set_error_handler_off();
+    printf("bench_gsl: N = %d, %ld steps (ours) / %ld (GSL, hand) x %d reps, medians\n\n", N, n,
+           ng, reps);
+    printf("| scene | omega | kernel (rk4) | rk4 ns/step | rk4-event ns/step | GSL rk4 ns/step "
+           "(RHS calls) | hand RK4 ns/step | GSL / rk4 | GSL / rk4-event | hand / rk4 |\n"
+           "|---|---|---|---|---|---|---|---|---|---|\n");
+    char why[600], kname[64];
+    for (unsigned r = 0; r < sizeof rows / sizeof rows[0]; r++) {
+        wg_scene sc;
+        if (wg_scene_open(&sc, rows[r].scene, why, sizeof why)) {
+            fprintf(stderr, "bench_gsl: %s\n", why);
+            return 1;
+        }
+        wg_params p = sc.p;
+        p.v[WG_P_OMEGA] = rows[r].omega;
+        wg_sim s[2];
+        for (int st = 0; st < 2; st++) {
+            wg_sim_config cfg = {WG_MODEL_CONSISTENT, st, N};
+            if (wg_sim_init(&s[st], &p, &cfg, why, sizeof why)) {
+                fprintf(stderr, "bench_gsl: %s\n", why);
+                return 1;
+            }
+            wg_sim_run(&s[st], (uint64_t)N * 300, NULL, NULL); /* onto the orbit */
+        }
+        wg_sim_kernel_name(&s[0], kname, sizeof kname);
+        double h = s[0].h;
+        gslrun g = {.o = {&p, rows[r].omega, 0.0, 0}, .k = 0, .h = h};
+        g.sys = (gsl_odeiv2_system){bench_gsl_rhs, NULL, 14, &g.o};
+        g.st = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk4, 14);
+        memcpy(g.y, s[0].y, sizeof g.y);
+        bench_ode ho = {&p, rows[r].omega, 0.0, 0};
+        double yh[14];
+        int kh = 0;
+        memcpy(yh, s[0].y, sizeof yh);
+        double t[4][MAXREP], rg[MAXREP], rge[MAXREP], rh[MAXREP];
+        uint64_t calls0 = g.o.nrhs;
+        for (int i = 0; i < reps; i++) {
+            for (int st = 0; st < 2; st++) {
+                double t0 = bench_now_ns();
+                if (wg_sim_run(&s[st], (uint64_t)n, NULL, NULL)) {
+                    fprintf(stderr, "bench_gsl: blow-up\n");
+                    return 1;
+                }
+                t[st][i] = (bench_now_ns() - t0) / (double)n;
+            }
+            double t0 = bench_now_ns();
+            gsl_steps(&g, ng);
+            t[2][i] = (bench_now_ns() - t0) / (double)ng;
+            t0 = bench_now_ns();
+            hand_steps(&ho, yh, &kh, h, ng);
+            t[3][i] = (bench_now_ns() - t0) / (double)ng;
+            rg[i] = t[2][i] / t[0][i];
+            rge[i] = t[2][i] / t[1][i];
+            rh[i] = t[3][i] / t[0][i];
+        }
+        double calls = (double)(g.o.nrhs - calls0) / ((double)ng * reps);
+        if (!isfinite(g.y[0]) || !isfinite(yh[0]))
+            fprintf(stderr, "bench_gsl: GSL or hand RK4 went non-finite on %s\n", rows[r].label);
+        printf("| %s | %.2f | %s | %.1f | %.1f | %.0f (%.0f) | %.0f | **%.2fx** | %.2fx | %.2fx |\n",
+               rows[r].label, rows[r].omega, kname, bench_median(t[0], reps),
+               bench_median(t[1], reps), bench_median(t[2], reps), calls,
+               bench_median(t[3], reps), bench_median(rg, reps), bench_median(rge, reps),
+               bench_median(rh, reps));
+        fflush(stdout);
+        gsl_odeiv2_step_free(g.st);
+        wg_sim_fini(&s[0]);
+        wg_sim_fini(&s[1]);
+    }
+    /* the pieces: one reference RHS call, one libm excitation evaluation */
+    wg_params p;
+    wg_params_default(&p);
+    p.v[WG_P_OMEGA] = 0.7;
+    double y[14], dy[14] = {0}, tr[MAXREP], te[MAXREP], acc = 0;
+    wg_equilibrium(WG_MODEL_CONSISTENT, &p, y);
+    wg_exc e;
+    wg_exc_eval(&p, 0.3, 0.7, &e);
+    const long m = n;
+    for (int i = 0; i < reps; i++) {
+        double t0 = bench_now_ns();
+        for (long j = 0; j < m; j++) {
+            y[6] += 1e-18 * dy[6 + (j & 1)]; /* chain the calls */
+            wg_rhs(WG_MODEL_CONSISTENT, &p, &e, y, dy);
+        }
+        tr[i] = (bench_now_ns() - t0) / (double)m;
+        t0 = bench_now_ns();
+        for (long j = 0; j < m; j++) {
+            wg_exc_eval(&p, 1e-6 * (double)j, 0.7, &e);
+            acc += e.kp;
+        }
+        te[i] = (bench_now_ns() - t0) / (double)m;
+    }
+    printf("\nreference wg_rhs: %.1f ns/call; wg_exc_eval (libm): %.1f ns/call (checksum %.3g)\n",
+           bench_median(tr, reps), bench_median(te, reps), acc + y[6]);
+    return 0;
+}
