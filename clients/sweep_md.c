@@ -134,6 +134,30 @@ static void rows(FILE *f, wg_transition *t, int n, double win)
     free(used);
 }
 
+/* Period-doubling cascades of one sweep: the doublings since the last
+ * return to period-1 before each chaotic interval (t sorted by value). */
+static void cascades(FILE *f, const wg_transition *t, int n, int dir)
+{
+    for (int i = 0; i < n; i++) {
+        if (t[i].kind != WG_TR_CHAOS || t[i].dir != dir)
+            continue;
+        int first = i;
+        for (int j = i - 1; j >= 0; j--) {
+            if (t[j].dir != dir)
+                continue;
+            if (t[j].kind == WG_TR_RETURN_P1 || (t[j].kind == WG_TR_CHAOS && t[j].hi < t[i].lo))
+                break;
+            if (t[j].kind == WG_TR_DOUBLING)
+                first = j;
+        }
+        fprintf(f, "- %s sweep: ", dir > 0 ? "up" : "down");
+        for (int j = first; j < i; j++)
+            if (t[j].dir == dir && t[j].kind == WG_TR_DOUBLING)
+                fprintf(f, "P%d->P%d at %.4f, ", t[j].from, t[j].to, t[j].at);
+        fprintf(f, "chaos from %.4f to %.4f\n", t[i].lo, t[i].hi);
+    }
+}
+
 /* The up sweep as a sequence of regime segments. */
 static void route(FILE *f, const wg_chain *c)
 {
@@ -172,6 +196,10 @@ void out_group_table(FILE *f, const sweep_study *st, const sweep_group *g)
     fprintf(f, "\nLocations are brackets between neighbouring grid points (step %.4g); grazing "
                "is interpolated on min x_n = b.\n\n",
             h);
+    fputs("Routes into chaos (doublings since the last period-1):\n\n", f);
+    cascades(f, t, n, +1);
+    cascades(f, t, n, -1);
+    fputs("\n", f);
     if (g->up)
         route(f, g->up);
     free(t);
