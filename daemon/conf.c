@@ -31,9 +31,9 @@ typedef struct key {
 static const key keys[] = {
     {"scene", K_STR, S(scene), 0, 0, NULL, "table3", "scene name or INI file"},
     {"url", K_STR, S(url), 0, 0, NULL, "udpm://239.255.76.67:7667?ttl=0",
-     "LCM URL (ttl=0: this host only; ttl=1 to reach the LAN)"},
+     "LCM URL ($WORMGEAR_URL; ttl=0: this host only, ttl=1: the LAN)"},
     {"prefix", K_STR, S(prefix), 0, 0, NULL, "WORMGEAR_",
-     "channel prefix, [A-Za-z0-9_.-]{0,40} (one per rig)"},
+     "channel prefix ($WORMGEAR_PREFIX), [A-Za-z0-9_.-]{0,40}, one per rig"},
     {"mode", K_ENUM, S(mode), 0, 0, mode_names, "realtime", "pacing: realtime, fast, lockstep"},
     {"rate", K_DBL, S(rate), 1e-6, 1000, NULL, "1",
      "realtime rate factor, 1 = physical real time (omega_n of the scene)"},
@@ -201,6 +201,11 @@ void conf_defaults(conf *c)
     for (int i = 0; i < NKEYS; i++)
         if (keys[i].def)
             set_key(c, &keys[i], keys[i].def, why, sizeof why);
+    const char *u = getenv("WORMGEAR_URL"), *pf = getenv("WORMGEAR_PREFIX"); /* as the clients */
+    if (u && *u)
+        set_key(c, key_find("url"), u, why, sizeof why);
+    if (pf)
+        set_key(c, key_find("prefix"), pf, why, sizeof why); /* invalid: default kept */
     const char *sd = getenv("STATE_DIRECTORY"); /* systemd StateDirectory= */
     snprintf(c->state_dir, sizeof c->state_dir, "%s", sd && *sd ? sd : "/var/lib/wormgeard");
     char *colon = strchr(c->state_dir, ':'); /* several directories: the first */

@@ -88,8 +88,10 @@ static int run(wgd *d)
         return rc;
     }
     if (d->conf.check_only) {
-        printf("configuration ok: scene %s, N = %d, url %s\n", d->scene.name,
-               d->sim.cfg.steps_per_period, d->conf.url);
+        printf("configuration ok: scene %s, N = %d, mode %s, rate %g, url %s, prefix %s, "
+               "state dir %s%s%s\n", d->scene.name, d->sim.cfg.steps_per_period,
+               conf_mode_name(d->conf.mode), d->conf.rate, d->conf.url, d->conf.prefix,
+               d->conf.state_dir, d->conf.path[0] ? ", config " : "", d->conf.path);
         finish(d, NMOD);
         return 0;
     }

@@ -1,0 +1,111 @@
+#!/bin/sh
+# test_wgctl.sh WORMGEARD WGCTL - wgctl from the shell against the real
+# daemon (exit codes 0 accepted / 1 refused or no answer / 2 usage, outputs,
+# --json), config-file errors with file:line, CLI overrides, the foreground
+# status line, SIGTERM -> 0. Run through netns.sh (host-local URL only).
+D=$1 C=$2
+status=0
+tmp=$(mktemp -d) || exit 1
+pid=
+cleanup() { [ -n "$pid" ] && kill -KILL "$pid" 2>/dev/null; rm -rf "$tmp"; }
+trap cleanup EXIT
+export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0" WORMGEAR_PREFIX=CTL_
+
+fail() { echo "FAIL: $*"; status=1; }
+# expect CODE CMD...: run, keep stdout/stderr in $tmp/out, $tmp/err
+expect() {
+    want=$1; shift
+    "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
+    [ "$got" -eq "$want" ] || fail "$* -> exit $got, want $want: $(cat "$tmp/out" "$tmp/err")"
+}
+has() { grep -q -- "$2" "$tmp/$1" || fail "$1 lacks '$2': $(cat "$tmp/$1")"; }
+
+# ---- configuration: file:line errors naming the range; CLI overrides
+printf '[wormgeard]\nmode = realtime\nrate = 5000\n' >"$tmp/bad.conf"
+expect 2 "$D" -c "$tmp/bad.conf" --check-config
+has err "bad.conf:3: rate: '5000' must be a number in \[1e-06, 1000\]"
+printf '[wormgeard]\nfoo = 1\n' >"$tmp/bad2.conf"
+expect 2 "$D" -c "$tmp/bad2.conf" --check-config
+has err "bad2.conf:2: unknown key 'foo'"
+printf '[params]\nomega = 99\n' >"$tmp/bad3.conf"
+expect 2 "$D" -c "$tmp/bad3.conf" --check-config
+has err "bad3.conf:2: omega = 99 out of range"
+printf '[wormgeard]\nmode = fast\nrate = 0.5\n' >"$tmp/ok.conf"
+expect 0 "$D" -c "$tmp/ok.conf" --mode lockstep --check-config
+has out "mode lockstep, rate 0.5"
+expect 2 "$D" --mode warp --check-config
+has err "mode: 'warp' is not one of realtime, fast, lockstep"
+expect 2 "$D" --bogus
+expect 0 "$D" --help
+has out "--state-rate-hz"
+
+# ---- the daemon, in the foreground with its one-line status
+"$D" -F --rate 0.05 --state-dir "$tmp/state" >"$tmp/fg" 2>"$tmp/log" &
+pid=$!
+i=0
+until "$C" --timeout 0.5 status >/dev/null 2>&1; do
+    i=$((i + 1))
+    [ $i -lt 20 ] || { fail "daemon did not come up: $(cat "$tmp/log")"; exit 1; }
+done
+
+expect 0 "$C" set omega=1.3 xi_p=0.1
+has out "ok: set omega=1.3"
+expect 1 "$C" set omega=1e9
+has err "refused (ERANGE)"
+has err "\[0.01, 10\]"
+expect 1 "$C" set nosuch=1
+has err "EUNKNOWN"
+expect 1 "$C" set omega=nan
+has err "ERANGE"
+expect 2 "$C" set omega=abc
+expect 2 "$C" frobnicate
+expect 2 "$C" ramp omega 2.0
+expect 2 "$C" step
+expect 0 "$C" ramp omega 0.5 1.5 --over 0.05s
+has out "ramp omega 0.5 -> 1.5"
+expect 0 "$C" ramp phi -0.4 0.5 --over 100tau
+expect 1 "$C" ramp a1 0.3 --over 1s
+has err "EINVAL"
+expect 0 "$C" pause
+expect 0 "$C" step 1000
+has out "stepped 1000 steps"
+expect 0 "$C" resume
+expect 1 "$C" step 10
+has err "ESTATE"
+expect 0 "$C" save s1
+expect 0 "$C" restore s1
+expect 1 "$C" restore ../x
+has err "EINVAL"
+expect 1 "$C" restore nothing-here
+has err "EIO"
+expect 0 "$C" get
+has out "omega = "
+expect 0 "$C" --json get
+has out '"params":{"omega":'
+expect 0 "$C" --json set xi_p=0.08
+has out '"accepted":true'
+expect 1 "$C" --json set xi_p=7
+has out '"code":"ERANGE"'
+expect 0 "$C" status
+has out "health ok"
+expect 0 "$C" --json status
+has out '"health":"ok"'
+expect 0 "$C" params
+has out "xi_p"
+expect 0 "$C" mode fast
+expect 0 "$C" mode realtime 0.05
+expect 1 "$C" mode realtime 5000
+expect 0 "$C" reset --params
+expect 1 "$C" --prefix NOBODY_ --timeout 0.3 pause
+has err "no answer"
+sleep 1.2
+[ "$(grep -c 'realtime running' "$tmp/fg")" -ge 1 ] || fail "no foreground status line: $(cat "$tmp/fg")"
+
+kill -TERM "$pid"
+wait "$pid"
+rc=$?
+pid=
+[ $rc -eq 0 ] || fail "SIGTERM: exit $rc: $(tail -5 "$tmp/log")"
+grep -q "refused set" "$tmp/log" || fail "refusals not logged"
+[ $status -eq 0 ] && echo "ok: wgctl against wormgeard"
+exit $status
