@@ -104,6 +104,7 @@ static int op_set(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     if (ramp >= 0 && n < len)
         snprintf(why + n, len - n, " (cancelled the ramp of %s at %.9g)",
                  wg_param_info_get(ramp)->name, d->sim.p.v[ramp]);
+    stream_regime_reset(&d->st);
     status_decimation(d);
     status_params(d, "set", c->client, c->seq);
     return WG_OK;
@@ -174,6 +175,7 @@ static int op_ramp(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     }
     snprintf(why, len, "ramp %s %.9g -> %.9g over %.9g tau (%.6g s simulated)", c->names[0], v0,
              c->values[0], dur, engine_seconds(d, dur));
+    stream_regime_reset(&d->st);
     status_params(d, "ramp", c->client, c->seq);
     return WG_OK;
 }
@@ -211,6 +213,7 @@ static int op_reset(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     }
     cmd_step_cancel(d, WG_ESTATE, "cancelled by reset");
     engine_reset(d, params);
+    stream_regime_reset(&d->st);
     status_decimation(d);
     status_params(d, "reset", c->client, c->seq);
     snprintf(why, len, "reset to the scene's initial state%s",
@@ -322,6 +325,7 @@ static int op_restore(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     if ((rc = snap_apply(&s, &d->sim, why, len)))
         return rc;
     cmd_step_cancel(d, WG_ESTATE, "cancelled by restore");
+    stream_regime_reset(&d->st);
     d->fault = 0;
     d->fault_msg[0] = 0;
     pace_anchor(&d->pace, wgd_now_ns(), d->sim.tau);

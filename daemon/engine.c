@@ -71,8 +71,10 @@ uint64_t engine_run(wgd *d, uint64_t n)
     double c = (double)(wgd_now_ns() - t0) / (double)(done ? done : 1);
     if (done >= 16) /* smoothed cost per step (drives fast-mode chunks) */
         d->stat.ns_per_step = d->stat.ns_per_step > 0 ? 0.8 * d->stat.ns_per_step + 0.2 * c : c;
-    if (ramping && !d->sim.ramp.active)
+    if (ramping && !d->sim.ramp.active) {
         status_params(d, "ramp-end", "", -1);
+        stream_regime_reset(&d->st);
+    }
     if (rc) {
         char msg[sizeof d->fault_msg];
         snprintf(msg, sizeof msg, "integration blew up after step %" PRIu64 " (tau = %.9g): %s;"

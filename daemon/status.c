@@ -102,7 +102,7 @@ static void compute(wgd *d, int64_t now)
     s->health = d->fault ? HEALTH_FAULT : late ? HEALTH_LAGGING : HEALTH_OK;
 }
 
-static void fill_status(const wgd *d, wormgear_status_t *m)
+static void fill_status(const wgd *d, wormgear_status_t *m, char *regime, unsigned rlen)
 {
     const stats *s = &d->stat;
     *m = (wormgear_status_t){
@@ -117,9 +117,10 @@ static void fill_status(const wgd *d, wormgear_status_t *m)
         .loop_max_us = s->loop_max_us, .steps_per_s = s->steps_per_s,
         .cpu_share = s->cpu_share, .msgs_dropped = (int64_t)(d->io.dropped + s->drops),
         .cmds_accepted = (int64_t)s->cmds_accepted, .cmds_refused = (int64_t)s->cmds_refused,
-        .motion = d->st.sections || d->sim.period ? (char *)wg_motion_name(d->st.motion)
-                                                  : (char *)"unknown",
-        .impacts_per_period = s->impacts_per_period, .regime = (char *)"unknown",
+        .motion = d->st.trk.n ? (char *)wg_motion_name(d->st.trk.motion) /* over the orbit */
+                  : d->sim.period ? (char *)wg_motion_name(d->st.motion) : (char *)"unknown",
+        .impacts_per_period = s->impacts_per_period, .regime = d->sim.ramp.active ? (char *)"ramping"
+                                                      : (char *)stream_regime(&d->st, regime, rlen),
         .ramp_active = (int8_t)d->sim.ramp.active,
         .uptime_s = (double)(wgd_now_ns() - d->start_ns) * 1e-9};
 }
@@ -129,7 +130,8 @@ void status_publish(wgd *d)
     int64_t now = wgd_now_ns();
     compute(d, now);
     wormgear_status_t m;
-    fill_status(d, &m);
+    char regime[24];
+    fill_status(d, &m, regime, sizeof regime);
     lcmio_pub_status(&d->io, &m);
 }
 
@@ -197,7 +199,8 @@ void status_tick(wgd *d, int64_t now)
     if (now >= s->next_status_ns) {
         compute(d, now);
         wormgear_status_t m;
-        fill_status(d, &m);
+        char regime[24];
+        fill_status(d, &m, regime, sizeof regime);
         lcmio_pub_status(&d->io, &m);
         interval_start(d, now);
         s->next_status_ns = now + (int64_t)(SEC_NS / d->conf.status_hz);

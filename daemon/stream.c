@@ -3,7 +3,11 @@
 
 #include "wgd.h"
 
+#include <stdio.h>
 #include <string.h>
+
+/* Poincare points this close (max norm) repeat: an orbit of period n. */
+#define REGIME_TOL 1e-6
 
 void stream_init(stream *s, int nstate, double omega_n, int state_on)
 {
@@ -15,6 +19,20 @@ void stream_init(stream *s, int nstate, double omega_n, int state_on)
     s->countdown = 0;
     for (int i = 0; i < PC_MAX; i++)
         s->pc_rows[i] = s->pc_y[i];
+    stream_regime_reset(s);
+}
+
+void stream_regime_reset(stream *s) { wg_tracker_init(&s->trk, s->nstate, REGIME_TOL); }
+
+const char *stream_regime(const stream *s, char *buf, unsigned len)
+{
+    if (s->trk.n < 16)
+        return "unknown";
+    int n = wg_tracker_period(&s->trk, NULL);
+    if (!n)
+        return "aperiodic";
+    snprintf(buf, len, "period-%d", n);
+    return buf;
 }
 
 void stream_fini(stream *s) { (void)s; }
@@ -117,6 +135,7 @@ static void on_section(void *ctx, const wg_section *sec)
     s->impacts += (uint64_t)sec->stats.impacts;
     s->motion = sec->stats.motion;
     s->last = sec->stats;
+    wg_tracker_push(&s->trk, sec);
     if (s->pc_n == PC_MAX)
         flush_poincare(d);
 }

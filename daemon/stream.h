@@ -11,6 +11,7 @@
 
 #include <stdint.h>
 
+#include "wormgear/wg_regime.h"
 #include "wormgear/wg_sim.h"
 
 enum { ST_MAX = 400, PC_MAX = 200, CT_MAX = 1024, ST_NCOL = 12 };
@@ -42,6 +43,7 @@ typedef struct stream {
     uint64_t sections, impacts;
     int motion;                     /* of the last completed period */
     wg_period last;
+    wg_tracker trk;                 /* last Poincare points, for the regime on STATUS */
 } stream;
 
 /* Empty batches for a sim with nstate values; omega_n converts tau to s. */
@@ -55,6 +57,14 @@ wg_sink stream_sink(struct wgd *d);
 
 /* Publish every non-empty batch now. */
 void stream_flush(struct wgd *d);
+
+/* Forget the tracked Poincare points (after a parameter or state change). */
+void stream_regime_reset(stream *s);
+
+/* Regime of the tracked points: "period-N", "aperiodic" (no period <= 32
+ * over the last 96 periods: quasi-periodic, chaotic or still settling),
+ * "unknown" (fewer than 16 periods since the last change). */
+const char *stream_regime(const stream *s, char *buf, unsigned len);
 
 /* Set the STATE decimation (steps per sample, >= 1). */
 void stream_set_decimation(stream *s, int decimation);

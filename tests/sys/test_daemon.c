@@ -29,7 +29,7 @@ typedef struct fx {
     double *tau, *omega, *xn;        /* STATE samples */
     int64_t pc_last_period;
     int pc_gaps;
-    char health[16];
+    char health[16], regime[24], motion[24];
     int nstatus;
     int64_t myseq;
     void *subs[6];
@@ -102,6 +102,8 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
     (void)rb, (void)ch, (void)u;
     F.nstatus++;
     snprintf(F.health, sizeof F.health, "%s", m->health);
+    snprintf(F.regime, sizeof F.regime, "%s", m->regime);
+    snprintf(F.motion, sizeof F.motion, "%s", m->motion);
 }
 
 /* A daemon without its loop: engine, lcm (memq), streams, commands, status. */
@@ -646,6 +648,27 @@ static void test_stream_seq(void)
     teardown(d);
 }
 
+/* STATUS reports the regime from the tracked Poincare points. */
+static void test_status_regime(void)
+{
+    wgd *d = setup(64);
+    ASSERT_EQ_INT(set1(d, "omega", 0.3), WG_OK);
+    status_publish(d);
+    drain(d);
+    ASSERT_STR(F.regime, "unknown");
+    run(d, 64 * 400);
+    status_publish(d);
+    drain(d);
+    ASSERT_STR(F.regime, "period-1");
+    ASSERT_STR(F.motion, "no_impact");
+    ASSERT_EQ_INT(ramp(d, "omega", 0, 0, 0.35, 500, "tau"), WG_OK);
+    run(d, 64);
+    status_publish(d);
+    drain(d);
+    ASSERT_STR(F.regime, "ramping");
+    teardown(d);
+}
+
 static void cleanup(void)
 {
     char cmd[128];
@@ -664,7 +687,7 @@ TEST_MAIN(TEST(test_set_atomic), TEST(test_set_bad_inputs), TEST(test_set_stabil
           TEST(test_accept_commands_off), TEST(test_ramp_continuity),
           TEST(test_ramp_refused_atomic), TEST(test_save_restore_bitexact),
           TEST(test_save_restore_bitexact_ramp), TEST(test_save_restore_refusals),
-          TEST(test_step_and_modes), TEST(test_blowup_fault), TEST(test_stream_seq),
+          TEST(test_step_and_modes), TEST(test_blowup_fault), TEST(test_stream_seq), TEST(test_status_regime),
           TEST(test_zz_cleanup))
 #undef main
 
