@@ -7,7 +7,8 @@ add_library(wgplot STATIC
   ${CMAKE_CURRENT_LIST_DIR}/plot.c
   ${CMAKE_CURRENT_LIST_DIR}/sweep_out.c
   ${CMAKE_CURRENT_LIST_DIR}/sweep_md.c
-  ${CMAKE_CURRENT_LIST_DIR}/sweep_at.c)
+  ${CMAKE_CURRENT_LIST_DIR}/sweep_at.c
+  ${CMAKE_CURRENT_LIST_DIR}/sweep_load.c)
 target_include_directories(wgplot PUBLIC ${CMAKE_CURRENT_LIST_DIR})
 target_link_libraries(wgplot PUBLIC wgmodel PkgConfig::CAIRO)
 if(WG_MPI)

@@ -134,6 +134,15 @@ static void rows(FILE *f, wg_transition *t, int n, double win)
     free(used);
 }
 
+/* A doubling, or several between two grid points (P4 -> P16). */
+static int doubling(const wg_transition *t)
+{
+    if (t->kind == WG_TR_DOUBLING)
+        return 1;
+    return t->kind == WG_TR_PERIOD && t->from > 0 && t->to > t->from && t->to % t->from == 0 &&
+           ((t->to / t->from) & (t->to / t->from - 1)) == 0;
+}
+
 /* Period-doubling cascades of one sweep: the doublings since the last
  * return to period-1 before each chaotic interval (t sorted by value). */
 static void cascades(FILE *f, const wg_transition *t, int n, int dir)
@@ -147,12 +156,12 @@ static void cascades(FILE *f, const wg_transition *t, int n, int dir)
                 continue;
             if (t[j].kind == WG_TR_RETURN_P1 || (t[j].kind == WG_TR_CHAOS && t[j].hi < t[i].lo))
                 break;
-            if (t[j].kind == WG_TR_DOUBLING)
+            if (doubling(&t[j]))
                 first = j;
         }
         fprintf(f, "- %s sweep: ", dir > 0 ? "up" : "down");
         for (int j = first; j < i; j++)
-            if (t[j].dir == dir && t[j].kind == WG_TR_DOUBLING)
+            if (t[j].dir == dir && doubling(&t[j]))
                 fprintf(f, "P%d->P%d at %.4f, ", t[j].from, t[j].to, t[j].at);
         fprintf(f, "chaos from %.4f to %.4f\n", t[i].lo, t[i].hi);
     }
@@ -217,6 +226,17 @@ int out_markdown(const char *path, const sweep_study *st, char *why, size_t whyl
             st->partial ? " (PARTIAL: interrupted)" : "");
     if (st->command)
         fprintf(f, "Command: `%s`\n\n", st->command);
+    if (st->source) {
+        fprintf(f, "Transitions recomputed from the points in `%s` (the run's settings are in "
+                   "its JSON/Markdown).\n\n",
+                st->source);
+        for (int k = 0; k < st->ngroups; k++) {
+            if (st->gparam >= 0)
+                fprintf(f, "## %s = %g\n\n", pname(st->gparam), st->g[k].gval);
+            out_group_table(f, st, &st->g[k]);
+        }
+        return fclose(f) ? -1 : 0;
+    }
     fprintf(f, "Model %s, stepper %s, N = %d steps per mesh period (raised where RK4 needs "
                "more), transient %d + record %d periods per point (up to %d extensions), LLE "
                "over %d periods (chaotic above %g per period), period tolerance max(%g, %g x "

@@ -19,6 +19,7 @@ typedef struct sweep_group {
 typedef struct sweep_study {
     const char *scene;
     const char *command;     /* the command line, for the record */
+    const char *source;      /* points read from this CSV (NULL: computed) */
     int param, gparam;       /* gparam -1: a single group */
     int ngroups;
     sweep_group g[STUDY_MAX_GROUPS];

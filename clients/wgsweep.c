@@ -5,6 +5,7 @@
  * results written). */
 #include "plot.h"
 #include "sweep_at.h"
+#include "sweep_load.h"
 #include "sweep_out.h"
 #include "sweep_par.h"
 #include "wormgear/wg_scene.h"
@@ -39,6 +40,7 @@ typedef struct opts {
     double mfrom, mto;
     int threads, png, json, quiet;
     int at_set, at_periods;
+    const char *table_from;
     double at;
     wg_sweep_opts so;
 } opts;
@@ -75,6 +77,8 @@ static void usage(FILE *f)
         "  --at V                  single point: summary, LLE, Floquet, phase portrait,\n"
         "                          Poincare map and time trace (PREFIX-at-NAME=V-*)\n"
         "  --at-periods P          Poincare periods for --at (default 2000)\n"
+        "  --table-from CSV        recompute the transitions table (PREFIX.md) from a\n"
+        "                          points CSV of an earlier run, without integrating\n"
         "  --quiet                 no progress bar\n"
         "  -h, --help              this text\n\n"
         "Ctrl-C stops after the current points and writes what is done (exit 130).\n"
@@ -193,7 +197,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"lle-tol", 1, 0, 'l'}, {"tol-factor", 1, 0, 'F'}, {"tol-floor", 1, 0, 'f'},
         {"steps-per-period", 1, 0, 'N'}, {"stepper", 1, 0, 'k'}, {"floquet", 0, 0, 'Q'},
         {"threads", 1, 0, 'j'}, {"out", 1, 0, 'o'}, {"no-png", 0, 0, 'G'}, {"no-json", 0, 0, 'J'},
-        {"at", 1, 0, 'A'}, {"at-periods", 1, 0, 'P'}, {"quiet", 0, 0, 'q'},
+        {"at", 1, 0, 'A'}, {"at-periods", 1, 0, 'P'}, {"quiet", 0, 0, 'q'}, {"table-from", 1, 0, 'Y'},
         {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     memset(o, 0, sizeof *o);
     o->scene = "table3", o->out = "sweep", o->param = WG_P_OMEGA, o->from = 0.1, o->to = 2.5;
@@ -217,6 +221,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         case 'G': o->png = 0; break;
         case 'J': o->json = 0; break;
         case 'q': o->quiet = 1; break;
+        case 'Y': o->table_from = optarg; break;
         case 'h': usage(stdout); exit(0);
         case '?': return bad("unknown option or missing argument:", argv[optind - 1]);
         default:
@@ -442,6 +447,27 @@ static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank
     return st.partial ? 130 : rc ? 1 : 0;
 }
 
+/* Transitions table from an earlier run's points CSV. */
+static int do_table(const opts *o, const wg_scene *sc, const char *cmd)
+{
+    sweep_study st;
+    char why[512], path[1024];
+    memset(&st, 0, sizeof st);
+    st.scene = sc->name;
+    st.command = cmd;
+    st.source = o->table_from;
+    st.b = sc->p.v[WG_P_B];
+    st.o = &o->so;
+    int rc = load_points_csv(o->table_from, &st, why, sizeof why);
+    snprintf(path, sizeof path, "%s.md", o->out);
+    if (!rc)
+        rc = out_markdown(path, &st, why, sizeof why);
+    if (rc)
+        fprintf(stderr, "wgsweep: %s\n", why);
+    load_free(&st);
+    return rc ? 1 : 0;
+}
+
 static int do_at(const opts *o, const wg_scene *sc)
 {
     wg_params p = sc->p;
@@ -483,7 +509,9 @@ int main(int argc, char **argv)
             o.so.stepper = WG_STEPPER_RK4;
         install_signals();
         char *cmd = join_args(argc, argv);
-        if (o.at_set)
+        if (o.table_from)
+            rc = rank == 0 ? do_table(&o, &sc, cmd) : 0;
+        else if (o.at_set)
             rc = rank == 0 ? do_at(&o, &sc) : 0;
         else if (o.mparam >= 0)
             rc = do_map(&o, &sc, rank, size);

@@ -8,7 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define AMP_TOL 1e-3  /* up/down envelopes differing by more: distinct attractors */
+#define JUMP_TOL 0.02 /* x b: up/down orbit envelopes differing by more: a jump */
+#define JUMP_TOL_APERIODIC 0.1 /* x b: looser for two aperiodic sets (sampling) */
 #define CHAOS_GAP 3   /* periodic windows of at most this many points stay inside a band */
 
 static const char *const trans_names[WG_NTRANS] = {
@@ -119,31 +120,31 @@ static void sweep_events(tlist *t, int dir, const wg_point *const *asc, int n, d
     intervals(t, WG_TR_QUASI, dir, asc, n, WG_REGIME_QUASIPERIODIC);
 }
 
-/* Two attractors at the same parameter value differ (coexistence). */
-static int differ(const wg_point *u, const wg_point *d)
+/* Two attractors at the same parameter value differ by an amplitude jump:
+ * their envelopes (min and max x_n) are apart by more than JUMP_TOL b. A
+ * different period alone is not a jump: near a period doubling the two
+ * sweeps cross it one grid point apart (slow convergence), with the same
+ * envelope. */
+static int differ(const wg_point *u, const wg_point *d, double b)
 {
     if (!valid(u) || !valid(d))
         return 0;
-    int pu = label(u), pd = label(d);
-    if (!pu && !pd) /* two aperiodic sets: compare envelopes loosely */
-        return fabs(u->max_xn - d->max_xn) > 0.1 || fabs(u->min_xn - d->min_xn) > 0.1;
-    if (pu != pd)
-        return 1;
-    return fabs(u->max_xn - d->max_xn) > AMP_TOL || fabs(u->min_xn - d->min_xn) > AMP_TOL;
+    double tol = (!label(u) && !label(d) ? JUMP_TOL_APERIODIC : JUMP_TOL) * (b > 0 ? b : 1.0);
+    return fabs(u->max_xn - d->max_xn) > tol || fabs(u->min_xn - d->min_xn) > tol;
 }
 
 /* Hysteresis intervals: runs of grid values where up and down differ. The
  * up sweep leaves its branch just above the run, the down sweep just
  * below it. */
-static void jumps(tlist *t, const wg_point *const *u, const wg_point *const *d, int n)
+static void jumps(tlist *t, const wg_point *const *u, const wg_point *const *d, int n, double b)
 {
     for (int i = 0; i < n;) {
-        if (!differ(u[i], d[i])) {
+        if (!differ(u[i], d[i], b)) {
             i++;
             continue;
         }
         int j = i;
-        while (j + 1 < n && differ(u[j + 1], d[j + 1]))
+        while (j + 1 < n && differ(u[j + 1], d[j + 1], b))
             j++;
         const wg_point *uhi = j + 1 < n ? u[j + 1] : u[j], *dlo = i > 0 ? d[i - 1] : d[i];
         wg_transition tr = {WG_TR_JUMP, 0, u[j]->value, uhi->value,
@@ -191,7 +192,7 @@ int wg_transitions(const wg_point *up, int nup, const wg_point *down, int ndown,
     if (ndown)
         sweep_events(&t, -1, ad, ndown, b);
     if (nup && nup == ndown)
-        jumps(&t, au, ad, nup);
+        jumps(&t, au, ad, nup, b);
     qsort(out, (size_t)t.n, sizeof *out, cmp_at);
     free(au);
     free(ad);

@@ -100,7 +100,8 @@ int wg_point_run(const wg_params *p, const wg_sweep_opts *o, double *y, wg_point
 enum wg_trans_kind {
     WG_TR_GRAZING,      /* min x_n reaches b: impacts begin (or end) */
     WG_TR_BACKSIDE,     /* first back-side impact: double-sided motion */
-    WG_TR_JUMP,         /* amplitude discontinuity, with the up/down hysteresis */
+    WG_TR_JUMP,         /* up/down attractors differ: envelopes (min, max x_n) apart by
+                           > 0.02 b (0.1 b if both aperiodic); the hysteresis interval */
     WG_TR_DOUBLING,     /* period n -> 2n */
     WG_TR_HALVING,      /* period 2n -> n (increasing parameter) */
     WG_TR_PERIOD,       /* any other change of period */
