@@ -1,0 +1,514 @@
+/* wglog - summarise an LCM log of wormgeard, or export its channels to CSV.
+ *
+ * Reads the log with LCM's eventlog API; each message's type is found from
+ * its fingerprint (the first 8 bytes), so any prefix works. `summary` lists
+ * channels, types, message and sample counts, rates and seq gaps (dropped
+ * messages) and restarts (seq going backwards); `export` writes one CSV per
+ * channel with the type's fields as columns, one row per sample for the
+ * batched types (STATE, POINCARE, CONTACT). Numbers are printed with 17
+ * significant digits: the CSV holds exactly what was published.
+ * Exit 0, 1 unreadable log or unwritable output, 2 usage error. */
+#include "lcmtypes/wormgear_ack_t.h"
+#include "lcmtypes/wormgear_cmd_t.h"
+#include "lcmtypes/wormgear_contact_t.h"
+#include "lcmtypes/wormgear_params_t.h"
+#include "lcmtypes/wormgear_poincare_t.h"
+#include "lcmtypes/wormgear_state_t.h"
+#include "lcmtypes/wormgear_status_t.h"
+#include "lcmtypes/wormgear_tick_t.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <lcm/eventlog.h>
+#include <math.h>
+#include <regex.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+enum { T_UNKNOWN = -1 };
+
+typedef struct chan {
+    char *name;
+    int type;                 /* index in types[], or T_UNKNOWN */
+    int64_t hash;
+    long msgs, samples, bad;
+    long long bytes;
+    int64_t t0, t1;           /* log timestamps, us */
+    int64_t last_seq;
+    int have_seq;
+    long gaps, missing, restarts;
+    FILE *csv;
+    int ncols;                /* params_t / poincare_t: columns fixed by the first message */
+} chan;
+
+typedef struct log_run {
+    const char *path, *out, *pattern;
+    int export_, quiet;
+    regex_t re;
+    int has_re;
+    chan *ch;
+    int nch, cap;
+    long events;
+    int64_t t0, t1;
+} log_run;
+
+/* ---- CSV helpers ------------------------------------------------------------- */
+
+static void cs(FILE *f, const char *s) /* a string cell, quoted when needed */
+{
+    if (!s)
+        s = "";
+    if (!strpbrk(s, ",\"\n\r")) {
+        fputs(s, f);
+        return;
+    }
+    fputc('"', f);
+    for (; *s; s++) {
+        if (*s == '"')
+            fputc('"', f);
+        fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
+static void cd(FILE *f, double v) { fprintf(f, ",%.17g", v); }
+static void ci(FILE *f, long long v) { fprintf(f, ",%lld", v); }
+static void csc(FILE *f, const char *s) { fputc(',', f), cs(f, s); }
+
+static void head(FILE *f, const char *cols) { fprintf(f, "log_utime,utime,seq,%s\n", cols); }
+
+static void lead(FILE *f, int64_t ts, int64_t utime, int64_t seq)
+{
+    fprintf(f, "%lld,%lld,%lld", (long long)ts, (long long)utime, (long long)seq);
+}
+
+static const char *const contact_names[7] = {"mesh", "x1", "y1", "z1", "x2", "y2", "z2"};
+static const char *const kind_names[4] = {"separation", "drive_impact", "back_impact",
+                                          "back_release"};
+
+/* ---- one row writer per type: decode, write, return samples (-1 bad) -------- */
+
+#define DECODE_OR_FAIL(T, msg, ev)                                                         \
+    T msg;                                                                                 \
+    if (T##_decode((ev)->data, 0, (ev)->datalen, &msg) < 0)                                \
+        return -1;
+
+static int rows_state(chan *c, const lcm_eventlog_event_t *ev)
+{
+    DECODE_OR_FAIL(wormgear_state_t, m, ev);
+    FILE *f = c->csv;
+    if (f && c->msgs == 0)
+        head(f, "step0,decimation,i,tau,t_s,omega,xn,dxn,force,fb_x1,fb_y1,fb_z1,fb_x2,fb_y2,fb_z2");
+    for (int i = 0; f && i < m.n; i++) {
+        lead(f, ev->timestamp, m.utime, m.seq);
+        ci(f, m.step0), ci(f, m.decimation), ci(f, i);
+        cd(f, m.tau[i]), cd(f, m.t_s[i]), cd(f, m.omega[i]), cd(f, m.xn[i]), cd(f, m.dxn[i]);
+        cd(f, m.force[i]), cd(f, m.fb_x1[i]), cd(f, m.fb_y1[i]), cd(f, m.fb_z1[i]);
+        cd(f, m.fb_x2[i]), cd(f, m.fb_y2[i]), cd(f, m.fb_z2[i]);
+        fputc('\n', f);
+    }
+    int n = m.n;
+    wormgear_state_t_decode_cleanup(&m);
+    return n;
+}
+
+static int rows_poincare(chan *c, const lcm_eventlog_event_t *ev)
+{
+    DECODE_OR_FAIL(wormgear_poincare_t, m, ev);
+    FILE *f = c->csv;
+    if (f && c->msgs == 0) {
+        c->ncols = m.nstate;
+        fprintf(f, "log_utime,utime,seq,i,period,tau,t_s,omega,xn,dxn,force,min_xn,max_xn,"
+                   "motion,impacts");
+        for (int k = 0; k < m.nstate; k++)
+            fprintf(f, ",y%d", k);
+        fputc('\n', f);
+    }
+    for (int i = 0; f && i < m.n; i++) {
+        lead(f, ev->timestamp, m.utime, m.seq);
+        ci(f, i), ci(f, m.period[i]);
+        cd(f, m.tau[i]), cd(f, m.t_s[i]), cd(f, m.omega[i]), cd(f, m.xn[i]), cd(f, m.dxn[i]);
+        cd(f, m.force[i]), cd(f, m.min_xn[i]), cd(f, m.max_xn[i]);
+        ci(f, m.motion[i]), ci(f, m.impacts[i]);
+        for (int k = 0; k < c->ncols; k++)
+            k < m.nstate ? cd(f, m.y[i][k]) : (void)fputc(',', f);
+        fputc('\n', f);
+    }
+    int n = m.n;
+    wormgear_poincare_t_decode_cleanup(&m);
+    return n;
+}
+
+static int rows_contact(chan *c, const lcm_eventlog_event_t *ev)
+{
+    DECODE_OR_FAIL(wormgear_contact_t, m, ev);
+    FILE *f = c->csv;
+    if (f && c->msgs == 0)
+        head(f, "i,tau,t_s,velocity,period,contact,kind,contact_name,kind_name");
+    for (int i = 0; f && i < m.n; i++) {
+        lead(f, ev->timestamp, m.utime, m.seq);
+        ci(f, i), cd(f, m.tau[i]), cd(f, m.t_s[i]), cd(f, m.velocity[i]), ci(f, m.period[i]);
+        ci(f, m.contact[i]), ci(f, m.kind[i]);
+        csc(f, m.contact[i] >= 0 && m.contact[i] < 7 ? contact_names[m.contact[i]] : "?");
+        csc(f, m.kind[i] >= 0 && m.kind[i] < 4 ? kind_names[m.kind[i]] : "?");
+        fputc('\n', f);
+    }
+    int n = m.n;
+    wormgear_contact_t_decode_cleanup(&m);
+    return n;
+}
+
+static int rows_status(chan *c, const lcm_eventlog_event_t *ev)
+{
+    DECODE_OR_FAIL(wormgear_status_t, m, ev);
+    FILE *f = c->csv;
+    if (f && c->msgs == 0)
+        head(f, "scene,mode,rate,run,health,fault,tau,t_s,omega,steps,period,steps_per_period,"
+                "rtf,lag_s,overruns,loop_mean_us,loop_max_us,steps_per_s,cpu_share,"
+                "msgs_dropped,cmds_accepted,cmds_refused,motion,impacts_per_period,regime,"
+                "ramp_active,uptime_s");
+    if (f) {
+        lead(f, ev->timestamp, m.utime, m.seq);
+        csc(f, m.scene), csc(f, m.mode), cd(f, m.rate), csc(f, m.run), csc(f, m.health);
+        csc(f, m.fault), cd(f, m.tau), cd(f, m.t_s), cd(f, m.omega), ci(f, m.steps);
+        ci(f, m.period), ci(f, m.steps_per_period), cd(f, m.rtf), cd(f, m.lag_s);
+        ci(f, m.overruns), cd(f, m.loop_mean_us), cd(f, m.loop_max_us), cd(f, m.steps_per_s);
+        cd(f, m.cpu_share), ci(f, m.msgs_dropped), ci(f, m.cmds_accepted);
+        ci(f, m.cmds_refused), csc(f, m.motion), cd(f, m.impacts_per_period);
+        csc(f, m.regime), ci(f, m.ramp_active), cd(f, m.uptime_s);
+        fputc('\n', f);
+    }
+    wormgear_status_t_decode_cleanup(&m);
+    return 1;
+}
+
+/* PARAMS: the scalars, then one column per parameter (named by the first
+ * message; later messages are matched by name). */
+static int rows_params(chan *c, const lcm_eventlog_event_t *ev)
+{
+    DECODE_OR_FAIL(wormgear_params_t, m, ev);
+    FILE *f = c->csv;
+    if (f && c->msgs == 0) {
+        c->ncols = m.n;
+        fprintf(f, "log_utime,utime,seq,reason,cmd_client,cmd_seq,scene,model,stepper,"
+                   "steps_per_period,omega_n_rad_s,length_m,mesh_stiffness_N_m,tau,ramp_active,"
+                   "ramp_param,ramp_from,ramp_to,ramp_tau0,ramp_duration_tau");
+        for (int i = 0; i < m.n; i++)
+            fprintf(f, ",%s", m.name[i]);
+        fputc('\n', f);
+    }
+    if (f) {
+        lead(f, ev->timestamp, m.utime, m.seq);
+        csc(f, m.reason), csc(f, m.cmd_client), ci(f, m.cmd_seq), csc(f, m.scene);
+        csc(f, m.model), csc(f, m.stepper), ci(f, m.steps_per_period), cd(f, m.omega_n_rad_s);
+        cd(f, m.length_m), cd(f, m.mesh_stiffness_N_m), cd(f, m.tau), ci(f, m.ramp_active);
+        csc(f, m.ramp_param), cd(f, m.ramp_from), cd(f, m.ramp_to), cd(f, m.ramp_tau0);
+        cd(f, m.ramp_duration_tau);
+        for (int i = 0; i < c->ncols; i++)
+            i < m.n ? cd(f, m.value[i]) : (void)fputc(',', f);
+        fputc('\n', f);
+    }
+    wormgear_params_t_decode_cleanup(&m);
+    return 1;
+}
+
+static int rows_cmd(chan *c, const lcm_eventlog_event_t *ev)
+{
+    DECODE_OR_FAIL(wormgear_cmd_t, m, ev);
+    FILE *f = c->csv;
+    if (f && c->msgs == 0)
+        head(f, "client,op,params,has_from,from,duration,unit,nsteps,name,rate");
+    if (f) {
+        char buf[2048] = "";
+        size_t len = 0;
+        for (int i = 0; i < m.nparams && len < sizeof buf - 64; i++)
+            len += (size_t)snprintf(buf + len, sizeof buf - len, "%s%s=%.17g", i ? ";" : "",
+                                    m.names[i], m.values[i]);
+        lead(f, ev->timestamp, m.utime, m.seq);
+        csc(f, m.client), csc(f, m.op), csc(f, buf), ci(f, m.has_from), cd(f, m.from);
+        cd(f, m.duration), csc(f, m.unit), ci(f, m.nsteps), csc(f, m.name), cd(f, m.rate);
+        fputc('\n', f);
+    }
+    wormgear_cmd_t_decode_cleanup(&m);
+    return 1;
+}
+
+static int rows_ack(chan *c, const lcm_eventlog_event_t *ev)
+{
+    DECODE_OR_FAIL(wormgear_ack_t, m, ev);
+    FILE *f = c->csv;
+    if (f && c->msgs == 0)
+        head(f, "client,cmd_seq,op,accepted,status,code,message,tau,t_s,steps");
+    if (f) {
+        lead(f, ev->timestamp, m.utime, m.seq);
+        csc(f, m.client), ci(f, m.cmd_seq), csc(f, m.op), ci(f, m.accepted), ci(f, m.status);
+        csc(f, m.code), csc(f, m.message), cd(f, m.tau), cd(f, m.t_s), ci(f, m.steps);
+        fputc('\n', f);
+    }
+    wormgear_ack_t_decode_cleanup(&m);
+    return 1;
+}
+
+static int rows_tick(chan *c, const lcm_eventlog_event_t *ev)
+{
+    DECODE_OR_FAIL(wormgear_tick_t, m, ev);
+    if (c->csv && c->msgs == 0)
+        head(c->csv, "nsteps");
+    if (c->csv) {
+        lead(c->csv, ev->timestamp, m.utime, m.seq);
+        ci(c->csv, m.nsteps);
+        fputc('\n', c->csv);
+    }
+    wormgear_tick_t_decode_cleanup(&m);
+    return 1;
+}
+
+static const struct type {
+    const char *name;
+    int64_t (*hash)(void);
+    int (*rows)(chan *c, const lcm_eventlog_event_t *ev);
+} types[] = {
+    {"state_t", __wormgear_state_t_get_hash, rows_state},
+    {"poincare_t", __wormgear_poincare_t_get_hash, rows_poincare},
+    {"contact_t", __wormgear_contact_t_get_hash, rows_contact},
+    {"status_t", __wormgear_status_t_get_hash, rows_status},
+    {"params_t", __wormgear_params_t_get_hash, rows_params},
+    {"cmd_t", __wormgear_cmd_t_get_hash, rows_cmd},
+    {"ack_t", __wormgear_ack_t_get_hash, rows_ack},
+    {"tick_t", __wormgear_tick_t_get_hash, rows_tick},
+};
+enum { NTYPES = sizeof types / sizeof types[0] };
+
+/* ---- reading ------------------------------------------------------------------- */
+
+static int64_t be64(const void *p)
+{
+    const unsigned char *b = p;
+    uint64_t v = 0;
+    for (int i = 0; i < 8; i++)
+        v = v << 8 | b[i];
+    return (int64_t)v;
+}
+
+static int type_of(int64_t hash)
+{
+    for (int t = 0; t < NTYPES; t++)
+        if (types[t].hash() == hash)
+            return t;
+    return T_UNKNOWN;
+}
+
+/* The file name of a channel's CSV: DIR/CHANNEL.csv, odd characters as '_'. */
+static FILE *open_csv(const log_run *r, const char *channel, char *path, size_t len)
+{
+    size_t n = (size_t)snprintf(path, len, "%s/", r->out);
+    for (const char *s = channel; *s && n + 5 < len; s++)
+        path[n++] = (*s == '/' || *s == '\\' || (unsigned char)*s < 0x20) ? '_' : *s;
+    snprintf(path + n, len - n, ".csv");
+    return fopen(path, "w");
+}
+
+/* The channel of ev, added on first sight (type from the fingerprint). */
+static chan *find_chan(log_run *r, const lcm_eventlog_event_t *ev)
+{
+    for (int i = 0; i < r->nch; i++)
+        if (strcmp(r->ch[i].name, ev->channel) == 0)
+            return &r->ch[i];
+    if (r->nch == r->cap) {
+        int cap = r->cap ? 2 * r->cap : 16;
+        chan *c = realloc(r->ch, sizeof *c * (size_t)cap);
+        if (!c)
+            return NULL;
+        r->ch = c, r->cap = cap;
+    }
+    chan *c = &r->ch[r->nch++];
+    *c = (chan){.name = strdup(ev->channel), .type = T_UNKNOWN};
+    c->hash = ev->datalen >= 8 ? be64(ev->data) : 0;
+    c->type = ev->datalen >= 8 ? type_of(c->hash) : T_UNKNOWN;
+    c->t0 = ev->timestamp;
+    return c;
+}
+
+/* Every wormgear type starts utime, seq: count gaps and restarts. */
+static void note_seq(chan *c, const lcm_eventlog_event_t *ev)
+{
+    if (c->type == T_UNKNOWN || ev->datalen < 24 || !strcmp(types[c->type].name, "cmd_t"))
+        return; /* cmd_t seq counts per client, not per channel */
+    int64_t seq = be64((const char *)ev->data + 16);
+    if (c->have_seq && seq > c->last_seq + 1)
+        c->gaps++, c->missing += seq - c->last_seq - 1;
+    else if (c->have_seq && seq <= c->last_seq)
+        c->restarts++;
+    c->last_seq = seq;
+    c->have_seq = 1;
+}
+
+static int event(log_run *r, const lcm_eventlog_event_t *ev)
+{
+    if (r->has_re && regexec(&r->re, ev->channel, 0, NULL, 0) != 0)
+        return 0;
+    chan *c = find_chan(r, ev);
+    if (!c || !c->name)
+        return -1;
+    if (r->export_ && c->msgs == 0 && c->type != T_UNKNOWN) {
+        char path[4096];
+        if (!(c->csv = open_csv(r, ev->channel, path, sizeof path))) {
+            fprintf(stderr, "wglog: cannot write %s: %s\n", path, strerror(errno));
+            return -1;
+        }
+    }
+    int n = c->type == T_UNKNOWN ? 0 : types[c->type].rows(c, ev);
+    if (n < 0)
+        c->bad++;
+    else
+        c->samples += n;
+    note_seq(c, ev);
+    c->msgs++;
+    c->bytes += ev->datalen;
+    c->t1 = ev->timestamp;
+    return 0;
+}
+
+static int read_log(log_run *r)
+{
+    lcm_eventlog_t *log = lcm_eventlog_create(r->path, "r");
+    if (!log) {
+        fprintf(stderr, "wglog: cannot open log '%s': %s\n", r->path, strerror(errno));
+        return 1;
+    }
+    int rc = 0;
+    lcm_eventlog_event_t *ev;
+    while (!rc && (ev = lcm_eventlog_read_next_event(log))) {
+        if (r->events++ == 0)
+            r->t0 = ev->timestamp;
+        r->t1 = ev->timestamp;
+        rc = event(r, ev) ? 1 : 0;
+        lcm_eventlog_free_event(ev);
+    }
+    lcm_eventlog_destroy(log);
+    return rc;
+}
+
+/* ---- output ---------------------------------------------------------------------- */
+
+static int by_name(const void *a, const void *b)
+{
+    return strcmp(((const chan *)a)->name, ((const chan *)b)->name);
+}
+
+static void summary(log_run *r, FILE *f)
+{
+    double span = (r->t1 - r->t0) * 1e-6;
+    fprintf(f, "log %s: %ld events, %.3f s, %d channels\n", r->path, r->events, span, r->nch);
+    qsort(r->ch, (size_t)r->nch, sizeof *r->ch, by_name);
+    fprintf(f, "%-24s %-11s %8s %9s %11s %9s %5s %8s %8s %6s\n", "channel", "type", "msgs",
+            "samples", "bytes", "rate_hz", "gaps", "missing", "restarts", "bad");
+    for (int i = 0; i < r->nch; i++) {
+        const chan *c = &r->ch[i];
+        double s = (c->t1 - c->t0) * 1e-6, rate = c->msgs > 1 && s > 0 ? (c->msgs - 1) / s : 0;
+        fprintf(f, "%-24s %-11s %8ld %9ld %11lld %9.2f %5ld %8ld %8ld %6ld\n", c->name,
+                c->type == T_UNKNOWN ? "unknown" : types[c->type].name, c->msgs, c->samples, c->bytes,
+                rate, c->gaps, c->missing, c->restarts, c->bad);
+    }
+}
+
+static int close_all(log_run *r)
+{
+    int rc = 0;
+    for (int i = 0; i < r->nch; i++) {
+        chan *c = &r->ch[i];
+        if (c->csv && (ferror(c->csv) | fclose(c->csv))) {
+            fprintf(stderr, "wglog: error writing the CSV of %s\n", c->name);
+            rc = 1;
+        }
+        c->csv = NULL;
+        if (r->export_ && c->type == T_UNKNOWN && !r->quiet)
+            fprintf(stderr, "wglog: %s: not a wormgear type (fingerprint %016llx), skipped\n",
+                    c->name, (unsigned long long)c->hash);
+    }
+    return rc;
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: wglog summary LOG [options]\n"
+            "       wglog export LOG [options]\n"
+            "Summarise an LCM log of wormgeard (channels, types, counts, rates, seq gaps), or\n"
+            "export each channel to DIR/CHANNEL.csv with the type's fields as columns (one row\n"
+            "per sample for STATE, POINCARE, CONTACT). Record logs with\n"
+            "  lcm-logger --lcm-url='udpm://239.255.76.67:7667?ttl=0' run.lcmlog\n\n"
+            "  -o, --out DIR         export: output directory, created if missing (default .)\n"
+            "  -c, --channel REGEX   only channels matching this POSIX extended regex, anchored\n"
+            "                        (default: all, i.e. '.*')\n"
+            "  -s, --summary         export: also print the summary\n"
+            "  -q, --quiet           no notes about skipped channels\n"
+            "  -h, --help            this text\n\n"
+            "Exit status: 0 ok, 1 unreadable log or unwritable output, 2 usage error.\n");
+}
+
+static int bad(const char *what, const char *val, const char *allowed)
+{
+    fprintf(stderr, "wglog: %s '%s': %s\n(try wglog --help)\n", what, val, allowed);
+    return 2;
+}
+
+static int parse(int argc, char **argv, log_run *r, int *also_summary)
+{
+    static const struct option lo[] = {{"out", 1, 0, 'o'},     {"channel", 1, 0, 'c'},
+                                       {"summary", 0, 0, 's'}, {"quiet", 0, 0, 'q'},
+                                       {"help", 0, 0, 'h'},    {0, 0, 0, 0}};
+    int c;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "o:c:sqh", lo, NULL)) != -1) {
+        switch (c) {
+        case 'o': r->out = optarg; break;
+        case 'c': r->pattern = optarg; break;
+        case 's': *also_summary = 1; break;
+        case 'q': r->quiet = 1; break;
+        case 'h': usage(stdout); exit(0);
+        default:
+            fprintf(stderr, "wglog: unknown option or missing value '%s'\n(try wglog --help)\n",
+                    argv[optind - 1]);
+            return 2;
+        }
+    }
+    if (argc - optind != 2)
+        return bad("arguments", argc > optind ? argv[optind] : "",
+                   "expected a command (summary or export) and a log file");
+    if (strcmp(argv[optind], "summary") && strcmp(argv[optind], "export"))
+        return bad("command", argv[optind], "one of summary, export");
+    r->export_ = !strcmp(argv[optind], "export");
+    r->path = argv[optind + 1];
+    if (r->pattern) {
+        char anchored[1024];
+        snprintf(anchored, sizeof anchored, "^(%s)$", r->pattern);
+        if (regcomp(&r->re, anchored, REG_EXTENDED | REG_NOSUB))
+            return bad("--channel", r->pattern, "a POSIX extended regular expression");
+        r->has_re = 1;
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    log_run r = {.out = "."};
+    int also = 0, rc = parse(argc, argv, &r, &also);
+    if (!rc && r.export_ && mkdir(r.out, 0777) && errno != EEXIST) {
+        fprintf(stderr, "wglog: cannot create --out directory '%s': %s\n", r.out, strerror(errno));
+        rc = 1;
+    }
+    if (!rc)
+        rc = read_log(&r);
+    rc |= close_all(&r);
+    if (!rc && (!r.export_ || also))
+        summary(&r, stdout);
+    for (int i = 0; i < r.nch; i++)
+        free(r.ch[i].name);
+    free(r.ch);
+    if (r.has_re)
+        regfree(&r.re);
+    return rc;
+}

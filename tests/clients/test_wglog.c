@@ -1,0 +1,264 @@
+/* test_wglog.c - wglog on a synthetic log written with the eventlog API:
+ * every wormgear type, a seq gap, a restart, a foreign channel; the summary
+ * counts them, the CSV holds the published values bit-exactly, strings are
+ * quoted, bad usage exits 2 naming the option. $WGLOG is the binary. */
+#include "test.h"
+
+#include "lcmtypes/wormgear_ack_t.h"
+#include "lcmtypes/wormgear_cmd_t.h"
+#include "lcmtypes/wormgear_contact_t.h"
+#include "lcmtypes/wormgear_params_t.h"
+#include "lcmtypes/wormgear_poincare_t.h"
+#include "lcmtypes/wormgear_state_t.h"
+#include "lcmtypes/wormgear_status_t.h"
+#include "lcmtypes/wormgear_tick_t.h"
+
+#include <lcm/eventlog.h>
+#include <stdint.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static char dir[64], logpath[128];
+
+static void put(lcm_eventlog_t *l, const char *ch, int64_t ts, void *buf, int len)
+{
+    lcm_eventlog_event_t ev = {0, ts, (int32_t)strlen(ch), len, (char *)ch, buf};
+    ASSERT_EQ_INT(lcm_eventlog_write_event(l, &ev), 0);
+}
+
+#define PUT(T, l, ch, ts, msg)                                                             \
+    do {                                                                                   \
+        int n_ = T##_encoded_size(msg);                                                    \
+        char *b_ = malloc((size_t)n_);                                                     \
+        ASSERT_EQ_INT(T##_encode(b_, 0, n_, msg), n_);                                     \
+        put(l, ch, ts, b_, n_);                                                            \
+        free(b_);                                                                          \
+    } while (0)
+
+/* x_n of STATE message seq, sample i: not exactly representable decimals. */
+static double xn_of(int64_t seq, int i) { return seq + i / 7.0 + 1e-13 / 3.0; }
+
+static void write_states(lcm_eventlog_t *l)
+{
+    static const int64_t seqs[] = {0, 1, 2, 4, 5}; /* 3 is missing */
+    for (int k = 0; k < 5; k++) {
+        double v[13][3];
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 13; j++)
+                v[j][i] = j == 3 ? xn_of(seqs[k], i) : sqrt(2.0) * (j + 1) + i;
+        wormgear_state_t m = {.utime = 1000 + k, .seq = seqs[k], .step0 = 30 * seqs[k],
+                              .decimation = 10, .n = 3, .tau = v[0], .t_s = v[1],
+                              .omega = v[2], .xn = v[3], .dxn = v[4], .force = v[5],
+                              .fb_x1 = v[6], .fb_y1 = v[7], .fb_z1 = v[8], .fb_x2 = v[9],
+                              .fb_y2 = v[10], .fb_z2 = v[11]};
+        PUT(wormgear_state_t, l, "RIG1_STATE", 1000000 + 20000 * k, &m);
+    }
+}
+
+static void write_others(lcm_eventlog_t *l)
+{
+    static const int64_t sseq[] = {0, 1, 0}; /* a restart */
+    for (int k = 0; k < 3; k++) {
+        wormgear_status_t s = {.seq = sseq[k], .scene = "table3", .mode = "realtime",
+                               .run = "running", .health = "ok", .fault = "",
+                               .motion = "single_sided", .regime = "periodic", .omega = 0.7};
+        PUT(wormgear_status_t, l, "RIG1_STATUS", 1000000 + 500000 * k, &s);
+    }
+    double y[2][14] = {{0}}, d2[2] = {0.5, 0.25};
+    double *rows[2] = {y[0], y[1]};
+    int64_t per[2] = {7, 8};
+    int8_t mot[2] = {1, 1};
+    int32_t imp[2] = {1, 2};
+    y[1][13] = -1.0 / 3.0;
+    wormgear_poincare_t p = {.seq = 0, .nstate = 14, .n = 2, .period = per, .tau = d2,
+                             .t_s = d2, .omega = d2, .xn = d2, .dxn = d2, .force = d2,
+                             .min_xn = d2, .max_xn = d2, .motion = mot, .impacts = imp, .y = rows};
+    PUT(wormgear_poincare_t, l, "RIG1_POINCARE", 1100000, &p);
+    int8_t cc[2] = {0, 4}, kk[2] = {1, 2};
+    wormgear_contact_t c = {.seq = 0, .n = 2, .tau = d2, .t_s = d2, .velocity = d2,
+                            .period = per, .contact = cc, .kind = kk};
+    PUT(wormgear_contact_t, l, "RIG1_CONTACT", 1100000, &c);
+    char *names[2] = {"omega", "xi_p"}, *units[2] = {"1", "1"};
+    double val[2] = {0.7, 0.08};
+    int8_t ramp[2] = {1, 1};
+    wormgear_params_t pa = {.seq = 0, .reason = "start", .cmd_client = "", .cmd_seq = -1,
+                            .scene = "table3", .model = "consistent", .stepper = "rk4-event",
+                            .n = 2, .name = names, .unit = units, .value = val, .min = val,
+                            .max = val, .def = val, .rampable = ramp, .ramp_param = ""};
+    PUT(wormgear_params_t, l, "RIG1_PARAMS", 1000001, &pa);
+    wormgear_cmd_t cmd = {.seq = 9, .client = "t", .op = "set", .nparams = 2, .names = names,
+                          .values = val, .unit = "", .name = ""};
+    PUT(wormgear_cmd_t, l, "RIG1_CMD", 1200000, &cmd);
+    wormgear_ack_t a = {.seq = 0, .client = "t", .cmd_seq = 9, .op = "set", .code = "ERANGE",
+                        .message = "omega = 99 out of range [0.01, 10], \"said\" the table"};
+    PUT(wormgear_ack_t, l, "RIG1_ACK", 1200100, &a);
+    wormgear_tick_t t = {.seq = 0, .nsteps = 5};
+    PUT(wormgear_tick_t, l, "RIG1_TICK", 1300000, &t);
+    put(l, "OTHER", 1300001, "not an lcm message", 18);
+}
+
+/* Run the shell command; its stdout into out (may be NULL); exit status. */
+static int run(const char *cmd, char *out, size_t len)
+{
+    FILE *p = popen(cmd, "r");
+    if (!p)
+        return -1;
+    size_t n = out ? fread(out, 1, len - 1, p) : 0;
+    if (out)
+        out[n] = 0;
+    int st = pclose(p);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static void setup(void)
+{
+    snprintf(dir, sizeof dir, "/tmp/test_wglog.XXXXXX");
+    ASSERT_TRUE(mkdtemp(dir) != NULL);
+    snprintf(logpath, sizeof logpath, "%s/t.lcmlog", dir);
+    lcm_eventlog_t *l = lcm_eventlog_create(logpath, "w");
+    ASSERT_TRUE(l != NULL);
+    write_states(l);
+    write_others(l);
+    lcm_eventlog_destroy(l);
+}
+
+static const char *wglog(void)
+{
+    const char *w = getenv("WGLOG");
+    return w ? w : "wglog";
+}
+
+static void test_summary(void)
+{
+    char cmd[512], out[8192];
+    snprintf(cmd, sizeof cmd, "%s summary %s", wglog(), logpath);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 0);
+    fputs(out, stdout);
+    /* channel type msgs samples bytes rate gaps missing restarts bad */
+    char *s = strstr(out, "RIG1_STATE ");
+    long msgs = 0, samples = 0, gaps = 0, missing = 0, restarts = 0;
+    double rate = 0;
+    ASSERT_TRUE(s && sscanf(s, "RIG1_STATE state_t %ld %ld %*d %lf %ld %ld %ld", &msgs,
+                            &samples, &rate, &gaps, &missing, &restarts) == 6);
+    ASSERT_EQ_INT(msgs, 5);
+    ASSERT_EQ_INT(samples, 15);
+    ASSERT_NEAR(rate, 50.0, 1e-9); /* 4 intervals over 80 ms */
+    ASSERT_EQ_INT(gaps, 1);
+    ASSERT_EQ_INT(missing, 1);
+    ASSERT_EQ_INT(restarts, 0);
+    s = strstr(out, "RIG1_STATUS ");
+    ASSERT_TRUE(s && sscanf(s, "RIG1_STATUS status_t %ld %*d %*d %*f %ld %ld %ld", &msgs, &gaps,
+                            &missing, &restarts) == 4);
+    ASSERT_EQ_INT(restarts, 1);
+    ASSERT_CONTAINS(out, "RIG1_POINCARE");
+    ASSERT_CONTAINS(out, "RIG1_TICK");
+    ASSERT_CONTAINS(out, "OTHER");
+    ASSERT_CONTAINS(out, "15 events");
+}
+
+/* Column `col` (0-based) of line `row` (0 = header) of a CSV, as text. */
+static int cell(const char *path, int row, int col, char *buf, size_t len)
+{
+    FILE *f = fopen(path, "r");
+    char line[8192];
+    int r = -1;
+    for (int i = 0; f && fgets(line, sizeof line, f); i++)
+        if (i == row) {
+            char *p = line;
+            for (int c = 0; c < col && p; c++)
+                p = strchr(p, ',') ? strchr(p, ',') + 1 : NULL;
+            if (p) {
+                snprintf(buf, len, "%.*s", (int)strcspn(p, ",\n"), p);
+                r = 0;
+            }
+        }
+    if (f)
+        fclose(f);
+    return r;
+}
+
+static void test_export(void)
+{
+    char cmd[512], path[256], c[256];
+    snprintf(cmd, sizeof cmd, "%s export %s --out %s/csv -q", wglog(), logpath, dir);
+    ASSERT_EQ_INT(run(cmd, NULL, 0), 0);
+    snprintf(path, sizeof path, "%s/csv/RIG1_STATE.csv", dir);
+    ASSERT_EQ_INT(cell(path, 0, 9, c, sizeof c), 0);
+    ASSERT_STR(c, "xn");
+    static const int64_t seqs[] = {0, 1, 2, 4, 5};
+    for (int r = 1; r <= 15; r++) {
+        int64_t seq = seqs[(r - 1) / 3];
+        int i = (r - 1) % 3;
+        ASSERT_EQ_INT(cell(path, r, 2, c, sizeof c), 0);
+        ASSERT_EQ_INT(atoll(c), seq);
+        ASSERT_EQ_INT(cell(path, r, 9, c, sizeof c), 0);
+        ASSERT_TRUE(strtod(c, NULL) == xn_of(seq, i)); /* bit-exact */
+    }
+    ASSERT_TRUE(cell(path, 16, 0, c, sizeof c) < 0); /* 15 samples, no more */
+    snprintf(path, sizeof path, "%s/csv/RIG1_POINCARE.csv", dir);
+    ASSERT_EQ_INT(cell(path, 0, 28, c, sizeof c), 0);
+    ASSERT_STR(c, "y13");
+    ASSERT_EQ_INT(cell(path, 2, 28, c, sizeof c), 0);
+    ASSERT_TRUE(strtod(c, NULL) == -1.0 / 3.0);
+    snprintf(path, sizeof path, "%s/csv/RIG1_CONTACT.csv", dir);
+    ASSERT_EQ_INT(cell(path, 2, 10, c, sizeof c), 0);
+    ASSERT_STR(c, "x2");
+    snprintf(path, sizeof path, "%s/csv/RIG1_PARAMS.csv", dir);
+    ASSERT_EQ_INT(cell(path, 0, 21, c, sizeof c), 0);
+    ASSERT_STR(c, "xi_p");
+    snprintf(path, sizeof path, "%s/csv/RIG1_ACK.csv", dir);
+    FILE *f = fopen(path, "r");
+    char all[2048] = "";
+    ASSERT_TRUE(f && fread(all, 1, sizeof all - 1, f) > 0);
+    if (f)
+        fclose(f);
+    ASSERT_CONTAINS(all, "\"omega = 99 out of range [0.01, 10], \"\"said\"\" the table\"");
+    snprintf(path, sizeof path, "%s/csv/OTHER.csv", dir);
+    ASSERT_TRUE(access(path, F_OK) != 0); /* foreign channel skipped */
+}
+
+static void test_channel_filter(void)
+{
+    char cmd[512], out[4096];
+    snprintf(cmd, sizeof cmd, "%s summary %s --channel 'RIG1_(STATE|ACK)'", wglog(), logpath);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 0);
+    ASSERT_CONTAINS(out, "2 channels");
+    ASSERT_TRUE(!strstr(out, "RIG1_STATUS"));
+}
+
+static void test_usage(void)
+{
+    char cmd[512], out[4096];
+    snprintf(cmd, sizeof cmd, "%s frobnicate %s 2>&1", wglog(), logpath);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 2);
+    ASSERT_CONTAINS(out, "command 'frobnicate': one of summary, export");
+    snprintf(cmd, sizeof cmd, "%s summary %s --channel '(' 2>&1", wglog(), logpath);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 2);
+    ASSERT_CONTAINS(out, "--channel '('");
+    snprintf(cmd, sizeof cmd, "%s summary %s/nonexistent.lcmlog 2>&1", wglog(), dir);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 1);
+    ASSERT_CONTAINS(out, "cannot open log");
+    snprintf(cmd, sizeof cmd, "%s --help", wglog());
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 0);
+    ASSERT_CONTAINS(out, "--out DIR");
+    ASSERT_CONTAINS(out, "(default .)");
+}
+
+static void test_cleanup(void)
+{
+    char cmd[256];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    ASSERT_EQ_INT(run(cmd, NULL, 0), 0);
+}
+
+static void test_all(void)
+{
+    setup();
+    test_summary();
+    test_export();
+    test_channel_filter();
+    test_usage();
+    test_cleanup();
+}
+
+TEST_MAIN(TEST(test_all))

@@ -1,0 +1,63 @@
+/* wgtap - test helper: print what a subscriber receives on <prefix>STATE and
+ * <prefix>POINCARE for SEC seconds, one line per sample:
+ *   STATE,seq,i,tau,xn      POINCARE,seq,i,period,xn
+ * with 17 significant digits (the same numbers wglog writes to its CSV).
+ * usage: wgtap URL PREFIX SEC */
+#include "lcmtypes/wormgear_poincare_t.h"
+#include "lcmtypes/wormgear_state_t.h"
+
+#include <lcm/lcm.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/select.h>
+#include <time.h>
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static void on_state(const lcm_recv_buf_t *rb, const char *ch, const wormgear_state_t *m, void *u)
+{
+    (void)rb, (void)ch, (void)u;
+    for (int i = 0; i < m->n; i++)
+        printf("STATE,%lld,%d,%.17g,%.17g\n", (long long)m->seq, i, m->tau[i], m->xn[i]);
+}
+
+static void on_pc(const lcm_recv_buf_t *rb, const char *ch, const wormgear_poincare_t *m, void *u)
+{
+    (void)rb, (void)ch, (void)u;
+    for (int i = 0; i < m->n; i++)
+        printf("POINCARE,%lld,%d,%lld,%.17g\n", (long long)m->seq, i, (long long)m->period[i],
+               m->xn[i]);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc != 4) {
+        fprintf(stderr, "usage: wgtap URL PREFIX SEC\n");
+        return 2;
+    }
+    lcm_t *l = lcm_create(argv[1]);
+    if (!l)
+        return 1;
+    char ch[128];
+    snprintf(ch, sizeof ch, "%sSTATE", argv[2]);
+    wormgear_state_t_subscribe(l, ch, on_state, NULL);
+    snprintf(ch, sizeof ch, "%sPOINCARE", argv[2]);
+    wormgear_poincare_t_subscribe(l, ch, on_pc, NULL);
+    double end = now() + atof(argv[3]);
+    for (double left; (left = end - now()) > 0;) {
+        int fd = lcm_get_fileno(l);
+        fd_set s;
+        FD_ZERO(&s);
+        FD_SET(fd, &s);
+        struct timeval tv = {(long)left, (long)((left - (long)left) * 1e6)};
+        if (select(fd + 1, &s, NULL, NULL, &tv) > 0)
+            lcm_handle(l);
+    }
+    lcm_destroy(l);
+    return 0;
+}
