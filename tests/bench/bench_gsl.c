@@ -5,7 +5,9 @@
  * within each repetition, each continuing its own trajectory on the settled
  * orbit; the ratios are taken per repetition and the median is reported.
  * Steps are h = 2 pi/(omega N), N = 128; GSL's local time restarts every
- * mesh period, as ours does.
+ * mesh period, as ours does. Also: the bare kernel (no driver bookkeeping)
+ * and the dependency-chain bound, calibrated by timing dependent adds in
+ * the same repetition. Times are thread CPU time (bench_common.h).
  * usage: bench_gsl [our steps per rep (2e6)] [reps (9)] */
 #include "bench_common.h"
 #include "wormgear/wg_scene.h"
@@ -64,6 +66,34 @@ static void bare_steps(const wg_sim *s, double *y, uint32_t *k, long n)
     *k = kk;
 }
 
+/* Calibration of the dependency-chain bound on this machine, now: ns per
+ * dependent double add (3 cycles on Zen 2/3, the VM's CPU), timed in the
+ * same repetition as the kernels, so frequency and CPU sharing cancel.
+ * CHAIN_* are the latency-weighted critical paths of one RK4 step of the
+ * kernels in daemon/model/wg_kernel.c, in cycles (docs/performance.md
+ * counts them: add/sub/mul 3, min/max/xor/shuffle 1). */
+enum { CHAIN_FULL = 118, CHAIN_TORS = 95 };
+
+static double dep_add_ns(long m)
+{
+    volatile double seed = 1.0;
+    double x = seed, c = seed * 1e-300;
+    double t0 = bench_now_ns();
+    for (long i = 0; i < m / 8; i++) {
+        x += c;
+        x += c;
+        x += c;
+        x += c;
+        x += c;
+        x += c;
+        x += c;
+        x += c;
+    }
+    double t = (bench_now_ns() - t0) / (double)(m / 8 * 8);
+    seed = x;
+    return t;
+}
+
 typedef struct row {
     const char *scene, *label;
     double omega;
@@ -77,7 +107,8 @@ int main(int argc, char **argv)
     long ng = n / 10 > 1000 ? n / 10 : 1000; /* GSL and hand RK4 are ~10x slower */
     static const row rows[] = {
         {"table3", "table3 (no impact)", 0.5},     {"table3", "table3 (impacting)", 0.7},
-        {"table3", "table3 (chaotic band)", 1.45}, {"lowfreq", "lowfreq", 0.5},
+        {"table3", "table3 (chaotic band)", 1.45}, {"table3", "table3 (real-time point)", 2.5},
+        {"lowfreq", "lowfreq", 0.5},
         {"realistic", "realistic", 0.5},           {"torsional", "torsional", 0.5},
     };
     gsl_set_error_handler_off();
@@ -85,7 +116,8 @@ int main(int argc, char **argv)
            ng, reps);
     printf("| scene | omega | kernel (rk4) | bare kernel ns/step | rk4 ns/step | rk4-event ns/step "
            "| GSL rk4 ns/step (RHS calls) | hand RK4 ns/step | GSL / rk4 | GSL / rk4-event "
-           "| hand / rk4 | rk4 / bare |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+           "| hand / rk4 | rk4 / bare | chain bound ns | bare / bound | rk4 / bound |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     char why[600], kname[64];
     for (unsigned r = 0; r < sizeof rows / sizeof rows[0]; r++) {
         wg_scene sc;
@@ -118,6 +150,8 @@ int main(int argc, char **argv)
         uint32_t kk = 0;
         memcpy(yk, s[0].y, sizeof yk);
         double t[5][MAXREP], rg[MAXREP], rge[MAXREP], rh[MAXREP], rb[MAXREP];
+        double bound[MAXREP], bb[MAXREP], br[MAXREP];
+        int chain = s[0].kflags & 32u /* KF_BEAR */ ? CHAIN_FULL : CHAIN_TORS;
         uint64_t calls0 = g.o.nrhs;
         for (int i = 0; i < reps; i++) {
             for (int st = 0; st < 2; st++) {
@@ -138,6 +172,9 @@ int main(int argc, char **argv)
             bare_steps(&s[0], yk, &kk, n);
             t[4][i] = (bench_now_ns() - t0) / (double)n;
             rb[i] = t[0][i] / t[4][i];
+            bound[i] = chain / 3.0 * dep_add_ns(20000000);
+            bb[i] = t[4][i] / bound[i];
+            br[i] = t[0][i] / bound[i];
             rg[i] = t[2][i] / t[0][i];
             rge[i] = t[2][i] / t[1][i];
             rh[i] = t[3][i] / t[0][i];
@@ -146,11 +183,12 @@ int main(int argc, char **argv)
         if (!isfinite(g.y[0]) || !isfinite(yh[0]) || !isfinite(yk[0]))
             fprintf(stderr, "bench_gsl: GSL or hand RK4 went non-finite on %s\n", rows[r].label);
         printf("| %s | %.2f | %s | %.1f | %.1f | %.1f | %.0f (%.0f) | %.0f | **%.2fx** | %.2fx | "
-               "%.2fx | %.2fx |\n",
+               "%.2fx | %.2fx | %.1f (%d cyc) | %.2fx | **%.2fx** |\n",
                rows[r].label, rows[r].omega, kname, bench_median(t[4], reps), bench_median(t[0], reps),
                bench_median(t[1], reps), bench_median(t[2], reps), calls,
                bench_median(t[3], reps), bench_median(rg, reps), bench_median(rge, reps),
-               bench_median(rh, reps), bench_median(rb, reps));
+               bench_median(rh, reps), bench_median(rb, reps), bench_median(bound, reps), chain,
+               bench_median(bb, reps), bench_median(br, reps));
         fflush(stdout);
         gsl_odeiv2_step_free(g.st);
         wg_sim_fini(&s[0]);
@@ -179,6 +217,8 @@ int main(int argc, char **argv)
         }
         te[i] = (bench_now_ns() - t0) / (double)m;
     }
+    printf("\nreal time at omega 2.5, N 128 is 1.62 M steps/s (MODEL.md s3): the share of one core "
+           "is ns/step x 1.62e-3 (table3 row at 2.5).\n");
     printf("\nreference wg_rhs: %.1f ns/call; wg_exc_eval (libm): %.1f ns/call (checksum %.3g)\n",
            bench_median(tr, reps), bench_median(te, reps), acc + y[6]);
     return 0;
