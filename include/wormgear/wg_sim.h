@@ -97,6 +97,8 @@ typedef struct wg_sim {
     double tau, tau_c;    /* time and its compensation term (Kahan) */
     double h;             /* step for constant omega */
     double hmax;          /* RK4 stability limit for the current parameters */
+    wg_params hkey;       /* parameters hkey_hmax was computed for (cache) */
+    double hkey_hmax;     /* 0: no cached value */
     wg_ramp ramp;
     wg_kcoef kc;
     wg_kernel_fn kernel;  /* specialised kernel for the current parameters */
