@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
-# Set up, build and run wormgear's main job on the default scene (table3).
-# Run as root on Debian 12. Extra arguments go to the program.
+# Set up, build and run wormgear's main job: the wormgeard daemon in the
+# foreground on the default scene (table3), at physical real time, printing a
+# one-line status each second, on the host-local LCM URL
+# udpm://239.255.76.67:7667?ttl=0. Stop it with Ctrl-C. Run as root on
+# Debian 12. Extra arguments go to wormgeard (see wormgeard --help).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build/release -j"$(nproc)" >/dev/null
 export WG_SCENE_PATH=$PWD/scenes
-exec build/release/clients/wgsim --scene table3 "$@"
+mkdir -p "${WG_STATE_DIR:=/var/lib/wormgeard}"
+exec build/release/daemon/wormgeard --foreground --state-dir "$WG_STATE_DIR" "$@"
