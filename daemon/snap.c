@@ -33,19 +33,7 @@ void snap_take(snap *s, const wg_sim *sim, const char *scene)
 {
     memset(s, 0, sizeof *s);
     snprintf(s->scene, sizeof s->scene, "%s", scene);
-    s->model = sim->cfg.model;
-    s->stepper = sim->cfg.stepper;
-    s->steps_per_period = sim->cfg.steps_per_period;
-    s->p = sim->p;
-    memcpy(s->y, sim->y, sizeof s->y);
-    s->k = sim->k;
-    s->tau = sim->tau;
-    s->tau_c = sim->tau_c;
-    s->period = sim->period;
-    s->steps = sim->steps;
-    s->ramp = sim->ramp;
-    s->cur = sim->cur;
-    s->last = sim->last;
+    wg_sim_snapshot(sim, &s->w);
 }
 
 static void put_period(FILE *f, const char *key, const wg_period *w)
@@ -57,18 +45,18 @@ static void put_period(FILE *f, const char *key, const wg_period *w)
 static void put_all(FILE *f, const snap *s)
 {
     fprintf(f, "%s\nscene = %s\nmodel = %d\nstepper = %d\nsteps_per_period = %d\n", SNAP_MAGIC,
-            s->scene, s->model, s->stepper, s->steps_per_period);
+            s->scene, s->w.model, s->w.stepper, s->w.steps_per_period);
     for (int i = 0; i < WG_NPARAM; i++)
-        fprintf(f, "param %s = %a\n", wg_param_info_get(i)->name, s->p.v[i]);
+        fprintf(f, "param %s = %a\n", wg_param_info_get(i)->name, s->w.p.v[i]);
     for (int i = 0; i < WG_NSTATE_MAX; i++)
-        fprintf(f, "y %d = %a\n", i, s->y[i]);
+        fprintf(f, "y %d = %a\n", i, s->w.y[i]);
     fprintf(f, "k = %" PRIu32 "\ntau = %a\ntau_c = %a\nperiod = %" PRIu64 "\nsteps = %" PRIu64 "\n",
-            s->k, s->tau, s->tau_c, s->period, s->steps);
-    const wg_ramp *r = &s->ramp;
+            s->w.k, s->w.tau, s->w.tau_c, s->w.period, s->w.steps);
+    const wg_ramp *r = &s->w.ramp;
     fprintf(f, "ramp = %d %s %a %a %a %a\n", r->active,
             r->active ? wg_param_info_get(r->id)->name : "-", r->v0, r->v1, r->tau0, r->dur);
-    put_period(f, "cur", &s->cur);
-    put_period(f, "last", &s->last);
+    put_period(f, "cur", &s->w.cur);
+    put_period(f, "last", &s->w.last);
 }
 
 static int file_path(char *path, size_t len, const char *dir, const char *name, char *why,
@@ -160,7 +148,7 @@ static int period_rec(rd *r, const char *v, wg_period *w)
 
 static int ramp_rec(rd *r, const char *v)
 {
-    wg_ramp *m = &r->s->ramp;
+    wg_ramp *m = &r->s->w.ramp;
     char name[64], x[4][64];
     int n = 0;
     if (sscanf(v, "%d %63s %63s %63s %63s %63s%n", &m->active, name, x[0], x[1], x[2], x[3], &n) !=
@@ -180,7 +168,7 @@ static int indexed(rd *r, const char *key, const char *v)
         int id = wg_param_lookup(key + 6);
         if (id < 0)
             return bad(r, WG_EUNKNOWN, "unknown parameter", key + 6);
-        if (wg_param_parse(id, v, &r->s->p.v[id], msg, sizeof msg))
+        if (wg_param_parse(id, v, &r->s->w.p.v[id], msg, sizeof msg))
             return bad(r, WG_ERANGE, msg, "");
         r->seen_p[id] = 1;
         return WG_OK;
@@ -190,7 +178,7 @@ static int indexed(rd *r, const char *key, const char *v)
     if (strncmp(key, "y ", 2) || *end || end == key + 2 || i < 0 || i >= WG_NSTATE_MAX)
         return bad(r, WG_EUNKNOWN, "unknown key", key);
     r->seen_y[i] = 1;
-    return num(r, v, &r->s->y[i]);
+    return num(r, v, &r->s->w.y[i]);
 }
 
 static int field(rd *r, const char *key, const char *v)
@@ -205,24 +193,24 @@ static int field(rd *r, const char *key, const char *v)
         !strcmp(key, "k") || !strcmp(key, "period") || !strcmp(key, "steps")) {
         if ((rc = u64(r, v, &u)) || u > (uint64_t)INT64_MAX)
             return rc ? rc : bad(r, WG_EINVAL, "too large:", v);
-        if (!strcmp(key, "model")) s->model = (int)u;
-        else if (!strcmp(key, "stepper")) s->stepper = (int)u;
-        else if (!strcmp(key, "steps_per_period")) s->steps_per_period = u > 1000000 ? -1 : (int)u;
-        else if (!strcmp(key, "k")) s->k = (uint32_t)u;
-        else if (!strcmp(key, "period")) s->period = u;
-        else s->steps = u;
+        if (!strcmp(key, "model")) s->w.model = (int)u;
+        else if (!strcmp(key, "stepper")) s->w.stepper = (int)u;
+        else if (!strcmp(key, "steps_per_period")) s->w.steps_per_period = u > 1000000 ? -1 : (int)u;
+        else if (!strcmp(key, "k")) s->w.k = (uint32_t)u;
+        else if (!strcmp(key, "period")) s->w.period = u;
+        else s->w.steps = u;
         return WG_OK;
     }
     if (!strcmp(key, "tau") || !strcmp(key, "tau_c")) {
         if ((rc = num(r, v, &d)))
             return rc;
-        *(key[3] ? &s->tau_c : &s->tau) = d;
+        *(key[3] ? &s->w.tau_c : &s->w.tau) = d;
         return WG_OK;
     }
     if (!strcmp(key, "ramp"))
         return ramp_rec(r, v);
     if (!strcmp(key, "cur") || !strcmp(key, "last"))
-        return period_rec(r, v, key[0] == 'c' ? &s->cur : &s->last);
+        return period_rec(r, v, key[0] == 'c' ? &s->w.cur : &s->w.last);
     return indexed(r, key, v);
 }
 
@@ -278,35 +266,5 @@ int snap_read(snap *s, const char *dir, const char *name, char *why, size_t whyl
 
 int snap_apply(const snap *s, wg_sim *sim, char *why, size_t whylen)
 {
-    if (s->model != sim->cfg.model || s->stepper != sim->cfg.stepper ||
-        s->steps_per_period != sim->cfg.steps_per_period) {
-        snprintf(why, whylen, "snapshot taken with model %s, stepper %s, N = %d; the daemon runs "
-                 "model %s, stepper %s, N = %d", wg_model_name(s->model),
-                 wg_stepper_name(s->stepper), s->steps_per_period,
-                 wg_model_name(sim->cfg.model), wg_stepper_name(sim->cfg.stepper),
-                 sim->cfg.steps_per_period);
-        return WG_ESTATE;
-    }
-    if (s->k >= (uint32_t)s->steps_per_period) {
-        snprintf(why, whylen, "snapshot phase index k = %u out of range [0, %d)", s->k,
-                 s->steps_per_period);
-        return WG_EINVAL;
-    }
-    int rc = wg_sim_set_params(sim, &s->p, why, whylen);
-    if (rc)
-        return rc;
-    wg_sim_set_state(sim, s->y, s->k, s->tau);
-    sim->tau_c = s->tau_c;
-    sim->period = s->period;
-    sim->steps = s->steps;
-    sim->cur = s->cur;
-    sim->last = s->last;
-    if (s->ramp.active) { /* as wg_sim_ramp left it: stable at both ends */
-        wg_params end = s->p;
-        end.v[s->ramp.id] = s->ramp.v1;
-        double he = wg_rk4_hmax(sim->cfg.model, &end);
-        sim->hmax = he < sim->hmax ? he : sim->hmax;
-        sim->ramp = s->ramp;
-    }
-    return WG_OK;
+    return wg_sim_restore(sim, &s->w, why, whylen);
 }

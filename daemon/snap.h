@@ -6,8 +6,7 @@
  * taken (same trajectory, same ramp). Names are [A-Za-z0-9_.-], 1-64
  * characters, not starting with '.': no '/', no "..". The file is
  * NAME.wgstate, written to a temporary file and renamed (never half a file).
- * Library wish: wg_sim_snapshot()/wg_sim_restore() in wg_sim.h, so the
- * daemon need not know which wg_sim fields make up the state. */
+ * What makes up the state is the library's business (wg_snapshot). */
 #ifndef WGD_SNAP_H
 #define WGD_SNAP_H
 
@@ -18,14 +17,7 @@
 
 typedef struct snap {
     char scene[64];
-    int model, stepper, steps_per_period;
-    wg_params p;              /* parameters, the ramped one at its current value */
-    double y[WG_NSTATE_MAX];
-    uint32_t k;
-    double tau, tau_c;
-    uint64_t period, steps;
-    wg_ramp ramp;
-    wg_period cur, last;
+    wg_snapshot w; /* the library's run state (wg_sim_snapshot/restore) */
 } snap;
 
 /* 0 if name is an acceptable snapshot name, else WG_EINVAL with why. */

@@ -344,6 +344,58 @@ void wg_sim_set_state(wg_sim *s, const double *y, uint32_t k, double tau)
     period_start(s, s->q[0]);
 }
 
+void wg_sim_snapshot(const wg_sim *s, wg_snapshot *w)
+{
+    memset(w, 0, sizeof *w);
+    w->model = s->cfg.model;
+    w->stepper = s->cfg.stepper;
+    w->steps_per_period = s->cfg.steps_per_period;
+    w->p = s->p;
+    memcpy(w->y, s->y, sizeof w->y);
+    w->k = s->k;
+    w->tau = s->tau;
+    w->tau_c = s->tau_c;
+    w->period = s->period;
+    w->steps = s->steps;
+    w->ramp = s->ramp;
+    w->cur = s->cur;
+    w->last = s->last;
+}
+
+int wg_sim_restore(wg_sim *s, const wg_snapshot *w, char *why, size_t whylen)
+{
+    if (w->model != s->cfg.model || w->stepper != s->cfg.stepper ||
+        w->steps_per_period != s->cfg.steps_per_period) {
+        snprintf(why, whylen, "snapshot taken with model %s, stepper %s, N = %d; this run has "
+                 "model %s, stepper %s, N = %d", wg_model_name(w->model),
+                 wg_stepper_name(w->stepper), w->steps_per_period, wg_model_name(s->cfg.model),
+                 wg_stepper_name(s->cfg.stepper), s->cfg.steps_per_period);
+        return WG_ESTATE;
+    }
+    if (w->k >= (uint32_t)w->steps_per_period) {
+        snprintf(why, whylen, "snapshot phase index k = %u out of range [0, %d)", w->k,
+                 w->steps_per_period);
+        return WG_EINVAL;
+    }
+    int rc = wg_sim_set_params(s, &w->p, why, whylen);
+    if (rc)
+        return rc;
+    wg_sim_set_state(s, w->y, w->k, w->tau);
+    s->tau_c = w->tau_c;
+    s->period = w->period;
+    s->steps = w->steps;
+    s->cur = w->cur;
+    s->last = w->last;
+    if (w->ramp.active) { /* as wg_sim_ramp left it: stable at both ends */
+        wg_params end = w->p;
+        end.v[w->ramp.id] = w->ramp.v1;
+        double he = hmax_of(s, &end);
+        s->hmax = he < s->hmax ? he : s->hmax;
+        s->ramp = w->ramp;
+    }
+    return WG_OK;
+}
+
 void wg_sim_reset(wg_sim *s)
 {
     double y[WG_NSTATE_MAX];

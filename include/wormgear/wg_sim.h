@@ -113,6 +113,20 @@ typedef struct wg_sim {
     uint64_t nsplit;      /* rk4-event: extra sub-steps taken */
 } wg_sim;
 
+/* Everything that defines the future of a run: configuration, parameters
+ * (a ramped one at its current value), state, phase, time, counters, the
+ * ramp and the period statistics. Plain data: save it any way you like. */
+typedef struct wg_snapshot {
+    int model, stepper, steps_per_period;
+    wg_params p;
+    double y[WG_NSTATE_MAX];
+    uint32_t k;
+    double tau, tau_c;
+    uint64_t period, steps;
+    wg_ramp ramp;
+    wg_period cur, last;
+} wg_snapshot;
+
 /* Human names of the steppers: "rk4", "rk4-event"; lookup returns -1 if unknown. */
 const char *wg_stepper_name(int stepper);
 int wg_stepper_lookup(const char *name);
@@ -138,6 +152,14 @@ int wg_sim_ramp(wg_sim *sim, int id, double target, double dur, char *why, size_
 
 /* Set the state (nstate values) and phase index; resets period statistics. */
 void wg_sim_set_state(wg_sim *sim, const double *y, uint32_t k, double tau);
+
+/* Capture the run into snap. */
+void wg_sim_snapshot(const wg_sim *sim, wg_snapshot *snap);
+
+/* Continue bit-exactly from snap: WG_ESTATE if its model, stepper or N
+ * differ from sim's, WG_EINVAL for a phase index out of range, or the codes
+ * of wg_sim_set_params; sim unchanged on error. */
+int wg_sim_restore(wg_sim *sim, const wg_snapshot *snap, char *why, size_t whylen);
 
 /* Back to the static equilibrium at psi = 0, tau = 0, counters cleared. */
 void wg_sim_reset(wg_sim *sim);

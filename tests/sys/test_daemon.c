@@ -523,7 +523,7 @@ static void test_save_restore_refusals(void)
     snap s;
     char path[600], why[600];
     snap_take(&s, &d->sim, "table3");
-    s.steps_per_period = 256;
+    s.w.steps_per_period = 256;
     ASSERT_EQ_INT(snap_write(&s, statedir, "n256", path, sizeof path, why, sizeof why), WG_OK);
     shot a = take(d);
     ASSERT_EQ_INT(simple(d, "restore", "n256"), WG_ESTATE);
