@@ -117,6 +117,48 @@ static void test_fault_at_section_and_torsional(void)
     wg_sim_fini(&s);
 }
 
+/* Mid-ramp, through the snapshot API: a NaN in a restored snapshot is
+ * caught at the next step with the ramp untouched; restoring the snapshot
+ * taken before continues bit-exactly like a run that never faulted (state,
+ * time, counters, the ramped omega). */
+static void test_fault_mid_ramp_snapshot(void)
+{
+    wg_params p = stress_scene("table3");
+    p.v[WG_P_OMEGA] = 0.7;
+    wg_sim a, b;
+    char why[300];
+    ASSERT_EQ_INT(stress_make(&a, &p, WG_STEPPER_RK4_EVENT, N), WG_OK);
+    ASSERT_EQ_INT(stress_make(&b, &p, WG_STEPPER_RK4_EVENT, N), WG_OK);
+    for (int r = 0; r < 2; r++) {
+        wg_sim *s = r ? &b : &a;
+        ASSERT_EQ_INT(wg_sim_run(s, N * 20, NULL, NULL), WG_OK);
+        ASSERT_EQ_INT(wg_sim_ramp(s, WG_P_OMEGA, 0.9, 200.0, why, sizeof why), WG_OK);
+        ASSERT_EQ_INT(wg_sim_run(s, N * 5 + 33, NULL, NULL), WG_OK);
+        ASSERT_TRUE(s->ramp.active);
+    }
+    wg_snapshot good, bad;
+    wg_sim_snapshot(&b, &good);
+    bad = good;
+    bad.y[9] = NAN;
+    int rc = wg_sim_restore(&b, &bad, why, sizeof why);
+    if (rc == WG_OK) { /* accepted: then the next step must catch it */
+        uint64_t done = 9;
+        ASSERT_EQ_INT(wg_sim_run(&b, N, NULL, &done), WG_ENONFINITE);
+        ASSERT_EQ_INT(done, 0);
+        ASSERT_TRUE(b.ramp.active && b.steps == good.steps && b.tau == good.tau);
+    }
+    printf("  restore of a snapshot holding a NaN: %s\n",
+           rc == WG_OK ? "accepted, caught at the next step" : wg_status_name(rc));
+    ASSERT_EQ_INT(wg_sim_restore(&b, &good, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(wg_sim_run(&a, N * 40, NULL, NULL), WG_OK);
+    ASSERT_EQ_INT(wg_sim_run(&b, N * 40, NULL, NULL), WG_OK);
+    ASSERT_TRUE(memcmp(a.y, b.y, sizeof a.y) == 0);
+    ASSERT_TRUE(a.tau == b.tau && a.steps == b.steps && a.period == b.period);
+    ASSERT_TRUE(a.p.v[WG_P_OMEGA] == b.p.v[WG_P_OMEGA] && a.ramp.active == b.ramp.active);
+    wg_sim_fini(&a);
+    wg_sim_fini(&b);
+}
+
 /* Non-finite parameters never reach the integrator. */
 static void test_nonfinite_params_refused(void)
 {
@@ -150,4 +192,4 @@ static void test_nonfinite_params_refused(void)
 }
 
 TEST_MAIN(TEST(test_bad_values_caught_next_step), TEST(test_fault_at_section_and_torsional),
-          TEST(test_nonfinite_params_refused))
+          TEST(test_fault_mid_ramp_snapshot), TEST(test_nonfinite_params_refused))
