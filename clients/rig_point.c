@@ -1,0 +1,181 @@
+/* rig_point.c - live point analysis, mirroring wg_sweep.c (see rig_point.h). */
+#include "rig_point.h"
+#include "wormgear/wg_status.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define LOOSE_TOL 1e-4 /* as wg_sweep.c: period tolerance once the LLE says "converging" */
+
+int rig_rec_init(rig_rec *r, int nstate, int cap)
+{
+    memset(r, 0, sizeof *r);
+    r->nstate = nstate;
+    r->cap = cap;
+    r->y = malloc(sizeof(double) * (size_t)nstate * (size_t)cap);
+    r->stats = malloc(sizeof(wg_period) * (size_t)cap);
+    r->xn = malloc(sizeof(double) * (size_t)cap);
+    r->dxn = malloc(sizeof(double) * (size_t)cap);
+    r->period = malloc(sizeof(int64_t) * (size_t)cap);
+    if (!r->y || !r->stats || !r->xn || !r->dxn || !r->period) {
+        rig_rec_fini(r);
+        return -1;
+    }
+    return 0;
+}
+
+void rig_rec_fini(rig_rec *r)
+{
+    free(r->y), free(r->stats), free(r->xn), free(r->dxn), free(r->period);
+    r->y = NULL, r->stats = NULL, r->xn = r->dxn = NULL, r->period = NULL;
+    r->n = r->cap = 0;
+}
+
+void rig_rec_push(rig_rec *r, const double *y, const wg_period *st, double xn, double dxn,
+                  int64_t period)
+{
+    if (r->n >= r->cap)
+        return;
+    memcpy(r->y + (size_t)r->n * r->nstate, y, sizeof(double) * (size_t)r->nstate);
+    r->stats[r->n] = *st;
+    r->xn[r->n] = xn;
+    r->dxn[r->n] = dxn;
+    r->period[r->n++] = period;
+}
+
+void rig_ana_init(rig_ana *a, const wg_params *p, int model, int stepper, int steps,
+                  const wg_sweep_opts *o)
+{
+    memset(a, 0, sizeof *a);
+    a->p = *p;
+    a->model = model;
+    a->stepper = stepper;
+    a->steps = steps;
+    a->o = o;
+}
+
+void rig_ana_fini(rig_ana *a)
+{
+    if (a->have_fine)
+        wg_sim_fini(&a->fine);
+    if (a->have_lle)
+        wg_sim_fini(&a->base), wg_sim_fini(&a->twin);
+    a->have_fine = a->have_lle = 0;
+}
+
+static int sim_for(const rig_ana *a, wg_sim *s, int n, char *why, size_t whylen)
+{
+    wg_sim_config cfg = {a->model, a->stepper, n > WG_STEPS_MAX ? WG_STEPS_MAX : n};
+    return wg_sim_init(s, &a->p, &cfg, why, whylen);
+}
+
+/* |P_2N(x) - next| over the last two recorded sections (wg_sweep.c period_error). */
+static int period_error(rig_ana *a, const rig_rec *r, double *err, char *why, size_t whylen)
+{
+    int rc;
+    if (r->n < 2) {
+        snprintf(why, whylen, "fewer than 2 sections recorded");
+        return WG_EINVAL;
+    }
+    if (!a->have_fine) {
+        if ((rc = sim_for(a, &a->fine, 2 * a->steps, why, whylen)))
+            return rc;
+        a->have_fine = 1;
+    }
+    double x[WG_NSTATE_MAX];
+    const double *p = r->y + (size_t)(r->n - 2) * r->nstate, *q = p + r->nstate;
+    memcpy(x, p, sizeof(double) * (size_t)r->nstate);
+    wg_simmap sm = {&a->fine, 1};
+    if ((rc = wg_simmap_step(&sm, x)))
+        return rc;
+    double e = 0.0;
+    for (int j = 0; j < r->nstate; j++)
+        e = fmax(e, fabs(x[j] - q[j]));
+    *err = e;
+    return WG_OK;
+}
+
+int rig_ana_period(rig_ana *a, const rig_rec *r, int attempt, wg_point *pt, char *why,
+                   size_t whylen)
+{
+    if (attempt == 0) {
+        memset(pt, 0, sizeof *pt);
+        pt->lle = NAN;
+        pt->steps = a->steps;
+        int rc = period_error(a, r, &pt->err, why, whylen);
+        if (rc)
+            return rc;
+        pt->tol = fmax(a->o->tol_floor, a->o->tol_factor * pt->err);
+    }
+    int n = wg_period_detect(r->y, r->n, r->nstate, WG_PERIOD_MAX, pt->tol, &pt->resid);
+    if (n > 0) {
+        pt->regime = WG_REGIME_PERIODIC;
+        pt->period = n;
+        pt->converged = 1;
+    }
+    return n;
+}
+
+int rig_ana_lle(rig_ana *a, const rig_rec *r, wg_point *pt, char *why, size_t whylen)
+{
+    int rc;
+    if (!a->have_lle) {
+        if ((rc = sim_for(a, &a->base, a->steps, why, whylen)))
+            return rc;
+        if ((rc = sim_for(a, &a->twin, a->steps, why, whylen))) {
+            wg_sim_fini(&a->base);
+            return rc;
+        }
+        a->have_lle = 1;
+    }
+    wg_simmap sb = {&a->base, 1}, st = {&a->twin, 1};
+    wg_map mb = wg_simmap_map(&sb), mt = wg_simmap_map(&st);
+    double x[WG_NSTATE_MAX] = {0};
+    memcpy(x, r->y + (size_t)(r->n - 1) * r->nstate, sizeof(double) * (size_t)r->nstate);
+    rc = wg_lle_twin(&mb, &mt, x, a->o->lle_periods, a->o->lle_d0, &pt->lle);
+    if (rc)
+        snprintf(why, whylen, "LLE: %s", wg_status_str(rc));
+    return rc;
+}
+
+void rig_ana_aperiodic(const rig_ana *a, const rig_rec *r, wg_point *pt)
+{
+    const wg_sweep_opts *o = a->o;
+    int n = wg_period_detect(r->y, r->n, r->nstate, WG_PERIOD_MAX, pt->tol, &pt->resid);
+    pt->converged = n > 0;
+    if (!n && pt->lle <= o->lle_tol)
+        n = wg_period_detect(r->y, r->n, r->nstate, WG_PERIOD_MAX, fmax(pt->tol, LOOSE_TOL),
+                             &pt->resid);
+    pt->period = n;
+    if (n || pt->lle < -o->lle_tol)
+        pt->regime = WG_REGIME_PERIODIC;
+    else
+        pt->regime = pt->lle > o->lle_tol ? WG_REGIME_CHAOTIC : WG_REGIME_QUASIPERIODIC;
+}
+
+void rig_point_fill(const rig_rec *r, wg_point *pt)
+{
+    pt->min_xn = INFINITY;
+    pt->max_xn = -INFINITY;
+    pt->motion = 0;
+    long imp = 0;
+    for (int i = 0; i < r->n; i++) {
+        const wg_period *st = &r->stats[i];
+        pt->min_xn = fmin(pt->min_xn, st->min_xn);
+        pt->max_xn = fmax(pt->max_xn, st->max_xn);
+        if (st->motion > pt->motion)
+            pt->motion = st->motion;
+        imp += st->impacts;
+    }
+    pt->impacts = r->n ? (double)imp / r->n : 0.0;
+    int k0 = r->n > WG_POINT_NSEC ? r->n - WG_POINT_NSEC : 0;
+    pt->nsec = r->n - k0;
+    for (int i = 0; i < pt->nsec; i++) {
+        pt->xn[i] = r->xn[k0 + i];
+        pt->dxn[i] = r->dxn[k0 + i];
+    }
+    if (r->n)
+        memcpy(pt->y_end, r->y + (size_t)(r->n - 1) * r->nstate, sizeof(double) * (size_t)r->nstate);
+}

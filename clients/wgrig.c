@@ -1,0 +1,750 @@
+/* wgrig - the automated test rig: drive a parameter of a running wormgeard
+ * through a range over LCM (stepwise with a settle time in mesh periods, or
+ * as a slow ramp), read the POINCARE and CONTACT streams, and write the
+ * bifurcation diagram, the points (same CSV/JSON/Markdown/PNG writers and the
+ * same per-point analysis as wgsweep), every section received, and the
+ * impacts-per-period curve. Dropped messages are counted and the recording
+ * re-waited; refusals are reported and the point skipped.
+ * Exit 0, 1 runtime error (no daemon, stalled), 2 usage error, 130 Ctrl-C. */
+#include "plot.h"
+#include "rig_point.h"
+#include "sweep_out.h"
+#include "wgcli.h"
+
+#include "lcmtypes/wormgear_contact_t.h"
+#include "lcmtypes/wormgear_params_t.h"
+#include "lcmtypes/wormgear_poincare_t.h"
+#include "lcmtypes/wormgear_status_t.h"
+#include "wormgear/wg_status.h"
+
+#include <getopt.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+enum { REC_CAP = 8192, RAMP_MAX = 1 << 20, STOPPED = -1000 };
+static volatile sig_atomic_t g_stop; /* set by SIGINT/SIGTERM only */
+
+typedef struct opts {
+    const char *url, *prefix, *param, *out, *unit;
+    double from, to, ramp, tol, timeout_s, stall_s;
+    int have_from, have_to, points, up, down, settle, record, extend, bins, lle, fast, keep;
+    int quiet, retries;
+} opts;
+
+typedef struct collector { /* what the POINCARE handler does with sections */
+    int active, ramp;
+    double min_tau, end_tau;  /* sections after min_tau; ramp: until end_tau */
+    int skip, want;           /* discard skip sections, then record want */
+    int64_t last_period;
+    int have_last;
+    long breaks;              /* recordings restarted on a gap */
+    double last_at;           /* wall time of the last section */
+} collector;
+
+typedef struct window { int64_t p0, p1; int n; } window; /* periods recorded for a point */
+
+typedef struct rig {
+    wgcli c;
+    opts o;
+    wg_sweep_opts so;
+    wg_params base;
+    int pid, model, stepper, steps, nstate, have_params, have_status;
+    char scene[64], mode[16], orig_mode[16];
+    double rate, orig_rate, omega_n, orig;
+    collector col;
+    rig_rec rec;
+    double *rval;             /* ramp: value of each recorded section */
+    FILE *secf;               /* every section received while collecting */
+    const char *phase_dir;
+    int phase_idx;
+    double phase_value;
+    int64_t pc_seq, ct_seq;
+    int pc_have, ct_have;
+    long pc_drop, ct_drop, refusals, timeouts, skipped;
+    int64_t *imp;             /* periods of mesh impacts from CONTACT */
+    size_t nimp, capimp;
+    double t0;
+    int done, total;
+} rig;
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static void on_signal(int sig) { (void)sig, g_stop = 1; }
+
+/* ---- options ----------------------------------------------------------------- */
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+        "usage: wgrig --from A --to B [options]\n"
+        "Automated rig sweep of a running wormgeard over LCM: set a parameter point by point\n"
+        "(or ramp it), read POINCARE and CONTACT, and write the bifurcation diagram.\n\n"
+        "  --url URL           LCM URL (default $WORMGEAR_URL or %s)\n"
+        "  --prefix P          channel prefix (default $WORMGEAR_PREFIX or %s)\n"
+        "  --param NAME        parameter driven (default omega; `wgctl params` lists them)\n"
+        "  --from A --to B     range, in the parameter's unit (required; within its range)\n"
+        "  --points N          stepwise: points per direction (default 21; [2, 10000])\n"
+        "  --dir up|down|both  sweep directions (default both)\n"
+        "  --settle P          mesh periods discarded after each step (default 300; [0, 1e6])\n"
+        "  --record R          mesh periods recorded per point (default 128; [64, %d])\n"
+        "  --extend E          extra settle+record rounds while no period is found (default 3)\n"
+        "  --ramp DURATION     slow ramp instead of steps: over DURATION simulated time per\n"
+        "                      direction, e.g. 2s, 500ms, 20000tau (default: stepwise)\n"
+        "  --bins N            ramp: parameter bins of the diagram (default --points)\n"
+        "  --tol X             period tolerance, max norm (default: as wgsweep, max(1e-9,\n"
+        "                      10 x the one-period error of N vs 2N steps))\n"
+        "  --no-lle            skip the Lyapunov exponent of aperiodic points (local twin run)\n"
+        "  --fast              switch the daemon to fast mode for the sweep, restore after\n"
+        "  --keep              leave the parameter at the last point (default: restore it)\n"
+        "  --out PREFIX        outputs (default rig): PREFIX.png PREFIX.csv PREFIX-poincare.csv\n"
+        "                      PREFIX.json PREFIX.md PREFIX-sections.csv PREFIX-impacts.csv/.png\n"
+        "  --timeout SEC       wait for each ACK (default 3 s; (0, 600])\n"
+        "  --stall SEC         give up when no section arrives for this long (default 10 s)\n"
+        "  --retries N         per point: re-sends after no ACK, re-records after drops (default 5)\n"
+        "  --quiet             no progress bar on stderr\n"
+        "  -h, --help          this text\n\n"
+        "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted (partial outputs).\n",
+        WGCLI_DEFAULT_URL, WGCLI_DEFAULT_PREFIX, REC_CAP);
+}
+
+static int bad(const char *opt, const char *val, const char *allowed)
+{
+    fprintf(stderr, "wgrig: %s '%s': %s\n(try wgrig --help)\n", opt, val, allowed);
+    return 2;
+}
+
+static int num(const char *s, double lo, double hi, double *v)
+{
+    char *end;
+    *v = strtod(s, &end);
+    return end == s || *end || !isfinite(*v) || *v < lo || *v > hi ? -1 : 0;
+}
+
+static int inum(const char *s, int lo, int hi, int *v)
+{
+    double d;
+    if (num(s, lo, hi, &d) || d != floor(d))
+        return -1;
+    *v = (int)d;
+    return 0;
+}
+
+/* "2s", "500ms", "1min", "20000tau": value and unit ("s" or "tau"). */
+static int duration(const char *s, double *v, const char **unit)
+{
+    char *end;
+    *v = strtod(s, &end);
+    static const struct { const char *suf; double f; const char *u; } t[] = {
+        {"s", 1, "s"}, {"ms", 1e-3, "s"}, {"min", 60, "s"}, {"tau", 1, "tau"}};
+    for (unsigned i = 0; end != s && i < sizeof t / sizeof t[0]; i++)
+        if (!strcmp(end, t[i].suf) && isfinite(*v) && *v > 0) {
+            *v *= t[i].f, *unit = t[i].u;
+            return 0;
+        }
+    return -1;
+}
+
+static int opt_one(opts *o, int c, const char *a)
+{
+    switch (c) {
+    case 'u': o->url = a; return 0;
+    case 'p': o->prefix = a; return 0;
+    case 'P': o->param = a; return 0;
+    case 'o': o->out = a; return 0;
+    case 'f': o->have_from = 1; return num(a, -1e300, 1e300, &o->from) ? bad("--from", a, "a number") : 0;
+    case 't': o->have_to = 1; return num(a, -1e300, 1e300, &o->to) ? bad("--to", a, "a number") : 0;
+    case 'n': return inum(a, 2, 10000, &o->points) ? bad("--points", a, "an integer in [2, 10000]") : 0;
+    case 'd':
+        o->up = !strcmp(a, "up") || !strcmp(a, "both");
+        o->down = !strcmp(a, "down") || !strcmp(a, "both");
+        return o->up || o->down ? 0 : bad("--dir", a, "one of up, down, both");
+    case 's': return inum(a, 0, 1000000, &o->settle) ? bad("--settle", a, "mesh periods, an integer in [0, 1000000]") : 0;
+    case 'r': return inum(a, 64, REC_CAP, &o->record) ? bad("--record", a, "mesh periods, an integer in [64, 8192]") : 0;
+    case 'e': return inum(a, 0, 100, &o->extend) ? bad("--extend", a, "an integer in [0, 100]") : 0;
+    case 'R': return duration(a, &o->ramp, &o->unit) ? bad("--ramp", a, "a positive duration: 2s, 500ms, 1min, 20000tau") : 0;
+    case 'b': return inum(a, 2, 10000, &o->bins) ? bad("--bins", a, "an integer in [2, 10000]") : 0;
+    case 'T': return num(a, 1e-300, 1, &o->tol) ? bad("--tol", a, "a tolerance in (0, 1]") : 0;
+    case 'L': o->lle = 0; return 0;
+    case 'F': o->fast = 1; return 0;
+    case 'K': o->keep = 1; return 0;
+    case 'w': return num(a, 1e-3, 600, &o->timeout_s) ? bad("--timeout", a, "seconds in (0, 600]") : 0;
+    case 'S': return num(a, 0.1, 3600, &o->stall_s) ? bad("--stall", a, "seconds in [0.1, 3600]") : 0;
+    case 'x': return inum(a, 0, 1000, &o->retries) ? bad("--retries", a, "an integer in [0, 1000]") : 0;
+    case 'q': o->quiet = 1; return 0;
+    case 'h': usage(stdout); exit(0);
+    default: return -1;
+    }
+}
+
+static int parse_opts(int argc, char **argv, opts *o)
+{
+    static const struct option lo[] = {
+        {"url", 1, 0, 'u'}, {"prefix", 1, 0, 'p'}, {"param", 1, 0, 'P'}, {"out", 1, 0, 'o'},
+        {"from", 1, 0, 'f'}, {"to", 1, 0, 't'}, {"points", 1, 0, 'n'}, {"dir", 1, 0, 'd'},
+        {"settle", 1, 0, 's'}, {"record", 1, 0, 'r'}, {"extend", 1, 0, 'e'}, {"ramp", 1, 0, 'R'},
+        {"bins", 1, 0, 'b'}, {"tol", 1, 0, 'T'}, {"no-lle", 0, 0, 'L'}, {"fast", 0, 0, 'F'},
+        {"keep", 0, 0, 'K'}, {"timeout", 1, 0, 'w'}, {"stall", 1, 0, 'S'},
+        {"retries", 1, 0, 'x'}, {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
+    *o = (opts){.param = "omega", .out = "rig", .unit = "s", .points = 21, .up = 1, .down = 1,
+                .settle = 300, .record = 128, .extend = 3, .lle = 1, .timeout_s = 3,
+                .stall_s = 10, .retries = 5};
+    int c, rc;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1)
+        if ((rc = opt_one(o, c, optarg)))
+            return rc < 0 ? (fprintf(stderr, "wgrig: unknown option or missing value '%s'\n"
+                                             "(try wgrig --help)\n", argv[optind - 1]), 2)
+                          : rc;
+    if (optind < argc)
+        return bad("argument", argv[optind], "wgrig takes options only");
+    if (!o->have_from || !o->have_to)
+        return bad(o->have_from ? "--to" : "--from", "", "required (the range of the sweep)");
+    if (o->from == o->to)
+        return bad("--to", "", "must differ from --from");
+    if (!o->bins)
+        o->bins = o->points;
+    return 0;
+}
+
+/* ---- messages ---------------------------------------------------------------- */
+
+static void seq_gap(int64_t seq, int64_t *last, int *have, long *dropped)
+{
+    if (*have && seq > *last + 1)
+        *dropped += seq - *last - 1;
+    *last = seq, *have = 1;
+}
+
+static void write_section(rig *r, const wormgear_poincare_t *m, int i, const char *what)
+{
+    if (!r->secf)
+        return;
+    fprintf(r->secf, "%s,%d,%.10g,%s,%lld,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%d,%d\n",
+            r->phase_dir, r->phase_idx, r->phase_value, what, (long long)m->period[i],
+            m->tau[i], m->omega[i], m->xn[i], m->dxn[i], m->min_xn[i], m->max_xn[i],
+            m->motion[i], m->impacts[i]);
+}
+
+/* One section into the collector: skip, record, or restart on a gap. */
+static void collect_one(rig *r, const wormgear_poincare_t *m, int i)
+{
+    collector *c = &r->col;
+    if (!c->active || m->tau[i] <= c->min_tau || m->nstate != r->nstate)
+        return;
+    c->last_at = now_s();
+    if (c->have_last && m->period[i] != c->last_period + 1 && !c->ramp && c->skip == 0 &&
+        r->rec.n > 0) {
+        r->rec.n = 0; /* a gap: the period test needs consecutive sections */
+        c->breaks++;
+    }
+    c->last_period = m->period[i], c->have_last = 1;
+    if (c->skip > 0) {
+        c->skip--;
+        write_section(r, m, i, "settle");
+        return;
+    }
+    wg_period st = {(uint64_t)m->period[i], m->min_xn[i], m->max_xn[i], m->motion[i], m->impacts[i]};
+    if (c->ramp) {
+        if (m->tau[i] > c->end_tau) {
+            c->active = 0;
+            return;
+        }
+        double f = (m->tau[i] - c->min_tau) / (c->end_tau - c->min_tau);
+        r->rval[r->rec.n] = r->pid == WG_P_OMEGA ? m->omega[i] : r->o.from + f * (r->o.to - r->o.from);
+    }
+    write_section(r, m, i, "record");
+    rig_rec_push(&r->rec, m->y[i], &st, m->xn[i], m->dxn[i], m->period[i]);
+    if (r->rec.n >= c->want)
+        c->active = 0;
+}
+
+static void on_poincare(rig *r, const wormgear_poincare_t *m)
+{
+    seq_gap(m->seq, &r->pc_seq, &r->pc_have, &r->pc_drop);
+    for (int i = 0; i < m->n; i++)
+        collect_one(r, m, i);
+}
+
+static void on_contact(rig *r, const wormgear_contact_t *m)
+{
+    seq_gap(m->seq, &r->ct_seq, &r->ct_have, &r->ct_drop);
+    for (int i = 0; i < m->n; i++) {
+        if (m->contact[i] != 0 || (m->kind[i] != 1 && m->kind[i] != 2))
+            continue; /* mesh drive- or back-side impacts only */
+        if (r->nimp == r->capimp) {
+            size_t cap = r->capimp ? 2 * r->capimp : 4096;
+            int64_t *p = cap < (size_t)1 << 28 ? realloc(r->imp, cap * sizeof *p) : NULL;
+            if (!p)
+                return;
+            r->imp = p, r->capimp = cap;
+        }
+        r->imp[r->nimp++] = m->period[i];
+    }
+}
+
+static void on_params(rig *r, const wormgear_params_t *m)
+{
+    wg_params_default(&r->base);
+    for (int i = 0; i < m->n; i++) {
+        int id = wg_param_lookup(m->name[i]);
+        if (id >= 0)
+            r->base.v[id] = m->value[i];
+    }
+    r->model = !strcmp(m->model, wg_model_name(WG_MODEL_PRINTED)) ? WG_MODEL_PRINTED : WG_MODEL_CONSISTENT;
+    r->stepper = wg_stepper_lookup(m->stepper);
+    r->steps = m->steps_per_period;
+    r->nstate = wg_model_nstate(r->model);
+    r->omega_n = m->omega_n_rad_s;
+    snprintf(r->scene, sizeof r->scene, "%s", m->scene);
+    r->have_params = 1;
+}
+
+static void on_status(rig *r, const wormgear_status_t *m)
+{
+    snprintf(r->mode, sizeof r->mode, "%s", m->mode);
+    r->rate = m->rate;
+    r->have_status = 1;
+}
+
+#define DECODE(T, fn)                                                                      \
+    do {                                                                                   \
+        T msg;                                                                             \
+        if (T##_decode(rb->data, 0, (int)rb->data_size, &msg) >= 0) {                      \
+            fn(r, &msg);                                                                   \
+            T##_decode_cleanup(&msg);                                                      \
+        }                                                                                  \
+    } while (0)
+
+static void on_raw(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    rig *r = u;
+    const char *s = ch + strlen(r->c.prefix);
+    if (!strcmp(s, "POINCARE")) DECODE(wormgear_poincare_t, on_poincare);
+    else if (!strcmp(s, "CONTACT")) DECODE(wormgear_contact_t, on_contact);
+    else if (!strcmp(s, "PARAMS")) DECODE(wormgear_params_t, on_params);
+    else if (!strcmp(s, "STATUS")) DECODE(wormgear_status_t, on_status);
+}
+
+/* ---- commands --------------------------------------------------------------------- */
+
+static int flag_true(void *p) { return *(int *)p; }
+
+/* Send cmd and wait for its ACK (re-sent after a timeout). 0 accepted, 1
+ * refused (reason printed), -1 no answer. */
+static int command(rig *r, wormgear_cmd_t *cmd, const char *what)
+{
+    int refused = 0;
+    for (int attempt = 0; attempt <= r->o.retries && !g_stop; attempt++) {
+        if (wgcli_send(&r->c, cmd) < 0 || wgcli_wait_ack(&r->c, (int)(r->o.timeout_s * 1000))) {
+            r->timeouts++;
+            continue;
+        }
+        if (r->c.ack.accepted)
+            return 0;
+        r->refusals++, refused = 1;
+        fprintf(stderr, "\nwgrig: %s refused (%s): %s\n", what, r->c.ack.code, r->c.ack.message);
+        if (strcmp(r->c.ack.code, "ESTATE") != 0)
+            return 1; /* permanent: bad name or value; ESTATE ("not now") is retried */
+        wgcli_wait(&r->c, 200, NULL, NULL);
+    }
+    if (refused)
+        return 1;
+    fprintf(stderr, "\nwgrig: %s: no ACK after %d tries of %g s (is wormgeard running with prefix "
+                    "'%s' on this URL?)\n", what, r->o.retries + 1, r->o.timeout_s, r->c.prefix);
+    return -1;
+}
+
+static wormgear_cmd_t blank(const char *op)
+{
+    return (wormgear_cmd_t){.op = (char *)op, .unit = (char *)"", .name = (char *)""};
+}
+
+static int set_value(rig *r, double v)
+{
+    char *names[1] = {(char *)r->o.param}, what[96];
+    wormgear_cmd_t c = blank("set");
+    c.nparams = 1, c.names = names, c.values = &v;
+    snprintf(what, sizeof what, "set %s=%.10g", r->o.param, v);
+    return command(r, &c, what);
+}
+
+static int set_mode(rig *r, const char *mode, double rate)
+{
+    wormgear_cmd_t c = blank("mode");
+    c.name = (char *)mode, c.rate = rate;
+    return command(r, &c, "mode");
+}
+
+/* The daemon's parameters, model and N (a `get` makes PARAMS come now). */
+static int fetch_params(rig *r)
+{
+    wormgear_cmd_t c = blank("get");
+    if (command(r, &c, "get"))
+        return -1;
+    if (wgcli_wait(&r->c, (int)(r->o.timeout_s * 1000), flag_true, &r->have_params) ||
+        (r->o.fast && wgcli_wait(&r->c, 3000, flag_true, &r->have_status))) {
+        fprintf(stderr, "wgrig: no %s on %s%s\n", r->have_params ? "STATUS" : "PARAMS", r->c.prefix,
+                r->have_params ? "STATUS" : "PARAMS");
+        return -1;
+    }
+    return 0;
+}
+
+/* Pump LCM until the collector is done. 0, or -1 stalled/interrupted. */
+static int collect(rig *r, int skip, int want)
+{
+    collector *c = &r->col;
+    c->skip = skip, c->want = want, c->have_last = 0, c->active = 1, c->last_at = now_s();
+    r->rec.n = 0;
+    long breaks0 = c->breaks;
+    while (c->active && !g_stop) {
+        wgcli_wait(&r->c, 100, NULL, NULL);
+        if (now_s() - c->last_at > r->o.stall_s) {
+            fprintf(stderr, "\nwgrig: no POINCARE section for %g s (daemon paused, stopped, or "
+                            "publishing elsewhere?)\n", r->o.stall_s);
+            break;
+        }
+        if (c->ramp && !r->o.quiet && isatty(STDERR_FILENO) && r->rec.n)
+            fprintf(stderr, "\rramp %s: %s = %.6g, %d sections\033[K", r->phase_dir, r->o.param,
+                    r->rval[r->rec.n - 1], r->rec.n);
+        if (c->breaks - breaks0 > r->o.retries) {
+            fprintf(stderr, "\nwgrig: recording broken by dropped sections %ld times\n",
+                    c->breaks - breaks0);
+            break;
+        }
+    }
+    int ok = !c->active;
+    c->active = 0;
+    return ok ? 0 : -1;
+}
+
+/* ---- points ------------------------------------------------------------------------ */
+
+static void progress(rig *r, const char *dir, const wg_point *pt)
+{
+    if (r->o.quiet)
+        return;
+    char lab[32], bar[41];
+    int w = 30, k = r->total ? w * r->done / r->total : w;
+    for (int i = 0; i < w; i++)
+        bar[i] = i < k ? '#' : '.';
+    bar[w] = 0;
+    int tty = isatty(STDERR_FILENO);
+    fprintf(stderr, "%s[%s] %d/%d %s %s=%.6g %s %s %.3g imp/T | drops %ld refused %ld | %.0f s%s",
+            tty ? "\r" : "", bar, r->done, r->total, dir, r->o.param, pt->value,
+            out_label(pt, lab, sizeof lab), wg_motion_name(pt->motion), pt->impacts, r->pc_drop,
+            r->refusals, now_s() - r->t0, tty ? "\033[K" : "\n");
+}
+
+/* Analyse the point at value v the way wg_point_run does: settle, record,
+ * period; extend; else LLE, skip lle_periods, record, classify. 0 done, 1
+ * skipped (refused), -1 stop the sweep. */
+static int run_point(rig *r, double v, wg_point *pt, window *win)
+{
+    char why[256] = "";
+    int rc = set_value(r, v);
+    memset(pt, 0, sizeof *pt);
+    pt->value = v, pt->lle = NAN, pt->min_xn = pt->max_xn = NAN;
+    if (rc)
+        return rc > 0 ? (r->skipped++, 1) : -1;
+    r->col.min_tau = r->c.ack.tau;
+    rig_ana a;
+    wg_params p = r->base;
+    p.v[r->pid] = v;
+    rig_ana_init(&a, &p, r->model, r->stepper, r->steps, &r->so);
+    int n = collect(r, r->o.settle, r->o.record) ? STOPPED : rig_ana_period(&a, &r->rec, 0, pt, why, sizeof why);
+    for (int at = 1; n == 0 && at <= r->o.extend; at++)
+        n = collect(r, r->o.settle, r->o.record) ? STOPPED : rig_ana_period(&a, &r->rec, at, pt, why, sizeof why);
+    if (n == 0 && r->o.lle) {
+        n = rig_ana_lle(&a, &r->rec, pt, why, sizeof why);
+        if (!n && !(n = collect(r, r->so.lle_periods, r->o.record) ? STOPPED : 0))
+            rig_ana_aperiodic(&a, &r->rec, pt);
+    }
+    rig_ana_fini(&a);
+    if (n < 0 && n != WG_ENONFINITE) {
+        if (n != STOPPED)
+            fprintf(stderr, "\nwgrig: %s=%g: %s\n", r->o.param, v, why);
+        return -1;
+    }
+    rig_point_fill(&r->rec, pt);
+    pt->value = v;
+    if (r->rec.n)
+        *win = (window){r->rec.period[0], r->rec.period[r->rec.n - 1], r->rec.n};
+    return 0;
+}
+
+static int run_chain(rig *r, wg_chain *ch, window *win)
+{
+    const char *dir = ch->dir > 0 ? "up" : "down";
+    for (int i = 0; i < ch->npts && !g_stop; i++) {
+        r->phase_dir = dir, r->phase_idx = i, r->phase_value = wg_chain_value(ch, i);
+        int rc = run_point(r, r->phase_value, &ch->pts[i], &win[i]);
+        if (rc < 0)
+            return -1;
+        ch->ndone = i + 1;
+        r->done++;
+        progress(r, dir, &ch->pts[i]);
+    }
+    return g_stop ? -1 : 0;
+}
+
+/* Ramp one direction, then bin the sections into the chain's points. */
+static int run_ramp(rig *r, wg_chain *ch, window *win)
+{
+    double a = wg_chain_value(ch, 0), b = wg_chain_value(ch, ch->npts - 1), dur_tau;
+    char *names[1] = {(char *)r->o.param};
+    wormgear_cmd_t c = blank("ramp");
+    c.nparams = 1, c.names = names, c.values = &b, c.has_from = 1, c.from = a;
+    c.duration = r->o.ramp, c.unit = (char *)r->o.unit;
+    dur_tau = strcmp(r->o.unit, "tau") ? r->o.ramp * r->omega_n : r->o.ramp;
+    r->phase_dir = ch->dir > 0 ? "up" : "down", r->phase_idx = -1, r->phase_value = NAN;
+    if (command(r, &c, "ramp"))
+        return -1;
+    r->col = (collector){.ramp = 1, .min_tau = r->c.ack.tau, .end_tau = r->c.ack.tau + dur_tau,
+                         .breaks = r->col.breaks};
+    double save_from = r->o.from, save_to = r->o.to;
+    r->o.from = a, r->o.to = b; /* the value of a section of a non-omega ramp */
+    int rc = collect(r, 0, r->rec.cap);
+    r->o.from = save_from, r->o.to = save_to;
+    if (rc && r->rec.n == 0)
+        return -1;
+    double w = fabs(b - a) / (ch->npts - 1); /* bins centred on the grid values */
+    for (int i = 0; i < ch->npts; i++) {
+        double v = wg_chain_value(ch, i);
+        int k0 = -1, k1 = -1; /* sections whose value falls in bin i */
+        for (int k = 0; k < r->rec.n; k++)
+            if (fabs(r->rval[k] - v) <= w / 2 && (k0 < 0 ? (k0 = k) : 1))
+                k1 = k;
+        wg_point *pt = &ch->pts[i];
+        memset(pt, 0, sizeof *pt);
+        pt->value = v, pt->lle = NAN;
+        if (k0 >= 0) {
+            rig_rec view = r->rec;
+            view.n = k1 - k0 + 1, view.y += (size_t)k0 * r->rec.nstate, view.stats += k0;
+            view.xn += k0, view.dxn += k0, view.period += k0;
+            wg_params p = r->base;
+            p.v[r->pid] = v;
+            rig_ana an;
+            char why[160];
+            rig_ana_init(&an, &p, r->model, r->stepper, r->steps, &r->so);
+            if (view.n >= 2 && rig_ana_period(&an, &view, 0, pt, why, sizeof why) == 0)
+                pt->regime = WG_REGIME_NONE; /* no period on a ramp: not classified */
+            rig_ana_fini(&an);
+            rig_point_fill(&view, pt);
+            pt->value = v;
+            win[i] = (window){view.period[0], view.period[view.n - 1], view.n};
+        }
+        ch->ndone = i + 1;
+        r->done++;
+        progress(r, r->phase_dir, pt);
+    }
+    return rc;
+}
+
+/* ---- outputs --------------------------------------------------------------------------- */
+
+static int cmp64(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* Mesh impacts from CONTACT in periods [p0, p1]. */
+static long impacts_in(const rig *r, int64_t p0, int64_t p1)
+{
+    size_t lo = 0, hi = r->nimp;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (r->imp[mid] < p0) lo = mid + 1; else hi = mid;
+    }
+    long n = 0;
+    for (size_t i = lo; i < r->nimp && r->imp[i] <= p1; i++)
+        n++;
+    return n;
+}
+
+static int write_impacts(rig *r, wg_chain *ch[2], window *win[2], char *why, size_t whylen)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s-impacts.csv", r->o.out);
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return snprintf(why, whylen, "cannot write %.400s", path), -1;
+    qsort(r->imp, r->nimp, sizeof *r->imp, cmp64);
+    fprintf(f, "dir,index,%s,impacts_per_period,contact_impacts_per_period,periods,motion,regime,"
+               "period\n", r->o.param);
+    int n = 0, cap = (ch[0] ? ch[0]->ndone : 0) + (ch[1] ? ch[1]->ndone : 0);
+    double *x = calloc((size_t)cap + 1, sizeof *x), *y = calloc((size_t)cap + 1, sizeof *y);
+    for (int d = 0; d < 2; d++)
+        for (int i = 0; ch[d] && i < ch[d]->ndone; i++) {
+            const wg_point *p = &ch[d]->pts[i];
+            const window *w = &win[d][i];
+            double ci = w->n ? (double)impacts_in(r, w->p0, w->p1) / w->n : NAN;
+            fprintf(f, "%s,%d,%.10g,%.6g,%.6g,%d,%s,%s,%d\n", d ? "down" : "up", i, p->value,
+                    p->impacts, ci, w->n, wg_motion_name(p->motion), wg_regime_name(p->regime),
+                    p->period);
+            if (x && y && w->n)
+                x[n] = p->value, y[n++] = p->impacts;
+        }
+    int rc = ferror(f) | fclose(f) ? (snprintf(why, whylen, "error writing %.400s", path), -1) : 0;
+    char title[160];
+    snprintf(title, sizeof title, "%s: mesh impacts per period vs %s (rig: up, then back down)", r->scene,
+             r->o.param);
+    plot_xy px = {title, r->o.param, "impacts per period", x, y, n, 0, 0, 0}; /* up, then down */
+    snprintf(path, sizeof path, "%s-impacts.png", r->o.out);
+    if (!rc && n > 0)
+        rc = plot_xy_png(path, &px, why, whylen);
+    free(x), free(y);
+    return rc;
+}
+
+static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, const char *cmdline)
+{
+    char why[512] = "", path[1024];
+    sweep_study st = {.scene = r->scene, .command = cmdline, .param = r->pid, .gparam = -1,
+                      .ngroups = 1, .b = r->base.v[WG_P_B], .o = &r->so, .partial = partial,
+                      .wall_s = now_s() - r->t0, .threads = 1, .ranks = 1};
+    st.g[0] = (sweep_group){0, ch[0], ch[1]};
+    int rc = 0;
+    snprintf(path, sizeof path, "%s.csv", r->o.out);
+    rc = rc ? rc : out_points_csv(path, &st, why, sizeof why);
+    snprintf(path, sizeof path, "%s-poincare.csv", r->o.out);
+    rc = rc ? rc : out_poincare_csv(path, &st, why, sizeof why);
+    snprintf(path, sizeof path, "%s.json", r->o.out);
+    rc = rc ? rc : out_json(path, &st, why, sizeof why);
+    snprintf(path, sizeof path, "%s.md", r->o.out);
+    rc = rc ? rc : out_markdown(path, &st, why, sizeof why);
+    rc = rc ? rc : out_pngs(r->o.out, &st, why, sizeof why);
+    rc = rc ? rc : write_impacts(r, ch, win, why, sizeof why);
+    if (rc)
+        fprintf(stderr, "wgrig: %s\n", why);
+    return rc ? 1 : 0;
+}
+
+/* ---- main -------------------------------------------------------------------------------- */
+
+static int setup(rig *r, int argc, char **argv)
+{
+    char why[256], path[1024];
+    wg_sweep_opts_default(&r->so);
+    r->so.transient = r->o.settle, r->so.record = r->o.record, r->so.extend = r->o.extend;
+    if (r->o.tol > 0)
+        r->so.tol_floor = r->o.tol, r->so.tol_factor = 0;
+    if ((r->pid = wg_param_lookup(r->o.param)) < 0)
+        return bad("--param", r->o.param, "a parameter name (wgctl params lists them)");
+    const wg_param_info *pi = wg_param_info_get(r->pid);
+    if (wg_param_check(r->pid, r->o.from, why, sizeof why) || wg_param_check(r->pid, r->o.to, why, sizeof why))
+        return fprintf(stderr, "wgrig: --from/--to: %s\n", why), 2;
+    if (r->o.ramp > 0 && !(pi->flags & WG_PF_RAMP))
+        return bad("--param", r->o.param, "not rampable: use the stepwise sweep");
+    if (wgcli_open(&r->c, r->o.url, r->o.prefix, "wgrig", why, sizeof why))
+        return fprintf(stderr, "wgrig: %s\n", why), 1;
+    static const char *const chans[] = {"POINCARE", "CONTACT", "PARAMS", "STATUS"};
+    for (int k = 0; k < 4; k++) {
+        lcm_subscription_t *s = lcm_subscribe(r->c.lcm, wgcli_channel(&r->c, chans[k], path, sizeof path), on_raw, r);
+        lcm_subscription_set_queue_capacity(s, 4096);
+    }
+    (void)argc, (void)argv;
+    if (fetch_params(r))
+        return 1;
+    r->orig = r->base.v[r->pid];
+    int cap = REC_CAP;
+    if (r->o.ramp > 0) { /* sections in one ramp, at the highest omega */
+        double om = r->pid == WG_P_OMEGA ? fmax(r->o.from, r->o.to) : r->base.v[WG_P_OMEGA];
+        double per = (strcmp(r->o.unit, "tau") ? r->o.ramp * r->omega_n : r->o.ramp) * om / (2 * M_PI);
+        if (per > RAMP_MAX)
+            return fprintf(stderr, "wgrig: --ramp: %.0f mesh periods per ramp, more than %d: "
+                                   "use a shorter ramp\n", per, RAMP_MAX), 2;
+        if (per < 4.0 * r->o.bins)
+            return fprintf(stderr, "wgrig: --ramp: %.0f mesh periods per ramp for %d bins: use a "
+                                   "longer ramp (at least 4 periods per bin)\n", per, r->o.bins), 2;
+        cap = (int)(1.1 * per) + 1000;
+    }
+    if (rig_rec_init(&r->rec, r->nstate, cap) ||
+        !(r->rval = malloc(sizeof(double) * (size_t)r->rec.cap)))
+        return fprintf(stderr, "wgrig: out of memory\n"), 1;
+    snprintf(path, sizeof path, "%s-sections.csv", r->o.out);
+    if (!(r->secf = fopen(path, "w")))
+        return fprintf(stderr, "wgrig: cannot write %s\n", path), 1;
+    fprintf(r->secf, "dir,index,%s,phase,period,tau,omega,x_n,dx_n,min_xn,max_xn,motion,impacts\n",
+            r->o.param);
+    snprintf(r->orig_mode, sizeof r->orig_mode, "%s", r->mode);
+    r->orig_rate = r->rate;
+    if (r->o.fast && set_mode(r, "fast", 0))
+        return 1;
+    return 0;
+}
+
+static void finish(rig *r)
+{
+    if (!r->c.lcm)
+        return;
+    if (r->o.fast && r->have_status)
+        set_mode(r, r->orig_mode, r->orig_rate);
+    if (!r->o.keep && r->have_params && r->o.ramp <= 0 && r->done)
+        set_value(r, r->orig);
+    wgcli_wait(&r->c, 300, NULL, NULL); /* CONTACT batches still on their way */
+}
+
+int main(int argc, char **argv)
+{
+    rig *r = calloc(1, sizeof *r);
+    char cmdline[2048] = "";
+    for (int i = 0, n = 0; i < argc && n < (int)sizeof cmdline - 2; i++)
+        n += snprintf(cmdline + n, sizeof cmdline - (size_t)n, "%s%s", i ? " " : "", argv[i]);
+    int rc = r ? parse_opts(argc, argv, &r->o) : 1;
+    struct sigaction sa = {.sa_handler = on_signal};
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    r->t0 = now_s();
+    wg_chain chains[2], *ch[2] = {NULL, NULL};
+    memset(chains, 0, sizeof chains);
+    window *win[2] = {NULL, NULL};
+    if (!rc && !(rc = setup(r, argc, argv))) {
+        int npts = r->o.ramp > 0 ? r->o.bins : r->o.points;
+        for (int d = 0; d < 2; d++) {
+            if (!(d ? r->o.down : r->o.up))
+                continue;
+            chains[d] = (wg_chain){.base = r->base, .param = r->pid, .v0 = fmin(r->o.from, r->o.to),
+                                   .v1 = fmax(r->o.from, r->o.to), .npts = npts, .dir = d ? -1 : 1,
+                                   .param2 = -1, .pts = calloc((size_t)npts, sizeof(wg_point))};
+            win[d] = calloc((size_t)npts, sizeof(window));
+            ch[d] = &chains[d];
+            r->total += npts;
+        }
+        int failed = 0;
+        for (int d = 0; d < 2 && !failed; d++)
+            if (ch[d])
+                failed = r->o.ramp > 0 ? run_ramp(r, ch[d], win[d]) : run_chain(r, ch[d], win[d]);
+        if (!r->o.quiet)
+            fprintf(stderr, "%s", isatty(STDERR_FILENO) ? "\n" : "");
+        finish(r);
+        rc = write_outputs(r, ch, win, failed || g_stop, cmdline);
+        fprintf(stderr, "wgrig: %d/%d points, %ld skipped (refused), %ld refusals, %ld ACK timeouts, "
+                        "%ld POINCARE and %ld CONTACT messages dropped, %ld recordings re-waited; "
+                        "%.1f s; outputs %s.*\n", r->done, r->total, r->skipped, r->refusals,
+                r->timeouts, r->pc_drop, r->ct_drop, r->col.breaks, now_s() - r->t0, r->o.out);
+        rc = g_stop ? 130 : failed || (r->skipped && r->skipped == r->done) ? 1 : rc;
+    }
+    if (r) {
+        if (r->secf)
+            fclose(r->secf);
+        wgcli_close(&r->c);
+        rig_rec_fini(&r->rec);
+        free(r->rval), free(r->imp);
+        for (int d = 0; d < 2; d++)
+            free(chains[d].pts), free(win[d]);
+        free(r);
+    }
+    return rc;
+}

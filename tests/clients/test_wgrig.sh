@@ -1,0 +1,93 @@
+#!/bin/sh
+# test_wgrig.sh WORMGEARD WGRIG WGSWEEP WGCTL - a live stepwise sweep of the real
+# daemon (fast mode) against the offline sweep of the same scene, N and grid:
+# the same regime, period, motion, impacts and x_n extremes at omega = 0.5
+# and 1.7 both ways and 1.5 down (points whose attractor does not depend on
+# the phase at which the daemon applies the step: 0.7, 0.9, 1.1, 1.3 and 1.5
+# up have coexisting orbits or long transients, and land on either); the outputs exist; the
+# CONTACT impacts equal the POINCARE statistics; a ramp; refusals; usage.
+# Run through netns.sh (host-local URL only).
+D=$1 R=$2 S=$3 C=$4
+status=0
+tmp=$(mktemp -d) || exit 1
+pid=
+cleanup() { [ -n "$pid" ] && kill -KILL "$pid" 2>/dev/null; rm -rf "$tmp"; }
+trap cleanup EXIT
+fail() { echo "FAIL: $*"; status=1; }
+expect() {
+    want=$1; shift
+    "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
+    [ "$got" -eq "$want" ] || fail "$* -> exit $got, want $want: $(tail -5 "$tmp/out" "$tmp/err")"
+}
+has() { grep -q -- "$2" "$tmp/$1" || fail "$1 lacks '$2': $(tail -5 "$tmp/$1")"; }
+export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0" WORMGEAR_PREFIX=RIGT_
+
+# ---- usage
+expect 0 "$R" --help
+for o in --url --prefix --param --from --points --dir --settle --record --extend --ramp --bins \
+         --tol --no-lle --fast --keep --out --timeout --stall --retries --quiet; do
+    has out "$o"
+done
+expect 2 "$R" --from 0.5
+has err "\-\-to '': required"
+expect 2 "$R" --from 0.5 --to 20
+has err "omega = 20 out of range \[0.01, 10\]"
+expect 2 "$R" --from 0.5 --to 1 --dir sideways
+has err "\-\-dir 'sideways': one of up, down, both"
+expect 2 "$R" --param nosuch --from 0 --to 1
+has err "\-\-param 'nosuch'"
+expect 1 "$R" --from 0.5 --to 1 --timeout 0.2 --retries 0 --out "$tmp/none"
+has err "no ACK"
+
+# ---- live vs offline
+"$D" --mode realtime --rate 0.01 --set omega=0.5 --state-dir "$tmp" >"$tmp/d.out" 2>&1 &
+pid=$!
+sleep 0.5
+expect 0 "$R" --from 0.5 --to 1.7 --points 7 --fast --out "$tmp/live"
+cat "$tmp/err"
+expect 0 "$S" --from 0.5 --to 1.7 --points 7 --steps-per-period 128 --threads 1 --quiet \
+    --no-png --no-json --out "$tmp/off"
+for f in live.csv live-poincare.csv live.json live.md live.png live-sections.csv \
+         live-impacts.csv live-impacts.png; do
+    [ -s "$tmp/$f" ] || fail "no $f"
+done
+# dir,index,omega,regime,period,converged,motion,impacts,min_xn,max_xn
+for wd in 0.5/up 0.5/down 1.5/down 1.7/up 1.7/down; do
+    w=${wd%/*} d=${wd#*/}
+    {
+        a=$(awk -F, -v w=$w -v d=$d '$1 == d && $3 == w { print $4, $5, $7, $8 }' "$tmp/live.csv")
+        b=$(awk -F, -v w=$w -v d=$d '$1 == d && $3 == w { print $4, $5, $7, $8 }' "$tmp/off.csv")
+        echo "omega $w $d: live [$a] offline [$b]"
+        [ -n "$a" ] && [ "$a" = "$b" ] || fail "omega $w $d: live [$a] != offline [$b]"
+        awk -F, -v w=$w -v d=$d 'NR == FNR { if ($1 == d && $3 == w) { m = $9; M = $10 }; next }
+            $1 == d && $3 == w { dm = $9 - m; dM = $10 - M; if (dm < 0) dm = -dm; if (dM < 0) dM = -dM
+                                 exit !(dm < 1e-6 && dM < 1e-6) }' "$tmp/live.csv" "$tmp/off.csv" ||
+            fail "omega $w $d: x_n extremes differ by more than 1e-6"
+    }
+done
+# impacts per period: CONTACT events agree with the POINCARE statistics
+awk -F, 'NR > 1 && $6 > 0 { d = $4 - $5; if (d < 0) d = -d; if (d > 1e-9) bad++ } END { exit bad > 0 }' \
+    "$tmp/live-impacts.csv" || fail "CONTACT and POINCARE impacts differ: $(cat "$tmp/live-impacts.csv")"
+expect 0 "$C" status
+has out "mode realtime (rate 0.01)"       # --fast restored the mode
+has out "^omega     0\.5$"                  # and the original omega (no --keep)
+
+# ---- a ramp up and down, 1 s of simulated time each way (physical real time)
+expect 0 "$R" --from 0.5 --to 1.0 --ramp 0.5s --bins 6 --fast --out "$tmp/ramp"
+has err "12/12 points"
+[ "$(grep -c '^up' "$tmp/ramp.csv")" -eq 6 ] || fail "ramp: not 6 up bins"
+awk -F, '$1 == "up" && $3 == 0.5 && $7 == "no_impact" { ok = 1 } END { exit !ok }' "$tmp/ramp.csv" ||
+    fail "ramp: omega 0.5 not no_impact: $(cat "$tmp/ramp.csv")"
+awk -F, '$1 == "up" && $3 == 0.9 && $7 == "single_sided" { ok = 1 } END { exit !ok }' "$tmp/ramp.csv" ||
+    fail "ramp: omega 0.9 not single_sided: $(cat "$tmp/ramp.csv")"
+kill -TERM $pid; wait $pid; pid=
+
+# ---- refusals: a monitor-only daemon refuses every set (ESTATE)
+"$D" --accept-commands=no --rate 0.01 --state-dir "$tmp" >"$tmp/d2.out" 2>&1 &
+pid=$!
+sleep 0.5
+expect 1 "$R" --from 0.5 --to 0.6 --points 2 --dir up --retries 1 --out "$tmp/ref"
+has err "refused (ESTATE)"
+has err "2 skipped (refused)"
+kill -TERM $pid; wait $pid; pid=
+exit $status
