@@ -56,6 +56,12 @@ static int parse_point(char **f, int n, wg_point *pt, int *dir)
     pt->resid = strtod(f[13], NULL);
     pt->steps = atoi(f[14]);
     pt->value2 = NAN;
+    if (n >= 21 && f[18][0]) { /* the 2N check, when the run had --verify-steps */
+        pt->checked = 1;
+        pt->check_regime = lookup(regimes, 5, f[18]);
+        pt->check_period = atoi(f[19]);
+        pt->check_motion = lookup(motions, 3, f[20]);
+    }
     return pt->regime < 0 || pt->motion < 0 ? -1 : 0;
 }
 

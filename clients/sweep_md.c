@@ -186,6 +186,39 @@ static void route(FILE *f, const wg_chain *c)
     fputs("\n\n", f);
 }
 
+/* Step-halving check of one chain: how many points keep their
+ * classification (regime, period, motion class) with 2N steps. */
+static void halving(FILE *f, const char *dir, const wg_chain *c)
+{
+    int n = 0, same = 0, shown = 0;
+    for (int i = 0; c && i < c->ndone; i++) {
+        const wg_point *p = &c->pts[i];
+        if (!p->checked)
+            continue;
+        n++;
+        same += p->check_regime == p->regime && p->check_period == p->period &&
+                p->check_motion == p->motion;
+    }
+    if (!n)
+        return;
+    fprintf(f, "- %s sweep: %d of %d attractors keep regime, period and motion class with 2N "
+               "steps per period",
+            dir, same, n);
+    for (int i = 0; c && i < c->ndone; i++) {
+        const wg_point *p = &c->pts[i];
+        if (!p->checked || (p->check_regime == p->regime && p->check_period == p->period &&
+                            p->check_motion == p->motion))
+            continue;
+        wg_point q = *p;
+        q.regime = p->check_regime, q.period = p->check_period;
+        char a[24], b[24];
+        fprintf(f, "%s%.4f %s/%s -> %s/%s", shown++ ? "; " : "; differ: ", p->value,
+                out_label(p, a, sizeof a), wg_motion_name(p->motion), out_label(&q, b, sizeof b),
+                wg_motion_name(p->check_motion));
+    }
+    fputs("\n", f);
+}
+
 void out_group_table(FILE *f, const sweep_study *st, const sweep_group *g)
 {
     wg_transition *t = malloc(sizeof *t * STUDY_MAX_TRANS);
@@ -209,6 +242,14 @@ void out_group_table(FILE *f, const sweep_study *st, const sweep_group *g)
     cascades(f, t, n, +1);
     cascades(f, t, n, -1);
     fputs("\n", f);
+    if ((g->up && g->up->ndone && g->up->pts[0].checked) ||
+        (g->down && g->down->ndone && g->down->pts[0].checked)) {
+        fputs("Step-halving check (each point's final state re-analysed with twice the steps "
+              "per period):\n\n", f);
+        halving(f, "up", g->up);
+        halving(f, "down", g->down);
+        fputs("\n", f);
+    }
     if (g->up)
         route(f, g->up);
     free(t);

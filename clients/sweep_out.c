@@ -70,8 +70,13 @@ static void csv_point(FILE *f, const sweep_study *st, const sweep_group *g, cons
             wg_motion_name(p->motion), p->impacts, p->min_xn, p->max_xn, p->lle, p->err, p->tol,
             p->resid, p->steps);
     if (p->nfloq)
-        fprintf(f, ",%.9g,%.9g,%.9g\n", p->floq_re[0], p->floq_im[0],
+        fprintf(f, ",%.9g,%.9g,%.9g", p->floq_re[0], p->floq_im[0],
                 hypot(p->floq_re[0], p->floq_im[0]));
+    else
+        fprintf(f, ",,,");
+    if (p->checked)
+        fprintf(f, ",%s,%d,%s\n", wg_regime_name(p->check_regime), p->check_period,
+                wg_motion_name(p->check_motion));
     else
         fprintf(f, ",,,\n");
 }
@@ -85,7 +90,7 @@ int out_points_csv(const char *path, const sweep_study *st, char *why, size_t wh
         fprintf(f, "%s,", pname(st->gparam));
     fprintf(f, "dir,index,%s,regime,period,converged,motion,impacts_per_period,min_xn,max_xn,"
                "lle_per_period,err,tol,resid,steps_per_period,floquet1_re,floquet1_im,"
-               "floquet1_abs\n",
+               "floquet1_abs,check2n_regime,check2n_period,check2n_motion\n",
             pname(st->param));
     for (int k = 0; k < st->ngroups; k++) {
         const wg_chain *c[2];
@@ -173,6 +178,9 @@ static void json_point(FILE *f, const wg_point *p)
     for (int s = 0; s < p->nsec; s++)
         fprintf(f, "%s%.10g", s ? "," : "", p->dxn[s]);
     fputs("]", f);
+    if (p->checked)
+        fprintf(f, ",\"check2n\":{\"regime\":\"%s\",\"period\":%d,\"motion\":\"%s\"}",
+                wg_regime_name(p->check_regime), p->check_period, wg_motion_name(p->check_motion));
     if (p->nfloq) {
         fputs(",\"floquet\":[", f);
         for (int s = 0; s < p->nfloq; s++)
@@ -220,10 +228,10 @@ static void json_opts(FILE *f, const wg_sweep_opts *o)
     fprintf(f, "\"options\":{\"model\":\"%s\",\"stepper\":\"%s\",\"steps_per_period\":%d,"
                "\"transient\":%d,\"record\":%d,\"extend\":%d,\"lle_periods\":%d,"
                "\"lle_d0\":%g,\"lle_tol\":%g,\"tol_factor\":%g,\"tol_floor\":%g,"
-               "\"floquet\":%s}",
+               "\"floquet\":%s,\"verify_2n\":%s}",
             wg_model_name(o->model), wg_stepper_name(o->stepper), o->steps, o->transient,
             o->record, o->extend, o->lle_periods, o->lle_d0, o->lle_tol, o->tol_factor,
-            o->tol_floor, o->floquet ? "true" : "false");
+            o->tol_floor, o->floquet ? "true" : "false", o->verify ? "true" : "false");
 }
 
 int out_json(const char *path, const sweep_study *st, char *why, size_t whylen)

@@ -70,6 +70,8 @@ static void usage(FILE *f)
         "                          the RK4 stability limit where needed)\n"
         "  --stepper rk4|rk4-event (default rk4-event)\n"
         "  --floquet               Floquet multipliers of every periodic point\n"
+        "  --verify-steps          re-analyse every point's attractor with 2N steps per\n"
+        "                          period (step-halving check; about 3x the cost)\n"
         "  --threads K             chains in parallel (default: online CPUs)\n"
         "  --out PREFIX            output prefix (default sweep): PREFIX.csv,\n"
         "                          PREFIX-poincare.csv, PREFIX.json, PREFIX.md, PNGs\n"
@@ -195,7 +197,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"values", 1, 0, 'V'}, {"map", 1, 0, 'M'}, {"transient", 1, 0, 'T'},
         {"record", 1, 0, 'R'}, {"extend", 1, 0, 'E'}, {"lle-periods", 1, 0, 'L'},
         {"lle-tol", 1, 0, 'l'}, {"tol-factor", 1, 0, 'F'}, {"tol-floor", 1, 0, 'f'},
-        {"steps-per-period", 1, 0, 'N'}, {"stepper", 1, 0, 'k'}, {"floquet", 0, 0, 'Q'},
+        {"steps-per-period", 1, 0, 'N'}, {"stepper", 1, 0, 'k'}, {"floquet", 0, 0, 'Q'}, {"verify-steps", 0, 0, 'W'},
         {"threads", 1, 0, 'j'}, {"out", 1, 0, 'o'}, {"no-png", 0, 0, 'G'}, {"no-json", 0, 0, 'J'},
         {"at", 1, 0, 'A'}, {"at-periods", 1, 0, 'P'}, {"quiet", 0, 0, 'q'}, {"table-from", 1, 0, 'Y'},
         {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
@@ -218,6 +220,7 @@ static int parse_opts(int argc, char **argv, opts *o)
             break;
         case 'o': o->out = optarg; break;
         case 'Q': o->so.floquet = 1; break;
+        case 'W': o->so.verify = 1; break;
         case 'G': o->png = 0; break;
         case 'J': o->json = 0; break;
         case 'q': o->quiet = 1; break;

@@ -302,13 +302,38 @@ int wg_point_run(const wg_params *p, const wg_sweep_opts *o, double *y, wg_point
     return rc;
 }
 
+/* Step-halving check: analyse the attractor reached (state y) again with
+ * 2N steps per period and store that classification in pt. */
+static void verify_point(work *v, const wg_params *p, const double *y, wg_point *pt)
+{
+    double yv[WG_NSTATE_MAX];
+    char why[160];
+    wg_point *q = malloc(sizeof *q);
+    if (!q)
+        return;
+    memcpy(yv, y, sizeof yv);
+    if (point_analyse(v, p, yv, q, why, sizeof why) == WG_OK) {
+        pt->checked = 1;
+        pt->check_regime = q->regime;
+        pt->check_period = q->period;
+        pt->check_motion = q->motion;
+    }
+    free(q);
+}
+
 int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *stop,
                  wg_progress_fn progress, void *ctx)
 {
-    work w;
+    work w, v;
+    wg_sweep_opts ov = *o;
+    ov.steps = 2 * o->steps;
+    ov.verify = ov.floquet = 0;
     c->ndone = 0;
     c->why[0] = 0;
-    if ((c->status = work_init(&w, o, stop))) {
+    if ((c->status = work_init(&w, o, stop)) == WG_OK && o->verify &&
+        (c->status = work_init(&v, &ov, stop)) != WG_OK)
+        work_fini(&w);
+    if (c->status) {
         snprintf(c->why, sizeof c->why, "out of memory for the record buffer");
         return c->status;
     }
@@ -325,6 +350,8 @@ int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *sto
         int rc = wg_params_check(&p, c->why, sizeof c->why);
         if (!rc)
             rc = point_analyse(&w, &p, y, pt, c->why, sizeof c->why);
+        if (!rc && o->verify)
+            verify_point(&v, &p, y, pt);
         pt->value = p.v[c->param];
         pt->value2 = c->param2 >= 0 ? p.v[c->param2] : NAN;
         if (rc && rc != WG_ENONFINITE) {
@@ -338,6 +365,8 @@ int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *sto
             progress(ctx, -1, c->ndone); /* the pool knows the index */
     }
     work_fini(&w);
+    if (o->verify)
+        work_fini(&v);
     return c->status;
 }
 

@@ -28,6 +28,7 @@ typedef struct wg_sweep_opts {
     double tol_floor;
     int floquet;         /* compute Floquet multipliers of periodic points */
     double fd_eps;       /* finite-difference step for Jacobians */
+    int verify;          /* re-analyse each point's attractor with 2N steps */
 } wg_sweep_opts;
 
 /* Result of one point. */
@@ -48,6 +49,8 @@ typedef struct wg_point {
     int nfloq;            /* multipliers stored (0 if not computed) */
     double floq_re[WG_NSTATE_MAX], floq_im[WG_NSTATE_MAX];
     double y_end[WG_NSTATE_MAX]; /* final state at psi = 0 */
+    int checked;          /* verify: the 2N re-analysis ran */
+    int check_regime, check_period, check_motion; /* its classification */
 } wg_point;
 
 /* One chain: parameter `param` over npts values from v0 to v1 (inclusive,
@@ -76,7 +79,9 @@ void wg_sweep_opts_default(wg_sweep_opts *o);
 /* Value of point i (in run order) of a chain. */
 double wg_chain_value(const wg_chain *c, int i);
 
-/* Run chain c point by point; stops early (status WG_OK, ndone < npts) when
+/* Run chain c point by point (with o->verify, each point's final state is
+ * analysed again with twice the steps per period, not continued; the
+ * chain follows the N solution); stops early (status WG_OK, ndone < npts) when
  * *stop becomes non-zero (stop may be NULL). Allocates two or three sims for
  * the duration of the call. WG_OK or the status that ended the chain (also
  * in c->status, with c->why). */

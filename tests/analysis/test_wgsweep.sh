@@ -28,6 +28,12 @@ if [ -n "$mpiexec" ]; then
   check "mpi -np 2: identical csv" 'cmp -s "$dir/s1.csv" "$dir/m2.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/m2-poincare.csv"'
 fi
 
+"$sweep" --from 1.17 --to 1.22 --points 6 --transient 200 --quiet --no-png --dir up --verify-steps --out "$dir/v" >/dev/null
+check "--verify-steps: 2N check columns and summary" 'grep -q "6 of 6 attractors keep" "$dir/v.md" && [ $(cut -d, -f19 "$dir/v.csv" | grep -c periodic) -eq 6 ]'
+
+"$sweep" --table-from "$dir/s1.csv" --out "$dir/re" >/dev/null
+check "--table-from recomputes the same doubling" 'grep -q "period doubling | 1.1950 (1.1900-1.2000)" "$dir/re.md" && grep -q "recomputed from" "$dir/re.md"'
+
 # Ctrl-C: a long sweep interrupted after a second
 "$sweep" --from 0.6 --to 1.0 --points 400 --threads 1 --quiet --out "$dir/int" >/dev/null 2>&1 &
 pid=$!
