@@ -1,0 +1,55 @@
+#!/bin/sh
+# test_java.sh decode WGENC JAR LCMJAR JAVAC JAVA SRCDIR
+#   the Java classes of our types decode the bytes the C bindings encode,
+#   with equal fingerprints (java/DecodeTest.java).
+# test_java.sh spy WORMGEARD JAR LCMJAR JAVAC JAVA SRCDIR WGSPY
+#   under Xvfb: lcm-spy (in-process, java/SpyCheck.java) lists the daemon's
+#   channels with our types and counts messages; the wgspy launcher starts
+#   and runs without a Java exception. Exit 77 (skip) without Xvfb.
+#   Run through netns.sh (host-local URL only).
+mode=$1; shift
+status=0
+tmp=$(mktemp -d) || exit 1
+pids=
+cleanup() { for p in $pids; do kill -KILL "$p" 2>/dev/null; done; rm -rf "$tmp"; }
+trap cleanup EXIT
+fail() { echo "FAIL: $*"; status=1; }
+
+if [ "$mode" = decode ]; then
+    ENC=$1 JAR=$2 LCMJAR=$3 JAVAC=$4 JAVA=$5 SRC=$6
+    "$ENC" "$tmp" || { echo "FAIL: wgenc"; exit 1; }
+    mkdir "$tmp/cls"
+    "$JAVAC" -nowarn -cp "$JAR:$LCMJAR" -d "$tmp/cls" "$SRC/DecodeTest.java" || exit 1
+    "$JAVA" -cp "$tmp/cls:$JAR:$LCMJAR" DecodeTest "$tmp" || status=1
+    exit $status
+fi
+
+D=$1 JAR=$2 LCMJAR=$3 JAVAC=$4 JAVA=$5 SRC=$6 SPY=$7
+command -v Xvfb >/dev/null || { echo "no Xvfb (Debian: xvfb): skipped"; exit 77; }
+n=90
+while [ -e /tmp/.X11-unix/X$n ] || [ -e /tmp/.X$n-lock ]; do n=$((n + 1)); done
+Xvfb :$n -screen 0 1280x1024x24 -nolisten tcp >"$tmp/xvfb.log" 2>&1 &
+pids="$pids $!"
+export DISPLAY=:$n WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0" WORMGEAR_PREFIX=SPYT_
+"$D" --rate 0.01 --state-dir "$tmp" >"$tmp/d.out" 2>&1 &
+pids="$pids $!"
+mkdir "$tmp/cls"
+"$JAVAC" -nowarn -cp "$LCMJAR" -d "$tmp/cls" "$SRC/SpyCheck.java" || exit 1
+cp=$("$SPY" --jar "$JAR" --print-cp) || { echo "FAIL: wgspy --print-cp"; exit 1; }
+i=0
+until xdpyinfo >/dev/null 2>&1 || [ $i -ge 50 ]; do sleep 0.1; i=$((i + 1)); done
+"$JAVA" -Djava.net.preferIPv4Stack=true -cp "$tmp/cls:$cp" SpyCheck 4 "$WORMGEAR_URL" \
+    >"$tmp/spy.out" 2>"$tmp/spy.err" || fail "SpyCheck exit $?: $(cat "$tmp/spy.err")"
+cat "$tmp/spy.out"
+grep -q "Found 8 LCM types" "$tmp/spy.out" || fail "lcm-spy did not find our 8 types"
+for t in STATE POINCARE CONTACT STATUS PARAMS; do
+    lt=$(echo $t | tr 'A-Z' 'a-z')
+    grep -q "row: | SPYT_$t | ${lt}_t | .* | 0$" "$tmp/spy.out" ||
+        fail "lcm-spy lists no SPYT_$t decoded as ${lt}_t with 0 undecodable"
+done
+# the launcher itself: starts, runs 3 s, no exception
+timeout 3 "$SPY" --jar "$JAR" >"$tmp/wgspy.out" 2>&1
+rc=$?
+[ $rc -eq 124 ] || fail "wgspy exited early ($rc): $(cat "$tmp/wgspy.out")"
+grep -q "Exception\|Unrecognized option" "$tmp/wgspy.out" && fail "wgspy: $(cat "$tmp/wgspy.out")"
+exit $status
