@@ -63,6 +63,15 @@ static int nd_of(const wg_sim *s) { return s->nstate / 2; }
 
 static inline int zone_of(double x, double c) { return (x > c) - (x < -c); }
 
+/* Finite and not absurd: one sum catches NaN, Inf and runaway values. */
+static int finite_state(const double *y, int n)
+{
+    double sum = 0.0;
+    for (int j = 0; j < n; j++)
+        sum += fabs(y[j]);
+    return sum < ABSURD;
+}
+
 /* min/max without libm's NaN rules (the state is finite here). */
 static inline double dmin(double a, double b) { return a < b ? a : b; }
 static inline double dmax(double a, double b) { return a > b ? a : b; }
@@ -377,6 +386,10 @@ int wg_sim_restore(wg_sim *s, const wg_snapshot *w, char *why, size_t whylen)
                  w->steps_per_period);
         return WG_EINVAL;
     }
+    if (!finite_state(w->y, wg_model_nstate(w->model)) || !isfinite(w->tau)) {
+        snprintf(why, whylen, "snapshot state is not finite (or |y| >= %g)", ABSURD);
+        return WG_EINVAL;
+    }
     int rc = wg_sim_set_params(s, &w->p, why, whylen);
     if (rc)
         return rc;
@@ -655,14 +668,6 @@ static void split_step(wg_sim *s, const phase *ph, const double *y0, double *y1,
 
 /* ---- the step loop --------------------------------------------------------- */
 
-/* Finite and not absurd: one sum catches NaN, Inf and runaway values. */
-static int finite_state(const double *y, int n)
-{
-    double sum = 0.0;
-    for (int j = 0; j < n; j++)
-        sum += fabs(y[j]);
-    return sum < ABSURD;
-}
 
 static int cmp_event(const void *a, const void *b)
 {
@@ -808,6 +813,7 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
         b.n = 0;
         if (changed) {
             int zsave[WG_NCONTACT];
+            uint64_t splits_before = s->nsplit;
             memcpy(zsave, s->zone, sizeof zsave);
             if (!s->ramp.active) {
                 double om = s->p.v[WG_P_OMEGA];
@@ -826,7 +832,8 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
                     }
                 }
             }
-            if (!finite_state(y1, nst)) { /* undo the zone updates */
+            if (!finite_state(y1, nst)) { /* undo the zone updates and counts */
+                s->nsplit = splits_before;
                 memcpy(s->zone, zsave, sizeof zsave);
                 for (int j = 0; j < WG_NCONTACT; j++)
                     set_lock(s, j, s->zone[j]);
