@@ -57,6 +57,7 @@ typedef struct vconst {
 
 INLINE void vconst_load(vconst *V, const wg_kcoef *restrict K)
 {
+#pragma GCC unroll 3
     for (int b = 0; b < 3; b++) {
         V->c[b] = vload(&K->c[2 * b]);
         V->m[b] = vload(&K->m[2 * b]);
@@ -96,6 +97,7 @@ INLINE void stage_full(const vconst *restrict C, const wg_kcoef *restrict K,
     double g = !MB ? xn : LOCK ? K->w[0] * xn - K->zc[0] : dz(xn, K->b);
     double F = K->dp * dxn + (KA ? e->kp * g : g);
     v2d base[3], pb[3];
+#pragma GCC unroll 3
     for (int b = 0; b < 3; b++) {
         v2d gb = !BJ ? q[b] : LOCK ? C->w[b] * q[b] - C->zc[b] : vdz(q[b], C->bj);
         base[b] = -(C->d[b] * v[b]) - C->k[b] * gb;
@@ -114,6 +116,7 @@ INLINE void rk4_full(const double *restrict y0, double *restrict y1, const wg_kc
     vconst C;
     vconst_load(&C, K);
     v2d q0[3], v0[3], q[3], v[3], acc[3], sq[3], sv[3];
+#pragma GCC unroll 3
     for (int b = 0; b < 3; b++) {
         q0[b] = q[b] = vload(&y0[2 * b]);
         v0[b] = v[b] = vload(&y0[7 + 2 * b]);
@@ -125,12 +128,15 @@ INLINE void rk4_full(const double *restrict y0, double *restrict y1, const wg_kc
     double ssv = 0.0, sas = 0.0;
     static const double wt[4] = {1.0, 2.0, 2.0, 1.0};
     const double at[4] = {0.5 * h, 0.5 * h, h, 0.0};
+#pragma GCC unroll 3
     for (int b = 0; b < 3; b++)
         sq[b] = sv[b] = vsplat(0.0);
+#pragma GCC unroll 4
     for (int j = 0; j < 4; j++) {
         stage_full(&C, K, &e[(j + 1) / 2], q, v, vs, X, V, acc, &as6, &cacc, LOCK, BJ, MB, KA, EM);
         v2d w = vsplat(wt[j]), a = vsplat(at[j]);
-        for (int b = 0; b < 3; b++) {
+    #pragma GCC unroll 3
+    for (int b = 0; b < 3; b++) {
             sq[b] += w * v[b];
             sv[b] += w * acc[b];
         }
@@ -141,7 +147,8 @@ INLINE void rk4_full(const double *restrict y0, double *restrict y1, const wg_kc
         double Vn = V0 + at[j] * cacc;
         X = X0 + at[j] * V;
         V = Vn;
-        for (int b = 0; b < 3; b++) {
+    #pragma GCC unroll 3
+    for (int b = 0; b < 3; b++) {
             v2d qn = q0[b] + a * v[b];
             v[b] = v0[b] + a * acc[b];
             q[b] = qn;
@@ -149,6 +156,7 @@ INLINE void rk4_full(const double *restrict y0, double *restrict y1, const wg_kc
         vs = vs0 + at[j] * as6;
     }
     v2d h6 = vsplat(h / 6.0);
+#pragma GCC unroll 3
     for (int b = 0; b < 3; b++) {
         vstore(&y1[2 * b], q0[b] + h6 * sq[b]);
         vstore(&y1[7 + 2 * b], v0[b] + h6 * sv[b]);
