@@ -658,6 +658,7 @@ static int setup(rig *r, int argc, char **argv)
     if (fetch_params(r))
         return 1;
     r->orig = r->base.v[r->pid];
+    r->so.steps = r->steps, r->so.model = r->model, r->so.stepper = r->stepper; /* the daemon's */
     int cap = REC_CAP;
     if (r->o.ramp > 0) { /* sections in one ramp, at the highest omega */
         double om = r->pid == WG_P_OMEGA ? fmax(r->o.from, r->o.to) : r->base.v[WG_P_OMEGA];
@@ -746,5 +747,6 @@ int main(int argc, char **argv)
             free(chains[d].pts), free(win[d]);
         free(r);
     }
+    plot_fini(); /* cairo and fontconfig caches: a clean exit under ASan */
     return rc;
 }

@@ -47,7 +47,7 @@ np=$(grep -c '^POINCARE' "$tmp/a")
 echo "samples seen by both the subscriber and the log: $n ($np Poincare)"
 [ "$n" -gt 1000 ] || fail "too few common samples: $n"
 [ "$np" -gt 20 ] || fail "too few common Poincare samples: $np"
-cmp -s "$tmp/a" "$tmp/b" || fail "CSV differs from what was received: $(diff "$tmp/a" "$tmp/b" | head -5)"
+cmp -s "$tmp/a" "$tmp/b" || fail "CSV differs from what was received: $(diff "$tmp/a" "$tmp/b" | head -5 | tr '\n' ' ')"
 grep -q ',set,omega=0.75,' "$tmp/csv/LOGT_CMD.csv" || fail "CMD.csv lacks the set: $(cat "$tmp/csv/LOGT_CMD.csv")"
 grep -q ',OK,' "$tmp/csv/LOGT_ACK.csv" || fail "ACK.csv lacks the OK: $(cat "$tmp/csv/LOGT_ACK.csv")"
 # omega in STATE goes 0.7 -> 0.75 once

@@ -45,9 +45,9 @@ int main(int argc, char **argv)
         return 1;
     char ch[128];
     snprintf(ch, sizeof ch, "%sSTATE", argv[2]);
-    wormgear_state_t_subscribe(l, ch, on_state, NULL);
+    wormgear_state_t_subscription_t *s1 = wormgear_state_t_subscribe(l, ch, on_state, NULL);
     snprintf(ch, sizeof ch, "%sPOINCARE", argv[2]);
-    wormgear_poincare_t_subscribe(l, ch, on_pc, NULL);
+    wormgear_poincare_t_subscription_t *s2 = wormgear_poincare_t_subscribe(l, ch, on_pc, NULL);
     double end = now() + atof(argv[3]);
     for (double left; (left = end - now()) > 0;) {
         int fd = lcm_get_fileno(l);
@@ -58,6 +58,8 @@ int main(int argc, char **argv)
         if (select(fd + 1, &s, NULL, NULL, &tv) > 0)
             lcm_handle(l);
     }
+    wormgear_state_t_unsubscribe(l, s1);
+    wormgear_poincare_t_unsubscribe(l, s2);
     lcm_destroy(l);
     return 0;
 }
