@@ -371,6 +371,11 @@ static int walk(conf *c, int argc, char **argv, int pass, const char **cfg, char
                      bad);
             return 2;
         }
+        /* a boolean takes its value as "--key=no" or as the next word,
+         * "--key no"; bare "--key" means yes */
+        if (opt >= OPT_KEY0 && opt < OPT_KEY0 + NKEYS && keys[opt - OPT_KEY0].type == K_BOOL &&
+            !optarg && optind < argc && parse_bool(argv[optind]) >= 0)
+            optarg = argv[optind++];
         if (pass == 0) {
             help |= opt == OPT_HELP;
             if (opt == OPT_CONFIG)

@@ -11,6 +11,8 @@ pkgs=(
   libsystemd-dev systemd
   libcairo2-dev
   iproute2 util-linux procps
+  liblcm-java libjchart2d-java default-jdk-headless
+  xvfb x11-utils tmux
 )
 missing=()
 for p in "${pkgs[@]}"; do

@@ -36,6 +36,9 @@ has out "mode lockstep, rate 0.5"
 expect 2 "$D" --mode warp --check-config
 has err "mode: 'warp' is not one of realtime, fast, lockstep"
 expect 2 "$D" --bogus
+# a boolean takes "--key no" as well as "--key=no"
+expect 0 "$D" --accept-commands no --start-paused=yes --check-config
+expect 2 "$D" --accept-commands maybe --check-config
 expect 0 "$D" --help
 has out "--state-rate-hz"
 
