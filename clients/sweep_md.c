@@ -232,7 +232,7 @@ void out_group_table(FILE *f, const sweep_study *st, const sweep_group *g)
     const char *p = pname(st->param);
     fprintf(f, "| transition | up sweep: %s | down sweep: %s | detail |\n|---|---|---|---|\n", p,
             p);
-    rows(f, t, n, fmax(4.0 * h, 0.02 * (c ? fabs(c->v1 - c->v0) : 0.0)));
+    rows(f, t, n, fmax(4.0 * h, 0.01 * (c ? fabs(c->v1 - c->v0) : 0.0)));
     if (!n)
         fputs("| (none found) | - | - | - |\n", f);
     fprintf(f, "\nLocations are brackets between neighbouring grid points (step %.4g); grazing "
