@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define LOOSE_TOL 1e-4 /* as wg_sweep.c: period tolerance once the LLE says "converging" */
 
 int rig_rec_init(rig_rec *r, int nstate, int cap)
 {
@@ -71,7 +70,12 @@ static int sim_for(const rig_ana *a, wg_sim *s, int n, char *why, size_t whylen)
     return wg_sim_init(s, &a->p, &cfg, why, whylen);
 }
 
-/* |P_2N(x) - next| over the last two recorded sections (wg_sweep.c period_error). */
+static wg_record view(const rig_rec *r)
+{
+    return (wg_record){r->nstate, r->n, r->y, r->stats};
+}
+
+/* The one-period error of the record (wg_record_period_error). */
 static int period_error(rig_ana *a, const rig_rec *r, double *err, char *why, size_t whylen)
 {
     int rc;
@@ -84,17 +88,8 @@ static int period_error(rig_ana *a, const rig_rec *r, double *err, char *why, si
             return rc;
         a->have_fine = 1;
     }
-    double x[WG_NSTATE_MAX];
-    const double *p = r->y + (size_t)(r->n - 2) * r->nstate, *q = p + r->nstate;
-    memcpy(x, p, sizeof(double) * (size_t)r->nstate);
-    wg_simmap sm = {&a->fine, 1};
-    if ((rc = wg_simmap_step(&sm, x)))
-        return rc;
-    double e = 0.0;
-    for (int j = 0; j < r->nstate; j++)
-        e = fmax(e, fabs(x[j] - q[j]));
-    *err = e;
-    return WG_OK;
+    wg_record v = view(r);
+    return wg_record_period_error(&a->fine, &v, err);
 }
 
 int rig_ana_period(rig_ana *a, const rig_rec *r, int attempt, wg_point *pt, char *why,
@@ -142,34 +137,14 @@ int rig_ana_lle(rig_ana *a, const rig_rec *r, wg_point *pt, char *why, size_t wh
 
 void rig_ana_aperiodic(const rig_ana *a, const rig_rec *r, wg_point *pt)
 {
-    const wg_sweep_opts *o = a->o;
-    int n = wg_period_detect(r->y, r->n, r->nstate, WG_PERIOD_MAX, pt->tol, &pt->resid);
-    pt->converged = n > 0;
-    if (!n && pt->lle <= o->lle_tol)
-        n = wg_period_detect(r->y, r->n, r->nstate, WG_PERIOD_MAX, fmax(pt->tol, LOOSE_TOL),
-                             &pt->resid);
-    pt->period = n;
-    if (n || pt->lle < -o->lle_tol)
-        pt->regime = WG_REGIME_PERIODIC;
-    else
-        pt->regime = pt->lle > o->lle_tol ? WG_REGIME_CHAOTIC : WG_REGIME_QUASIPERIODIC;
+    wg_record v = view(r);
+    wg_record_classify(a->o, &v, pt);
 }
 
 void rig_point_fill(const rig_rec *r, wg_point *pt)
 {
-    pt->min_xn = INFINITY;
-    pt->max_xn = -INFINITY;
-    pt->motion = 0;
-    long imp = 0;
-    for (int i = 0; i < r->n; i++) {
-        const wg_period *st = &r->stats[i];
-        pt->min_xn = fmin(pt->min_xn, st->min_xn);
-        pt->max_xn = fmax(pt->max_xn, st->max_xn);
-        if (st->motion > pt->motion)
-            pt->motion = st->motion;
-        imp += st->impacts;
-    }
-    pt->impacts = r->n ? (double)imp / r->n : 0.0;
+    wg_record v = view(r);
+    wg_record_stats(&v, pt);
     int k0 = r->n > WG_POINT_NSEC ? r->n - WG_POINT_NSEC : 0;
     pt->nsec = r->n - k0;
     for (int i = 0; i < pt->nsec; i++) {

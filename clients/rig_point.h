@@ -1,10 +1,10 @@
-/* rig_point.h - the regime analysis of one live sweep point (wgrig), the
- * same steps and numbers as the offline sweep's point (wg_sweep.c):
- * statistics of the recorded periods, the one-period integration error
- * |P_2N(x) - P_N(x)| computed on a local sim, tolerance max(floor, factor *
- * err), period detection, and for orbits with no period the twin-trajectory
- * Lyapunov exponent with the same thresholds. Only the sections come from
- * the daemon instead of a local integration. */
+/* rig_point.h - the regime analysis of one live sweep point (wgrig): the
+ * offline sweep's own steps (wg_record_* in wg_sweep.h: statistics, the
+ * one-period integration error |P_2N(x) - P_N(x)| on a local sim, tolerance
+ * max(floor, factor * err), period detection, and for orbits with no period
+ * the twin-trajectory Lyapunov exponent with the same thresholds). Only the
+ * sections come from the daemon instead of a local integration; this file
+ * holds the record buffer and the local sims. */
 #ifndef RIG_POINT_H
 #define RIG_POINT_H
 

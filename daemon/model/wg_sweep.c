@@ -131,8 +131,30 @@ static int record(work *w)
     return run_periods(&w->sim, w->o->record, &sink);
 }
 
-/* One-period error of the N solution from the second-last recorded state:
- * |P_2N(x) - P_N(x)| in the max norm (the 2N error is 16x smaller). */
+static wg_record record_of(const work *w)
+{
+    return (wg_record){w->nstate, w->nrec, w->rec, w->stats};
+}
+
+int wg_record_period_error(wg_sim *fine, const wg_record *r, double *err)
+{
+    if (r->n < 2)
+        return WG_EINVAL;
+    double x[WG_NSTATE_MAX];
+    const double *a = r->y + (size_t)(r->n - 2) * r->nstate, *b = a + r->nstate;
+    memcpy(x, a, sizeof(double) * (size_t)r->nstate);
+    wg_simmap sm = {fine, 1};
+    int rc = wg_simmap_step(&sm, x);
+    if (rc)
+        return rc;
+    double e = 0.0;
+    for (int j = 0; j < r->nstate; j++)
+        e = fmax(e, fabs(x[j] - b[j]));
+    *err = e;
+    return WG_OK;
+}
+
+/* One-period error of the N solution from the recorded sections. */
 static int period_error(work *w, const wg_params *p, double *err, char *why, size_t whylen)
 {
     int n2 = 2 * w->sim.cfg.steps_per_period;
@@ -141,17 +163,8 @@ static int period_error(work *w, const wg_params *p, double *err, char *why, siz
     int rc = ensure_sim(w, &w->fine, &w->n_fine, n2, p, why, whylen);
     if (rc)
         return rc;
-    double x[WG_NSTATE_MAX];
-    const double *a = w->rec + (size_t)(w->nrec - 2) * w->nstate, *b = a + w->nstate;
-    memcpy(x, a, sizeof(double) * (size_t)w->nstate);
-    wg_simmap sm = {&w->fine, 1};
-    if ((rc = wg_simmap_step(&sm, x)))
-        return rc;
-    double e = 0.0;
-    for (int j = 0; j < w->nstate; j++)
-        e = fmax(e, fabs(x[j] - b[j]));
-    *err = e;
-    return WG_OK;
+    wg_record r = record_of(w);
+    return wg_record_period_error(&w->fine, &r, err);
 }
 
 /* Largest Lyapunov exponent from the main sim's current state. */
@@ -167,22 +180,21 @@ static int point_lle(work *w, const wg_params *p, double *lle, char *why, size_t
     return wg_lle_twin(&mb, &mt, x, w->o->lle_periods, w->o->lle_d0, lle);
 }
 
-/* Fill the statistics of pt from the recorded sections. */
-static void point_stats(const work *w, wg_point *pt)
+void wg_record_stats(const wg_record *r, wg_point *pt)
 {
     pt->min_xn = INFINITY;
     pt->max_xn = -INFINITY;
     pt->motion = 0;
     long imp = 0;
-    for (int i = 0; i < w->nrec; i++) {
-        const wg_period *st = &w->stats[i];
+    for (int i = 0; i < r->n; i++) {
+        const wg_period *st = &r->stats[i];
         pt->min_xn = fmin(pt->min_xn, st->min_xn);
         pt->max_xn = fmax(pt->max_xn, st->max_xn);
         if (st->motion > pt->motion)
             pt->motion = st->motion;
         imp += st->impacts;
     }
-    pt->impacts = w->nrec ? (double)imp / w->nrec : 0.0;
+    pt->impacts = r->n ? (double)imp / r->n : 0.0;
 }
 
 /* Store the last Poincare x_n, x_n' (recomputed from the stored states). */
@@ -221,6 +233,20 @@ static int find_period(work *w, const wg_params *p, wg_point *pt, char *why, siz
     }
 }
 
+void wg_record_classify(const wg_sweep_opts *o, const wg_record *r, wg_point *pt)
+{
+    int n = wg_period_detect(r->y, r->n, r->nstate, WG_PERIOD_MAX, pt->tol, &pt->resid);
+    pt->converged = n > 0;
+    if (!n && pt->lle <= o->lle_tol)
+        n = wg_period_detect(r->y, r->n, r->nstate, WG_PERIOD_MAX, fmax(pt->tol, LOOSE_TOL),
+                             &pt->resid);
+    pt->period = n;
+    if (n || pt->lle < -o->lle_tol)
+        pt->regime = WG_REGIME_PERIODIC;
+    else
+        pt->regime = pt->lle > o->lle_tol ? WG_REGIME_CHAOTIC : WG_REGIME_QUASIPERIODIC;
+}
+
 /* Classify an orbit with no strict period: LLE, then a fresh record. */
 static int classify_aperiodic(work *w, const wg_params *p, wg_point *pt, char *why,
                               size_t whylen)
@@ -230,16 +256,8 @@ static int classify_aperiodic(work *w, const wg_params *p, wg_point *pt, char *w
         rc = record(w);
     if (rc)
         return rc;
-    int n = wg_period_detect(w->rec, w->nrec, w->nstate, WG_PERIOD_MAX, pt->tol, &pt->resid);
-    pt->converged = n > 0;
-    if (!n && pt->lle <= w->o->lle_tol)
-        n = wg_period_detect(w->rec, w->nrec, w->nstate, WG_PERIOD_MAX,
-                             fmax(pt->tol, LOOSE_TOL), &pt->resid);
-    pt->period = n;
-    if (n || pt->lle < -w->o->lle_tol)
-        pt->regime = WG_REGIME_PERIODIC;
-    else
-        pt->regime = pt->lle > w->o->lle_tol ? WG_REGIME_CHAOTIC : WG_REGIME_QUASIPERIODIC;
+    wg_record r = record_of(w);
+    wg_record_classify(w->o, &r, pt);
     return WG_OK;
 }
 
@@ -279,7 +297,8 @@ static int point_analyse(work *w, const wg_params *p, double *y, wg_point *pt, c
         snprintf(why, whylen, "%s", wg_status_str(n));
         return n;
     }
-    point_stats(w, pt);
+    wg_record r = record_of(w);
+    wg_record_stats(&r, pt);
     point_sections(w, p, pt);
     memcpy(y, w->sim.y, sizeof(double) * (size_t)w->nstate);
     memcpy(pt->y_end, y, sizeof(double) * (size_t)w->nstate);

@@ -100,6 +100,32 @@ int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
 int wg_point_run(const wg_params *p, const wg_sweep_opts *o, double *y, wg_point *pt,
                  char *why, size_t whylen);
 
+/* ---- the analysis of recorded sections ----------------------------------
+ * The steps of a point's analysis that only need the recorded Poincare
+ * sections, whoever integrated them: the offline sweep (wg_point_run) and
+ * the live rig (wgrig, sections from the daemon) share these. */
+
+/* n recorded sections: n x nstate states and the period that ended at each. */
+typedef struct wg_record {
+    int nstate, n;
+    const double *y;
+    const wg_period *stats;
+} wg_record;
+
+/* One-period integration error |P_2N(y[n-2]) - y[n-1]| (max norm), P_2N
+ * taken with `fine`, a sim at twice the record's steps per period. The 2N
+ * error being 16x smaller, this estimates the record's own. WG_EINVAL if
+ * fewer than 2 sections, else the status of the step. */
+int wg_record_period_error(wg_sim *fine, const wg_record *r, double *err);
+
+/* Classify a point with no strict period from a record taken after its LLE
+ * (pt->tol and pt->lle set): period with the strict tolerance, or with a
+ * loose one when the LLE says the orbit converges; then the regime. */
+void wg_record_classify(const wg_sweep_opts *o, const wg_record *r, wg_point *pt);
+
+/* min/max x_n, worst motion class and mean impacts per period over r. */
+void wg_record_stats(const wg_record *r, wg_point *pt);
+
 /* ---- transitions (the paper's Table 3) ---------------------------------- */
 
 enum wg_trans_kind {
