@@ -346,10 +346,15 @@ void wg_sim_set_state(wg_sim *s, const double *y, uint32_t k, double tau)
     s->k = k % (uint32_t)s->cfg.steps_per_period;
     s->tau = tau;
     s->tau_c = 0.0;
-    s->ramp.active = 0;
-    wg_params p = s->p;
-    char why[8];
-    wg_sim_set_params(s, &p, why, sizeof why); /* same parameters: cannot fail */
+    if (wg_params_torsional(&s->p) && s->cfg.model == WG_MODEL_CONSISTENT)
+        for (int i = 0; i < 6; i++) /* rigid bearings hold at zero */
+            s->y[i] = s->y[7 + i] = 0.0;
+    if (s->ramp.active) { /* cancelled mid-ramp: the table is for the old values */
+        s->ramp.active = 0;
+        coefficients(s);
+        build_table(s);
+    }
+    refresh_zones(s);
     period_start(s, s->q[0]);
 }
 
@@ -411,6 +416,10 @@ int wg_sim_restore(wg_sim *s, const wg_snapshot *w, char *why, size_t whylen)
 
 void wg_sim_reset(wg_sim *s)
 {
+    /* re-derive everything from the parameters (kernel, table, h) */
+    s->ramp.active = 0;
+    coefficients(s);
+    build_table(s);
     double y[WG_NSTATE_MAX];
     wg_equilibrium(s->cfg.model, &s->p, y);
     wg_sim_set_state(s, y, 0, 0.0);

@@ -150,7 +150,8 @@ int wg_sim_set_params(wg_sim *sim, const wg_params *p, char *why, size_t whylen)
  * Validated against the table and, for omega, the stability limit. */
 int wg_sim_ramp(wg_sim *sim, int id, double target, double dur, char *why, size_t whylen);
 
-/* Set the state (nstate values) and phase index; resets period statistics. */
+/* Set the state (nstate values) and phase index; resets period statistics
+ * and cancels a ramp. Cheap (no table rebuild) when no ramp was active. */
 void wg_sim_set_state(wg_sim *sim, const double *y, uint32_t k, double tau);
 
 /* Capture the run into snap. */
@@ -161,7 +162,8 @@ void wg_sim_snapshot(const wg_sim *sim, wg_snapshot *snap);
  * of wg_sim_set_params; sim unchanged on error. */
 int wg_sim_restore(wg_sim *sim, const wg_snapshot *snap, char *why, size_t whylen);
 
-/* Back to the static equilibrium at psi = 0, tau = 0, counters cleared. */
+/* Back to the static equilibrium at psi = 0, tau = 0, counters cleared;
+ * kernel, excitation table and step re-derived from the parameters. */
 void wg_sim_reset(wg_sim *sim);
 
 /* Advance n steps, reporting to sink (may be NULL). WG_OK, or
