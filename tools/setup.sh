@@ -13,6 +13,8 @@ pkgs=(
   iproute2 util-linux procps
   liblcm-java libjchart2d-java default-jdk-headless
   xvfb x11-utils tmux
+  fonts-dejavu-core
+  libopenmpi-dev openmpi-bin
 )
 missing=()
 for p in "${pkgs[@]}"; do
