@@ -3,6 +3,7 @@
 #define WG_STRESS_H
 
 #include "test.h"
+#include "test_sim.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_sim.h"
 #include "wormgear/wg_status.h"
@@ -20,17 +21,6 @@ static inline wg_params stress_scene(const char *name)
         exit(2);
     }
     return sc.p;
-}
-
-/* wg_sim_init that must succeed; prints the reason when it does not. */
-static inline int stress_make(wg_sim *s, const wg_params *p, int stepper, int N)
-{
-    char why[400];
-    wg_sim_config cfg = {WG_MODEL_CONSISTENT, stepper, N};
-    int rc = wg_sim_init(s, p, &cfg, why, sizeof why);
-    if (rc)
-        fprintf(stderr, "wg_sim_init(N=%d): %s\n", N, why);
-    return rc;
 }
 
 /* 1 if all n values are finite. */

@@ -72,7 +72,7 @@ static uint64_t scenario_ulp(int stepper, unsigned seed, int per_step, int ulp, 
     if (ulp)
         p.v[WG_P_XI_P] = nextafter(p.v[WG_P_XI_P], 1.0);
     wg_sim s;
-    ASSERT_EQ_INT(stress_make(&s, &p, stepper, N), WG_OK);
+    ASSERT_EQ_INT(test_sim_init(&s, &p, stepper, N), WG_OK);
     hasher x = {STRESS_FNV0, 0, 0, 0, 0};
     wg_sink sink = {&x, per_step ? h_step : NULL, h_sec, h_ev};
     char why[300];

@@ -85,7 +85,7 @@ static void test_extreme_parameters(void)
         int N = nmin > 128 ? nmin : 128;
         for (int st = 0; st < 2; st++) {
             wg_sim s;
-            ASSERT_EQ_INT(stress_make(&s, &p, st, N), WG_OK);
+            ASSERT_EQ_INT(test_sim_init(&s, &p, st, N), WG_OK);
             watch w = {0, 0, 0, 0};
             wg_sink sink = {&w, NULL, on_sec, on_ev};
             uint64_t done = 0, want = (uint64_t)N * (uint64_t)c->periods;
@@ -139,7 +139,7 @@ static void test_physical_fault_converged(void)
     for (int r = 0; r < 2; r++) {
         int N = r ? 1024 : 128;
         wg_sim s;
-        ASSERT_EQ_INT(stress_make(&s, &p, WG_STEPPER_RK4_EVENT, N), WG_OK);
+        ASSERT_EQ_INT(test_sim_init(&s, &p, WG_STEPPER_RK4_EVENT, N), WG_OK);
         uint64_t done = 0;
         ASSERT_EQ_INT(wg_sim_run(&s, (uint64_t)N * 400, NULL, &done), WG_ENONFINITE);
         at[r] = s.tau;
@@ -149,7 +149,7 @@ static void test_physical_fault_converged(void)
     ASSERT_NEAR(at[0], at[1], 0.01 * at[1]);
     p.v[WG_P_XI_P] = 0.08;
     wg_sim s;
-    ASSERT_EQ_INT(stress_make(&s, &p, WG_STEPPER_RK4_EVENT, 128), WG_OK);
+    ASSERT_EQ_INT(test_sim_init(&s, &p, WG_STEPPER_RK4_EVENT, 128), WG_OK);
     ASSERT_EQ_INT(wg_sim_run(&s, 128 * 400, NULL, NULL), WG_OK);
     wg_sim_fini(&s);
 }

@@ -22,7 +22,7 @@ static void start(wg_sim *s, int stepper, uint64_t at)
 {
     wg_params p = stress_scene("table3");
     p.v[WG_P_OMEGA] = 0.7;
-    ASSERT_EQ_INT(stress_make(s, &p, stepper, N), WG_OK);
+    ASSERT_EQ_INT(test_sim_init(s, &p, stepper, N), WG_OK);
     ASSERT_EQ_INT(wg_sim_run(s, at, NULL, NULL), WG_OK);
 }
 
@@ -99,7 +99,7 @@ static void test_fault_at_section_and_torsional(void)
     wg_sim_fini(&s);
 
     wg_params p = stress_scene("torsional");
-    ASSERT_EQ_INT(stress_make(&s, &p, WG_STEPPER_RK4, N), WG_OK);
+    ASSERT_EQ_INT(test_sim_init(&s, &p, WG_STEPPER_RK4, N), WG_OK);
     ASSERT_EQ_INT(wg_sim_run(&s, 1000, NULL, NULL), WG_OK);
     memcpy(y, s.y, sizeof y);
     y[0] = NAN;
@@ -125,8 +125,8 @@ static void test_fault_mid_ramp_snapshot(void)
     p.v[WG_P_OMEGA] = 0.7;
     wg_sim a, b;
     char why[300];
-    ASSERT_EQ_INT(stress_make(&a, &p, WG_STEPPER_RK4_EVENT, N), WG_OK);
-    ASSERT_EQ_INT(stress_make(&b, &p, WG_STEPPER_RK4_EVENT, N), WG_OK);
+    ASSERT_EQ_INT(test_sim_init(&a, &p, WG_STEPPER_RK4_EVENT, N), WG_OK);
+    ASSERT_EQ_INT(test_sim_init(&b, &p, WG_STEPPER_RK4_EVENT, N), WG_OK);
     for (int r = 0; r < 2; r++) {
         wg_sim *s = r ? &b : &a;
         ASSERT_EQ_INT(wg_sim_run(s, N * 20, NULL, NULL), WG_OK);

@@ -72,7 +72,7 @@ static void test_long_run(void)
     wg_params p = stress_scene("table3");
     p.v[WG_P_OMEGA] = 2.5;
     wg_sim s;
-    ASSERT_EQ_INT(stress_make(&s, &p, WG_STEPPER_RK4_EVENT, N), WG_OK);
+    ASSERT_EQ_INT(test_sim_init(&s, &p, WG_STEPPER_RK4_EVENT, N), WG_OK);
     acc a;
     memset(&a, 0, sizeof a);
     wg_sink sink = {&a, on_step, on_sec, NULL};

@@ -96,7 +96,7 @@ static void test_bounded_at_limit(void)
             for (int f = 0; f < 2; f++) {
                 int N = f ? 8 * nmin : nmin;
                 wg_sim s;
-                ASSERT_EQ_INT(stress_make(&s, &p, st, N), WG_OK);
+                ASSERT_EQ_INT(test_sim_init(&s, &p, st, N), WG_OK);
                 r[f].n = r[f].bad = 0;
                 wg_sink sink = {&r[f], NULL, on_sec, NULL};
                 ASSERT_EQ_INT(wg_sim_run(&s, (uint64_t)N * P, &sink, NULL), WG_OK);

@@ -2,22 +2,11 @@
  * the linear case (observed order 4), impacting case order with and without
  * event location, events against a much finer run, omega ramps. */
 #include "test.h"
+#include "test_sim.h"
 #include "wormgear/wg_sim.h"
 #include "wormgear/wg_status.h"
 
 #include <complex.h>
-
-static wg_sim make(const wg_params *p, int stepper, int N)
-{
-    wg_sim s;
-    char why[300];
-    wg_sim_config cfg = {WG_MODEL_CONSISTENT, stepper, N};
-    int rc = wg_sim_init(&s, p, &cfg, why, sizeof why);
-    if (rc)
-        fprintf(stderr, "wg_sim_init: %s\n", why);
-    ASSERT_EQ_INT(rc, WG_OK);
-    return s;
-}
 
 static double energy(const wg_params *p, const double *y)
 {
@@ -48,7 +37,7 @@ static void test_conservative_energy(void)
     double drift[2];
     for (int r = 0; r < 2; r++) {
         int N = r ? 256 : 128;
-        wg_sim s = make(&p, WG_STEPPER_RK4, N);
+        wg_sim s = test_sim_make(&p, WG_STEPPER_RK4, N);
         double y0[16] = {0.3, -0.2, 0.1, 0.5, -0.4, 0.2, 1.0, 0, 0, 0, 0, 0, 0, 0.5};
         wg_sim_set_state(&s, y0, 0, 0);
         double e0 = energy(&p, s.y);
@@ -134,7 +123,7 @@ static void test_linear_frequency_response(void)
     exact_linear(&p, ex);
     for (int r = 0; r < 3; r++) {
         int N = 16 << r;
-        wg_sim s = make(&p, WG_STEPPER_RK4, N);
+        wg_sim s = test_sim_make(&p, WG_STEPPER_RK4, N);
         ASSERT_EQ_INT(wg_sim_run(&s, (uint64_t)N * 600, NULL, NULL), WG_OK);
         err[r] = 0;
         for (int i = 0; i < 14; i++)
@@ -167,7 +156,7 @@ static double run_impacting(int stepper, int N, double *y, evlog *log)
     wg_params p;
     wg_params_default(&p);
     p.v[WG_P_OMEGA] = 0.7; /* single-sided impacts, bearings in their clearance */
-    wg_sim s = make(&p, stepper, N);
+    wg_sim s = test_sim_make(&p, stepper, N);
     wg_sink sink = {log, NULL, NULL, log ? log_event : NULL};
     ASSERT_EQ_INT(wg_sim_run(&s, (uint64_t)N * 30, &sink, NULL), WG_OK);
     memcpy(y, s.y, sizeof s.y);
@@ -271,7 +260,7 @@ static void test_omega_ramp_phase_continuous(void)
     double w0 = 0.3, w1 = 0.45, dur = 400.0;
     for (int end = 0; end < 2; end++) { /* constant runs at the endpoints */
         p.v[WG_P_OMEGA] = end ? w1 : w0;
-        wg_sim s = make(&p, WG_STEPPER_RK4_EVENT, N);
+        wg_sim s = test_sim_make(&p, WG_STEPPER_RK4_EVENT, N);
         static seclog l;
         l.n = l.mesh_events = 0;
         wg_sink sink = {&l, NULL, NULL, count_mesh};
@@ -280,7 +269,7 @@ static void test_omega_ramp_phase_continuous(void)
         wg_sim_fini(&s);
     }
     p.v[WG_P_OMEGA] = w0;
-    wg_sim s = make(&p, WG_STEPPER_RK4_EVENT, N);
+    wg_sim s = test_sim_make(&p, WG_STEPPER_RK4_EVENT, N);
     ASSERT_EQ_INT(wg_sim_run(&s, (uint64_t)N * 100, NULL, NULL), WG_OK); /* settle */
     char why[300];
     double tau0 = s.tau;

@@ -3,20 +3,9 @@
  * ratios, blow-up handling, atomic parameter changes, determinism, motion
  * classes. */
 #include "test.h"
+#include "test_sim.h"
 #include "wormgear/wg_sim.h"
 #include "wormgear/wg_status.h"
-
-static wg_sim make(const wg_params *p, int stepper, int N)
-{
-    wg_sim s;
-    char why[300];
-    wg_sim_config cfg = {WG_MODEL_CONSISTENT, stepper, N};
-    int rc = wg_sim_init(&s, p, &cfg, why, sizeof why);
-    if (rc)
-        fprintf(stderr, "wg_sim_init: %s\n", why);
-    ASSERT_EQ_INT(rc, WG_OK);
-    return s;
-}
 
 typedef struct rec {
     int nsec, nev;
@@ -49,7 +38,7 @@ static void test_sections_fall_on_periods(void)
     wg_params p;
     wg_params_default(&p);
     p.v[WG_P_OMEGA] = 1.3;
-    wg_sim s = make(&p, WG_STEPPER_RK4, 100);
+    wg_sim s = test_sim_make(&p, WG_STEPPER_RK4, 100);
     rec r = {0};
     wg_sink sink = {&r, NULL, on_sec, NULL};
     ASSERT_EQ_INT(wg_sim_run(&s, 100 * 10 + 37, &sink, NULL), WG_OK);
@@ -69,11 +58,11 @@ static void test_kernel_choice_skips_terms(void)
     wg_params p;
     wg_params_default(&p);
     char name[64];
-    wg_sim s = make(&p, WG_STEPPER_RK4_EVENT, 128);
+    wg_sim s = test_sim_make(&p, WG_STEPPER_RK4_EVENT, 128);
     ASSERT_STR(wg_sim_kernel_name(&s, name, sizeof name), "full+bj+b+ka+em+locked");
     wg_sim_fini(&s);
     p.v[WG_P_K_A] = p.v[WG_P_E_M] = p.v[WG_P_B_J] = 0;
-    s = make(&p, WG_STEPPER_RK4, 128);
+    s = test_sim_make(&p, WG_STEPPER_RK4, 128);
     ASSERT_STR(wg_sim_kernel_name(&s, name, sizeof name), "full+b");
     /* changing a parameter re-selects the kernel, outside the step loop */
     wg_params q = p;
@@ -84,7 +73,7 @@ static void test_kernel_choice_skips_terms(void)
     wg_sim_fini(&s);
     p.v[WG_P_MU1] = p.v[WG_P_MU2] = 0;
     p.v[WG_P_B_J] = 1;
-    s = make(&p, WG_STEPPER_RK4, 128);
+    s = test_sim_make(&p, WG_STEPPER_RK4, 128);
     ASSERT_STR(wg_sim_kernel_name(&s, name, sizeof name), "torsional+b");
     wg_sim_fini(&s);
 }
@@ -98,7 +87,7 @@ static void test_torsional_is_full_limit(void)
     rec r[2] = {{0}, {0}};
     for (int k = 0; k < 2; k++) {
         p.v[WG_P_MU1] = p.v[WG_P_MU2] = k ? 0.0 : 1e-9;
-        wg_sim s = make(&p, WG_STEPPER_RK4_EVENT, 256);
+        wg_sim s = test_sim_make(&p, WG_STEPPER_RK4_EVENT, 256);
         char name[64];
         ASSERT_TRUE(strncmp(wg_sim_kernel_name(&s, name, sizeof name), k ? "torsional" : "full",
                             k ? 9 : 4) == 0);
@@ -116,7 +105,7 @@ static void test_blowup_is_caught_state_kept(void)
 {
     wg_params p;
     wg_params_default(&p);
-    wg_sim s = make(&p, WG_STEPPER_RK4_EVENT, 128);
+    wg_sim s = test_sim_make(&p, WG_STEPPER_RK4_EVENT, 128);
     ASSERT_EQ_INT(wg_sim_run(&s, 300, NULL, NULL), WG_OK);
     double y[16];
     memcpy(y, s.y, sizeof y);
@@ -145,7 +134,7 @@ static void test_set_params_is_atomic(void)
 {
     wg_params p;
     wg_params_default(&p);
-    wg_sim s = make(&p, WG_STEPPER_RK4, 128);
+    wg_sim s = test_sim_make(&p, WG_STEPPER_RK4, 128);
     wg_sim_run(&s, 200, NULL, NULL);
     wg_sim before = s;
     wg_params q = s.p;
@@ -183,7 +172,7 @@ static void test_deterministic(void)
     double y[2][16];
     rec r[2] = {{0}, {0}};
     for (int k = 0; k < 2; k++) {
-        wg_sim s = make(&p, WG_STEPPER_RK4_EVENT, 128);
+        wg_sim s = test_sim_make(&p, WG_STEPPER_RK4_EVENT, 128);
         wg_sink sink = {&r[k], NULL, on_sec, on_ev};
         ASSERT_EQ_INT(wg_sim_run(&s, 128 * 60, &sink, NULL), WG_OK);
         memcpy(y[k], s.y, sizeof y[k]);
@@ -200,7 +189,7 @@ static int run_class(double om, double em)
     wg_params_default(&p);
     p.v[WG_P_OMEGA] = om;
     p.v[WG_P_E_M] = em;
-    wg_sim s = make(&p, WG_STEPPER_RK4_EVENT, 256);
+    wg_sim s = test_sim_make(&p, WG_STEPPER_RK4_EVENT, 256);
     rec r = {0};
     wg_sink sink = {&r, NULL, on_sec, NULL};
     ASSERT_EQ_INT(wg_sim_run(&s, 256 * 64, &sink, NULL), WG_OK);
@@ -227,7 +216,7 @@ static void test_zero_backlash_events(void)
     p.v[WG_P_B] = 0;
     p.v[WG_P_F_M] = 0.0;
     p.v[WG_P_B_J] = 0;
-    wg_sim s = make(&p, WG_STEPPER_RK4_EVENT, 128);
+    wg_sim s = test_sim_make(&p, WG_STEPPER_RK4_EVENT, 128);
     rec r = {0};
     wg_sink sink = {&r, NULL, NULL, on_ev};
     ASSERT_EQ_INT(wg_sim_run(&s, 128 * 30, &sink, NULL), WG_OK);
