@@ -114,38 +114,36 @@ static void axes(cairo_t *cr, const frame *f, const char *xlabel, const char *yl
         vtext(cr, f->x0 - 58, f->y0 + f->h / 2, 15, ylabel);
 }
 
+/* A dashed grey guide line from (x0, y0) to (x1, y1) in device units. */
+static void dashed(cairo_t *cr, double x0, double y0, double x1, double y1)
+{
+    double dash[] = {6.0, 4.0};
+    cairo_save(cr);
+    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+    cairo_set_dash(cr, dash, 2, 0);
+    cairo_set_line_width(cr, 1.2);
+    cairo_move_to(cr, x0, y0);
+    cairo_line_to(cr, x1, y1);
+    cairo_stroke(cr);
+    cairo_restore(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+}
+
 /* Dashed horizontal guide at data y, labelled at the right. */
 static void hguide(cairo_t *cr, const frame *f, double y, const char *label)
 {
     if (y < f->ymin || y > f->ymax)
         return;
-    double dash[] = {6.0, 4.0};
-    cairo_save(cr);
-    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-    cairo_set_dash(cr, dash, 2, 0);
-    cairo_set_line_width(cr, 1.2);
-    cairo_move_to(cr, f->x0, py(f, y));
-    cairo_line_to(cr, f->x0 + f->w, py(f, y));
-    cairo_stroke(cr);
-    cairo_restore(cr);
-    cairo_set_source_rgb(cr, 0, 0, 0);
+    dashed(cr, f->x0, py(f, y), f->x0 + f->w, py(f, y));
     text(cr, f->x0 + f->w + 4, py(f, y) + 4, 12, 0.0, label);
 }
 
+/* Dashed vertical guide at data x, labelled above. */
 static void vguide(cairo_t *cr, const frame *f, double x, const char *label)
 {
     if (x < f->xmin || x > f->xmax)
         return;
-    double dash[] = {6.0, 4.0};
-    cairo_save(cr);
-    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-    cairo_set_dash(cr, dash, 2, 0);
-    cairo_set_line_width(cr, 1.2);
-    cairo_move_to(cr, px(f, x), f->y0);
-    cairo_line_to(cr, px(f, x), f->y0 + f->h);
-    cairo_stroke(cr);
-    cairo_restore(cr);
-    cairo_set_source_rgb(cr, 0, 0, 0);
+    dashed(cr, px(f, x), f->y0, px(f, x), f->y0 + f->h);
     text(cr, px(f, x), f->y0 - 4, 12, 0.5, label);
 }
 
