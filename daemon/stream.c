@@ -22,7 +22,11 @@ void stream_init(stream *s, int nstate, double omega_n, int state_on)
     stream_regime_reset(s);
 }
 
-void stream_regime_reset(stream *s) { wg_tracker_init(&s->trk, s->nstate, REGIME_TOL); }
+void stream_regime_reset(stream *s)
+{
+    wg_tracker_init(&s->trk, s->nstate, REGIME_TOL);
+    s->sections = s->impacts = 0; /* impacts per period: of the new orbit only */
+}
 
 const char *stream_regime(const stream *s, char *buf, unsigned len)
 {

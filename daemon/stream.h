@@ -58,7 +58,8 @@ wg_sink stream_sink(struct wgd *d);
 /* Publish every non-empty batch now. */
 void stream_flush(struct wgd *d);
 
-/* Forget the tracked Poincare points (after a parameter or state change). */
+/* Forget the tracked Poincare points and the impacts-per-period count
+ * (after a parameter or state change: they describe the new orbit only). */
 void stream_regime_reset(stream *s);
 
 /* Regime of the tracked points: "period-N", "aperiodic" (no period <= 32

@@ -30,6 +30,7 @@ typedef struct fx {
     int64_t pc_last_period;
     int pc_gaps;
     char health[16], regime[24], motion[24];
+    double impacts_per_period;
     int nstatus;
     int64_t myseq;
     void *subs[6];
@@ -104,6 +105,7 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
     snprintf(F.health, sizeof F.health, "%s", m->health);
     snprintf(F.regime, sizeof F.regime, "%s", m->regime);
     snprintf(F.motion, sizeof F.motion, "%s", m->motion);
+    F.impacts_per_period = m->impacts_per_period;
 }
 
 /* A daemon without its loop: engine, lcm (memq), streams, commands, status. */
@@ -669,6 +671,26 @@ static void test_status_regime(void)
     teardown(d);
 }
 
+/* After a change, STATUS describes the new orbit only: impacts per period
+ * do not average in the periods before it. */
+static void test_status_after_set(void)
+{
+    wgd *d = setup(128);
+    ASSERT_EQ_INT(set1(d, "omega", 1.2), WG_OK); /* impacting, 0.5 per period */
+    run(d, 128 * 400);
+    status_publish(d);
+    drain(d);
+    ASSERT_NEAR(F.impacts_per_period, 0.5, 0.05);
+    run(d, 128 * 200); /* the same STATUS interval continues ... */
+    ASSERT_EQ_INT(set1(d, "omega", 0.3), WG_OK); /* ... into a quiet orbit */
+    run(d, 128 * 400);
+    status_publish(d);
+    drain(d);
+    ASSERT_STR(F.motion, "no_impact");
+    ASSERT_NEAR(F.impacts_per_period, 0.0, 0);
+    teardown(d);
+}
+
 static void cleanup(void)
 {
     char cmd[128];
@@ -687,7 +709,7 @@ TEST_MAIN(TEST(test_set_atomic), TEST(test_set_bad_inputs), TEST(test_set_stabil
           TEST(test_accept_commands_off), TEST(test_ramp_continuity),
           TEST(test_ramp_refused_atomic), TEST(test_save_restore_bitexact),
           TEST(test_save_restore_bitexact_ramp), TEST(test_save_restore_refusals),
-          TEST(test_step_and_modes), TEST(test_blowup_fault), TEST(test_stream_seq), TEST(test_status_regime),
+          TEST(test_step_and_modes), TEST(test_blowup_fault), TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set),
           TEST(test_zz_cleanup))
 #undef main
 
