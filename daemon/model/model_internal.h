@@ -26,4 +26,97 @@ wg_kernel_fn kernel_select(unsigned kflags);
 void kernel_printed(const double *restrict y0, double *restrict y1, const void *restrict kc,
                     const wg_exc *restrict e, double h);
 
+/* min/max without libm's NaN rules (strict C11 keeps fmin/fmax out of line;
+ * the values here are finite). */
+static inline double dmin(double a, double b) { return a < b ? a : b; }
+static inline double dmax(double a, double b) { return a > b ? a : b; }
+
+/* ---- contacts (wg_contact.c) ---------------------------------------------- */
+
+/* Phase within one step: psi(t), omega(t) for 0 <= t <= h, piecewise
+ * quadratic while an omega ramp runs and linear after it ends (at t = tr). */
+typedef struct phase {
+    double psi0, om0, r, tr, om1;
+} phase;
+
+/* psi(t) and omega(t) of the phase law. */
+void ct_phase_at(const phase *ph, double t, double *psi, double *om);
+
+/* Excitation at sub-step time t (one sin/cos of psi, phases by rotation). */
+void ct_exc_at(const wg_sim *s, const phase *ph, double t, wg_exc *e);
+
+/* Zone of x against a dead zone +-c: +1 above, -1 below, 0 inside. */
+static inline int ct_zone(double x, double c) { return (x > c) - (x < -c); }
+
+/* Dead-zone half width of a contact: b for the mesh, b_j for a bearing. */
+static inline double ct_threshold(const wg_sim *s, int contact)
+{
+    return contact == WG_C_MESH ? s->p.v[WG_P_B] : s->p.v[WG_P_B_J];
+}
+
+/* Contacts that can move: all seven, or the mesh only on the torsional path. */
+static inline int ct_ncontacts(const wg_sim *s)
+{
+    return (s->kflags & KF_BEAR) || s->cfg.model == WG_MODEL_PRINTED ? WG_NCONTACT : 1;
+}
+
+/* Contact coordinates and rates at state y with excitation e (the mesh
+ * only, when the bearings are rigid). */
+static inline void ct_contacts(const wg_sim *s, const double *y, const wg_exc *e, double *q, double *v)
+{
+    int nd = s->nstate / 2;
+    const double *c = s->kc.c;
+    double x = -e->te, dx = e->dte;
+    if (!(s->kflags & KF_BEAR) && s->cfg.model == WG_MODEL_CONSISTENT) {
+        q[0] = x + y[6];
+        v[0] = dx + y[13];
+        return;
+    }
+    for (int i = 0; i < 6; i++) {
+        x += c[i] * y[i];
+        dx += c[i] * y[nd + i];
+        q[i + 1] = y[i];
+        v[i + 1] = y[nd + i];
+    }
+    if (s->cfg.model == WG_MODEL_PRINTED) {
+        x += y[6] + y[7];
+        dx += y[14] + y[15];
+    } else {
+        x += y[6];
+        dx += y[13];
+    }
+    q[0] = x;
+    v[0] = dx;
+}
+
+/* Lock contact's dead zone on `zone` (g = w x - zc) for the locked kernels. */
+void ct_set_lock(wg_sim *s, int contact, int zone);
+
+/* Cubic Hermite of a contact coordinate over one step, t in [0, 1]. */
+typedef struct herm {
+    double q0, q1, d0, d1; /* values and h-scaled rates at the ends */
+} herm;
+
+/* Extrema of H on [0, 1] (including the ends). */
+double ct_herm_min(const herm *H);
+double ct_herm_max(const herm *H);
+
+/* The contact events of one step, sorted by the caller. */
+enum { MAX_STEP_EVENTS = 64 };
+typedef struct evbuf {
+    int n;
+    wg_event ev[MAX_STEP_EVENTS];
+} evbuf;
+
+/* Interpolate the crossings of contact j from zone z0 to z1 over a piece
+ * [t0, t0 + len] of the step. */
+void ct_interpolate(const wg_sim *s, evbuf *b, int j, int z0, int z1, const herm *H, double t0,
+                    double len);
+
+/* rk4-event: integrate [0, h] from y0 into y1 with the kinked contacts'
+ * zones locked between located crossings (y1 holds the unsplit step on
+ * entry); appends events, leaves s->zone as at the end of the step. */
+void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, double h,
+                   evbuf *b);
+
 #endif

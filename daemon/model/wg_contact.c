@@ -1,0 +1,262 @@
+/* wg_contact.c - contacts of the running model: coordinates and zones of
+ * the mesh and the six bearings, the phase law within a step, Hermite
+ * interpolation of a contact over a step, contact events, and the
+ * rk4-event step split at located dead-zone crossings. */
+#include "model_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+#define MAX_SPLITS 8 /* located crossings per step (rk4-event) */
+
+void ct_phase_at(const phase *ph, double t, double *psi, double *om)
+{
+    if (t <= ph->tr) {
+        *psi = ph->psi0 + t * (ph->om0 + 0.5 * ph->r * t);
+        *om = ph->om0 + ph->r * t;
+    } else {
+        double pe = ph->psi0 + ph->tr * (ph->om0 + 0.5 * ph->r * ph->tr);
+        *psi = pe + ph->om1 * (t - ph->tr);
+        *om = ph->om1;
+    }
+}
+
+/* Excitation at sub-step time t: one sine and cosine of psi, the three
+ * phase offsets applied by rotation (wg_exc_eval's formula, 2 libm calls
+ * instead of 4). */
+void ct_exc_at(const wg_sim *s, const phase *ph, double t, wg_exc *e)
+{
+    double psi, om;
+    ct_phase_at(ph, t, &psi, &om);
+    const double *v = s->p.v, (*r)[2] = s->kc.rot;
+    double c = cos(psi), sn = sin(psi);
+    e->kp = 1.0 + v[WG_P_K_A] * (c * r[0][0] - sn * r[0][1]);
+    e->te = v[WG_P_E_M] * (c * r[1][0] - sn * r[1][1]);
+    e->dte = v[WG_P_E_M] * om * (sn * r[1][0] + c * r[1][1]);
+    e->fx = v[WG_P_F_M] + v[WG_P_F_E] * (c * r[2][0] - sn * r[2][1]);
+}
+
+void ct_set_lock(wg_sim *s, int contact, int zone)
+{
+    double c = ct_threshold(s, contact);
+    s->kc.w[contact] = zone != 0 ? 1.0 : 0.0;
+    s->kc.zc[contact] = zone * c;
+}
+
+/* ---- Hermite interpolation of a contact coordinate over one step ------- */
+
+
+static double herm_val(const herm *H, double t)
+{
+    double t2 = t * t, t3 = t2 * t;
+    return (2 * t3 - 3 * t2 + 1) * H->q0 + (t3 - 2 * t2 + t) * H->d0 + (-2 * t3 + 3 * t2) * H->q1 +
+           (t3 - t2) * H->d1;
+}
+
+static double herm_der(const herm *H, double t) /* d/dt, t in [0,1] */
+{
+    double t2 = t * t;
+    return (6 * t2 - 6 * t) * H->q0 + (3 * t2 - 4 * t + 1) * H->d0 + (-6 * t2 + 6 * t) * H->q1 +
+           (3 * t2 - 2 * t) * H->d1;
+}
+
+/* Root of H(t) = c in [0,1], given a sign change; Illinois false position. */
+static double herm_root(const herm *H, double c)
+{
+    double a = 0.0, b = 1.0, fa = H->q0 - c, fb = H->q1 - c;
+    int side = 0;
+    for (int it = 0; it < 60 && b - a > 1e-15; it++) {
+        double t = (fa * b - fb * a) / (fa - fb);
+        if (!(t > a && t < b))
+            t = 0.5 * (a + b);
+        double ft = herm_val(H, t) - c;
+        if (ft == 0.0)
+            return t;
+        if ((ft > 0) == (fb > 0)) {
+            b = t;
+            fb = ft;
+            if (side == -1)
+                fa *= 0.5;
+            side = -1;
+        } else {
+            a = t;
+            fa = ft;
+            if (side == 1)
+                fb *= 0.5;
+            side = 1;
+        }
+    }
+    return 0.5 * (a + b);
+}
+
+/* Minimum of H on (0,1) when the rate goes from negative to positive. */
+double ct_herm_min(const herm *H)
+{
+    /* H'(t) = A t^2 + B t + C */
+    double A = 6 * H->q0 + 3 * H->d0 - 6 * H->q1 + 3 * H->d1;
+    double B = -6 * H->q0 - 4 * H->d0 + 6 * H->q1 - 2 * H->d1;
+    double C = H->d0;
+    double t;
+    if (fabs(A) < 1e-300) {
+        t = -C / B;
+    } else {
+        double disc = B * B - 4 * A * C;
+        if (disc < 0)
+            return dmin(H->q0, H->q1);
+        double sq = sqrt(disc);
+        double qq = -0.5 * (B + (B >= 0 ? sq : -sq));
+        double r1 = qq / A, r2 = qq != 0 ? C / qq : r1;
+        /* the minimum is where H'' = 2 A t + B > 0 */
+        t = (2 * A * r1 + B > 0) ? r1 : r2;
+    }
+    double v = (t > 0 && t < 1) ? herm_val(H, t) : INFINITY;
+    return dmin(v, dmin(H->q0, H->q1));
+}
+
+double ct_herm_max(const herm *H)
+{
+    herm N = {-H->q0, -H->q1, -H->d0, -H->d1};
+    return -ct_herm_min(&N);
+}
+
+/* ---- events ---------------------------------------------------------------- */
+
+
+/* Leaving zone z in direction dir (+1 up, -1 down) across the boundary at
+ * +-c: the threshold crossed and the event kind (MODEL.md s5). */
+static int transition(int z, int dir, double c, double *thr)
+{
+    if (dir < 0) {
+        *thr = z == 1 ? c : -c;
+        return z == 1 ? WG_EV_SEPARATION : WG_EV_BACK_IMPACT;
+    }
+    *thr = z == -1 ? -c : c;
+    return z == -1 ? WG_EV_BACK_RELEASE : WG_EV_DRIVE_IMPACT;
+}
+
+static void ev_push(evbuf *b, const wg_sim *s, double tau, int contact, int kind, double vel)
+{
+    if (b->n == MAX_STEP_EVENTS)
+        return;
+    b->ev[b->n++] = (wg_event){tau, vel, s->period, contact, kind};
+}
+
+/* Interpolate the crossings of contact j from zone z0 to z1 on one step. */
+void ct_interpolate(const wg_sim *s, evbuf *b, int j, int z0, int z1,
+                                  const herm *H, double t0, double len)
+{
+    double c = ct_threshold(s, j), thr;
+    int dir = z1 > z0 ? 1 : -1;
+    for (int z = z0; z != z1; z += dir) {
+        int kind = transition(z, dir, c, &thr);
+        double t = herm_root(H, thr);
+        ev_push(b, s, s->tau + t0 + t * len, j, kind, herm_der(H, t) / len);
+    }
+}
+
+/* ---- rk4-event: split the step at located crossings -------------------- */
+
+static void substep(const wg_sim *s, const phase *ph, const double *ya, double *yb, double t0,
+                    double t1)
+{
+    wg_exc e[3];
+    ct_exc_at(s, ph, t0, &e[0]);
+    ct_exc_at(s, ph, 0.5 * (t0 + t1), &e[1]);
+    ct_exc_at(s, ph, t1, &e[2]);
+    s->kernel(ya, yb, &s->kc, e, t1 - t0);
+}
+
+static void contacts_at(const wg_sim *s, const phase *ph, const double *y, double t, double *q,
+                        double *v)
+{
+    wg_exc e;
+    ct_exc_at(s, ph, t, &e);
+    ct_contacts(s, y, &e, q, v);
+}
+
+/* Integrate [0, h] from y0 into y1 with the zones of the kinked contacts
+ * (c > 0) locked between located crossings; y1 holds the unsplit trial
+ * step on entry. Crossings of smooth contacts (c = 0) are interpolated.
+ * Appends events; leaves s->zone as at the end of the step. */
+void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, double h,
+                       evbuf *b)
+{
+    double ya[WG_NSTATE_MAX], yc[WG_NSTATE_MAX];
+    double qa[WG_NCONTACT], va[WG_NCONTACT], qb[WG_NCONTACT], vb[WG_NCONTACT];
+    int nc = ct_ncontacts(s);
+    double t = 0.0;
+    memcpy(ya, y0, sizeof ya);
+    memcpy(yc, y0, sizeof yc);
+    for (int splits = 0;; splits++) {
+        contacts_at(s, ph, ya, t, qa, va);
+        contacts_at(s, ph, y1, h, qb, vb);
+        int first = -1, dir = 0;
+        double tfirst = 2.0, thr = 0.0;
+        for (int j = 0; j < nc; j++) {
+            double c = ct_threshold(s, j), th;
+            int z1 = ct_zone(qb[j], c), z = s->zone[j], d = z1 > z ? 1 : -1;
+            if (z1 == z || c == 0.0)
+                continue;
+            herm H = {qa[j], qb[j], va[j] * (h - t), vb[j] * (h - t)};
+            transition(z, d, c, &th);
+            double tj = herm_root(&H, th);
+            if (tj < tfirst) {
+                tfirst = tj;
+                first = j;
+                thr = th;
+                dir = d;
+            }
+        }
+        if (first < 0 || splits == MAX_SPLITS)
+            break;
+        /* step to the crossing, then refine it by Newton on the coordinate */
+        double tc = t + tfirst * (h - t), qc[WG_NCONTACT], vc[WG_NCONTACT];
+        for (int it = 0; it < 3; it++) {
+            substep(s, ph, ya, yc, t, tc);
+            contacts_at(s, ph, yc, tc, qc, vc);
+            double r = qc[first] - thr;
+            if (fabs(r) <= 1e-13 * (1.0 + fabs(thr)) || vc[first] == 0.0)
+                break;
+            double tn = tc - r / vc[first];
+            if (!(tn > t && tn < h))
+                break;
+            tc = tn;
+        }
+        int kind = transition(s->zone[first], dir, thr >= 0 ? thr : -thr, &thr);
+        ev_push(b, s, s->tau + tc, first, kind, vc[first]);
+        s->zone[first] += dir;
+        ct_set_lock(s, first, s->zone[first]);
+        s->nsplit++;
+        /* Contacts at their boundary at the same instant switch in the same
+         * split (a body's three bearing axes share k and xi and cross
+         * together to ~1e-13): one split, not three. */
+        for (int j = 0; j < nc; j++) {
+            double c = ct_threshold(s, j), th;
+            int z1 = ct_zone(qb[j], c), z = s->zone[j], d = z1 > z ? 1 : -1;
+            if (j == first || z1 == z || c == 0.0)
+                continue;
+            int kj = transition(z, d, c, &th);
+            if (fabs(qc[j] - th) > 1e-9 * (1.0 + fabs(th)))
+                continue;
+            ev_push(b, s, s->tau + tc, j, kj, vc[j]);
+            s->zone[j] += d;
+            ct_set_lock(s, j, s->zone[j]);
+        }
+        memcpy(ya, yc, sizeof ya);
+        t = tc;
+        substep(s, ph, ya, y1, t, h);
+    }
+    /* smooth contacts, and any left after MAX_SPLITS: interpolate over the
+     * last piece */
+    contacts_at(s, ph, y1, h, qb, vb);
+    for (int j = 0; j < nc; j++) {
+        int z1 = ct_zone(qb[j], ct_threshold(s, j));
+        if (z1 != s->zone[j]) {
+            herm H = {qa[j], qb[j], va[j] * (h - t), vb[j] * (h - t)};
+            ct_interpolate(s, b, j, s->zone[j], z1, &H, t, h - t);
+            s->zone[j] = z1;
+            ct_set_lock(s, j, z1);
+        }
+    }
+}
+
