@@ -155,15 +155,18 @@ static void period_start(wg_sim *s, double xn)
     s->cur.impacts = 0;
 }
 
-int wg_sim_set_params(wg_sim *s, const wg_params *p, char *why, size_t whylen)
+int wg_sim_check_params(wg_sim *s, const wg_params *p, char *why, size_t whylen)
 {
     int rc = wg_params_check(p, why, whylen);
+    return rc ? rc : check_steps(s, hmax_of(s, p), p->v[WG_P_OMEGA], why, whylen);
+}
+
+int wg_sim_set_params(wg_sim *s, const wg_params *p, char *why, size_t whylen)
+{
+    int rc = wg_sim_check_params(s, p, why, whylen);
     if (rc)
         return rc;
-    double hmax = hmax_of(s, p);
-    rc = check_steps(s, hmax, p->v[WG_P_OMEGA], why, whylen);
-    if (rc)
-        return rc;
+    double hmax = hmax_of(s, p); /* cached by the check */
     s->p = *p;
     s->hmax = hmax;
     s->ramp.active = 0;

@@ -145,6 +145,10 @@ void wg_sim_fini(wg_sim *sim);
  * WG_ERANGE or WG_ESTABILITY (N too small for the new parameters) with why. */
 int wg_sim_set_params(wg_sim *sim, const wg_params *p, char *why, size_t whylen);
 
+/* Would wg_sim_set_params accept p? The same checks (table ranges, the
+ * direction cosines, RK4 stability for this N), nothing applied. */
+int wg_sim_check_params(wg_sim *sim, const wg_params *p, char *why, size_t whylen);
+
 /* Ramp parameter id linearly from its current value to `target` over `dur`
  * tau units (dur > 0), phase-continuously. Only WG_PF_RAMP parameters.
  * Validated against the table and, for omega, the stability limit. */
