@@ -20,6 +20,7 @@ typedef struct opts {
     const char *unit;    /* "s" or "tau" */
     int have_over;
     int reset_params;
+    int at_section;      /* set: apply at the next Poincare section */
 } opts;
 
 typedef struct ctl {
@@ -36,6 +37,7 @@ static void usage(FILE *f)
             "Control a running wormgeard over LCM; waits for the daemon's ACK.\n\n"
             "Commands:\n"
             "  set NAME=VALUE...          change parameters atomically (all or none)\n"
+            "                             (--at-section: at the next Poincare section, psi = 0)\n"
             "  ramp NAME [FROM] TO --over DURATION\n"
             "                             ramp a parameter phase-continuously; DURATION is\n"
             "                             simulated time: 60s, 250ms, 2min, or 5000tau\n"
@@ -54,6 +56,8 @@ static void usage(FILE *f)
             "  --timeout SEC    wait this long for the answer (default 3 s)\n"
             "  --over DURATION  ramp duration (see ramp)\n"
             "  --params         reset: the scene's parameters too\n"
+            "  --at-section     set: apply at the next Poincare section (psi = 0), not\n"
+            "                   mid-period; the answer comes then, with that section's tau\n"
             "  --json           machine-readable output on stdout\n"
             "  -h, --help       this text\n\n"
             "Exit status: 0 accepted, 1 refused or no answer, 2 usage error.\n",
@@ -116,6 +120,7 @@ static int option(opts *o, const char *name, const char *val, int *used)
             return bad("--over '%s': a positive duration like 60s, 250ms, 2min, 5000tau", val);
         o->have_over = 1;
     } else if (!strcmp(name, "params")) o->reset_params = 1;
+    else if (!strcmp(name, "at-section")) o->at_section = 1;
     else if (!strcmp(name, "json")) o->json = 1;
     else if (!strcmp(name, "help")) { usage(stdout); exit(0); }
     else return bad("unknown option '--%s'", name);
@@ -211,6 +216,7 @@ static int do_set(ctl *t, int n, char **args)
     c.nparams = n;
     c.names = names;
     c.values = vals;
+    c.at_section = (int8_t)t->o.at_section;
     return send_wait(t, &c);
 }
 
@@ -420,6 +426,8 @@ static int do_params(const ctl *t)
 
 static int dispatch(ctl *t, const char *cmd, int n, char **args)
 {
+    if (t->o.at_section && strcmp(cmd, "set"))
+        return bad("--at-section applies to set only, not to %s", cmd);
     if (!strcmp(cmd, "set")) return do_set(t, n, args);
     if (!strcmp(cmd, "ramp")) return do_ramp(t, n, args);
     if (!strcmp(cmd, "step")) return do_step(t, n, args);

@@ -369,11 +369,14 @@ static wormgear_cmd_t blank(const char *op)
     return (wormgear_cmd_t){.op = (char *)op, .unit = (char *)"", .name = (char *)""};
 }
 
+/* Set the swept parameter at the next Poincare section (psi = 0), as the
+ * offline chain changes it: each point starts from the previous point's
+ * state on the section, not from wherever in the period the command lands. */
 static int set_value(rig *r, double v)
 {
     char *names[1] = {(char *)r->o.param}, what[96];
     wormgear_cmd_t c = blank("set");
-    c.nparams = 1, c.names = names, c.values = &v;
+    c.nparams = 1, c.names = names, c.values = &v, c.at_section = 1;
     snprintf(what, sizeof what, "set %s=%.10g", r->o.param, v);
     return command(r, &c, what);
 }

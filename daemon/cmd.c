@@ -84,30 +84,90 @@ static int lookup_all(const wormgear_cmd_t *c, int *ids, char *why, size_t len)
     return WG_OK;
 }
 
+/* The parameters of d->sim with n of them replaced. */
+static wg_params with_values(const wgd *d, const int *ids, const double *values, int n)
+{
+    wg_params p = d->sim.p;
+    for (int i = 0; i < n; i++)
+        p.v[ids[i]] = values[i];
+    return p;
+}
+
+/* Apply n values at once (atomic) and tell the streams; why gets the
+ * answer's text. */
+static int apply_set(wgd *d, const int *ids, const double *values, int n, const char *client,
+                     int64_t seq, char *why, size_t len)
+{
+    wg_params p = with_values(d, ids, values, n);
+    int ramp = d->sim.ramp.active ? d->sim.ramp.id : -1;
+    int rc = wg_sim_set_params(&d->sim, &p, why, len);
+    if (rc)
+        return rc;
+    size_t k = (size_t)snprintf(why, len, "set");
+    for (int i = 0; i < n && k < len; i++)
+        k += (size_t)snprintf(why + k, len - k, " %s=%.17g", wg_param_info_get(ids[i])->name,
+                              values[i]);
+    if (ramp >= 0 && k < len)
+        snprintf(why + k, len - k, " (cancelled the ramp of %s at %.9g)",
+                 wg_param_info_get(ramp)->name, d->sim.p.v[ramp]);
+    stream_regime_reset(&d->st);
+    status_decimation(d);
+    status_params(d, "set", client, seq);
+    return WG_OK;
+}
+
+/* A set for the next Poincare section: validated now, applied by
+ * cmd_sync_apply when the phase index reaches 0. */
+static int defer_set(wgd *d, const wormgear_cmd_t *c, const int *ids, char *why, size_t len)
+{
+    syncjob *j = &d->sync;
+    if (j->active) {
+        snprintf(why, len, "a set at the next section is already pending (from %s, seq %" PRId64
+                           ")", j->client, j->seq);
+        return WG_ESTATE;
+    }
+    wg_params p = with_values(d, ids, c->values, c->nparams);
+    int rc = wg_sim_check_params(&d->sim, &p, why, len);
+    if (rc)
+        return rc;
+    *j = (syncjob){.active = 1, .n = c->nparams, .seq = c->seq};
+    memcpy(j->ids, ids, sizeof(int) * (size_t)c->nparams);
+    memcpy(j->values, c->values, sizeof(double) * (size_t)c->nparams);
+    snprintf(j->client, sizeof j->client, "%s", c->client);
+    return CMD_PENDING;
+}
+
 static int op_set(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 {
     int ids[WG_NPARAM], rc = lookup_all(c, ids, why, len);
     if (rc)
         return rc;
-    wg_params p = d->sim.p;
-    for (int i = 0; i < c->nparams; i++) {
+    for (int i = 0; i < c->nparams; i++)
         if ((rc = wg_param_check(ids[i], c->values[i], why, len)))
             return rc;
-        p.v[ids[i]] = c->values[i];
-    }
-    int ramp = d->sim.ramp.active ? d->sim.ramp.id : -1;
-    if ((rc = wg_sim_set_params(&d->sim, &p, why, len)))
-        return rc;
-    size_t n = (size_t)snprintf(why, len, "set");
-    for (int i = 0; i < c->nparams && n < len; i++)
-        n += (size_t)snprintf(why + n, len - n, " %s=%.17g", c->names[i], c->values[i]);
-    if (ramp >= 0 && n < len)
-        snprintf(why + n, len - n, " (cancelled the ramp of %s at %.9g)",
-                 wg_param_info_get(ramp)->name, d->sim.p.v[ramp]);
-    stream_regime_reset(&d->st);
-    status_decimation(d);
-    status_params(d, "set", c->client, c->seq);
-    return WG_OK;
+    if (c->at_section && d->sim.k != 0)
+        return defer_set(d, c, ids, why, len);
+    return apply_set(d, ids, c->values, c->nparams, c->client, c->seq, why, len);
+}
+
+void cmd_sync_apply(wgd *d)
+{
+    syncjob *j = &d->sync;
+    if (!j->active || d->sim.k != 0)
+        return;
+    j->active = 0;
+    char *why = d->why;
+    int rc = apply_set(d, j->ids, j->values, j->n, j->client, j->seq, why, sizeof d->why);
+    ack(d, j->client, j->seq, "set", rc, why);
+}
+
+void cmd_sync_cancel(wgd *d, int status, const char *why)
+{
+    syncjob *j = &d->sync;
+    if (!j->active)
+        return;
+    j->active = 0;
+    ack(d, j->client, j->seq, "set", status, why);
 }
 
 /* Ramp duration in tau from the command's duration and unit. */
@@ -152,6 +212,10 @@ static int op_ramp(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 {
     int id, rc;
     double dur;
+    if (c->at_section) {
+        snprintf(why, len, "at_section applies to set only (a ramp is already phase-continuous)");
+        return WG_EINVAL;
+    }
     if ((rc = ramp_check(d, c, &id, &dur, why, len)))
         return rc;
     wg_params old = d->sim.p;
@@ -212,6 +276,7 @@ static int op_reset(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
         return WG_EINVAL;
     }
     cmd_step_cancel(d, WG_ESTATE, "cancelled by reset");
+    cmd_sync_cancel(d, WG_ESTATE, "set at the next section cancelled by reset");
     engine_reset(d, params);
     stream_regime_reset(&d->st);
     status_decimation(d);
@@ -325,6 +390,7 @@ static int op_restore(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     if ((rc = snap_apply(&s, &d->sim, why, len)))
         return rc;
     cmd_step_cancel(d, WG_ESTATE, "cancelled by restore");
+    cmd_sync_cancel(d, WG_ESTATE, "set at the next section cancelled by restore");
     stream_regime_reset(&d->st);
     d->fault = 0;
     d->fault_msg[0] = 0;
@@ -452,4 +518,8 @@ int cmd_init(wgd *d)
     return WG_OK;
 }
 
-void cmd_fini(wgd *d) { cmd_step_cancel(d, WG_ESTATE, "cancelled: the daemon is stopping"); }
+void cmd_fini(wgd *d)
+{
+    cmd_step_cancel(d, WG_ESTATE, "cancelled: the daemon is stopping");
+    cmd_sync_cancel(d, WG_ESTATE, "set at the next section cancelled: the daemon is stopping");
+}

@@ -1,6 +1,8 @@
 /* engine.c - scene, sim, the step path and blow-up handling. */
 #include "engine.h"
 
+#include "cmd.h"
+
 #include "status.h"
 #include "wgd.h"
 #include "wormgear/wg_status.h"
@@ -59,7 +61,26 @@ void engine_fini(wgd *d)
     d->sim_ok = 0;
 }
 
+static uint64_t run_steps(wgd *d, uint64_t n);
+
+/* A set waiting for the Poincare section is applied on the section's step
+ * boundary: the run is cut there. */
 uint64_t engine_run(wgd *d, uint64_t n)
+{
+    if (!d->sync.active)
+        return run_steps(d, n);
+    uint32_t N = (uint32_t)d->sim.cfg.steps_per_period;
+    uint64_t to = (N - d->sim.k) % N;
+    if (to > n)
+        return run_steps(d, n);
+    uint64_t done = run_steps(d, to);
+    if (done < to)
+        return done;
+    cmd_sync_apply(d);
+    return done + run_steps(d, n - to);
+}
+
+static uint64_t run_steps(wgd *d, uint64_t n)
 {
     if (!n)
         return 0;

@@ -32,6 +32,16 @@ typedef struct stepjob {
     int64_t seq;
 } stepjob;
 
+/* A `set` waiting for the next Poincare section (at_section = 1): the
+ * parameters validated on arrival, applied and ACKed at psi = 0. */
+typedef struct syncjob {
+    int active;
+    int n, ids[WG_NPARAM];
+    double values[WG_NPARAM];
+    char client[64];
+    int64_t seq;
+} syncjob;
+
 /* Accumulators and derived figures for STATUS (status.c). */
 typedef struct stats {
     int64_t t_ns;              /* start of the current STATUS interval */
@@ -70,6 +80,7 @@ typedef struct wgd {
     int fault;                 /* a blow-up or a policy stop happened */
     char fault_msg[320];
     stepjob step;
+    syncjob sync;
     /* transport and outputs */
     lcmio io;
     int io_ok;

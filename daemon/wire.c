@@ -72,6 +72,7 @@ int wire_cmd_check(const void *buf, size_t len, char *why, size_t whylen)
     skip(&w, 8);         /* nsteps */
     str(&w);             /* name */
     skip(&w, 8);         /* rate */
+    skip(&w, 1);         /* at_section */
     if (!w.err)
         return WG_OK;
     snprintf(why, whylen, "%s at byte %zu of %zu", w.err, w.pos, len);

@@ -31,6 +31,7 @@ typedef struct fx {
     int pc_gaps;
     char health[16], regime[24], motion[24];
     double impacts_per_period;
+    double ack_tau;
     int nstatus;
     int64_t myseq;
     void *subs[6];
@@ -46,6 +47,7 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
     F.accepted = m->accepted;
     F.status = m->status;
     F.cmd_seq = m->cmd_seq;
+    F.ack_tau = m->tau;
     snprintf(F.client, sizeof F.client, "%s", m->client);
     snprintf(F.code, sizeof F.code, "%s", m->code);
     snprintf(F.message, sizeof F.message, "%s", m->message);
@@ -177,6 +179,17 @@ static int send(wgd *d, wormgear_cmd_t *c)
     ASSERT_EQ_INT(F.nack, before + 1);
     ASSERT_EQ_INT(F.cmd_seq, c->seq);
     return F.status;
+}
+
+/* Publish a command that is answered later; nothing may answer it now. */
+static void send_pending(wgd *d, wormgear_cmd_t *c)
+{
+    c->client = (char *)"tester", c->unit = (char *)"", c->name = (char *)"";
+    c->seq = ++F.myseq;
+    int before = F.nack;
+    wormgear_cmd_t_publish(d->io.lcm, "T_CMD", c);
+    drain(d);
+    ASSERT_EQ_INT(F.nack, before);
 }
 
 static int set1(wgd *d, const char *name, double v)
@@ -671,6 +684,64 @@ static void test_status_regime(void)
     teardown(d);
 }
 
+/* set with at_section: validated at once, applied and ACKed on the next
+ * Poincare section's step boundary, never mid-period. */
+static void test_set_at_section(void)
+{
+    wgd *d = setup(128);
+    run(d, 128 * 10 + 37); /* mid-period: k = 37 */
+    ASSERT_EQ_INT(d->sim.k, 37);
+    char *n[1] = {(char *)"omega"};
+    double v = 1.3, bad = 99;
+    wormgear_cmd_t c = {.op = "set", .nparams = 1, .names = n, .values = &v, .at_section = 1};
+    send_pending(d, &c);
+    ASSERT_TRUE(d->sync.active);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.0, 0); /* not yet */
+    /* a second one waits its turn: refused; an out-of-range one at once */
+    wormgear_cmd_t c2 = {.op = "set", .nparams = 1, .names = n, .values = &v, .at_section = 1};
+    ASSERT_EQ_INT(send(d, &c2), WG_ESTATE);
+    ASSERT_CONTAINS(F.message, "already pending");
+    ASSERT_EQ_INT(engine_run(d, 128 - 37 - 1), 128 - 37 - 1); /* one step short */
+    drain(d);
+    ASSERT_TRUE(d->sync.active);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.0, 0);
+    int before = F.nack;
+    double tau_section = d->sim.tau + d->sim.h; /* the next step ends the period */
+    ASSERT_EQ_INT(engine_run(d, 5), 5);
+    drain(d);
+    ASSERT_EQ_INT(F.nack, before + 1);
+    ASSERT_EQ_INT(F.cmd_seq, c.seq);
+    ASSERT_EQ_INT(F.status, WG_OK);
+    ASSERT_NEAR(F.ack_tau, tau_section, 1e-9); /* took effect at the section */
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.3, 0);
+    ASSERT_EQ_INT(d->sim.k, 4);
+    ASSERT_TRUE(!d->sync.active);
+    /* refused on arrival when invalid, immediate at a section, reset cancels */
+    c2.values = &bad;
+    ASSERT_EQ_INT(send(d, &c2), WG_ERANGE);
+    run(d, 124); /* k = 0 */
+    v = 1.25;
+    ASSERT_EQ_INT(send(d, &c2), WG_ERANGE);
+    c2.values = &v;
+    ASSERT_EQ_INT(send(d, &c2), WG_OK);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.25, 0);
+    run(d, 3);
+    send_pending(d, &c);
+    wormgear_cmd_t rs = {.op = "reset", .client = "tester", .unit = "", .name = "",
+                         .seq = ++F.myseq};
+    before = F.nack;
+    wormgear_cmd_t_publish(d->io.lcm, "T_CMD", &rs);
+    drain(d);
+    ASSERT_EQ_INT(F.nack, before + 2); /* the pending set refused (ESTATE), then the reset */
+    ASSERT_EQ_INT(F.cmd_seq, rs.seq);
+    ASSERT_EQ_INT(F.status, WG_OK);
+    ASSERT_TRUE(!d->sync.active);
+    wormgear_cmd_t r = {.op = "ramp", .nparams = 1, .names = n, .values = &v, .duration = 10,
+                        .unit = "tau", .at_section = 1};
+    ASSERT_EQ_INT(send(d, &r), WG_EINVAL);
+    teardown(d);
+}
+
 /* After a change, STATUS describes the new orbit only: impacts per period
  * do not average in the periods before it. */
 static void test_status_after_set(void)
@@ -709,7 +780,7 @@ TEST_MAIN(TEST(test_set_atomic), TEST(test_set_bad_inputs), TEST(test_set_stabil
           TEST(test_accept_commands_off), TEST(test_ramp_continuity),
           TEST(test_ramp_refused_atomic), TEST(test_save_restore_bitexact),
           TEST(test_save_restore_bitexact_ramp), TEST(test_save_restore_refusals),
-          TEST(test_step_and_modes), TEST(test_blowup_fault), TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set),
+          TEST(test_step_and_modes), TEST(test_blowup_fault), TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set), TEST(test_set_at_section),
           TEST(test_zz_cleanup))
 #undef main
 

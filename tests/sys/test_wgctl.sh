@@ -87,6 +87,11 @@ expect 0 "$C" --json get
 has out '"params":{"omega":'
 expect 0 "$C" --json set xi_p=0.08
 has out '"accepted":true'
+# a set at the next Poincare section: accepted there (tau of a section in the answer)
+expect 0 "$C" set --at-section omega=1.25
+has out "ok: set omega=1.25"
+expect 2 "$C" ramp --at-section omega 1 2 --over 1s
+has err "applies to set only"
 expect 1 "$C" --json set xi_p=7
 has out '"code":"ERANGE"'
 expect 0 "$C" status
