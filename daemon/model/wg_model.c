@@ -261,6 +261,19 @@ double wg_rk4_hmax(int model, const wg_params *p)
     return lo;
 }
 
+int wg_params_same_linear(const wg_params *a, const wg_params *b)
+{
+    static const int ids[] = {WG_P_XI_P, WG_P_XI_G, WG_P_K_A, WG_P_A1, WG_P_A2, WG_P_A3,
+                              WG_P_MU1, WG_P_MU2};
+    for (unsigned i = 0; i < sizeof ids / sizeof ids[0]; i++)
+        if (a->v[ids[i]] != b->v[ids[i]])
+            return 0;
+    for (int i = WG_P_K1X; i <= WG_P_XI2Z; i++)
+        if (a->v[i] != b->v[i])
+            return 0;
+    return 1;
+}
+
 int wg_min_steps(double hmax, double omega)
 {
     if (!(hmax > 0.0))

@@ -88,27 +88,11 @@ static void build_table(wg_sim *s)
     s->h = TWO_PI / (om * n);
 }
 
-/* The parameters the linear part (and so the RK4 stability limit)
- * depends on: damping, k_a, geometry, mass ratios, bearings. Not omega,
- * the phases, the forcing, the TE or the dead zones. */
-static int same_linear_part(const wg_params *a, const wg_params *b)
-{
-    static const int ids[] = {WG_P_XI_P, WG_P_XI_G, WG_P_K_A, WG_P_A1, WG_P_A2, WG_P_A3,
-                              WG_P_MU1, WG_P_MU2};
-    for (unsigned i = 0; i < sizeof ids / sizeof ids[0]; i++)
-        if (a->v[ids[i]] != b->v[ids[i]])
-            return 0;
-    for (int i = WG_P_K1X; i <= WG_P_XI2Z; i++)
-        if (a->v[i] != b->v[i])
-            return 0;
-    return 1;
-}
-
 /* wg_rk4_hmax with a one-entry cache: a change of omega, phase, forcing
  * or clearance (what a rig changes on the fly) costs nothing. */
 static double hmax_of(wg_sim *s, const wg_params *p)
 {
-    if (s->hkey_hmax > 0.0 && same_linear_part(&s->hkey, p))
+    if (s->hkey_hmax > 0.0 && wg_params_same_linear(&s->hkey, p))
         return s->hkey_hmax;
     double h = wg_rk4_hmax(s->cfg.model, p);
     s->hkey = *p;

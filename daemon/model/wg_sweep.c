@@ -22,8 +22,8 @@ typedef struct work {
     double *rec;               /* record x nstate Poincare states */
     wg_period *stats;          /* record period statistics */
     int nrec;                  /* sections stored by the current recording */
-    wg_params hkey;            /* parameters (omega zeroed) hmax was found for */
-    double hmax;               /* RK4 limit, independent of omega */
+    wg_params hkey;            /* parameters hmax was found for */
+    double hmax;               /* RK4 limit (wg_params_same_linear decides reuse) */
     int hvalid;
     volatile sig_atomic_t *stop;
 } work;
@@ -47,14 +47,13 @@ double wg_chain_value(const wg_chain *c, int i)
 }
 
 /* Steps per period for p: the requested N, raised to 1.25x the RK4 limit.
- * The limit does not depend on omega, so an omega sweep computes it once. */
+ * The limit depends only on the linear part, so a sweep of omega (or of a
+ * phase, the forcing, the TE, a clearance) computes it once. */
 static int steps_for(work *w, const wg_params *p)
 {
-    wg_params key = *p;
-    key.v[WG_P_OMEGA] = 0.0;
-    if (!w->hvalid || memcmp(&key, &w->hkey, sizeof key) != 0) {
+    if (!w->hvalid || !wg_params_same_linear(&w->hkey, p)) {
         w->hmax = wg_rk4_hmax(w->o->model, p);
-        w->hkey = key;
+        w->hkey = *p;
         w->hvalid = 1;
     }
     int need = wg_min_steps(w->hmax, p->v[WG_P_OMEGA]);

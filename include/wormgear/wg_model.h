@@ -82,6 +82,11 @@ void wg_equilibrium(int model, const wg_params *p, double *y);
  * only; returns 0 for the printed form (it has unstable modes by design). */
 double wg_rk4_hmax(int model, const wg_params *p);
 
+/* True when a and b have the same linear part, so wg_rk4_hmax gives the
+ * same answer: same damping, k_a, geometry, mass ratios and bearings (the
+ * frequency, phases, forcing, TE and clearances do not matter). For caches. */
+int wg_params_same_linear(const wg_params *a, const wg_params *b);
+
 /* Smallest steps per mesh period N for which h = 2 pi/(omega N) <= hmax. */
 int wg_min_steps(double hmax, double omega);
 
