@@ -10,7 +10,7 @@ add_library(wgplot STATIC
   ${CMAKE_CURRENT_LIST_DIR}/sweep_at.c
   ${CMAKE_CURRENT_LIST_DIR}/sweep_load.c)
 target_include_directories(wgplot PUBLIC ${CMAKE_CURRENT_LIST_DIR})
-target_link_libraries(wgplot PUBLIC wgmodel PkgConfig::CAIRO)
+target_link_libraries(wgplot PUBLIC wormgear PkgConfig::CAIRO)
 if(WG_MPI)
   find_package(MPI REQUIRED COMPONENTS C)
   add_executable(wgsweep ${CMAKE_CURRENT_LIST_DIR}/wgsweep.c

@@ -70,7 +70,7 @@ static void bare_steps(const wg_sim *s, double *y, uint32_t *k, long n)
  * dependent double add (3 cycles on Zen 2/3, the VM's CPU), timed in the
  * same repetition as the kernels, so frequency and CPU sharing cancel.
  * CHAIN_* are the latency-weighted critical paths of one RK4 step of the
- * kernels in daemon/model/wg_kernel.c, in cycles (docs/performance.md
+ * kernels in lib/wg_kernel.c, in cycles (docs/performance.md
  * counts them: add/sub/mul 3, min/max/xor/shuffle 1). */
 enum { CHAIN_FULL = 118, CHAIN_TORS = 95 };
 

@@ -6,7 +6,7 @@ endif()
 add_executable(test_rig_point test_rig_point.c ${PROJECT_SOURCE_DIR}/clients/rig_point.c)
 target_include_directories(test_rig_point PRIVATE ${PROJECT_SOURCE_DIR}/tests
                            ${PROJECT_SOURCE_DIR}/clients)
-target_link_libraries(test_rig_point PRIVATE wgmodel m)
+target_link_libraries(test_rig_point PRIVATE wormgear m)
 add_test(NAME clients.rig_point COMMAND test_rig_point)
 set_tests_properties(clients.rig_point PROPERTIES TIMEOUT 60)
 

@@ -2,7 +2,7 @@
  * kernel against the reference RHS, symmetric stiffness (consistent) vs the
  * printed form's asymmetry and drift, equilibrium, RK4 stability limit. */
 #include "test.h"
-#include "model_internal.h"
+#include "internal.h"
 #include "wormgear/wg_sim.h"
 #include "wormgear/wg_status.h"
 

@@ -2,7 +2,7 @@
  * the mesh and the six bearings, the phase law within a step, Hermite
  * interpolation of a contact over a step, contact events, and the
  * rk4-event step split at located dead-zone crossings. */
-#include "model_internal.h"
+#include "internal.h"
 
 #include <math.h>
 #include <string.h>

@@ -5,7 +5,7 @@
  * excitation comes in as three entries (stage 1, stages 2-3, stage 4), so
  * the kernels call no libm. Dead zones are branch-free (min/max), or in
  * zone-locked form g = w x - zc for the event-splitting stepper. */
-#include "model_internal.h"
+#include "internal.h"
 
 #define INLINE static inline __attribute__((always_inline))
 

@@ -2,7 +2,7 @@
  * RK4 stability limit. The fast kernels live in wg_kernel.c and are tested
  * against wg_rhs() here. */
 #include "wormgear/wg_model.h"
-#include "model_internal.h"
+#include "internal.h"
 
 #include <math.h>
 #include <string.h>

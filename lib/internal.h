@@ -1,6 +1,6 @@
-/* model_internal.h - shared between the model library's own files only. */
-#ifndef WG_MODEL_INTERNAL_H
-#define WG_MODEL_INTERNAL_H
+/* internal.h - shared between the library's own files (and its white-box tests) only. */
+#ifndef WG_INTERNAL_H
+#define WG_INTERNAL_H
 
 #include "wormgear/wg_sim.h"
 

@@ -1,6 +1,6 @@
 /* wg_sim.c - the integration driver: parameters, steps, ramps, sections,
  * snapshots. Contacts and events live in wg_contact.c. */
-#include "model_internal.h"
+#include "internal.h"
 #include "wormgear/wg_status.h"
 
 #include <math.h>
