@@ -42,6 +42,7 @@ typedef struct collector { /* what the POINCARE handler does with sections */
     int skip, want;           /* discard skip sections, then record want */
     int64_t last_period;
     int have_last;
+    int64_t after_period;     /* record only periods after this (-1: any) */
     long breaks;              /* recordings restarted on a gap */
     double last_at;           /* wall time of the last section */
 } collector;
@@ -218,11 +219,14 @@ static int parse_opts(int argc, char **argv, opts *o)
 
 /* ---- messages ---------------------------------------------------------------- */
 
-static void seq_gap(int64_t seq, int64_t *last, int *have, long *dropped)
+/* Count a gap in a channel's seq; 1 if messages were lost. */
+static int seq_gap(int64_t seq, int64_t *last, int *have, long *dropped)
 {
-    if (*have && seq > *last + 1)
+    int gap = *have && seq > *last + 1;
+    if (gap)
         *dropped += seq - *last - 1;
     *last = seq, *have = 1;
+    return gap;
 }
 
 static void write_section(rig *r, const wormgear_poincare_t *m, int i, const char *what)
@@ -239,7 +243,8 @@ static void write_section(rig *r, const wormgear_poincare_t *m, int i, const cha
 static void collect_one(rig *r, const wormgear_poincare_t *m, int i)
 {
     collector *c = &r->col;
-    if (!c->active || m->tau[i] <= c->min_tau || m->nstate != r->nstate)
+    if (!c->active || m->tau[i] <= c->min_tau || m->nstate != r->nstate ||
+        m->period[i] <= c->after_period)
         return;
     c->last_at = now_s();
     if (c->have_last && m->period[i] != c->last_period + 1 && !c->ramp && c->skip == 0 &&
@@ -277,7 +282,14 @@ static void on_poincare(rig *r, const wormgear_poincare_t *m)
 
 static void on_contact(rig *r, const wormgear_contact_t *m)
 {
-    seq_gap(m->seq, &r->ct_seq, &r->ct_have, &r->ct_drop);
+    if (seq_gap(m->seq, &r->ct_seq, &r->ct_have, &r->ct_drop) && r->col.active &&
+        !r->col.ramp && m->n > 0) {
+        /* lost impacts: record again, from periods after every event the
+         * lost message can have held */
+        r->rec.n = 0;
+        r->col.breaks++;
+        r->col.after_period = m->period[m->n - 1];
+    }
     for (int i = 0; i < m->n; i++) {
         if (m->contact[i] != 0 || (m->kind[i] != 1 && m->kind[i] != 2))
             continue; /* mesh drive- or back-side impacts only */
@@ -408,6 +420,7 @@ static int collect(rig *r, int skip, int want)
 {
     collector *c = &r->col;
     c->skip = skip, c->want = want, c->have_last = 0, c->active = 1, c->last_at = now_s();
+    c->after_period = -1;
     r->rec.n = 0;
     long breaks0 = c->breaks;
     while (c->active && !g_stop) {
@@ -513,7 +526,7 @@ static int run_ramp(rig *r, wg_chain *ch, window *win)
     r->phase_dir = ch->dir > 0 ? "up" : "down", r->phase_idx = -1, r->phase_value = NAN;
     if (command(r, &c, "ramp"))
         return -1;
-    r->col = (collector){.ramp = 1, .min_tau = r->c.ack.tau, .end_tau = r->c.ack.tau + dur_tau,
+    r->col = (collector){.ramp = 1, .after_period = -1, .min_tau = r->c.ack.tau, .end_tau = r->c.ack.tau + dur_tau,
                          .breaks = r->col.breaks};
     double save_from = r->o.from, save_to = r->o.to;
     r->o.from = a, r->o.to = b; /* the value of a section of a non-omega ramp */
