@@ -3,10 +3,17 @@
  * A test file defines functions `static void test_x(void)`, lists them in
  * TEST_LIST, and ends with TEST_MAIN(). Each ASSERT prints both values and
  * the line when it fails and marks the current test failed; the run exits 1
- * if any test failed. `prog NAME` runs only test NAME. */
+ * if any test failed. `prog NAME` runs only test NAME.
+ *
+ * Every test ends by proving its teardown left nothing behind (as libuv's
+ * tests prove the loop is empty): the process must hold exactly the file
+ * descriptors it held before the test ran. A file adds checks of its own
+ * (temporary files gone, fixtures torn down) by defining
+ * TEST_TEARDOWN_CHECK() before including this header. */
 #ifndef WG_TEST_H
 #define WG_TEST_H
 
+#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -58,6 +65,33 @@ static int test_failed_ = 0, test_cur_failed_ = 0;
             TEST_FAIL_("'%s' does not contain '%s'", h_ ? h_ : "(null)", n_);             \
     } while (0)
 
+/* Open file descriptors of this process (-1 if /proc is not there). */
+static int test_open_fds_(void)
+{
+    DIR *d = opendir("/proc/self/fd");
+    if (!d)
+        return -1;
+    int n = 0;
+    while (readdir(d))
+        n++;
+    closedir(d);
+    return n;
+}
+
+#ifndef TEST_TEARDOWN_CHECK
+#define TEST_TEARDOWN_CHECK() ((void)0)
+#endif
+
+/* After each test: nothing left open, and the file's own check. */
+#define TEST_AFTER_(fds0)                                                                 \
+    do {                                                                                  \
+        int fds1_ = test_open_fds_();                                                     \
+        if (fds1_ != (fds0))                                                              \
+            TEST_FAIL_("teardown: %d file descriptors open after the test, %d before",    \
+                       fds1_, (fds0));                                                    \
+        TEST_TEARDOWN_CHECK();                                                            \
+    } while (0)
+
 typedef struct test_entry_ {
     const char *name;
     void (*fn)(void);
@@ -74,7 +108,9 @@ typedef struct test_entry_ {
             if (argc > 1 && strcmp(argv[1], tests_[i].name) != 0)                         \
                 continue;                                                                 \
             test_cur_failed_ = 0;                                                         \
+            int fds0_ = test_open_fds_();                                                 \
             tests_[i].fn();                                                               \
+            TEST_AFTER_(fds0_);                                                           \
             printf("%-40s %s\n", tests_[i].name, test_cur_failed_ ? "FAIL" : "ok");       \
             test_failed_ |= test_cur_failed_;                                             \
             ran++;                                                                        \

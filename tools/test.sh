@@ -28,7 +28,7 @@ done
 echo "== mpi build (wgsweep only)"
 cmake -S . -B build/mpi -DCMAKE_BUILD_TYPE=Release -DWG_MPI=ON >/dev/null
 cmake --build build/mpi -j"$jobs" --target wgsweep >/dev/null
-run_ctest mpi build/mpi -R 'analysis\.wgsweep_cli' || status=1
+run_ctest mpi build/mpi -R 'clients\.wgsweep_cli' || status=1
 # Total over the three runs: "N% tests passed, F tests failed out of T".
 total=0 failed=0
 for f in "$logs"/*; do

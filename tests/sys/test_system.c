@@ -228,6 +228,8 @@ static void test_system(void)
     wormgear_status_t_unsubscribe(S.c.lcm, S.subs[3]);
     wormgear_ack_t_unsubscribe(S.c.lcm, S.subs[4]);
     wgcli_close(&S.c);
+    close(S.nfd);
+    S.nfd = -1;
 }
 
 static void cleanup(void)

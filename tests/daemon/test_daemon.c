@@ -6,6 +6,9 @@
 #include "loop.h"
 #include "snap.h"
 #include "status.h"
+
+/* Each test must tear its daemon down (teardown() clears F.d). */
+#define TEST_TEARDOWN_CHECK() ASSERT_TRUE(F.d == NULL)
 #include "test.h"
 #include "wgd.h"
 #include "wire.h"
@@ -157,6 +160,7 @@ static void teardown(wgd *d)
     engine_fini(d);
     log_fini(&d->log);
     free(d);
+    F.d = NULL;
 }
 
 static void drain(wgd *d)
@@ -770,8 +774,6 @@ static void cleanup(void)
         fprintf(stderr, "cannot remove %s\n", statedir);
 }
 
-static void test_zz_cleanup(void) { cleanup(); }
-
 static int init_dir(void) { return mkdtemp(statedir) ? 0 : -1; }
 
 #define main tests_main
@@ -780,8 +782,7 @@ TEST_MAIN(TEST(test_set_atomic), TEST(test_set_bad_inputs), TEST(test_set_stabil
           TEST(test_accept_commands_off), TEST(test_ramp_continuity),
           TEST(test_ramp_refused_atomic), TEST(test_save_restore_bitexact),
           TEST(test_save_restore_bitexact_ramp), TEST(test_save_restore_refusals),
-          TEST(test_step_and_modes), TEST(test_blowup_fault), TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set), TEST(test_set_at_section),
-          TEST(test_zz_cleanup))
+          TEST(test_step_and_modes), TEST(test_blowup_fault), TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set), TEST(test_set_at_section))
 #undef main
 
 int main(int argc, char **argv)
@@ -790,5 +791,7 @@ int main(int argc, char **argv)
         perror("mkdtemp");
         return 1;
     }
-    return tests_main(argc, argv);
+    int rc = tests_main(argc, argv);
+    cleanup();
+    return rc;
 }

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # wgsim command line: CSV headers, row counts, exit codes, --help.
-# usage: test_wgsim.sh WGSIM SCENEDIR DATADIR
+# usage: test_wgsim.sh WGSIM SCENEDIR
 set -u
 WGSIM=$1
 export WG_SCENE_PATH=$2
