@@ -43,8 +43,9 @@ static void usage(FILE *f)
             "  --periods P               mesh periods recorded after the transient (default 200)\n"
             "  --transient T             mesh periods run first, not recorded (default 100)\n"
             "  --steps-per-period N      RK4 steps per mesh period, %d..%d (default %d)\n"
-            "  --stepper rk4|rk4-event   plain RK4, or RK4 split at located dead-zone\n"
-            "                            crossings (default rk4-event; printed form: rk4)\n"
+            "  --stepper default|rk4|rk4-event  plain RK4, or RK4 split at located\n"
+            "                            dead-zone crossings; default: rk4-event (the\n"
+            "                            printed form runs rk4 only)\n"
             "  --model consistent|printed  equations (default: the scene's, consistent)\n"
             "  --poincare FILE|-         CSV of the Poincare section (psi = 0), one row a period\n"
             "  --events FILE|-           CSV of contact events: tau,contact,kind,velocity\n"
@@ -96,7 +97,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"trace", required_argument, 0, 'T'},     {"units", required_argument, 0, 'u'},
         {"help", no_argument, 0, 'h'},            {0, 0, 0, 0}};
     *o = (opts){.scene = "table3", .periods = 200, .transient = 100,
-                .steps = WG_STEPS_DEFAULT, .stepper = -1, .model = -1};
+                .steps = WG_STEPS_DEFAULT, .stepper = WG_STEPPER_DEFAULT, .model = -1};
     int c;
     long v;
     opterr = 0;
@@ -122,8 +123,8 @@ static int parse_opts(int argc, char **argv, opts *o)
             o->steps = (int)v;
             break;
         case 'k':
-            if ((o->stepper = wg_stepper_lookup(optarg)) < 0)
-                return bad("--stepper '%s': allowed values are rk4, rk4-event", optarg);
+            if ((o->stepper = wg_stepper_lookup(optarg)) < WG_STEPPER_DEFAULT)
+                return bad("--stepper '%s': allowed values are default, rk4, rk4-event", optarg);
             break;
         case 'm':
             if (strcmp(optarg, "consistent") == 0)
@@ -306,17 +307,14 @@ int main(int argc, char **argv)
         fprintf(stderr, "wgsim: %s\n", why);
         return rc == WG_EIO && !strchr(o.scene, '/') ? 2 : 1;
     }
-    for (int i = 0; i < o.nsets; i++)
-        if ((rc = wg_param_assign(&sc.p, o.sets[i], why, sizeof why))) {
-            fprintf(stderr, "wgsim: --set %s\n(try wgsim --help)\n", why);
-            return 2;
-        }
+    if (wg_scene_apply_sets(&sc, o.sets, o.nsets, why, sizeof why)) {
+        fprintf(stderr, "wgsim: --set %s\n(try wgsim --help)\n", why);
+        return 2;
+    }
     if (o.model >= 0)
         sc.model = o.model;
-    if (o.stepper < 0)
-        o.stepper = sc.model == WG_MODEL_PRINTED ? WG_STEPPER_RK4 : WG_STEPPER_RK4_EVENT;
-    if (sc.model == WG_MODEL_PRINTED && o.stepper == WG_STEPPER_RK4_EVENT) {
-        fprintf(stderr, "wgsim: --stepper rk4-event: the printed form supports rk4 only\n");
+    if (wg_stepper_choose(sc.model, o.stepper, &o.stepper, why, sizeof why)) {
+        fprintf(stderr, "wgsim: --stepper %s: %s\n", wg_stepper_name(o.stepper), why);
         return 2;
     }
     wg_sim_config cfg = {sc.model, o.stepper, o.steps};

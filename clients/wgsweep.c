@@ -68,7 +68,8 @@ static void usage(FILE *f)
         "  --tol-floor X           (default 1e-9)\n"
         "  --steps-per-period N    RK4 steps per mesh period (default 256; raised to 1.25x\n"
         "                          the RK4 stability limit where needed)\n"
-        "  --stepper rk4|rk4-event (default rk4-event)\n"
+        "  --stepper default|rk4|rk4-event (default: rk4-event; the printed\n"
+        "                          form runs rk4 only)\n"
         "  --floquet               Floquet multipliers of every periodic point\n"
         "  --verify-steps          re-analyse every point's attractor with 2N steps per\n"
         "                          period (step-halving check; about 3x the cost)\n"
@@ -161,7 +162,7 @@ static int parse_numeric(int c, const char *a, opts *o)
     case 'F': return num(a, &s->tol_factor) || s->tol_factor <= 0 ? bad("--tol-factor: need > 0, got", a) : 0;
     case 'f': return num(a, &s->tol_floor) || s->tol_floor <= 0 ? bad("--tol-floor: need > 0, got", a) : 0;
     case 'N': return inum(a, WG_STEPS_MIN, WG_STEPS_MAX, &s->steps) ? bad("--steps-per-period: need 8..65536, got", a) : 0;
-    case 'k': return (s->stepper = wg_stepper_lookup(a)) < 0 ? bad("--stepper: rk4 or rk4-event, got", a) : 0;
+    case 'k': return (s->stepper = wg_stepper_lookup(a)) < WG_STEPPER_DEFAULT ? bad("--stepper: default, rk4 or rk4-event, got", a) : 0;
     default: return bad("unknown option", a);
     }
 }
@@ -501,15 +502,16 @@ int main(int argc, char **argv)
         fprintf(stderr, "wgsweep: %s\n", why);
         rc = 2;
     }
-    for (int i = 0; !rc && i < o.nsets; i++)
-        if (wg_param_assign(&sc.p, o.sets[i], why, sizeof why)) {
-            fprintf(stderr, "wgsweep: --set %s\n", why);
-            rc = 2;
-        }
+    if (!rc && wg_scene_apply_sets(&sc, o.sets, o.nsets, why, sizeof why)) {
+        fprintf(stderr, "wgsweep: --set %s\n", why);
+        rc = 2;
+    }
+    if (!rc && wg_stepper_choose(sc.model, o.so.stepper, &o.so.stepper, why, sizeof why)) {
+        fprintf(stderr, "wgsweep: --stepper: %s\n", why);
+        rc = 2;
+    }
     if (!rc) {
         o.so.model = sc.model;
-        if (sc.model == WG_MODEL_PRINTED)
-            o.so.stepper = WG_STEPPER_RK4;
         install_signals();
         char *cmd = join_args(argc, argv);
         if (o.table_from)

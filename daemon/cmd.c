@@ -218,25 +218,10 @@ static int op_ramp(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     }
     if ((rc = ramp_check(d, c, &id, &dur, why, len)))
         return rc;
-    wg_params old = d->sim.p;
-    wg_ramp old_ramp = d->sim.ramp;
-    double old_hmax = d->sim.hmax;
-    if (c->has_from) {
-        wg_params p = old;
-        p.v[id] = c->from;
-        if ((rc = wg_sim_set_params(&d->sim, &p, why, len)))
-            return rc;
-    }
-    double v0 = d->sim.p.v[id];
-    if ((rc = wg_sim_ramp(&d->sim, id, c->values[0], dur, why, len))) {
-        if (c->has_from) { /* undo the jump: nothing half-applied */
-            char tmp[64];
-            wg_sim_set_params(&d->sim, &old, tmp, sizeof tmp);
-            d->sim.ramp = old_ramp;
-            d->sim.hmax = old_hmax;
-        }
-        return rc;
-    }
+    if ((rc = wg_sim_ramp(&d->sim, id, c->has_from ? &c->from : NULL, c->values[0], dur, why,
+                          len)))
+        return rc; /* nothing applied */
+    double v0 = d->sim.ramp.v0;
     snprintf(why, len, "ramp %s %.9g -> %.9g over %.9g tau (%.6g s simulated)", c->names[0], v0,
              c->values[0], dur, engine_seconds(d, dur));
     stream_regime_reset(&d->st);

@@ -11,11 +11,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { K_STR, K_INT, K_DBL, K_BOOL, K_ENUM };
+enum { K_STR, K_INT, K_DBL, K_BOOL, K_ENUM, K_STEPPER };
 
 static const char *const mode_names[] = {"realtime", "fast", "lockstep", NULL};
 static const char *const policy_names[] = {"continue", "freeze", "stop", NULL};
-static const char *const stepper_names[] = {"rk4", "rk4-event", NULL};
 
 typedef struct key {
     const char *name;
@@ -39,8 +38,9 @@ static const key keys[] = {
      "realtime rate factor, 1 = physical real time (omega_n of the scene)"},
     {"steps_per_period", K_INT, S(steps_per_period), WG_STEPS_MIN, WG_STEPS_MAX, NULL, "128",
      "RK4 steps per mesh period N"},
-    {"stepper", K_ENUM, S(stepper), 0, 0, stepper_names, "rk4-event",
-     "rk4, or rk4-event (split at dead-zone crossings; printed model: rk4)"},
+    {"stepper", K_STEPPER, S(stepper), 0, 0, NULL, "default",
+     "rk4, or rk4-event (split at dead-zone crossings); default: rk4-event, the printed "
+     "model rk4"},
     {"state_rate_hz", K_DBL, S(state_rate_hz), 0, 100000, NULL, "2000",
      "STATE samples per wall second, 0 = no STATE"},
     {"state_decimation", K_INT, S(state_decimation), 0, 1000000000, NULL, "0",
@@ -96,6 +96,15 @@ static void enum_list(const char *const *names, char *buf, size_t len)
     buf[0] = 0;
     for (int i = 0; names[i]; i++)
         snprintf(buf + strlen(buf), len - strlen(buf), "%s%s", i ? ", " : "", names[i]);
+}
+
+/* The library's stepper names, for messages and --help. */
+static void stepper_list(char *buf, size_t len)
+{
+    buf[0] = 0;
+    for (int i = WG_STEPPER_DEFAULT; i <= WG_STEPPER_RK4_EVENT; i++)
+        snprintf(buf + strlen(buf), len - strlen(buf), "%s%s", i > WG_STEPPER_DEFAULT ? ", " : "",
+                 wg_stepper_name(i));
 }
 
 static int parse_bool(const char *v)
@@ -169,6 +178,14 @@ static int set_key(conf *c, const key *k, const char *v, char *why, size_t len)
     case K_BOOL:
         if ((i = parse_bool(v)) < 0) {
             snprintf(why, len, "%s: '%s' must be yes or no", k->name, v);
+            return 2;
+        }
+        *(int *)dst = i;
+        return 0;
+    case K_STEPPER:
+        if ((i = wg_stepper_lookup(v)) < WG_STEPPER_DEFAULT) {
+            stepper_list(list, sizeof list);
+            snprintf(why, len, "%s: '%s' is not one of %s", k->name, v, list);
             return 2;
         }
         *(int *)dst = i;
@@ -414,6 +431,7 @@ static void key_range(const key *k, char *buf, size_t len)
     case K_DBL: snprintf(buf, len, "[%g, %g]", k->min, k->max); break;
     case K_BOOL: snprintf(buf, len, "yes|no"); break;
     case K_ENUM: enum_list(k->names, buf, len); break;
+    case K_STEPPER: stepper_list(buf, len); break;
     default: buf[0] = 0;
     }
 }

@@ -24,12 +24,10 @@ int64_t wgd_now_ns(void)
 
 static int apply_sets(wgd *d)
 {
-    for (int i = 0; i < d->conf.nsets; i++) {
-        int rc = wg_param_assign(&d->scene.p, d->conf.sets[i], d->why, sizeof d->why);
-        if (rc)
-            return rc;
-    }
-    return wg_params_check(&d->scene.p, d->why, sizeof d->why);
+    const char *sets[CONF_MAX_SETS];
+    for (int i = 0; i < d->conf.nsets; i++)
+        sets[i] = d->conf.sets[i];
+    return wg_scene_apply_sets(&d->scene, sets, d->conf.nsets, d->why, sizeof d->why);
 }
 
 int engine_init(wgd *d)
@@ -39,11 +37,6 @@ int engine_init(wgd *d)
         return rc;
     d->scene_params = d->scene.p;
     wg_sim_config cfg = {d->scene.model, d->conf.stepper, d->conf.steps_per_period};
-    if (cfg.model == WG_MODEL_PRINTED && cfg.stepper == WG_STEPPER_RK4_EVENT) {
-        log_msg(&d->log, LOG_NOTICE, "scene %s uses the printed model: stepper rk4",
-                d->scene.name);
-        cfg.stepper = WG_STEPPER_RK4;
-    }
     if ((rc = wg_sim_init(&d->sim, &d->scene.p, &cfg, d->why, sizeof d->why)))
         return rc;
     d->sim_ok = 1;

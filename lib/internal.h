@@ -4,6 +4,38 @@
 
 #include "wormgear/wg_sim.h"
 
+/* One RK4 step of a specialised kernel: y0 -> y1 over h, with the
+ * excitation at the step's start, middle and end (e[0..2]). */
+typedef void (*wg_kernel_fn)(const double *restrict y0, double *restrict y1,
+                             const void *restrict kc, const wg_exc *restrict e, double h);
+
+/* Coefficients the kernels read (derived from wg_params at each change). */
+typedef struct wg_kcoef {
+    double c[7];      /* mesh direction: x_n = c . q (+ s) */
+    double m[7];      /* mass-ratio weights of F on each DOF */
+    double k[6];      /* bearing stiffness */
+    double d[7];      /* 2 xi per DOF (s: 2 xi_g) */
+    double dp;        /* 2 xi_p */
+    double b, bj;     /* dead zones */
+    double w[7], zc[7]; /* zone-locked g: g = w x - zc (rk4-event) */
+    double rot[3][2];   /* cos, sin of phi1, phi2, phi: excitation by rotation */
+} wg_kcoef;
+
+/* The private part of a wg_sim (allocated by wg_sim_init with the table). */
+typedef struct wg_sim_core {
+    wg_kcoef kc;
+    wg_kernel_fn kernel;  /* specialised kernel for the current parameters */
+    unsigned kflags;      /* which specialisation (for reports) */
+    wg_exc *table;        /* 2N+1 excitation entries at half steps */
+    wg_params hkey;       /* parameters hkey_hmax was computed for (cache) */
+    double hkey_hmax;     /* 0: no cached value */
+    /* contact bookkeeping at the end of the last step */
+    int zone[WG_NCONTACT];
+    double q[WG_NCONTACT], v[WG_NCONTACT];
+    wg_period cur;        /* statistics of the period in progress */
+    wg_period last;       /* statistics of the last completed period */
+} wg_sim_core;
+
 /* Mesh direction c (x_n = c . q) and force weights m (mass ratio times c). */
 void model_mesh_vectors(int model, const wg_params *p, double c[7], double m[7]);
 
@@ -57,7 +89,7 @@ static inline double ct_threshold(const wg_sim *s, int contact)
 /* Contacts that can move: all seven, or the mesh only on the torsional path. */
 static inline int ct_ncontacts(const wg_sim *s)
 {
-    return (s->kflags & KF_BEAR) || s->cfg.model == WG_MODEL_PRINTED ? WG_NCONTACT : 1;
+    return (s->core->kflags & KF_BEAR) || s->cfg.model == WG_MODEL_PRINTED ? WG_NCONTACT : 1;
 }
 
 /* Contact coordinates and rates at state y with excitation e (the mesh
@@ -65,9 +97,9 @@ static inline int ct_ncontacts(const wg_sim *s)
 static inline void ct_contacts(const wg_sim *s, const double *y, const wg_exc *e, double *q, double *v)
 {
     int nd = s->nstate / 2;
-    const double *c = s->kc.c;
+    const double *c = s->core->kc.c;
     double x = -e->te, dx = e->dte;
-    if (!(s->kflags & KF_BEAR) && s->cfg.model == WG_MODEL_CONSISTENT) {
+    if (!(s->core->kflags & KF_BEAR) && s->cfg.model == WG_MODEL_CONSISTENT) {
         q[0] = x + y[6];
         v[0] = dx + y[13];
         return;

@@ -28,7 +28,7 @@ void ct_exc_at(const wg_sim *s, const phase *ph, double t, wg_exc *e)
 {
     double psi, om;
     ct_phase_at(ph, t, &psi, &om);
-    const double *v = s->p.v, (*r)[2] = s->kc.rot;
+    const double *v = s->p.v, (*r)[2] = s->core->kc.rot;
     double c = cos(psi), sn = sin(psi);
     e->kp = 1.0 + v[WG_P_K_A] * (c * r[0][0] - sn * r[0][1]);
     e->te = v[WG_P_E_M] * (c * r[1][0] - sn * r[1][1]);
@@ -39,8 +39,8 @@ void ct_exc_at(const wg_sim *s, const phase *ph, double t, wg_exc *e)
 void ct_set_lock(wg_sim *s, int contact, int zone)
 {
     double c = ct_threshold(s, contact);
-    s->kc.w[contact] = zone != 0 ? 1.0 : 0.0;
-    s->kc.zc[contact] = zone * c;
+    s->core->kc.w[contact] = zone != 0 ? 1.0 : 0.0;
+    s->core->kc.zc[contact] = zone * c;
 }
 
 /* ---- Hermite interpolation of a contact coordinate over one step ------- */
@@ -163,7 +163,7 @@ static void substep(const wg_sim *s, const phase *ph, const double *ya, double *
     ct_exc_at(s, ph, t0, &e[0]);
     ct_exc_at(s, ph, 0.5 * (t0 + t1), &e[1]);
     ct_exc_at(s, ph, t1, &e[2]);
-    s->kernel(ya, yb, &s->kc, e, t1 - t0);
+    s->core->kernel(ya, yb, &s->core->kc, e, t1 - t0);
 }
 
 static void contacts_at(const wg_sim *s, const phase *ph, const double *y, double t, double *q,
@@ -177,7 +177,7 @@ static void contacts_at(const wg_sim *s, const phase *ph, const double *y, doubl
 /* Integrate [0, h] from y0 into y1 with the zones of the kinked contacts
  * (c > 0) locked between located crossings; y1 holds the unsplit trial
  * step on entry. Crossings of smooth contacts (c = 0) are interpolated.
- * Appends events; leaves s->zone as at the end of the step. */
+ * Appends events; leaves s->core->zone as at the end of the step. */
 void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, double h,
                        evbuf *b)
 {
@@ -194,7 +194,7 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
         double tfirst = 2.0, thr = 0.0;
         for (int j = 0; j < nc; j++) {
             double c = ct_threshold(s, j), th;
-            int z1 = ct_zone(qb[j], c), z = s->zone[j], d = z1 > z ? 1 : -1;
+            int z1 = ct_zone(qb[j], c), z = s->core->zone[j], d = z1 > z ? 1 : -1;
             if (z1 == z || c == 0.0)
                 continue;
             herm H = {qa[j], qb[j], va[j] * (h - t), vb[j] * (h - t)};
@@ -222,25 +222,25 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
                 break;
             tc = tn;
         }
-        int kind = transition(s->zone[first], dir, thr >= 0 ? thr : -thr, &thr);
+        int kind = transition(s->core->zone[first], dir, thr >= 0 ? thr : -thr, &thr);
         ev_push(b, s, s->tau + tc, first, kind, vc[first]);
-        s->zone[first] += dir;
-        ct_set_lock(s, first, s->zone[first]);
+        s->core->zone[first] += dir;
+        ct_set_lock(s, first, s->core->zone[first]);
         s->nsplit++;
         /* Contacts at their boundary at the same instant switch in the same
          * split (a body's three bearing axes share k and xi and cross
          * together to ~1e-13): one split, not three. */
         for (int j = 0; j < nc; j++) {
             double c = ct_threshold(s, j), th;
-            int z1 = ct_zone(qb[j], c), z = s->zone[j], d = z1 > z ? 1 : -1;
+            int z1 = ct_zone(qb[j], c), z = s->core->zone[j], d = z1 > z ? 1 : -1;
             if (j == first || z1 == z || c == 0.0)
                 continue;
             int kj = transition(z, d, c, &th);
             if (fabs(qc[j] - th) > 1e-9 * (1.0 + fabs(th)))
                 continue;
             ev_push(b, s, s->tau + tc, j, kj, vc[j]);
-            s->zone[j] += d;
-            ct_set_lock(s, j, s->zone[j]);
+            s->core->zone[j] += d;
+            ct_set_lock(s, j, s->core->zone[j]);
         }
         memcpy(ya, yc, sizeof ya);
         t = tc;
@@ -251,10 +251,10 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
     contacts_at(s, ph, y1, h, qb, vb);
     for (int j = 0; j < nc; j++) {
         int z1 = ct_zone(qb[j], ct_threshold(s, j));
-        if (z1 != s->zone[j]) {
+        if (z1 != s->core->zone[j]) {
             herm H = {qa[j], qb[j], va[j] * (h - t), vb[j] * (h - t)};
-            ct_interpolate(s, b, j, s->zone[j], z1, &H, t, h - t);
-            s->zone[j] = z1;
+            ct_interpolate(s, b, j, s->core->zone[j], z1, &H, t, h - t);
+            s->core->zone[j] = z1;
             ct_set_lock(s, j, z1);
         }
     }

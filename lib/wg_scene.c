@@ -430,6 +430,22 @@ int wg_scene_open(wg_scene *sc, const char *name, char *why, size_t whylen)
     return rc ? rc : wg_scene_load(sc, path, why, whylen);
 }
 
+int wg_scene_apply_sets(wg_scene *sc, const char *const *sets, int n, char *why, size_t whylen)
+{
+    wg_params p = sc->p;
+    for (int i = 0; i < n; i++) {
+        int rc = wg_param_assign(&p, sets[i], why, whylen);
+        if (rc)
+            return rc;
+    }
+    int rc = wg_params_check(&p, why, whylen);
+    if (!rc)
+        sc->p = p;
+    return rc;
+}
+
+double wg_scale_seconds(const wg_scale *s, double tau) { return tau / s->omega_n_rad_s; }
+
 void wg_scene_initial(const wg_scene *sc, double *y)
 {
     int n = wg_model_nstate(sc->model);

@@ -11,18 +11,36 @@
 #define TWO_PI 6.283185307179586
 #define ABSURD 1e9    /* |sum of state| beyond this is a blow-up */
 
+static const char *const stepper_names[] = {"default", "rk4", "rk4-event"};
+
 const char *wg_stepper_name(int st)
 {
-    return st == WG_STEPPER_RK4 ? "rk4" : st == WG_STEPPER_RK4_EVENT ? "rk4-event" : "?";
+    return st >= WG_STEPPER_DEFAULT && st <= WG_STEPPER_RK4_EVENT ? stepper_names[st + 1] : "?";
 }
 
 int wg_stepper_lookup(const char *name)
 {
-    if (strcmp(name, "rk4") == 0)
-        return WG_STEPPER_RK4;
-    if (strcmp(name, "rk4-event") == 0)
-        return WG_STEPPER_RK4_EVENT;
-    return -1;
+    for (int i = 0; i < 3; i++)
+        if (strcmp(name, stepper_names[i]) == 0)
+            return i - 1;
+    return -2;
+}
+
+int wg_stepper_choose(int model, int stepper, int *chosen, char *why, size_t whylen)
+{
+    if (stepper == WG_STEPPER_DEFAULT)
+        stepper = model == WG_MODEL_PRINTED ? WG_STEPPER_RK4 : WG_STEPPER_RK4_EVENT;
+    if (stepper != WG_STEPPER_RK4 && stepper != WG_STEPPER_RK4_EVENT) {
+        snprintf(why, whylen, "stepper %d does not exist (default, rk4 or rk4-event)", stepper);
+        return WG_ERANGE;
+    }
+    if (model == WG_MODEL_PRINTED && stepper == WG_STEPPER_RK4_EVENT) {
+        snprintf(why, whylen, "the printed form (for comparison only) supports the rk4 stepper "
+                              "only");
+        return WG_EUNSUPPORTED;
+    }
+    *chosen = stepper;
+    return WG_OK;
 }
 
 /* Finite and not absurd: one sum catches NaN, Inf and runaway values. */
@@ -58,24 +76,24 @@ static unsigned kflags_of(const wg_sim *s)
 static void coefficients(wg_sim *s)
 {
     const double *v = s->p.v;
-    model_mesh_vectors(s->cfg.model, &s->p, s->kc.c, s->kc.m);
+    model_mesh_vectors(s->cfg.model, &s->p, s->core->kc.c, s->core->kc.m);
     for (int i = 0; i < 6; i++) {
-        s->kc.k[i] = v[WG_P_K1X + i];
-        s->kc.d[i] = 2.0 * v[WG_P_XI1X + i];
+        s->core->kc.k[i] = v[WG_P_K1X + i];
+        s->core->kc.d[i] = 2.0 * v[WG_P_XI1X + i];
     }
-    s->kc.d[6] = 2.0 * v[WG_P_XI_G];
-    s->kc.dp = 2.0 * v[WG_P_XI_P];
-    s->kc.b = v[WG_P_B];
-    s->kc.bj = v[WG_P_B_J];
+    s->core->kc.d[6] = 2.0 * v[WG_P_XI_G];
+    s->core->kc.dp = 2.0 * v[WG_P_XI_P];
+    s->core->kc.b = v[WG_P_B];
+    s->core->kc.bj = v[WG_P_B_J];
     static const int phase_id[3] = {WG_P_PHI1, WG_P_PHI2, WG_P_PHI};
     for (int i = 0; i < 3; i++) {
-        s->kc.rot[i][0] = cos(v[phase_id[i]]);
-        s->kc.rot[i][1] = sin(v[phase_id[i]]);
+        s->core->kc.rot[i][0] = cos(v[phase_id[i]]);
+        s->core->kc.rot[i][1] = sin(v[phase_id[i]]);
     }
     for (int j = 0; j < WG_NCONTACT; j++)
-        ct_set_lock(s, j, s->zone[j]);
-    s->kflags = kflags_of(s);
-    s->kernel = s->cfg.model == WG_MODEL_PRINTED ? kernel_printed : kernel_select(s->kflags);
+        ct_set_lock(s, j, s->core->zone[j]);
+    s->core->kflags = kflags_of(s);
+    s->core->kernel = s->cfg.model == WG_MODEL_PRINTED ? kernel_printed : kernel_select(s->core->kflags);
 }
 
 static void build_table(wg_sim *s)
@@ -83,8 +101,8 @@ static void build_table(wg_sim *s)
     int n = s->cfg.steps_per_period;
     double om = s->p.v[WG_P_OMEGA];
     for (int j = 0; j <= 2 * n; j++)
-        wg_exc_eval(&s->p, M_PI * j / n, om, &s->table[j]);
-    s->table[2 * n] = s->table[0];
+        wg_exc_eval(&s->p, M_PI * j / n, om, &s->core->table[j]);
+    s->core->table[2 * n] = s->core->table[0];
     s->h = TWO_PI / (om * n);
 }
 
@@ -92,11 +110,11 @@ static void build_table(wg_sim *s)
  * or clearance (what a rig changes on the fly) costs nothing. */
 static double hmax_of(wg_sim *s, const wg_params *p)
 {
-    if (s->hkey_hmax > 0.0 && wg_params_same_linear(&s->hkey, p))
-        return s->hkey_hmax;
+    if (s->core->hkey_hmax > 0.0 && wg_params_same_linear(&s->core->hkey, p))
+        return s->core->hkey_hmax;
     double h = wg_rk4_hmax(s->cfg.model, p);
-    s->hkey = *p;
-    s->hkey_hmax = h;
+    s->core->hkey = *p;
+    s->core->hkey_hmax = h;
     return h;
 }
 
@@ -122,21 +140,21 @@ static void refresh_zones(wg_sim *s)
 {
     wg_exc e;
     wg_exc_eval(&s->p, wg_sim_psi(s), s->p.v[WG_P_OMEGA], &e);
-    ct_contacts(s, s->y, &e, s->q, s->v);
+    ct_contacts(s, s->y, &e, s->core->q, s->core->v);
     for (int j = 0; j < WG_NCONTACT; j++) {
-        s->zone[j] = ct_zone(s->q[j], ct_threshold(s, j));
-        ct_set_lock(s, j, s->zone[j]);
+        s->core->zone[j] = ct_zone(s->core->q[j], ct_threshold(s, j));
+        ct_set_lock(s, j, s->core->zone[j]);
     }
 }
 
 /* A new period begins at x_n = xn with the mesh in its current zone. */
 static void period_start(wg_sim *s, double xn)
 {
-    s->cur.period = s->period;
-    s->cur.min_xn = s->cur.max_xn = xn;
-    s->cur.motion = s->zone[0] == 1 ? WG_MOTION_NO_IMPACT
-                    : s->zone[0] == 0 ? WG_MOTION_SINGLE : WG_MOTION_DOUBLE;
-    s->cur.impacts = 0;
+    s->core->cur.period = s->period;
+    s->core->cur.min_xn = s->core->cur.max_xn = xn;
+    s->core->cur.motion = s->core->zone[0] == 1 ? WG_MOTION_NO_IMPACT
+                    : s->core->zone[0] == 0 ? WG_MOTION_SINGLE : WG_MOTION_DOUBLE;
+    s->core->cur.impacts = 0;
 }
 
 int wg_sim_check_params(wg_sim *s, const wg_params *p, char *why, size_t whylen)
@@ -167,47 +185,48 @@ int wg_sim_init(wg_sim *s, const wg_params *p, const wg_sim_config *cfg, char *w
                 size_t whylen)
 {
     memset(s, 0, sizeof *s);
+    int stepper, rc;
     if (cfg->model != WG_MODEL_CONSISTENT && cfg->model != WG_MODEL_PRINTED) {
         snprintf(why, whylen, "model %d does not exist (consistent or printed)", cfg->model);
         return WG_ERANGE;
     }
-    if (cfg->stepper != WG_STEPPER_RK4 && cfg->stepper != WG_STEPPER_RK4_EVENT) {
-        snprintf(why, whylen, "stepper %d does not exist (rk4 or rk4-event)", cfg->stepper);
-        return WG_ERANGE;
-    }
+    if ((rc = wg_stepper_choose(cfg->model, cfg->stepper, &stepper, why, whylen)))
+        return rc;
     if (cfg->steps_per_period < WG_STEPS_MIN || cfg->steps_per_period > WG_STEPS_MAX) {
         snprintf(why, whylen, "steps per period = %d out of range [%d, %d]",
                  cfg->steps_per_period, WG_STEPS_MIN, WG_STEPS_MAX);
         return WG_ERANGE;
     }
-    if (cfg->model == WG_MODEL_PRINTED && cfg->stepper == WG_STEPPER_RK4_EVENT) {
-        snprintf(why, whylen, "the printed form (for comparison only) supports the rk4 stepper only");
-        return WG_EUNSUPPORTED;
-    }
     s->cfg = *cfg;
+    s->cfg.stepper = stepper;
     s->nstate = wg_model_nstate(cfg->model);
-    s->table = malloc(sizeof(wg_exc) * (size_t)(2 * cfg->steps_per_period + 1));
-    if (!s->table) {
+    s->core = calloc(1, sizeof *s->core);
+    if (s->core)
+        s->core->table = malloc(sizeof(wg_exc) * (size_t)(2 * cfg->steps_per_period + 1));
+    if (!s->core || !s->core->table) {
+        wg_sim_fini(s);
         snprintf(why, whylen, "out of memory for the excitation table");
         return WG_ENOMEM;
     }
     wg_equilibrium(cfg->model, p, s->y);
-    int rc = wg_sim_set_params(s, p, why, whylen);
-    if (rc) {
+    if ((rc = wg_sim_set_params(s, p, why, whylen))) {
         wg_sim_fini(s);
         return rc;
     }
-    period_start(s, s->q[0]);
+    period_start(s, s->core->q[0]);
     return WG_OK;
 }
 
 void wg_sim_fini(wg_sim *s)
 {
-    free(s->table);
-    s->table = NULL;
+    if (s->core)
+        free(s->core->table);
+    free(s->core);
+    s->core = NULL;
 }
 
-int wg_sim_ramp(wg_sim *s, int id, double target, double dur, char *why, size_t whylen)
+int wg_sim_ramp(wg_sim *s, int id, const double *from, double target, double dur, char *why,
+                size_t whylen)
 {
     const wg_param_info *r = wg_param_info_get(id);
     if (!r) {
@@ -222,18 +241,22 @@ int wg_sim_ramp(wg_sim *s, int id, double target, double dur, char *why, size_t 
         snprintf(why, whylen, "ramp duration must be finite and > 0 (got %g)", dur);
         return WG_ERANGE;
     }
-    wg_params end = s->p;
+    wg_params start = s->p, end = s->p;
+    if (from)
+        start.v[id] = *from;
     end.v[id] = target;
-    int rc = wg_params_check(&end, why, whylen);
-    if (rc)
+    int rc = wg_params_check(&start, why, whylen);
+    if (rc || (rc = wg_params_check(&end, why, whylen)))
         return rc;
-    /* Stability at both ends: stiffness and omega move monotonically. */
-    double hcur = hmax_of(s, &s->p), hend = hmax_of(s, &end);
+    /* Stability at both ends: stiffness and omega move monotonically. The
+     * start last, so the jump to it below finds its limit cached. */
+    double hend = hmax_of(s, &end), hcur = hmax_of(s, &start);
     double hlo = hend < hcur ? hend : hcur;
-    double omlo = dmin(s->p.v[WG_P_OMEGA], end.v[WG_P_OMEGA]);
-    rc = check_steps(s, hlo, omlo, why, whylen);
-    if (rc)
+    double omlo = dmin(start.v[WG_P_OMEGA], end.v[WG_P_OMEGA]);
+    if ((rc = check_steps(s, hlo, omlo, why, whylen)))
         return rc;
+    if (from && start.v[id] != s->p.v[id]) /* the jump: valid, so it applies */
+        wg_sim_set_params(s, &start, why, whylen);
     s->hmax = hlo;
     s->ramp = (wg_ramp){1, id, s->p.v[id], target, s->tau, dur};
     return WG_OK;
@@ -254,7 +277,7 @@ void wg_sim_set_state(wg_sim *s, const double *y, uint32_t k, double tau)
         build_table(s);
     }
     refresh_zones(s);
-    period_start(s, s->q[0]);
+    period_start(s, s->core->q[0]);
 }
 
 void wg_sim_snapshot(const wg_sim *s, wg_snapshot *w)
@@ -271,8 +294,8 @@ void wg_sim_snapshot(const wg_sim *s, wg_snapshot *w)
     w->period = s->period;
     w->steps = s->steps;
     w->ramp = s->ramp;
-    w->cur = s->cur;
-    w->last = s->last;
+    w->cur = s->core->cur;
+    w->last = s->core->last;
 }
 
 int wg_sim_restore(wg_sim *s, const wg_snapshot *w, char *why, size_t whylen)
@@ -301,8 +324,8 @@ int wg_sim_restore(wg_sim *s, const wg_snapshot *w, char *why, size_t whylen)
     s->tau_c = w->tau_c;
     s->period = w->period;
     s->steps = w->steps;
-    s->cur = w->cur;
-    s->last = w->last;
+    s->core->cur = w->cur;
+    s->core->last = w->last;
     if (w->ramp.active) { /* as wg_sim_ramp left it: stable at both ends */
         wg_params end = w->p;
         end.v[w->ramp.id] = w->ramp.v1;
@@ -324,11 +347,18 @@ void wg_sim_reset(wg_sim *s)
     wg_sim_set_state(s, y, 0, 0.0);
     s->period = s->steps = s->nsplit = 0;
     memset(s->nevents, 0, sizeof s->nevents);
-    period_start(s, s->q[0]);
+    period_start(s, s->core->q[0]);
 }
 
 double wg_sim_psi(const wg_sim *s) { return TWO_PI * s->k / s->cfg.steps_per_period; }
 double wg_sim_omega(const wg_sim *s) { return s->p.v[WG_P_OMEGA]; }
+
+double wg_sim_step_tau(const wg_sim *s)
+{
+    return TWO_PI / (s->p.v[WG_P_OMEGA] * s->cfg.steps_per_period);
+}
+
+double wg_sim_xn(const wg_sim *s) { return s->core->q[WG_C_MESH]; }
 
 void wg_sim_outputs(const wg_sim *s, wg_outputs *o)
 {
@@ -343,7 +373,7 @@ const char *wg_sim_kernel_name(const wg_sim *s, char *buf, size_t len)
         snprintf(buf, len, "printed");
         return buf;
     }
-    unsigned f = s->kflags;
+    unsigned f = s->core->kflags;
     snprintf(buf, len, "%s%s%s%s%s%s", f & KF_BEAR ? "full" : "torsional",
              (f & KF_BEAR) && (f & KF_BJ) ? "+bj" : "", f & KF_MB ? "+b" : "",
              f & KF_KA ? "+ka" : "", f & KF_EM ? "+em" : "", f & KF_LOCK ? "+locked" : "");
@@ -400,14 +430,14 @@ static void ramp_finish(wg_sim *s)
 
 static void emit_section(wg_sim *s, const wg_sink *sink)
 {
-    s->last = s->cur;
+    s->core->last = s->core->cur;
     if (sink && sink->on_section) {
         wg_section sec;
         sec.tau = s->tau;
         sec.omega = s->p.v[WG_P_OMEGA];
         memcpy(sec.y, s->y, sizeof sec.y);
         wg_sim_outputs(s, &sec.out);
-        sec.stats = s->cur;
+        sec.stats = s->core->cur;
         sink->on_section(sink->ctx, &sec);
     }
 }
@@ -419,12 +449,12 @@ static void after_step(wg_sim *s, const double *q0, const double *v0, const doub
     if ((v0[0] < 0) != (v1[0] < 0)) { /* an extremum of x_n inside the step */
         herm H = {q0[0], q1[0], v0[0] * h, v1[0] * h};
         if (v0[0] < 0)
-            s->cur.min_xn = dmin(s->cur.min_xn, ct_herm_min(&H));
+            s->core->cur.min_xn = dmin(s->core->cur.min_xn, ct_herm_min(&H));
         else
-            s->cur.max_xn = dmax(s->cur.max_xn, ct_herm_max(&H));
+            s->core->cur.max_xn = dmax(s->core->cur.max_xn, ct_herm_max(&H));
     }
-    s->cur.min_xn = dmin(s->cur.min_xn, q1[0]);
-    s->cur.max_xn = dmax(s->cur.max_xn, q1[0]);
+    s->core->cur.min_xn = dmin(s->core->cur.min_xn, q1[0]);
+    s->core->cur.max_xn = dmax(s->core->cur.max_xn, q1[0]);
     if (b->n == 0)
         return;
     if (b->n > 1)
@@ -434,11 +464,11 @@ static void after_step(wg_sim *s, const double *q0, const double *v0, const doub
         s->nevents[ev->contact][ev->kind]++;
         if (ev->contact == WG_C_MESH) {
             if (ev->kind == WG_EV_DRIVE_IMPACT || ev->kind == WG_EV_BACK_IMPACT)
-                s->cur.impacts++;
-            if (ev->kind == WG_EV_SEPARATION && s->cur.motion < WG_MOTION_SINGLE)
-                s->cur.motion = WG_MOTION_SINGLE;
+                s->core->cur.impacts++;
+            if (ev->kind == WG_EV_SEPARATION && s->core->cur.motion < WG_MOTION_SINGLE)
+                s->core->cur.motion = WG_MOTION_SINGLE;
             if (ev->kind == WG_EV_BACK_IMPACT)
-                s->cur.motion = WG_MOTION_DOUBLE;
+                s->core->cur.motion = WG_MOTION_DOUBLE;
         }
         if (sink && sink->on_event)
             sink->on_event(sink->ctx, ev);
@@ -449,23 +479,23 @@ static void after_step(wg_sim *s, const double *q0, const double *v0, const doub
 static void sync_out(wg_sim *s, const double *y, const double *q, const double *v)
 {
     memcpy(s->y, y, sizeof s->y);
-    memcpy(s->q, q, sizeof s->q);
-    memcpy(s->v, v, sizeof s->v);
+    memcpy(s->core->q, q, sizeof s->core->q);
+    memcpy(s->core->v, v, sizeof s->core->v);
 }
 
 int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
 {
     const uint32_t N = (uint32_t)s->cfg.steps_per_period;
     const int nst = s->nstate, locked = s->cfg.stepper == WG_STEPPER_RK4_EVENT;
-    const void *kctx = s->cfg.model == WG_MODEL_PRINTED ? (const void *)&s->p : (const void *)&s->kc;
+    const void *kctx = s->cfg.model == WG_MODEL_PRINTED ? (const void *)&s->p : (const void *)&s->core->kc;
     /* Double-buffered state and contacts: the accepted step is a pointer
      * swap, and s->y is written only when a callback or the caller reads it.
      * Both buffers start equal (torsional kernels leave the bearings alone). */
     double yb[2][WG_NSTATE_MAX], qb[2][WG_NCONTACT], vb[2][WG_NCONTACT];
     memcpy(yb[0], s->y, sizeof yb[0]);
     memcpy(yb[1], s->y, sizeof yb[1]);
-    memcpy(qb[0], s->q, sizeof qb[0]);
-    memcpy(vb[0], s->v, sizeof vb[0]);
+    memcpy(qb[0], s->core->q, sizeof qb[0]);
+    memcpy(vb[0], s->core->v, sizeof vb[0]);
     int cur = 0;
     uint64_t i;
     int rc = WG_OK;
@@ -478,7 +508,7 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
         phase ph;
         int ramp_ends = 0;
         if (!s->ramp.active) {
-            e = &s->table[2 * s->k];
+            e = &s->core->table[2 * s->k];
             h = s->h;
         } else {
             ramp_ends = ramp_step(s, &ph, &h);
@@ -487,18 +517,18 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
             ct_exc_at(s, &ph, h, &live[2]);
             e = live;
         }
-        s->kernel(y0, y1, kctx, e, h);
+        s->core->kernel(y0, y1, kctx, e, h);
         int nc = ct_ncontacts(s), changed = 0;
         ct_contacts(s, y1, &e[2], q1, v1);
-        changed = (ct_zone(q1[0], s->kc.b) ^ s->zone[0]);
+        changed = (ct_zone(q1[0], s->core->kc.b) ^ s->core->zone[0]);
         for (int j = 1; j < nc; j++) /* branch-free: any bearing left its zone */
-            changed |= ct_zone(q1[j], s->kc.bj) ^ s->zone[j];
+            changed |= ct_zone(q1[j], s->core->kc.bj) ^ s->core->zone[j];
         evbuf b;
         b.n = 0;
         if (changed) {
             int zsave[WG_NCONTACT];
             uint64_t splits_before = s->nsplit;
-            memcpy(zsave, s->zone, sizeof zsave);
+            memcpy(zsave, s->core->zone, sizeof zsave);
             if (!s->ramp.active) {
                 double om = s->p.v[WG_P_OMEGA];
                 ph = (phase){wg_sim_psi(s), om, 0.0, INFINITY, om};
@@ -509,18 +539,18 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
             } else {
                 for (int j = 0; j < nc; j++) {
                     int z1 = ct_zone(q1[j], ct_threshold(s, j));
-                    if (z1 != s->zone[j]) {
+                    if (z1 != s->core->zone[j]) {
                         herm H = {q0[j], q1[j], v0[j] * h, v1[j] * h};
-                        ct_interpolate(s, &b, j, s->zone[j], z1, &H, 0.0, h);
-                        s->zone[j] = z1;
+                        ct_interpolate(s, &b, j, s->core->zone[j], z1, &H, 0.0, h);
+                        s->core->zone[j] = z1;
                     }
                 }
             }
             if (!finite_state(y1, nst)) { /* undo the zone updates and counts */
                 s->nsplit = splits_before;
-                memcpy(s->zone, zsave, sizeof zsave);
+                memcpy(s->core->zone, zsave, sizeof zsave);
                 for (int j = 0; j < WG_NCONTACT; j++)
-                    ct_set_lock(s, j, s->zone[j]);
+                    ct_set_lock(s, j, s->core->zone[j]);
             }
         }
         if (!finite_state(y1, nst)) {

@@ -11,8 +11,13 @@ src=$(cd "$(dirname "$0")/.." && pwd)
 export WG_SCENE_PATH=$src/scenes
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-sim=$(find "$build" -name wgsim -type f -perm -u+x | head -1)
-sweep=$(find "$build" -name wgsweep -type f -perm -u+x | head -1)
+# Run them by name, so the command line they record is the same for any build.
+mkdir "$out/bin"
+for p in wgsim wgsweep; do
+  ln -s "$(find "$build" -name $p -type f -perm -u+x | head -1)" "$out/bin/$p"
+done
+export PATH=$out/bin:$PATH
+sim=wgsim sweep=wgsweep
 cd "$out"
 for sc in table3 lowfreq realistic torsional table3-physical; do
   "$sim" --scene "$sc" --set omega=0.7 --periods 40 --transient 20 \
@@ -31,4 +36,4 @@ for f in *.json *.md; do
   sed -E 's/"(wall|cpu)_s": *[0-9.e+-]+/"\1_s": 0/; s/Wall time [0-9.]+ s/Wall time - s/' "$f" > "$f.x"
   mv "$f.x" "$f"
 done
-sha256sum $(ls | grep -v -E '\.png$' | sort)
+sha256sum $(ls | grep -v -E '\.png$|^bin$' | sort)

@@ -50,6 +50,15 @@ int wg_scene_find(const char *name_or_file, char *path, size_t pathlen,
 /* wg_scene_find then wg_scene_load. */
 int wg_scene_open(wg_scene *sc, const char *name_or_file, char *why, size_t whylen);
 
+/* Apply n "name=value" overrides (--set, a config's [params]) to the
+ * scene's parameters in order, then check the whole set (each range and
+ * the a1^2 + a2^2 + a3^2 = 1 rule). WG_OK, or WG_EUNKNOWN / WG_EINVAL /
+ * WG_ERANGE with why naming the override; the scene is unchanged on error. */
+int wg_scene_apply_sets(wg_scene *sc, const char *const *sets, int n, char *why, size_t whylen);
+
+/* Physical seconds of a span of dimensionless time tau (tau / omega_n). */
+double wg_scale_seconds(const wg_scale *s, double tau);
+
 /* Initial state of the scene (given, or static equilibrium). */
 void wg_scene_initial(const wg_scene *sc, double *y);
 

@@ -16,6 +16,7 @@
 #include "wg_model.h"
 
 enum wg_stepper_kind {
+    WG_STEPPER_DEFAULT = -1, /* the model's own: rk4-event, or rk4 for the printed form */
     WG_STEPPER_RK4 = 0,      /* classical RK4 on the true (kinked) RHS */
     WG_STEPPER_RK4_EVENT = 1 /* RK4 split at located dead-zone crossings */
 };
@@ -24,7 +25,7 @@ enum { WG_STEPS_MIN = 8, WG_STEPS_MAX = 65536, WG_STEPS_DEFAULT = 128 };
 
 typedef struct wg_sim_config {
     int model;            /* enum wg_model_kind */
-    int stepper;          /* enum wg_stepper_kind */
+    int stepper;          /* enum wg_stepper_kind (WG_STEPPER_DEFAULT: the model's) */
     int steps_per_period; /* N, WG_STEPS_MIN..WG_STEPS_MAX */
 } wg_sim_config;
 
@@ -64,21 +65,6 @@ typedef struct wg_sink {
     void (*on_event)(void *ctx, const wg_event *ev);
 } wg_sink;
 
-typedef void (*wg_kernel_fn)(const double *restrict y0, double *restrict y1,
-                             const void *restrict kc, const wg_exc *restrict e, double h);
-
-/* Coefficients the kernels read (derived from wg_params at each change). */
-typedef struct wg_kcoef {
-    double c[7];      /* mesh direction: x_n = c . q (+ s) */
-    double m[7];      /* mass-ratio weights of F on each DOF */
-    double k[6];      /* bearing stiffness */
-    double d[7];      /* 2 xi per DOF (s: 2 xi_g) */
-    double dp;        /* 2 xi_p */
-    double b, bj;     /* dead zones */
-    double w[7], zc[7]; /* zone-locked g: g = w x - zc (rk4-event) */
-    double rot[3][2];   /* cos, sin of phi1, phi2, phi: excitation by rotation */
-} wg_kcoef;
-
 typedef struct wg_ramp {
     int active;
     int id;           /* parameter ramped */
@@ -86,9 +72,15 @@ typedef struct wg_ramp {
     double tau0, dur; /* start time and duration (tau units, > 0) */
 } wg_ramp;
 
+/* The library's private part of a run: kernel, coefficients, excitation
+ * table, stability cache, contact zones, period statistics (lib/internal.h). */
+struct wg_sim_core;
+
+/* One run. Callers read these fields and never write them: every change
+ * goes through the functions below, which keep them consistent. */
 typedef struct wg_sim {
     wg_params p;          /* current parameters (ramped value included) */
-    wg_sim_config cfg;
+    wg_sim_config cfg;    /* the stepper here is the one chosen (never DEFAULT) */
     int nstate;
     double y[WG_NSTATE_MAX];
     uint32_t k;           /* phase index: psi = 2 pi k / N */
@@ -97,20 +89,10 @@ typedef struct wg_sim {
     double tau, tau_c;    /* time and its compensation term (Kahan) */
     double h;             /* step for constant omega */
     double hmax;          /* RK4 stability limit for the current parameters */
-    wg_params hkey;       /* parameters hkey_hmax was computed for (cache) */
-    double hkey_hmax;     /* 0: no cached value */
-    wg_ramp ramp;
-    wg_kcoef kc;
-    wg_kernel_fn kernel;  /* specialised kernel for the current parameters */
-    unsigned kflags;      /* which specialisation (for reports) */
-    wg_exc *table;        /* 2N+1 excitation entries at half steps */
-    /* contact bookkeeping at the end of the last step */
-    int zone[WG_NCONTACT];
-    double q[WG_NCONTACT], v[WG_NCONTACT];
-    wg_period cur;        /* statistics of the period in progress */
-    wg_period last;       /* statistics of the last completed period */
-    uint64_t nevents[WG_NCONTACT][WG_NEVKIND];
+    wg_ramp ramp;         /* the ramp in progress, if active */
+    uint64_t nevents[WG_NCONTACT][WG_NEVKIND]; /* contact events so far */
     uint64_t nsplit;      /* rk4-event: extra sub-steps taken */
+    struct wg_sim_core *core;
 } wg_sim;
 
 /* Everything that defines the future of a run: configuration, parameters
@@ -127,9 +109,18 @@ typedef struct wg_snapshot {
     wg_period cur, last;
 } wg_snapshot;
 
-/* Human names of the steppers: "rk4", "rk4-event"; lookup returns -1 if unknown. */
+/* Names of the steppers: "default", "rk4", "rk4-event"; lookup returns
+ * WG_STEPPER_DEFAULT, WG_STEPPER_RK4 or WG_STEPPER_RK4_EVENT, or -2 if the
+ * name is none of them. */
 const char *wg_stepper_name(int stepper);
 int wg_stepper_lookup(const char *name);
+
+/* The stepper a run of `model` uses when `stepper` is asked for: itself, or
+ * for WG_STEPPER_DEFAULT the model's (rk4-event; rk4 for the printed form,
+ * which supports nothing else). WG_OK with *chosen, or WG_EUNSUPPORTED with
+ * why when the model cannot run the stepper asked for. wg_sim_init decides
+ * with this; tools that name the stepper before a run ask it too. */
+int wg_stepper_choose(int model, int stepper, int *chosen, char *why, size_t whylen);
 
 /* Set up sim for parameters p and configuration cfg, in the static
  * equilibrium, psi = 0, tau = 0. WG_ERANGE/WG_EUNSUPPORTED/WG_ESTABILITY
@@ -149,10 +140,14 @@ int wg_sim_set_params(wg_sim *sim, const wg_params *p, char *why, size_t whylen)
  * direction cosines, RK4 stability for this N), nothing applied. */
 int wg_sim_check_params(wg_sim *sim, const wg_params *p, char *why, size_t whylen);
 
-/* Ramp parameter id linearly from its current value to `target` over `dur`
- * tau units (dur > 0), phase-continuously. Only WG_PF_RAMP parameters.
- * Validated against the table and, for omega, the stability limit. */
-int wg_sim_ramp(wg_sim *sim, int id, double target, double dur, char *why, size_t whylen);
+/* Ramp parameter id linearly to `target` over `dur` tau units (dur > 0),
+ * phase-continuously, from *from (the parameter jumps there first) or, with
+ * from NULL, from its current value. Only WG_PF_RAMP parameters. Validated
+ * completely before anything changes (the table's range at both ends, the
+ * stability limit over the ramp): on error sim is unchanged. A ramp in
+ * progress is replaced. */
+int wg_sim_ramp(wg_sim *sim, int id, const double *from, double target, double dur, char *why,
+                size_t whylen);
 
 /* Set the state (nstate values) and phase index; resets period statistics
  * and cancels a ramp. Cheap (no table rebuild) when no ramp was active. */
@@ -178,6 +173,14 @@ int wg_sim_run(wg_sim *sim, uint64_t n, const wg_sink *sink, uint64_t *done);
 /* Current excitation phase psi in [0, 2 pi) and meshing frequency. */
 double wg_sim_psi(const wg_sim *sim);
 double wg_sim_omega(const wg_sim *sim);
+
+/* Length in tau of a step at the current omega, 2 pi / (omega N) (during
+ * an omega ramp, of a step at the present value). */
+double wg_sim_step_tau(const wg_sim *sim);
+
+/* The mesh displacement x_n at the current state, as the contact logic
+ * computed it at the end of the last step (cheap: no excitation call). */
+double wg_sim_xn(const wg_sim *sim);
 
 /* Outputs (x_n, x_n', F, bearing forces) at the current state. */
 void wg_sim_outputs(const wg_sim *sim, wg_outputs *o);

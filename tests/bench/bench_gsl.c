@@ -12,6 +12,7 @@
 #include "bench_common.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_sim.h"
+#include "internal.h" /* white box: the bare kernel of a wg_sim */
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
@@ -57,7 +58,7 @@ static void bare_steps(const wg_sim *s, double *y, uint32_t *k, long n)
     int cur = 0;
     uint32_t kk = *k, nn = (uint32_t)s->cfg.steps_per_period;
     for (long i = 0; i < n; i++) {
-        s->kernel(yb[cur], yb[!cur], &s->kc, &s->table[2 * kk], s->h);
+        s->core->kernel(yb[cur], yb[!cur], &s->core->kc, &s->core->table[2 * kk], s->h);
         cur = !cur;
         if (++kk == nn)
             kk = 0;
@@ -151,7 +152,7 @@ int main(int argc, char **argv)
         memcpy(yk, s[0].y, sizeof yk);
         double t[5][MAXREP], rg[MAXREP], rge[MAXREP], rh[MAXREP], rb[MAXREP];
         double bound[MAXREP], bb[MAXREP], br[MAXREP];
-        int chain = s[0].kflags & 32u /* KF_BEAR */ ? CHAIN_FULL : CHAIN_TORS;
+        int chain = s[0].core->kflags & KF_BEAR ? CHAIN_FULL : CHAIN_TORS;
         uint64_t calls0 = g.o.nrhs;
         for (int i = 0; i < reps; i++) {
             for (int st = 0; st < 2; st++) {

@@ -63,13 +63,13 @@ done
 
 # exit codes and messages
 expect_exit 2 "unknown option" --frobnicate
-expect_exit 2 "allowed values are rk4, rk4-event" --stepper euler
+expect_exit 2 "allowed values are default, rk4, rk4-event" --stepper euler
 expect_exit 2 "allowed values are consistent, printed" --model fancy
 expect_exit 2 "omega = 99 out of range \[0.01, 10\]" --set omega=99
 expect_exit 2 "unknown parameter 'nope'" --set nope=1
 expect_exit 2 "must be an integer in \[8, 65536\]" --steps-per-period 4
 expect_exit 2 "need N >= " --set omega=0.05 --steps-per-period 64
-expect_exit 2 "printed form supports rk4 only" --model printed --stepper rk4-event
+expect_exit 2 "supports the rk4 stepper only" --model printed --stepper rk4-event
 expect_exit 2 "scene 'nosuch' not found" --scene nosuch
 printf '[params]\nomega = 1\nxi_p = 7\n' >"$tmp/bad.ini"
 expect_exit 1 "bad.ini:3: xi_p: value 7 out of range \[0, 2\]" --scene "$tmp/bad.ini"

@@ -111,7 +111,7 @@ static void test_kernels_match_reference(void)
         wg_sim s;
         char why[300];
         ASSERT_EQ_INT(wg_sim_init(&s, &p, &cfg, why, sizeof why), WG_OK);
-        ASSERT_EQ_INT(s.kflags, f);
+        ASSERT_EQ_INT(s.core->kflags, f);
         double y0[16] = {0}, y1[16] = {0}, yr[16];
         some_state(y0);
         if (!(f & KF_BEAR))
@@ -127,17 +127,17 @@ static void test_kernels_match_reference(void)
             double q[7];
             q[0] = y0[6] - e[0].te;
             for (int i = 0; i < 6; i++)
-                q[0] += s.kc.c[i] * y0[i];
+                q[0] += s.core->kc.c[i] * y0[i];
             for (int i = 0; i < 6; i++)
                 q[i + 1] = y0[i];
             for (int j = 0; j < 7; j++) {
                 double c = j ? p.v[WG_P_B_J] : p.v[WG_P_B];
                 int z = q[j] > c ? 1 : q[j] < -c ? -1 : 0;
-                s.kc.w[j] = z ? 1 : 0;
-                s.kc.zc[j] = z * c;
+                s.core->kc.w[j] = z ? 1 : 0;
+                s.core->kc.zc[j] = z * c;
             }
         }
-        s.kernel(y0, y1, &s.kc, e, h);
+        s.core->kernel(y0, y1, &s.core->kc, e, h);
         ref_step(WG_MODEL_CONSISTENT, &p, e, y0, yr, h, 14);
         double err = 0;
         for (int i = 0; i < 14; i++)
@@ -287,7 +287,7 @@ static void test_stability_limit(void)
         for (int i = 0; i < 14; i++)
             n0 += y[i] * y[i];
         for (int it = 0; it < 20000; it++) {
-            s.kernel(y, y1, &s.kc, e, h);
+            s.core->kernel(y, y1, &s.core->kc, e, h);
             memcpy(y, y1, sizeof y);
         }
         for (int i = 0; i < 14; i++)

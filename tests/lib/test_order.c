@@ -273,7 +273,7 @@ static void test_omega_ramp_phase_continuous(void)
     ASSERT_EQ_INT(wg_sim_run(&s, (uint64_t)N * 100, NULL, NULL), WG_OK); /* settle */
     char why[300];
     double tau0 = s.tau;
-    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, w1, dur, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, NULL, w1, dur, why, sizeof why), WG_OK);
     static seclog l;
     l.n = l.mesh_events = 0;
     wg_sink sink = {&l, NULL, log_section, count_mesh};

@@ -151,13 +151,13 @@ static void test_set_params_is_atomic(void)
     ASSERT_CONTAINS(why, "need N >= ");
     ASSERT_NEAR(s.p.v[WG_P_OMEGA], 1.0, 0);
     /* ramps: geometry refused, bad duration refused, target range checked */
-    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_A1, 0.3, 10, why, sizeof why), WG_EINVAL);
-    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, 1.5, 0, why, sizeof why), WG_ERANGE);
-    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, 12, 10, why, sizeof why), WG_ERANGE);
-    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, 0.05, 10, why, sizeof why), WG_ESTABILITY);
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_A1, NULL, 0.3, 10, why, sizeof why), WG_EINVAL);
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, NULL, 1.5, 0, why, sizeof why), WG_ERANGE);
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, NULL, 12, 10, why, sizeof why), WG_ERANGE);
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, NULL, 0.05, 10, why, sizeof why), WG_ESTABILITY);
     ASSERT_TRUE(!s.ramp.active);
     /* a ramp of a non-frequency parameter ends exactly on target */
-    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_XI_P, 0.12, 50, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_XI_P, NULL, 0.12, 50, why, sizeof why), WG_OK);
     ASSERT_EQ_INT(wg_sim_run(&s, 128 * 20, NULL, NULL), WG_OK);
     ASSERT_TRUE(!s.ramp.active);
     ASSERT_NEAR(s.p.v[WG_P_XI_P], 0.12, 0);

@@ -81,14 +81,14 @@ static uint64_t scenario_ulp(int stepper, unsigned seed, int per_step, int ulp, 
     q.v[WG_P_XI_P] = 0.1;
     ASSERT_EQ_INT(wg_sim_set_params(&s, &q, why, sizeof why), WG_OK);
     run(&s, N * 50 + 17, &sink, &seed);
-    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, 1.5, 150.0, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, NULL, 1.5, 150.0, why, sizeof why), WG_OK);
     run(&s, N * 60, &sink, &seed);
     q = s.p;
     q.v[WG_P_K_A] = 0.4;
     q.v[WG_P_E_M] = 0.3;
     ASSERT_EQ_INT(wg_sim_set_params(&s, &q, why, sizeof why), WG_OK);
     run(&s, N * 40, &sink, &seed);
-    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_F_E, 0.2, 80.0, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_F_E, NULL, 0.2, 80.0, why, sizeof why), WG_OK);
     run(&s, N * 40, &sink, &seed);
     q = s.p;
     q.v[WG_P_B_J] = 0.0;

@@ -31,7 +31,7 @@ static void on_step(void *ctx, const wg_sim *s)
     double psi = wg_sim_psi(s);
     a->bad_phase += !(s->k < N && psi >= 0.0 && psi < 2 * M_PI);
     if (a->averaging)
-        a->sum_xn += s->q[WG_C_MESH]; /* x_n at the end of the step */
+        a->sum_xn += wg_sim_xn(s); /* x_n at the end of the step */
     a->steps++;
 }
 

@@ -49,7 +49,7 @@ static void test_refused_below_limit(void)
             ASSERT_CONTAINS(why, "need N >= ");
             ASSERT_TRUE(s.p.v[WG_P_OMEGA] == om[j] && memcmp(y0, s.y, sizeof y0) == 0);
             if (om[j] > 0.01) {
-                ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, om[j] * 0.9, 10.0, why, sizeof why),
+                ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, NULL, om[j] * 0.9, 10.0, why, sizeof why),
                               WG_ESTABILITY);
                 ASSERT_CONTAINS(why, "need N >= ");
             }
