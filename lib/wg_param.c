@@ -65,11 +65,24 @@ int wg_param_lookup(const char *name)
     return -1;
 }
 
-static void say(char *why, size_t n, const char *fmt, const char *name, double v,
-                double lo, double hi)
+const char *wg_num_format(double v, char *buf, size_t len)
 {
-    if (why && n)
-        snprintf(why, n, fmt, name, v, lo, hi);
+    int plain = fabs(v) >= 1e-4 && fabs(v) < 1e15; /* "10", never "1e+01" */
+    for (int prec = 1; prec <= 17; prec++) {
+        snprintf(buf, len, "%.*g", prec, v);
+        if (!isfinite(v) || (strtod(buf, NULL) == v && !(plain && strchr(buf, 'e'))))
+            break;
+    }
+    return buf;
+}
+
+/* "[min, max]" of a row, each bound in the text that reads back exactly. */
+static const char *range_text(const wg_param_info *r, char *buf, size_t len)
+{
+    char lo[32], hi[32];
+    snprintf(buf, len, "[%s, %s]", wg_num_format(r->min, lo, sizeof lo),
+             wg_num_format(r->max, hi, sizeof hi));
+    return buf;
 }
 
 int wg_param_check(int id, double v, char *why, size_t whylen)
@@ -81,7 +94,10 @@ int wg_param_check(int id, double v, char *why, size_t whylen)
         return WG_EUNKNOWN;
     }
     if (!isfinite(v) || v < r->min || v > r->max) {
-        say(why, whylen, "%s = %.17g out of range [%g, %g]", r->name, v, r->min, r->max);
+        char num[32], range[80];
+        if (why && whylen)
+            snprintf(why, whylen, "%s = %s out of range %s", r->name,
+                     wg_num_format(v, num, sizeof num), range_text(r, range, sizeof range));
         return WG_ERANGE;
     }
     return WG_OK;
@@ -98,9 +114,10 @@ int wg_param_parse(int id, const char *text, double *v, char *why, size_t whylen
     while (end != text && (*end == ' ' || *end == '\t'))
         end++;
     if (end == text || *end != '\0') {
+        char range[80];
         if (why && whylen)
-            snprintf(why, whylen, "%s = '%s' is not a number (allowed range [%g, %g])",
-                     r->name, text, r->min, r->max);
+            snprintf(why, whylen, "%s = '%s' is not a number (allowed range %s)", r->name, text,
+                     range_text(r, range, sizeof range));
         return WG_EINVAL;
     }
     int rc = wg_param_check(id, x, why, whylen);

@@ -237,17 +237,29 @@ int wg_sim_ramp(wg_sim *s, int id, const double *from, double target, double dur
         snprintf(why, whylen, "%s cannot be ramped (geometry); use set", r->name);
         return WG_EINVAL;
     }
-    if (!(dur > 0.0) || !isfinite(dur)) {
-        snprintf(why, whylen, "ramp duration must be finite and > 0 (got %g)", dur);
+    char num[32], msg[256];
+    if (!(dur >= WG_RAMP_TAU_MIN && dur <= WG_RAMP_TAU_MAX)) {
+        snprintf(why, whylen, "ramp duration %s tau out of range [%g, %g] tau",
+                 wg_num_format(dur, num, sizeof num), WG_RAMP_TAU_MIN, WG_RAMP_TAU_MAX);
         return WG_ERANGE;
     }
     wg_params start = s->p, end = s->p;
     if (from)
         start.v[id] = *from;
     end.v[id] = target;
-    int rc = wg_params_check(&start, why, whylen);
-    if (rc || (rc = wg_params_check(&end, why, whylen)))
+    int rc = wg_params_check(&start, msg, sizeof msg);
+    if (rc) {
+        snprintf(why, whylen, "ramp %s: %s", from ? "from" : "start", msg);
         return rc;
+    }
+    if ((rc = wg_params_check(&end, msg, sizeof msg))) {
+        snprintf(why, whylen, "ramp target: %s", msg);
+        return rc;
+    }
+    if (!isfinite((target - start.v[id]) / dur)) { /* ranges and dur bound it; say so */
+        snprintf(why, whylen, "ramp of %s too fast: slope not finite", r->name);
+        return WG_ERANGE;
+    }
     /* Stability at both ends: stiffness and omega move monotonically. The
      * start last, so the jump to it below finds its limit cached. */
     double hend = hmax_of(s, &end), hcur = hmax_of(s, &start);

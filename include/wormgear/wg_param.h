@@ -57,6 +57,10 @@ int wg_param_parse(int id, const char *text, double *v, char *why, size_t whylen
  * or WG_ERANGE with a message; p is unchanged on error. */
 int wg_param_assign(wg_params *p, const char *assignment, char *why, size_t whylen);
 
+/* The shortest decimal text that reads back (strtod) as exactly v: "0.08",
+ * "6.283185307179586", "1e+15", "nan". Returns buf. */
+const char *wg_num_format(double v, char *buf, size_t len);
+
 /* Fill p with the table defaults (the table3 scene). */
 void wg_params_default(wg_params *p);
 

@@ -23,6 +23,11 @@ enum wg_stepper_kind {
 
 enum { WG_STEPS_MIN = 8, WG_STEPS_MAX = 65536, WG_STEPS_DEFAULT = 128 };
 
+/* Allowed ramp durations, in tau (a millionth of a unit of time up to
+ * 1e15; a shorter ramp is a set, a longer one never ends). */
+#define WG_RAMP_TAU_MIN 1e-6
+#define WG_RAMP_TAU_MAX 1e15
+
 typedef struct wg_sim_config {
     int model;            /* enum wg_model_kind */
     int stepper;          /* enum wg_stepper_kind (WG_STEPPER_DEFAULT: the model's) */
@@ -142,10 +147,12 @@ int wg_sim_check_params(wg_sim *sim, const wg_params *p, char *why, size_t whyle
 
 /* Ramp parameter id linearly to `target` over `dur` tau units (dur > 0),
  * phase-continuously, from *from (the parameter jumps there first) or, with
- * from NULL, from its current value. Only WG_PF_RAMP parameters. Validated
- * completely before anything changes (the table's range at both ends, the
- * stability limit over the ramp): on error sim is unchanged. A ramp in
- * progress is replaced. */
+ * from NULL, from its current value. Only WG_PF_RAMP parameters; dur in
+ * [WG_RAMP_TAU_MIN, WG_RAMP_TAU_MAX]. Validated completely before anything
+ * changes (the duration, the table's range at both ends: every value along
+ * the ramp is then finite and in range; the stability limit over the ramp):
+ * on error sim is unchanged and why says which end or bound is wrong. A ramp
+ * in progress is replaced. */
 int wg_sim_ramp(wg_sim *sim, int id, const double *from, double target, double dur, char *why,
                 size_t whylen);
 

@@ -164,6 +164,46 @@ static void test_set_params_is_atomic(void)
     wg_sim_fini(&s);
 }
 
+/* A ramp is accepted only if its duration is in the documented range and
+ * every value along it is finite and in range: a denormal duration must
+ * never make a parameter NaN (issue 10, defect 2). Messages name the
+ * limits, the end that is wrong, and print bounds that read back exactly. */
+static void test_ramp_never_stores_nonfinite(void)
+{
+    wg_params p;
+    wg_params_default(&p);
+    wg_sim s = test_sim_make(&p, WG_STEPPER_RK4_EVENT, 128);
+    char why[300];
+    static const double bad[] = {4.94e-324, 1e-310, 1e-300, 0, -1, 1e300, INFINITY, NAN, 2e15};
+    for (unsigned i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        for (int id = 0; id < WG_NPARAM; id++) {
+            if (!(wg_param_info_get(id)->flags & WG_PF_RAMP))
+                continue;
+            double to = wg_param_info_get(id)->max;
+            ASSERT_EQ_INT(wg_sim_ramp(&s, id, NULL, to, bad[i], why, sizeof why), WG_ERANGE);
+            ASSERT_CONTAINS(why, "[1e-06, 1e+15] tau");
+        }
+    }
+    ASSERT_TRUE(!s.ramp.active);
+    /* at the shortest allowed duration the parameters stay finite and in range */
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_XI_P, NULL, 2.0, 1e-6, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(wg_sim_run(&s, 128, NULL, NULL), WG_OK);
+    ASSERT_TRUE(wg_params_check(&s.p, why, sizeof why) == WG_OK);
+    ASSERT_NEAR(s.p.v[WG_P_XI_P], 2.0, 0);
+    double from = 99;
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, &from, 1.2, 10, why, sizeof why), WG_ERANGE);
+    ASSERT_CONTAINS(why, "from");
+    ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, NULL, 99, 10, why, sizeof why), WG_ERANGE);
+    ASSERT_CONTAINS(why, "target");
+    /* a bound printed so that a value one ulp outside reads as outside */
+    ASSERT_EQ_INT(wg_param_check(WG_P_PHI1, 6.2831853071795871, why, sizeof why), WG_ERANGE);
+    ASSERT_CONTAINS(why, "phi1 = 6.283185307179587 out of range [-6.283185307179586, "
+                         "6.283185307179586]");
+    ASSERT_EQ_INT(wg_param_check(WG_P_OMEGA, 12, why, sizeof why), WG_ERANGE);
+    ASSERT_CONTAINS(why, "omega = 12 out of range [0.01, 10]");
+    wg_sim_fini(&s);
+}
+
 static void test_deterministic(void)
 {
     wg_params p;
@@ -228,5 +268,6 @@ static void test_zero_backlash_events(void)
 
 TEST_MAIN(TEST(test_sections_fall_on_periods), TEST(test_kernel_choice_skips_terms),
           TEST(test_torsional_is_full_limit), TEST(test_blowup_is_caught_state_kept),
-          TEST(test_set_params_is_atomic), TEST(test_deterministic), TEST(test_motion_classes),
+          TEST(test_set_params_is_atomic), TEST(test_ramp_never_stores_nonfinite),
+          TEST(test_deterministic), TEST(test_motion_classes),
           TEST(test_zero_backlash_events))
