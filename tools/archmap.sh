@@ -1,0 +1,157 @@
+#!/usr/bin/env bash
+# archmap.sh [--check] - the large-scale shape of the source tree.
+#
+# Without options it prints the file list per folder, function-length
+# statistics and the longest functions (needs universal-ctags), the arrows
+# (#includes and calls) between the layers, and who calls whom among the
+# daemon's modules. With --check it verifies the architecture rules and
+# exits 1 naming every broken one (ctest `tree.layers` runs this):
+#   - lib/ and include/wormgear/ include nothing of daemon/, clients/ or
+#     lcmtypes/; only lib/ (and white-box tests) include lib/internal.h;
+#   - daemon/ and clients/ are peers: neither includes the other's files;
+#   - among the daemon's modules calls go one way only, down the levels in
+#     LEVELS below: a module calls modules of lower levels, never its own
+#     level or above (main -> loop -> cmd -> engine/report -> ...);
+#   - no source file in lib/, daemon/ or clients/ reaches 800 lines.
+set -uo pipefail
+export LC_ALL=C
+cd "$(dirname "$0")/.."
+
+# Daemon modules by level, top first. A module may call only modules on
+# later lines.
+LEVELS=(
+  "main"
+  "loop"
+  "cmd"
+  "engine report"
+  "stream snap"
+  "lcmio pace wire sdn"
+  "conf log"
+)
+MAX_LINES=800
+
+level_of() { # module -> its line in LEVELS, or -1
+  for i in "${!LEVELS[@]}"; do
+    for m in ${LEVELS[$i]}; do [ "$m" = "$1" ] && { echo "$i"; return; }; done
+  done
+  echo -1
+}
+
+# Resolve #include "x" of file f to a tracked file (or print nothing).
+includes_of() {
+  local f=$1 d
+  d=$(dirname "$f")
+  grep -oE '^#include "[^"]+"' "$f" | sed -E 's/#include "(.*)"/\1/' | while read -r inc; do
+    local cands=("$d/$inc" "include/$inc" "lib/$inc" "tests/$inc")
+    case $f in tests/*) cands+=("daemon/$inc" "clients/$inc");; esac
+    for c in "${cands[@]}"; do
+      if [ -f "$c" ]; then realpath --relative-to=. "$c"; break; fi
+    done
+    case $inc in lcmtypes/*) echo "lcmtypes/(generated)";; esac
+  done
+}
+
+# Exported functions of a daemon module: the prototypes in its header.
+api_of() {
+  [ -f "daemon/$1.h" ] || return 0
+  gcc -fpreprocessed -dD -E -P "daemon/$1.h" 2>/dev/null | tr '\n' ' ' | tr ';' '\n' |
+    grep -vE '^\s*(typedef|struct [a-z_]+ \{|enum)' |
+    grep -oE '\b[a-z_][a-z0-9_]*\s*\(' | head -1000 | sed -E 's/\s*\($//' |
+    grep -E "^$1_|^wgd_" | sort -u
+}
+
+# Calls from daemon module a to other daemon modules: "a b fn" lines.
+daemon_calls() {
+  local mods m
+  mods=$(ls daemon/*.c | xargs -n1 basename | sed 's/\.c$//')
+  for m in $mods; do api_of "$m" | sed "s/^/$m /"; done > /tmp/archmap.api.$$
+  for a in $mods; do
+    gcc -fpreprocessed -dD -E -P "daemon/$a.c" 2>/dev/null | grep -oE '\b[a-z_][a-z0-9_]*\b' | sort -u |
+      join -1 1 -2 2 - <(sort -k2,2 /tmp/archmap.api.$$) 2>/dev/null |
+      awk -v a="$a" '$2 != a {print a, $2, $1}'
+  done
+  rm -f /tmp/archmap.api.$$
+}
+
+check() {
+  local bad=0 f inc lines
+  for f in $(git ls-files 'lib/*.[ch]' 'include/*.h'); do
+    for inc in $(includes_of "$f"); do
+      case $inc in
+        include/wormgear/*|lib/internal.h) ;;
+        *) echo "layers: $f includes $inc (the library includes only include/wormgear/ and lib/internal.h)"; bad=1;;
+      esac
+      case $f:$inc in include/*:lib/internal.h)
+        echo "layers: public header $f includes lib/internal.h"; bad=1;; esac
+    done
+  done
+  for f in $(git ls-files 'daemon/*.[ch]' 'clients/*.[ch]'); do
+    for inc in $(includes_of "$f"); do
+      case $f:$inc in
+        daemon/*:clients/*|clients/*:daemon/*)
+          echo "layers: $f includes $inc (daemon/ and clients/ are peers)"; bad=1;;
+        *:lib/internal.h)
+          echo "layers: $f includes lib/internal.h (the library's own files only)"; bad=1;;
+      esac
+    done
+  done
+  for f in daemon/*.c; do
+    m=$(basename "$f" .c)
+    if [ "$(level_of "$m")" -lt 0 ]; then
+      echo "layers: daemon module $m has no level in tools/archmap.sh LEVELS"; bad=1
+    fi
+  done
+  while read -r a b fn; do
+    la=$(level_of "$a") lb=$(level_of "$b")
+    if [ "$la" -ge 0 ] && [ "$lb" -ge 0 ] && [ "$lb" -le "$la" ]; then
+      echo "layers: daemon/$a.c calls $fn of daemon/$b.c (level $lb, not below $a's $la)"; bad=1
+    fi
+  done < <(daemon_calls)
+  for f in $(git ls-files 'lib/*.[ch]' 'daemon/*.[ch]' 'clients/*.[ch]'); do
+    lines=$(wc -l < "$f")
+    if [ "$lines" -ge "$MAX_LINES" ]; then
+      echo "layers: $f has $lines lines (split it: files stay under $MAX_LINES)"; bad=1
+    fi
+  done
+  [ $bad = 0 ] && echo "layers: ok (library, daemon and clients layered; daemon calls go down: ${LEVELS[*]})"
+  return $bad
+}
+
+folder() { # the layer a path belongs to: lib, daemon, tests/sys, ...
+  echo "$1" | sed -E 's#^(lib|daemon|clients|include|lcmtypes)/.*#\1#; s#^(tests/[a-z]+)/.*#\1#; s#^tests/[a-z_]+\.h$#tests#'
+}
+
+report() {
+  echo "== files (lines)"
+  for d in include/wormgear lib daemon clients lcmtypes tests/lib tests/daemon tests/sys \
+           tests/clients tests/bench tools; do
+    fl=$(git ls-files "$d" | grep -E '\.(c|h|sh|js|html|css|lcm)$' | grep -v "^$d/.*/")
+    [ -n "$fl" ] || continue
+    printf '%-18s %3d files %6d lines  ' "$d/" "$(echo "$fl" | wc -l)" "$(cat $fl | wc -l)"
+    echo "$fl" | xargs -n1 basename | tr '\n' ' ' | fold -s -w 200 | head -3; echo
+  done
+  if command -v ctags >/dev/null; then
+    echo "== functions"
+    ctags --fields=+ne --c-kinds=f -o - $(git ls-files '*.c') 2>/dev/null |
+      awk -F'\t' '{ln=0;en=0; for(i=4;i<=NF;i++){if($i~/^line:/)ln=substr($i,6); if($i~/^end:/)en=substr($i,5)} if(en) print en-ln+1"\t"$2":"ln"\t"$1}' |
+      sort -n > /tmp/archmap.f.$$
+    awk -F'\t' '{a[NR]=$1; if($1>60) n++} END{printf "%d functions, median %d lines, %d over 60 lines\n", NR, a[int((NR+1)/2)], n}' /tmp/archmap.f.$$
+    echo "longest:"; sort -rn /tmp/archmap.f.$$ | head -12 | sed 's/^/  /'
+    rm -f /tmp/archmap.f.$$
+  fi
+  echo "== #include arrows between folders"
+  for f in $(git ls-files '*.[ch]'); do
+    for inc in $(includes_of "$f"); do
+      echo "$(folder "$f") -> $(folder "$inc")"
+    done
+  done | awk '$1 != $3' |
+    sort | uniq -c | sed 's/^/  /'
+  echo "== daemon modules: who calls whom"
+  daemon_calls | awk '{e[$1" -> "$2]=e[$1" -> "$2]" "$3} END{for(k in e) print "  "k":"e[k]}' | sort
+}
+
+case ${1:-} in
+  --check) check ;;
+  "") report ;;
+  *) echo "usage: tools/archmap.sh [--check]" >&2; exit 2 ;;
+esac
