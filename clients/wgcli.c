@@ -1,12 +1,12 @@
 /* wgcli.c - shared LCM client helpers. */
 #include "wgcli.h"
+#include "cli.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/select.h>
 #include <sys/time.h>
-#include <time.h>
 #include <unistd.h>
 
 const char *wgcli_default_url(void)
@@ -19,13 +19,6 @@ const char *wgcli_default_prefix(void)
 {
     const char *p = getenv("WORMGEAR_PREFIX");
     return p ? p : WGCLI_DEFAULT_PREFIX;
-}
-
-int64_t wgcli_now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
 }
 
 const char *wgcli_channel(const wgcli *c, const char *suffix, char *buf, size_t len)
@@ -85,10 +78,8 @@ void wgcli_close(wgcli *c)
 
 int64_t wgcli_send(wgcli *c, wormgear_cmd_t *cmd)
 {
-    struct timeval tv;
     char ch[128];
-    gettimeofday(&tv, NULL);
-    cmd->utime = (int64_t)tv.tv_sec * 1000000 + tv.tv_usec;
+    cmd->utime = cli_wall_us();
     cmd->seq = ++c->seq;
     cmd->client = c->client;
     c->ack.got = 0;
@@ -99,10 +90,10 @@ int64_t wgcli_send(wgcli *c, wormgear_cmd_t *cmd)
 
 int wgcli_wait(wgcli *c, int timeout_ms, int (*done)(void *ctx), void *ctx)
 {
-    int64_t end = wgcli_now_ms() + timeout_ms;
+    int64_t end = cli_mono_ns() / 1000000 + timeout_ms;
     int fd = lcm_get_fileno(c->lcm);
     while (!(done && done(ctx))) {
-        int64_t left = end - wgcli_now_ms();
+        int64_t left = end - cli_mono_ns() / 1000000;
         if (left <= 0)
             return -1;
         fd_set set;

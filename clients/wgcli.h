@@ -66,9 +66,6 @@ int wgcli_wait(wgcli *c, int timeout_ms, int (*done)(void *ctx), void *ctx);
  * on timeout. */
 int wgcli_wait_ack(wgcli *c, int timeout_ms);
 
-/* Monotonic milliseconds. */
-int64_t wgcli_now_ms(void);
-
 /* Write s as a JSON string literal (quotes and escapes) to f. */
 void wgcli_json_str(void *f, const char *s);
 

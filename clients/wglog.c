@@ -8,6 +8,7 @@
  * batched types (STATE, POINCARE, CONTACT). Numbers are printed with 17
  * significant digits: the CSV holds exactly what was published.
  * Exit 0, 1 unreadable log or unwritable output, 2 usage error. */
+#include "cli.h"
 #include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_cmd_t.h"
 #include "lcmtypes/wormgear_contact_t.h"
@@ -449,11 +450,7 @@ static void usage(FILE *f)
             "Exit status: 0 ok, 1 unreadable log or unwritable output, 2 usage error.\n");
 }
 
-static int bad(const char *what, const char *val, const char *allowed)
-{
-    fprintf(stderr, "wglog: %s '%s': %s\n(try wglog --help)\n", what, val, allowed);
-    return 2;
-}
+#define PROG "wglog"
 
 static int parse(int argc, char **argv, log_run *r, int *also_summary)
 {
@@ -470,23 +467,22 @@ static int parse(int argc, char **argv, log_run *r, int *also_summary)
         case 'q': r->quiet = 1; break;
         case 'h': usage(stdout); exit(0);
         default:
-            fprintf(stderr, "wglog: unknown option or missing value '%s'\n(try wglog --help)\n",
-                    argv[optind - 1]);
-            return 2;
+            return cli_usage_error(PROG, "unknown option or missing value '%s'", argv[optind - 1]);
         }
     }
     if (argc - optind != 2)
-        return bad("arguments", argc > optind ? argv[optind] : "",
-                   "expected a command (summary or export) and a log file");
+        return cli_usage_error(PROG, "arguments '%s': expected a command (summary or export) and "
+                                     "a log file", argc > optind ? argv[optind] : "");
     if (strcmp(argv[optind], "summary") && strcmp(argv[optind], "export"))
-        return bad("command", argv[optind], "one of summary, export");
+        return cli_usage_error(PROG, "command '%s': one of summary, export", argv[optind]);
     r->export_ = !strcmp(argv[optind], "export");
     r->path = argv[optind + 1];
     if (r->pattern) {
         char anchored[1024];
         snprintf(anchored, sizeof anchored, "^(%s)$", r->pattern);
         if (regcomp(&r->re, anchored, REG_EXTENDED | REG_NOSUB))
-            return bad("--channel", r->pattern, "a POSIX extended regular expression");
+            return cli_usage_error(PROG, "--channel '%s': a POSIX extended regular expression",
+                                   r->pattern);
         r->has_re = 1;
     }
     return 0;

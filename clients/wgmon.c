@@ -7,6 +7,7 @@
  * the analysis library), and dropped-message counts from seq gaps. A daemon
  * restart shows as a seq reset. Headless: --once / --frames N print frames
  * as plain text. Exit 0, 1 no STATUS heard (--once/--frames), 2 usage. */
+#include "cli.h"
 #include "wgcli.h"
 
 #include "lcmtypes/wormgear_contact_t.h"
@@ -26,7 +27,6 @@
 #include <sys/ioctl.h>
 #include <sys/select.h>
 #include <termios.h>
-#include <time.h>
 #include <unistd.h>
 
 enum { TR_CAP = 1 << 17, PC_CAP = 1 << 15, NKEY = 8 };
@@ -83,13 +83,6 @@ typedef struct mon {
     int raw;
 } mon;
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 /* ---- options --------------------------------------------------------------- */
 
 static void usage(FILE *f)
@@ -114,17 +107,35 @@ static void usage(FILE *f)
             WGCLI_DEFAULT_URL, WGCLI_DEFAULT_PREFIX);
 }
 
-static int bad(const char *opt, const char *val, const char *allowed)
+#define PROG "wgmon"
+
+static int opt_size(const char *a, opts *o)
 {
-    fprintf(stderr, "wgmon: %s '%s': %s\n(try wgmon --help)\n", opt, val, allowed);
-    return 2;
+    if (sscanf(a, "%dx%d%c", &o->cols, &o->rows, (char[2]){0}) != 2 || o->cols < 40 ||
+        o->cols > 1000 || o->rows < 16 || o->rows > 500)
+        return cli_usage_error(PROG, "--size '%s': %s", a,
+                               "COLSxROWS with COLS in [40, 1000], ROWS in [16, 500]");
+    return 0;
 }
 
-static int num(const char *s, double lo, double hi, double *v)
+/* One option c with argument a: 0, CLI_EUSAGE (reported), or -1 unknown. */
+static int opt_one(opts *o, int c, const char *a)
 {
-    char *end;
-    *v = strtod(s, &end);
-    return end == s || *end || !isfinite(*v) || *v < lo || *v > hi ? -1 : 0;
+    switch (c) {
+    case 'u': o->url = a; return 0;
+    case 'p': o->prefix = a; return 0;
+    case 'w': return cli_opt_num(PROG, "--window", a, 0.5, 600, "seconds in [0.5, 600]", &o->window_s);
+    case 'f': return cli_opt_num(PROG, "--fps", a, 0.2, 30, "frames per second in [0.2, 30]", &o->fps);
+    case 't': return cli_opt_num(PROG, "--tol", a, 1e-300, 1, "a tolerance in (0, 1]", &o->tol);
+    case '1': o->frames = 1; return 0;
+    case 'n': return cli_opt_int(PROG, "--frames", a, 1, 100000, "an integer in [1, 100000]", &o->frames);
+    case 'T':
+        return cli_opt_num(PROG, "--timeout", a, 0.1, 3600, "seconds in [0.1, 3600]", &o->timeout_s);
+    case 's': return opt_size(a, o);
+    case 'P': o->plain = 1; return 0;
+    case 'h': usage(stdout); exit(0);
+    default: return -1;
+    }
 }
 
 static int parse_opts(int argc, char **argv, opts *o)
@@ -135,37 +146,15 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"frames", 1, 0, 'n'}, {"timeout", 1, 0, 'T'}, {"size", 1, 0, 's'},
         {"plain", 0, 0, 'P'},  {"help", 0, 0, 'h'},   {0, 0, 0, 0}};
     *o = (opts){.window_s = 5, .fps = 4, .timeout_s = 5, .tol = 1e-6};
-    double v;
-    int c;
+    int c, rc;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
-        switch (c) {
-        case 'u': o->url = optarg; break;
-        case 'p': o->prefix = optarg; break;
-        case 'w': if (num(optarg, 0.5, 600, &o->window_s)) return bad("--window", optarg, "seconds in [0.5, 600]"); break;
-        case 'f': if (num(optarg, 0.2, 30, &o->fps)) return bad("--fps", optarg, "frames per second in [0.2, 30]"); break;
-        case 't': if (num(optarg, 1e-300, 1, &o->tol)) return bad("--tol", optarg, "a tolerance in (0, 1]"); break;
-        case '1': o->frames = 1; break;
-        case 'n':
-            if (num(optarg, 1, 100000, &v) || v != floor(v)) return bad("--frames", optarg, "an integer in [1, 100000]");
-            o->frames = (int)v;
-            break;
-        case 'T': if (num(optarg, 0.1, 3600, &o->timeout_s)) return bad("--timeout", optarg, "seconds in [0.1, 3600]"); break;
-        case 's':
-            if (sscanf(optarg, "%dx%d%c", &o->cols, &o->rows, (char[2]){0}) != 2 || o->cols < 40 ||
-                o->cols > 1000 || o->rows < 16 || o->rows > 500)
-                return bad("--size", optarg, "COLSxROWS with COLS in [40, 1000], ROWS in [16, 500]");
-            break;
-        case 'P': o->plain = 1; break;
-        case 'h': usage(stdout); exit(0);
-        default:
-            fprintf(stderr, "wgmon: unknown option or missing value '%s'\n(try wgmon --help)\n",
-                    argv[optind - 1]);
-            return 2;
-        }
-    }
+    while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1)
+        if ((rc = opt_one(o, c, optarg)))
+            return rc > 0 ? rc
+                          : cli_usage_error(PROG, "unknown option or missing value '%s'",
+                                            argv[optind - 1]);
     if (optind < argc)
-        return bad("argument", argv[optind], "wgmon takes no arguments");
+        return cli_usage_error(PROG, "argument '%s': wgmon takes no arguments", argv[optind]);
     return 0;
 }
 
@@ -216,7 +205,7 @@ static void on_status(mon *m, const wormgear_status_t *s)
     c->overruns = s->overruns; c->dropped = s->msgs_dropped; c->acc = s->cmds_accepted;
     c->ref = s->cmds_refused; c->N = s->steps_per_period; c->ramp = s->ramp_active;
     m->have_status = 1;
-    m->status_at = now_s();
+    m->status_at = cli_mono_s();
 }
 
 static void on_params(mon *m, const wormgear_params_t *p)
@@ -239,7 +228,7 @@ static void on_params(mon *m, const wormgear_params_t *p)
 
 static void on_state(mon *m, const wormgear_state_t *s)
 {
-    double t = now_s();
+    double t = cli_mono_s();
     for (int i = 0; i < s->n; i++) {
         long j = m->tr_n++ % TR_CAP;
         m->tr_t[j] = t;
@@ -249,7 +238,7 @@ static void on_state(mon *m, const wormgear_state_t *s)
 
 static void on_poincare(mon *m, const wormgear_poincare_t *p)
 {
-    double t = now_s();
+    double t = cli_mono_s();
     int dim = p->nstate > WG_NSTATE_MAX ? WG_NSTATE_MAX : p->nstate;
     if (dim != m->ydim)
         m->ny = 0, m->ydim = dim;
@@ -591,7 +580,7 @@ static void draw_plots(mon *m, frame *f, double now, int h)
 
 static void render(mon *m, frame *f)
 {
-    double now = now_s();
+    double now = cli_mono_s();
     f->len = 0, f->col = 0, f->cols = m->cols;
     if (!f->plain)
         fr_raw(f, "\033[H", 3);
@@ -671,7 +660,7 @@ static void key(mon *m)
 static void pump(mon *m, double until)
 {
     int lfd = lcm_get_fileno(m->c.lcm), kfd = m->raw ? STDIN_FILENO : -1;
-    for (double left; !g_quit && (left = until - now_s()) > 0;) {
+    for (double left; !g_quit && (left = until - cli_mono_s()) > 0;) {
         fd_set set;
         FD_ZERO(&set);
         FD_SET(lfd, &set);
@@ -691,16 +680,16 @@ static void pump(mon *m, double until)
 static int run(mon *m)
 {
     frame f = {.plain = m->o.plain};
-    double next = now_s();
+    double next = cli_mono_s();
     if (m->o.frames) { /* headless: first wait for a heartbeat */
-        double end = now_s() + m->o.timeout_s;
-        while (!m->have_status && !g_quit && now_s() < end)
-            pump(m, fmin(end, now_s() + 0.05));
+        double end = cli_mono_s() + m->o.timeout_s;
+        while (!m->have_status && !g_quit && cli_mono_s() < end)
+            pump(m, fmin(end, cli_mono_s() + 0.05));
         /* a little data for the plots, PARAMS and the local period detection */
-        for (end = now_s() + 1.5; m->have_status && !g_quit && now_s() < end &&
+        for (end = cli_mono_s() + 1.5; m->have_status && !g_quit && cli_mono_s() < end &&
                                   (m->ny < 24 || !m->have_params);)
-            pump(m, fmin(end, now_s() + 0.05));
-        next = now_s();
+            pump(m, fmin(end, cli_mono_s() + 0.05));
+        next = cli_mono_s();
     }
     term_enter(m);
     for (int n = 0; !g_quit && (!m->o.frames || n < m->o.frames); n++) {

@@ -6,6 +6,7 @@
  * impacts-per-period curve. Dropped messages are counted and the recording
  * re-waited; refusals are reported and the point skipped.
  * Exit 0, 1 runtime error (no daemon, stalled), 2 usage error, 130 Ctrl-C. */
+#include "cli.h"
 #include "plot.h"
 #include "rig_point.h"
 #include "sweep_out.h"
@@ -23,7 +24,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 enum { REC_CAP = 8192, RAMP_MAX = 1 << 20, STOPPED = -1000 };
@@ -73,13 +73,6 @@ typedef struct rig {
     int done, total;
 } rig;
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 static void on_signal(int sig) { (void)sig, g_stop = 1; }
 
 /* ---- options ----------------------------------------------------------------- */
@@ -118,41 +111,22 @@ static void usage(FILE *f)
         WGCLI_DEFAULT_URL, WGCLI_DEFAULT_PREFIX, REC_CAP);
 }
 
-static int bad(const char *opt, const char *val, const char *allowed)
-{
-    fprintf(stderr, "wgrig: %s '%s': %s\n(try wgrig --help)\n", opt, val, allowed);
-    return 2;
-}
+#define PROG "wgrig"
 
-static int num(const char *s, double lo, double hi, double *v)
+/* --ramp: a duration > 0 (cli_duration). */
+static int opt_ramp(opts *o, const char *a)
 {
-    char *end;
-    *v = strtod(s, &end);
-    return end == s || *end || !isfinite(*v) || *v < lo || *v > hi ? -1 : 0;
-}
-
-static int inum(const char *s, int lo, int hi, int *v)
-{
-    double d;
-    if (num(s, lo, hi, &d) || d != floor(d))
-        return -1;
-    *v = (int)d;
+    if (cli_duration(a, &o->ramp, &o->unit) || !isfinite(o->ramp) || !(o->ramp > 0))
+        return cli_usage_error(PROG, "--ramp '%s': %s", a,
+                               "a positive duration: 2s, 500ms, 1min, 20000tau");
     return 0;
 }
 
-/* "2s", "500ms", "1min", "20000tau": value and unit ("s" or "tau"). */
-static int duration(const char *s, double *v, const char **unit)
+static int opt_dir(opts *o, const char *a)
 {
-    char *end;
-    *v = strtod(s, &end);
-    static const struct { const char *suf; double f; const char *u; } t[] = {
-        {"s", 1, "s"}, {"ms", 1e-3, "s"}, {"min", 60, "s"}, {"tau", 1, "tau"}};
-    for (unsigned i = 0; end != s && i < sizeof t / sizeof t[0]; i++)
-        if (!strcmp(end, t[i].suf) && isfinite(*v) && *v > 0) {
-            *v *= t[i].f, *unit = t[i].u;
-            return 0;
-        }
-    return -1;
+    o->up = !strcmp(a, "up") || !strcmp(a, "both");
+    o->down = !strcmp(a, "down") || !strcmp(a, "both");
+    return o->up || o->down ? 0 : cli_usage_error(PROG, "--dir '%s': one of up, down, both", a);
 }
 
 static int opt_one(opts *o, int c, const char *a)
@@ -162,25 +136,28 @@ static int opt_one(opts *o, int c, const char *a)
     case 'p': o->prefix = a; return 0;
     case 'P': o->param = a; return 0;
     case 'o': o->out = a; return 0;
-    case 'f': o->have_from = 1; return num(a, -1e300, 1e300, &o->from) ? bad("--from", a, "a number") : 0;
-    case 't': o->have_to = 1; return num(a, -1e300, 1e300, &o->to) ? bad("--to", a, "a number") : 0;
-    case 'n': return inum(a, 2, 10000, &o->points) ? bad("--points", a, "an integer in [2, 10000]") : 0;
-    case 'd':
-        o->up = !strcmp(a, "up") || !strcmp(a, "both");
-        o->down = !strcmp(a, "down") || !strcmp(a, "both");
-        return o->up || o->down ? 0 : bad("--dir", a, "one of up, down, both");
-    case 's': return inum(a, 0, 1000000, &o->settle) ? bad("--settle", a, "mesh periods, an integer in [0, 1000000]") : 0;
-    case 'r': return inum(a, 64, REC_CAP, &o->record) ? bad("--record", a, "mesh periods, an integer in [64, 8192]") : 0;
-    case 'e': return inum(a, 0, 100, &o->extend) ? bad("--extend", a, "an integer in [0, 100]") : 0;
-    case 'R': return duration(a, &o->ramp, &o->unit) ? bad("--ramp", a, "a positive duration: 2s, 500ms, 1min, 20000tau") : 0;
-    case 'b': return inum(a, 2, 10000, &o->bins) ? bad("--bins", a, "an integer in [2, 10000]") : 0;
-    case 'T': return num(a, 1e-300, 1, &o->tol) ? bad("--tol", a, "a tolerance in (0, 1]") : 0;
+    case 'f':
+        o->have_from = 1;
+        return cli_opt_num(PROG, "--from", a, -1e300, 1e300, "a number", &o->from);
+    case 't': o->have_to = 1; return cli_opt_num(PROG, "--to", a, -1e300, 1e300, "a number", &o->to);
+    case 'n': return cli_opt_int(PROG, "--points", a, 2, 10000, "an integer in [2, 10000]", &o->points);
+    case 'd': return opt_dir(o, a);
+    case 's':
+        return cli_opt_int(PROG, "--settle", a, 0, 1000000,
+                           "mesh periods, an integer in [0, 1000000]", &o->settle);
+    case 'r':
+        return cli_opt_int(PROG, "--record", a, 64, REC_CAP,
+                           "mesh periods, an integer in [64, 8192]", &o->record);
+    case 'e': return cli_opt_int(PROG, "--extend", a, 0, 100, "an integer in [0, 100]", &o->extend);
+    case 'R': return opt_ramp(o, a);
+    case 'b': return cli_opt_int(PROG, "--bins", a, 2, 10000, "an integer in [2, 10000]", &o->bins);
+    case 'T': return cli_opt_num(PROG, "--tol", a, 1e-300, 1, "a tolerance in (0, 1]", &o->tol);
     case 'L': o->lle = 0; return 0;
     case 'F': o->fast = 1; return 0;
     case 'K': o->keep = 1; return 0;
-    case 'w': return num(a, 1e-3, 600, &o->timeout_s) ? bad("--timeout", a, "seconds in (0, 600]") : 0;
-    case 'S': return num(a, 0.1, 3600, &o->stall_s) ? bad("--stall", a, "seconds in [0.1, 3600]") : 0;
-    case 'x': return inum(a, 0, 1000, &o->retries) ? bad("--retries", a, "an integer in [0, 1000]") : 0;
+    case 'w': return cli_opt_num(PROG, "--timeout", a, 1e-3, 600, "seconds in (0, 600]", &o->timeout_s);
+    case 'S': return cli_opt_num(PROG, "--stall", a, 0.1, 3600, "seconds in [0.1, 3600]", &o->stall_s);
+    case 'x': return cli_opt_int(PROG, "--retries", a, 0, 1000, "an integer in [0, 1000]", &o->retries);
     case 'q': o->quiet = 1; return 0;
     case 'h': usage(stdout); exit(0);
     default: return -1;
@@ -203,15 +180,16 @@ static int parse_opts(int argc, char **argv, opts *o)
     opterr = 0;
     while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1)
         if ((rc = opt_one(o, c, optarg)))
-            return rc < 0 ? (fprintf(stderr, "wgrig: unknown option or missing value '%s'\n"
-                                             "(try wgrig --help)\n", argv[optind - 1]), 2)
-                          : rc;
+            return rc > 0 ? rc
+                          : cli_usage_error(PROG, "unknown option or missing value '%s'",
+                                            argv[optind - 1]);
     if (optind < argc)
-        return bad("argument", argv[optind], "wgrig takes options only");
+        return cli_usage_error(PROG, "argument '%s': wgrig takes options only", argv[optind]);
     if (!o->have_from || !o->have_to)
-        return bad(o->have_from ? "--to" : "--from", "", "required (the range of the sweep)");
+        return cli_usage_error(PROG, "%s '': required (the range of the sweep)",
+                               o->have_from ? "--to" : "--from");
     if (o->from == o->to)
-        return bad("--to", "", "must differ from --from");
+        return cli_usage_error(PROG, "--to '': must differ from --from");
     if (!o->bins)
         o->bins = o->points;
     return 0;
@@ -246,7 +224,7 @@ static void collect_one(rig *r, const wormgear_poincare_t *m, int i)
     if (!c->active || m->tau[i] <= c->min_tau || m->nstate != r->nstate ||
         m->period[i] <= c->after_period)
         return;
-    c->last_at = now_s();
+    c->last_at = cli_mono_s();
     if (c->have_last && m->period[i] != c->last_period + 1 && !c->ramp && c->skip == 0 &&
         r->rec.n > 0) {
         r->rec.n = 0; /* a gap: the period test needs consecutive sections */
@@ -419,13 +397,13 @@ static int fetch_params(rig *r)
 static int collect(rig *r, int skip, int want)
 {
     collector *c = &r->col;
-    c->skip = skip, c->want = want, c->have_last = 0, c->active = 1, c->last_at = now_s();
+    c->skip = skip, c->want = want, c->have_last = 0, c->active = 1, c->last_at = cli_mono_s();
     c->after_period = -1;
     r->rec.n = 0;
     long breaks0 = c->breaks;
     while (c->active && !g_stop) {
         wgcli_wait(&r->c, 100, NULL, NULL);
-        if (now_s() - c->last_at > r->o.stall_s) {
+        if (cli_mono_s() - c->last_at > r->o.stall_s) {
             fprintf(stderr, "\nwgrig: no POINCARE section for %g s (daemon paused, stopped, or "
                             "publishing elsewhere?)\n", r->o.stall_s);
             break;
@@ -459,7 +437,7 @@ static void progress(rig *r, const char *dir, const wg_point *pt)
     fprintf(stderr, "%s[%s] %d/%d %s %s=%.6g %s %s %.3g imp/T | drops %ld refused %ld | %.0f s%s",
             tty ? "\r" : "", bar, r->done, r->total, dir, r->o.param, pt->value,
             out_label(pt, lab, sizeof lab), wg_motion_name(pt->motion), pt->impacts, r->pc_drop,
-            r->refusals, now_s() - r->t0, tty ? "\033[K" : "\n");
+            r->refusals, cli_mono_s() - r->t0, tty ? "\033[K" : "\n");
 }
 
 /* Analyse the point at value v the way wg_point_run does: settle, record,
@@ -629,7 +607,7 @@ static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, c
     char why[512] = "", path[1024];
     sweep_study st = {.scene = r->scene, .command = cmdline, .param = r->pid, .gparam = -1,
                       .ngroups = 1, .b = r->base.v[WG_P_B], .o = &r->so, .partial = partial,
-                      .wall_s = now_s() - r->t0, .threads = 1, .ranks = 1};
+                      .wall_s = cli_mono_s() - r->t0, .threads = 1, .ranks = 1};
     st.g[0] = (sweep_group){0, ch[0], ch[1]};
     int rc = 0;
     snprintf(path, sizeof path, "%s.csv", r->o.out);
@@ -657,12 +635,14 @@ static int setup(rig *r, int argc, char **argv)
     if (r->o.tol > 0)
         r->so.tol_floor = r->o.tol, r->so.tol_factor = 0;
     if ((r->pid = wg_param_lookup(r->o.param)) < 0)
-        return bad("--param", r->o.param, "a parameter name (wgctl params lists them)");
+        return cli_usage_error(PROG, "--param '%s': a parameter name (wgctl params lists them)",
+                               r->o.param);
     const wg_param_info *pi = wg_param_info_get(r->pid);
     if (wg_param_check(r->pid, r->o.from, why, sizeof why) || wg_param_check(r->pid, r->o.to, why, sizeof why))
         return fprintf(stderr, "wgrig: --from/--to: %s\n", why), 2;
     if (r->o.ramp > 0 && !(pi->flags & WG_PF_RAMP))
-        return bad("--param", r->o.param, "not rampable: use the stepwise sweep");
+        return cli_usage_error(PROG, "--param '%s': not rampable: use the stepwise sweep",
+                               r->o.param);
     if (wgcli_open(&r->c, r->o.url, r->o.prefix, "wgrig", why, sizeof why))
         return fprintf(stderr, "wgrig: %s\n", why), 1;
     static const char *const chans[] = {"POINCARE", "CONTACT", "PARAMS", "STATUS"};
@@ -723,7 +703,7 @@ int main(int argc, char **argv)
     struct sigaction sa = {.sa_handler = on_signal};
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
-    r->t0 = now_s();
+    r->t0 = cli_mono_s();
     wg_chain chains[2], *ch[2] = {NULL, NULL};
     memset(chains, 0, sizeof chains);
     window *win[2] = {NULL, NULL};
@@ -750,7 +730,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "wgrig: %d/%d points, %ld skipped (refused), %ld refusals, %ld ACK timeouts, "
                         "%ld POINCARE and %ld CONTACT messages dropped, %ld recordings re-waited; "
                         "%.1f s; outputs %s.*\n", r->done, r->total, r->skipped, r->refusals,
-                r->timeouts, r->pc_drop, r->ct_drop, r->col.breaks, now_s() - r->t0, r->o.out);
+                r->timeouts, r->pc_drop, r->ct_drop, r->col.breaks, cli_mono_s() - r->t0, r->o.out);
         rc = g_stop ? 130 : failed || (r->skipped && r->skipped == r->done) ? 1 : rc;
     }
     if (r) {

@@ -4,6 +4,7 @@
  * RELOADING on SIGHUP, STOPPING; SIGTERM -> exit 0.
  * usage: test_system WORMGEARD [URL]   (run it through netns.sh) */
 #include "test.h"
+#include "cli.h"
 #include "wgcli.h"
 
 #include "lcmtypes/wormgear_contact_t.h"
@@ -75,8 +76,8 @@ static void on_ack(const lcm_recv_buf_t *r, const char *ch, const wormgear_ack_t
 /* Read notify datagrams for up to ms; returns 1 once `want` was seen. */
 static int notify_wait(const char *want, int ms)
 {
-    int64_t end = wgcli_now_ms() + ms;
-    while (!strstr(S.notes, want) && wgcli_now_ms() < end) {
+    double end = cli_mono_s() + ms * 1e-3;
+    while (!strstr(S.notes, want) && cli_mono_s() < end) {
         char buf[512];
         struct timeval tv = {0, 20000};
         setsockopt(S.nfd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
