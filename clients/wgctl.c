@@ -1,7 +1,7 @@
 /* wgctl - control wormgeard from the shell over LCM.
  * Exit 0 accepted, 1 refused or no answer, 2 usage error. */
 #include "cli.h"
-#include "wgcli.h"
+#include "bus.h"
 
 #include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_status_t.h"
@@ -24,7 +24,7 @@ typedef struct opts {
 } opts;
 
 typedef struct ctl {
-    wgcli c;
+    bus c;
     opts o;
     wormgear_params_t *params; /* copy of the PARAMS answering a get */
     wormgear_status_t *status;
@@ -61,7 +61,7 @@ static void usage(FILE *f)
             "  --json           machine-readable output on stdout\n"
             "  -h, --help       this text\n\n"
             "Exit status: 0 accepted, 1 refused or no answer, 2 usage error.\n",
-            WGCLI_DEFAULT_URL, WGCLI_DEFAULT_PREFIX);
+            BUS_DEFAULT_URL, BUS_DEFAULT_PREFIX);
 }
 
 #define PROG "wgctl"
@@ -123,9 +123,26 @@ static int parse_opts(int argc, char **argv, opts *o, char **pos, int *npos)
 
 /* ---- answers --------------------------------------------------------------- */
 
+/* s as a JSON string literal (quotes, backslashes and control characters
+ * escaped). */
+static void json_str(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; s && *s; s++) {
+        unsigned char ch = (unsigned char)*s;
+        if (ch == '"' || ch == '\\')
+            fprintf(f, "\\%c", ch);
+        else if (ch < 0x20)
+            fprintf(f, "\\u%04x", ch);
+        else
+            fputc(ch, f);
+    }
+    fputc('"', f);
+}
+
 static int report(ctl *t, const char *what)
 {
-    wgcli_ack *a = &t->c.ack;
+    bus_ack *a = &t->c.ack;
     if (!a->got) {
         if (t->o.json)
             printf("{\"accepted\":false,\"code\":\"ETIMEDOUT\",\"message\":\"no ACK within %g s\"}\n",
@@ -136,12 +153,12 @@ static int report(ctl *t, const char *what)
     }
     if (t->o.json) {
         printf("{\"accepted\":%s,\"code\":", a->accepted ? "true" : "false");
-        wgcli_json_str(stdout, a->code);
+        json_str(stdout, a->code);
         printf(",\"status\":%d,\"message\":", a->status);
-        wgcli_json_str(stdout, a->message);
+        json_str(stdout, a->message);
         printf(",\"tau\":%.17g,\"t_s\":%.17g,\"steps\":%lld,\"seq\":%lld,\"client\":", a->tau,
                a->t_s, (long long)a->steps, (long long)a->cmd_seq);
-        wgcli_json_str(stdout, t->c.client);
+        json_str(stdout, t->c.client);
         printf("}\n");
     } else if (a->accepted) {
         printf("ok: %s [tau %.9g, t %.6g s]\n", a->message, a->tau, a->t_s);
@@ -153,17 +170,12 @@ static int report(ctl *t, const char *what)
 
 static int send_wait(ctl *t, wormgear_cmd_t *cmd)
 {
-    if (wgcli_send(&t->c, cmd) < 0) {
+    if (bus_send(&t->c, cmd) < 0) {
         fprintf(stderr, "wgctl: cannot publish on %sCMD\n", t->c.prefix);
         return 1;
     }
-    wgcli_wait_ack(&t->c, (int)(t->o.timeout_s * 1000));
+    bus_wait_ack(&t->c, (int)(t->o.timeout_s * 1000));
     return report(t, cmd->op);
-}
-
-static wormgear_cmd_t blank(const char *op)
-{
-    return (wormgear_cmd_t){.op = (char *)op, .unit = (char *)"", .name = (char *)""};
 }
 
 /* ---- commands ---------------------------------------------------------------- */
@@ -181,7 +193,7 @@ static int do_set(ctl *t, int n, char **args)
         *eq = 0;
         names[i] = args[i];
     }
-    wormgear_cmd_t c = blank("set");
+    wormgear_cmd_t c = bus_cmd("set");
     c.nparams = n;
     c.names = names;
     c.values = vals;
@@ -198,7 +210,7 @@ static int do_ramp(ctl *t, int n, char **args)
         return cli_usage_error(PROG, "ramp: --over DURATION is required (e.g. --over 60s)");
     if (cli_double(args[n - 1], &to) || (n == 3 && cli_double(args[1], &from)))
         return cli_usage_error(PROG, "ramp: FROM and TO must be numbers (got '%s')", args[n - 1]);
-    wormgear_cmd_t c = blank("ramp");
+    wormgear_cmd_t c = bus_cmd("ramp");
     c.nparams = 1;
     c.names = &args[0];
     c.values = &to;
@@ -214,7 +226,7 @@ static int do_step(ctl *t, int n, char **args)
     int64_t v;
     if (n != 1 || cli_int64(args[0], 1, INT64_MAX, &v))
         return cli_usage_error(PROG, "step: expected a step count N >= 1");
-    wormgear_cmd_t c = blank("step");
+    wormgear_cmd_t c = bus_cmd("step");
     c.nsteps = v;
     return send_wait(t, &c);
 }
@@ -223,7 +235,7 @@ static int do_named(ctl *t, const char *op, int n, char **args)
 {
     if (n != 1)
         return cli_usage_error(PROG, "%s: expected one NAME", op);
-    wormgear_cmd_t c = blank(op);
+    wormgear_cmd_t c = bus_cmd(op);
     c.name = args[0];
     return send_wait(t, &c);
 }
@@ -233,7 +245,7 @@ static int do_mode(ctl *t, int n, char **args)
     double rate = 0;
     if (n < 1 || n > 2 || (n == 2 && (cli_double(args[1], &rate) || !(rate > 0))))
         return cli_usage_error(PROG, "mode: expected realtime|fast|lockstep [RATE > 0]");
-    wormgear_cmd_t c = blank("mode");
+    wormgear_cmd_t c = bus_cmd("mode");
     c.name = args[0];
     c.rate = rate;
     return send_wait(t, &c);
@@ -243,7 +255,7 @@ static int do_simple(ctl *t, const char *op, int n)
 {
     if (n != 0)
         return cli_usage_error(PROG, "%s takes no arguments", op);
-    wormgear_cmd_t c = blank(op);
+    wormgear_cmd_t c = bus_cmd(op);
     if (!strcmp(op, "reset") && t->o.reset_params)
         c.name = (char *)"params";
     return send_wait(t, &c);
@@ -269,7 +281,7 @@ static void print_params(const ctl *t, const wormgear_params_t *p)
 {
     if (t->o.json) {
         printf("{\"scene\":");
-        wgcli_json_str(stdout, p->scene);
+        json_str(stdout, p->scene);
         printf(",\"tau\":%.17g,\"omega_n_rad_s\":%.17g,\"steps_per_period\":%d,\"params\":{",
                p->tau, p->omega_n_rad_s, p->steps_per_period);
         for (int i = 0; i < p->n; i++)
@@ -290,11 +302,11 @@ static int do_get(ctl *t)
 {
     char ch[128];
     wormgear_params_t_subscription_t *s = wormgear_params_t_subscribe(
-        t->c.lcm, wgcli_channel(&t->c, "PARAMS", ch, sizeof ch), on_params, t);
-    wormgear_cmd_t c = blank("get");
-    if (wgcli_send(&t->c, &c) < 0)
+        t->c.lcm, bus_channel(&t->c, "PARAMS", ch, sizeof ch), on_params, t);
+    wormgear_cmd_t c = bus_cmd("get");
+    if (bus_send(&t->c, &c) < 0)
         return 1;
-    wgcli_wait(&t->c, (int)(t->o.timeout_s * 1000), get_done, t);
+    bus_wait(&t->c, (int)(t->o.timeout_s * 1000), get_done, t);
     int rc = 1;
     if (t->params && t->c.ack.got && t->c.ack.accepted) {
         print_params(t, t->params);
@@ -325,10 +337,10 @@ static void print_status(const ctl *t, const wormgear_status_t *s)
 {
     if (t->o.json) {
         printf("{\"scene\":");
-        wgcli_json_str(stdout, s->scene);
+        json_str(stdout, s->scene);
         printf(",\"mode\":\"%s\",\"rate\":%.17g,\"run\":\"%s\",\"health\":\"%s\",\"fault\":",
                s->mode, s->rate, s->run, s->health);
-        wgcli_json_str(stdout, s->fault);
+        json_str(stdout, s->fault);
         printf(",\"tau\":%.17g,\"t_s\":%.17g,\"omega\":%.17g,\"steps\":%lld,\"period\":%lld,"
                "\"rtf\":%.6g,\"lag_s\":%.6g,\"overruns\":%lld,\"loop_mean_us\":%.6g,"
                "\"loop_max_us\":%.6g,\"steps_per_s\":%.6g,\"cpu_share\":%.6g,"
@@ -361,8 +373,8 @@ static int do_status(ctl *t)
 {
     char ch[128];
     wormgear_status_t_subscription_t *s = wormgear_status_t_subscribe(
-        t->c.lcm, wgcli_channel(&t->c, "STATUS", ch, sizeof ch), on_status, t);
-    wgcli_wait(&t->c, (int)(t->o.timeout_s * 1000), status_done, t);
+        t->c.lcm, bus_channel(&t->c, "STATUS", ch, sizeof ch), on_status, t);
+    bus_wait(&t->c, (int)(t->o.timeout_s * 1000), status_done, t);
     wormgear_status_t_unsubscribe(t->c.lcm, s);
     if (!t->status) {
         fprintf(stderr, "wgctl: status: no STATUS on %sSTATUS within %g s\n", t->c.prefix,
@@ -382,7 +394,7 @@ static int do_params(const ctl *t)
             printf("%s{\"name\":\"%s\",\"unit\":\"%s\",\"min\":%.17g,\"max\":%.17g,"
                    "\"default\":%.17g,\"rampable\":%s,\"help\":", i ? "," : "[", r->name, r->unit,
                    r->min, r->max, r->def, r->flags & WG_PF_RAMP ? "true" : "false");
-            wgcli_json_str(stdout, r->help);
+            json_str(stdout, r->help);
             printf("}%s", i == WG_NPARAM - 1 ? "]\n" : "\n");
         } else {
             printf("%-5s %-3s [%g, %g] default %g%s: %s\n", r->name, r->unit, r->min, r->max,
@@ -432,11 +444,11 @@ int main(int argc, char **argv)
         k++;
     if (k == sizeof known / sizeof known[0])
         return cli_usage_error(PROG, "unknown command '%s'", pos[0]);
-    if (wgcli_open(&t.c, t.o.url, t.o.prefix, "wgctl", why, sizeof why)) {
+    if (bus_open(&t.c, t.o.url, t.o.prefix, "wgctl", why, sizeof why)) {
         fprintf(stderr, "wgctl: %s\n", why);
         return 1;
     }
     rc = dispatch(&t, pos[0], npos - 1, pos + 1);
-    wgcli_close(&t.c);
+    bus_close(&t.c);
     return rc;
 }

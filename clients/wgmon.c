@@ -8,7 +8,7 @@
  * restart shows as a seq reset. Headless: --once / --frames N print frames
  * as plain text. Exit 0, 1 no STATUS heard (--once/--frames), 2 usage. */
 #include "cli.h"
-#include "wgcli.h"
+#include "bus.h"
 
 #include "lcmtypes/wormgear_contact_t.h"
 #include "lcmtypes/wormgear_params_t.h"
@@ -58,7 +58,7 @@ typedef struct status_copy {
 } status_copy;
 
 typedef struct mon {
-    wgcli c;
+    bus c;
     opts o;
     seqc sc[NCH];
     void *subs[NCH];
@@ -104,7 +104,7 @@ static void usage(FILE *f)
             "  --plain            no ANSI escapes (default when stdout is not a terminal)\n"
             "  -h, --help         this text\n\n"
             "Exit status: 0 ok, 1 no STATUS heard (--once/--frames), 2 usage error.\n",
-            WGCLI_DEFAULT_URL, WGCLI_DEFAULT_PREFIX);
+            BUS_DEFAULT_URL, BUS_DEFAULT_PREFIX);
 }
 
 #define PROG "wgmon"
@@ -188,8 +188,8 @@ static void seq_note(mon *m, int k, int64_t seq)
  * ACK is not awaited. */
 static void ask_params(mon *m)
 {
-    wormgear_cmd_t c = {.op = (char *)"get", .unit = (char *)"", .name = (char *)""};
-    wgcli_send(&m->c, &c);
+    wormgear_cmd_t c = bus_cmd("get");
+    bus_send(&m->c, &c);
 }
 
 static void on_status(mon *m, const wormgear_status_t *s)
@@ -375,7 +375,7 @@ static void draw_header(mon *m, frame *f, double now)
 {
     const status_copy *s = &m->st;
     fr_put(f, 1, "wormgear monitor");
-    fr_put(f, 0, "  %s* on %s", m->c.prefix, m->o.url ? m->o.url : wgcli_default_url());
+    fr_put(f, 0, "  %s* on %s", m->c.prefix, m->o.url ? m->o.url : bus_default_url());
     fr_nl(f);
     if (!m->have_status) {
         fr_put(f, 33, "waiting for %sSTATUS ... (is wormgeard running with this URL and prefix?)", m->c.prefix);
@@ -712,12 +712,12 @@ static int run(mon *m)
 static int setup(mon *m)
 {
     char why[256], ch[128];
-    if (wgcli_open(&m->c, m->o.url, m->o.prefix, "wgmon", why, sizeof why)) {
+    if (bus_open(&m->c, m->o.url, m->o.prefix, "wgmon", why, sizeof why)) {
         fprintf(stderr, "wgmon: %s\n", why);
         return 1;
     }
     for (int k = 0; k < NCH; k++)
-        m->subs[k] = lcm_subscribe(m->c.lcm, wgcli_channel(&m->c, ch_suffix[k], ch, sizeof ch),
+        m->subs[k] = lcm_subscribe(m->c.lcm, bus_channel(&m->c, ch_suffix[k], ch, sizeof ch),
                                    on_raw, m);
     ask_params(m);
     m->tr_t = malloc(sizeof(double) * TR_CAP);
@@ -736,7 +736,7 @@ static int setup(mon *m)
 
 static void teardown(mon *m)
 {
-    wgcli_close(&m->c);
+    bus_close(&m->c);
     free(m->tr_t), free(m->tr_x), free(m->pc_t), free(m->pc_x), free(m->pc_v);
     free(m->pc_imp), free(m->pc_mot);
 }

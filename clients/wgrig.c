@@ -10,7 +10,7 @@
 #include "plot.h"
 #include "rig_point.h"
 #include "sweep_out.h"
-#include "wgcli.h"
+#include "bus.h"
 
 #include "lcmtypes/wormgear_contact_t.h"
 #include "lcmtypes/wormgear_params_t.h"
@@ -50,7 +50,7 @@ typedef struct collector { /* what the POINCARE handler does with sections */
 typedef struct window { int64_t p0, p1; int n; } window; /* periods recorded for a point */
 
 typedef struct rig {
-    wgcli c;
+    bus c;
     opts o;
     wg_sweep_opts so;
     wg_params base;
@@ -108,7 +108,7 @@ static void usage(FILE *f)
         "  --quiet             no progress bar on stderr\n"
         "  -h, --help          this text\n\n"
         "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted (partial outputs).\n",
-        WGCLI_DEFAULT_URL, WGCLI_DEFAULT_PREFIX, REC_CAP);
+        BUS_DEFAULT_URL, BUS_DEFAULT_PREFIX, REC_CAP);
 }
 
 #define PROG "wgrig"
@@ -335,7 +335,7 @@ static int command(rig *r, wormgear_cmd_t *cmd, const char *what)
 {
     int refused = 0;
     for (int attempt = 0; attempt <= r->o.retries && !g_stop; attempt++) {
-        if (wgcli_send(&r->c, cmd) < 0 || wgcli_wait_ack(&r->c, (int)(r->o.timeout_s * 1000))) {
+        if (bus_send(&r->c, cmd) < 0 || bus_wait_ack(&r->c, (int)(r->o.timeout_s * 1000))) {
             r->timeouts++;
             continue;
         }
@@ -345,7 +345,7 @@ static int command(rig *r, wormgear_cmd_t *cmd, const char *what)
         fprintf(stderr, "\nwgrig: %s refused (%s): %s\n", what, r->c.ack.code, r->c.ack.message);
         if (strcmp(r->c.ack.code, "ESTATE") != 0)
             return 1; /* permanent: bad name or value; ESTATE ("not now") is retried */
-        wgcli_wait(&r->c, 200, NULL, NULL);
+        bus_wait(&r->c, 200, NULL, NULL);
     }
     if (refused)
         return 1;
@@ -354,18 +354,13 @@ static int command(rig *r, wormgear_cmd_t *cmd, const char *what)
     return -1;
 }
 
-static wormgear_cmd_t blank(const char *op)
-{
-    return (wormgear_cmd_t){.op = (char *)op, .unit = (char *)"", .name = (char *)""};
-}
-
 /* Set the swept parameter at the next Poincare section (psi = 0), as the
  * offline chain changes it: each point starts from the previous point's
  * state on the section, not from wherever in the period the command lands. */
 static int set_value(rig *r, double v)
 {
     char *names[1] = {(char *)r->o.param}, what[96];
-    wormgear_cmd_t c = blank("set");
+    wormgear_cmd_t c = bus_cmd("set");
     c.nparams = 1, c.names = names, c.values = &v, c.at_section = 1;
     snprintf(what, sizeof what, "set %s=%.10g", r->o.param, v);
     return command(r, &c, what);
@@ -373,7 +368,7 @@ static int set_value(rig *r, double v)
 
 static int set_mode(rig *r, const char *mode, double rate)
 {
-    wormgear_cmd_t c = blank("mode");
+    wormgear_cmd_t c = bus_cmd("mode");
     c.name = (char *)mode, c.rate = rate;
     return command(r, &c, "mode");
 }
@@ -381,11 +376,11 @@ static int set_mode(rig *r, const char *mode, double rate)
 /* The daemon's parameters, model and N (a `get` makes PARAMS come now). */
 static int fetch_params(rig *r)
 {
-    wormgear_cmd_t c = blank("get");
+    wormgear_cmd_t c = bus_cmd("get");
     if (command(r, &c, "get"))
         return -1;
-    if (wgcli_wait(&r->c, (int)(r->o.timeout_s * 1000), flag_true, &r->have_params) ||
-        (r->o.fast && wgcli_wait(&r->c, 3000, flag_true, &r->have_status))) {
+    if (bus_wait(&r->c, (int)(r->o.timeout_s * 1000), flag_true, &r->have_params) ||
+        (r->o.fast && bus_wait(&r->c, 3000, flag_true, &r->have_status))) {
         fprintf(stderr, "wgrig: no %s on %s%s\n", r->have_params ? "STATUS" : "PARAMS", r->c.prefix,
                 r->have_params ? "STATUS" : "PARAMS");
         return -1;
@@ -402,7 +397,7 @@ static int collect(rig *r, int skip, int want)
     r->rec.n = 0;
     long breaks0 = c->breaks;
     while (c->active && !g_stop) {
-        wgcli_wait(&r->c, 100, NULL, NULL);
+        bus_wait(&r->c, 100, NULL, NULL);
         if (cli_mono_s() - c->last_at > r->o.stall_s) {
             fprintf(stderr, "\nwgrig: no POINCARE section for %g s (daemon paused, stopped, or "
                             "publishing elsewhere?)\n", r->o.stall_s);
@@ -497,7 +492,7 @@ static int run_ramp(rig *r, wg_chain *ch, window *win)
 {
     double a = wg_chain_value(ch, 0), b = wg_chain_value(ch, ch->npts - 1), dur_tau;
     char *names[1] = {(char *)r->o.param};
-    wormgear_cmd_t c = blank("ramp");
+    wormgear_cmd_t c = bus_cmd("ramp");
     c.nparams = 1, c.names = names, c.values = &b, c.has_from = 1, c.from = a;
     c.duration = r->o.ramp, c.unit = (char *)r->o.unit;
     dur_tau = strcmp(r->o.unit, "tau") ? r->o.ramp * r->omega_n : r->o.ramp;
@@ -643,11 +638,11 @@ static int setup(rig *r, int argc, char **argv)
     if (r->o.ramp > 0 && !(pi->flags & WG_PF_RAMP))
         return cli_usage_error(PROG, "--param '%s': not rampable: use the stepwise sweep",
                                r->o.param);
-    if (wgcli_open(&r->c, r->o.url, r->o.prefix, "wgrig", why, sizeof why))
+    if (bus_open(&r->c, r->o.url, r->o.prefix, "wgrig", why, sizeof why))
         return fprintf(stderr, "wgrig: %s\n", why), 1;
     static const char *const chans[] = {"POINCARE", "CONTACT", "PARAMS", "STATUS"};
     for (int k = 0; k < 4; k++) {
-        lcm_subscription_t *s = lcm_subscribe(r->c.lcm, wgcli_channel(&r->c, chans[k], path, sizeof path), on_raw, r);
+        lcm_subscription_t *s = lcm_subscribe(r->c.lcm, bus_channel(&r->c, chans[k], path, sizeof path), on_raw, r);
         lcm_subscription_set_queue_capacity(s, 4096);
     }
     (void)argc, (void)argv;
@@ -690,7 +685,7 @@ static void finish(rig *r)
         set_mode(r, r->orig_mode, r->orig_rate);
     if (!r->o.keep && r->have_params && r->o.ramp <= 0 && r->done)
         set_value(r, r->orig);
-    wgcli_wait(&r->c, 300, NULL, NULL); /* CONTACT batches still on their way */
+    bus_wait(&r->c, 300, NULL, NULL); /* CONTACT batches still on their way */
 }
 
 int main(int argc, char **argv)
@@ -736,7 +731,7 @@ int main(int argc, char **argv)
     if (r) {
         if (r->secf)
             fclose(r->secf);
-        wgcli_close(&r->c);
+        bus_close(&r->c);
         rig_rec_fini(&r->rec);
         free(r->rval), free(r->imp);
         for (int d = 0; d < 2; d++)
