@@ -21,6 +21,17 @@ const char *bus_default_prefix(void)
     return p ? p : BUS_DEFAULT_PREFIX;
 }
 
+int bus_seq_note(bus_seq *s, int64_t seq)
+{
+    int jump = !s->have ? 0 : seq > s->last + 1 ? 1 : seq <= s->last ? -1 : 0;
+    if (jump > 0)
+        s->gaps++, s->missing += seq - s->last - 1;
+    else if (jump < 0)
+        s->restarts++;
+    s->last = seq, s->have = 1;
+    return jump;
+}
+
 const char *bus_channel(const bus *c, const char *suffix, char *buf, size_t len)
 {
     snprintf(buf, len, "%s%s", c->prefix, suffix);

@@ -39,6 +39,19 @@ typedef struct bus {
     wormgear_ack_t_subscription_t *ack_sub;
 } bus;
 
+/* The seq counter of one channel (every wormgear message has one, see
+ * lcmtypes/PROTOCOL.md): a jump forward is messages lost, a step back or a
+ * repeat is a daemon restart. */
+typedef struct bus_seq {
+    int64_t last;
+    int have;
+    long gaps, missing, restarts;
+} bus_seq;
+
+/* Count seq: 1 after a gap (missing grows by the messages lost), -1 after
+ * a restart, 0 in order or on the first message. */
+int bus_seq_note(bus_seq *s, int64_t seq);
+
 /* $WORMGEAR_URL or the default; $WORMGEAR_PREFIX or the default. */
 const char *bus_default_url(void);
 const char *bus_default_prefix(void);

@@ -8,6 +8,7 @@
  * batched types (STATE, POINCARE, CONTACT). Numbers are printed with 17
  * significant digits: the CSV holds exactly what was published.
  * Exit 0, 1 unreadable log or unwritable output, 2 usage error. */
+#include "bus.h"
 #include "cli.h"
 #include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_cmd_t.h"
@@ -37,9 +38,7 @@ typedef struct chan {
     long msgs, samples, bad;
     long long bytes;
     int64_t t0, t1;           /* log timestamps, us */
-    int64_t last_seq;
-    int have_seq;
-    long gaps, missing, restarts;
+    bus_seq seq;              /* gaps, missing (messages lost), restarts */
     FILE *csv;
     int ncols;                /* params_t / poincare_t: columns fixed by the first message */
 } chan;
@@ -337,13 +336,7 @@ static void note_seq(chan *c, const lcm_eventlog_event_t *ev)
 {
     if (c->type == T_UNKNOWN || ev->datalen < 24 || !strcmp(types[c->type].name, "cmd_t"))
         return; /* cmd_t seq counts per client, not per channel */
-    int64_t seq = be64((const char *)ev->data + 16);
-    if (c->have_seq && seq > c->last_seq + 1)
-        c->gaps++, c->missing += seq - c->last_seq - 1;
-    else if (c->have_seq && seq <= c->last_seq)
-        c->restarts++;
-    c->last_seq = seq;
-    c->have_seq = 1;
+    bus_seq_note(&c->seq, be64((const char *)ev->data + 16));
 }
 
 static int event(log_run *r, const lcm_eventlog_event_t *ev)
@@ -411,7 +404,7 @@ static void summary(log_run *r, FILE *f)
         double s = (c->t1 - c->t0) * 1e-6, rate = c->msgs > 1 && s > 0 ? (c->msgs - 1) / s : 0;
         fprintf(f, "%-24s %-11s %8ld %9ld %11lld %9.2f %5ld %8ld %8ld %6ld\n", c->name,
                 c->type == T_UNKNOWN ? "unknown" : types[c->type].name, c->msgs, c->samples, c->bytes,
-                rate, c->gaps, c->missing, c->restarts, c->bad);
+                rate, c->seq.gaps, c->seq.missing, c->seq.restarts, c->bad);
     }
 }
 

@@ -45,8 +45,8 @@ typedef struct opts {
 } opts;
 
 typedef struct seqc {      /* per-channel counters */
-    int64_t last, count, dropped, restarts, bad;
-    int have;
+    bus_seq seq;          /* .missing: messages dropped */
+    int64_t count, bad;
 } seqc;
 
 typedef struct status_copy {
@@ -165,21 +165,12 @@ static void ask_params(mon *m);
 /* Count a message's seq on channel k; a backwards seq is a daemon restart. */
 static void seq_note(mon *m, int k, int64_t seq)
 {
-    seqc *s = &m->sc[k];
-    s->count++;
-    if (s->have && seq > s->last + 1)
-        s->dropped += seq - s->last - 1;
-    else if (s->have && seq <= s->last) {
-        s->restarts++;
-        if (k == CH_STATUS)
-            m->restarts++, ask_params(m);
-        if (k == CH_POINCARE)
-            m->ny = 0;
-    }
-    if (k == CH_POINCARE && s->have && seq != s->last + 1)
+    m->sc[k].count++;
+    int jump = bus_seq_note(&m->sc[k].seq, seq);
+    if (jump < 0 && k == CH_STATUS)
+        m->restarts++, ask_params(m);
+    if (jump && k == CH_POINCARE)
         m->ny = 0; /* the period detection needs consecutive sections */
-    s->last = seq;
-    s->have = 1;
 }
 
 #define CPY(dst, src) snprintf((dst), sizeof(dst), "%s", (src) ? (src) : "")
@@ -456,10 +447,10 @@ static void draw_msgs(mon *m, frame *f)
     long drop = 0;
     fr_put(f, 0, "msgs   ");
     for (int k = 0; k < NCH; k++) {
-        drop += m->sc[k].dropped;
+        drop += m->sc[k].seq.missing;
         fr_put(f, 0, " %s %lld", ch_suffix[k], (long long)m->sc[k].count);
-        if (m->sc[k].dropped)
-            fr_put(f, 33, " (-%lld)", (long long)m->sc[k].dropped);
+        if (m->sc[k].seq.missing)
+            fr_put(f, 33, " (-%lld)", (long long)m->sc[k].seq.missing);
         if (m->sc[k].bad)
             fr_put(f, 31, " (%lld undecodable)", (long long)m->sc[k].bad);
     }

@@ -64,9 +64,8 @@ typedef struct rig {
     const char *phase_dir;
     int phase_idx;
     double phase_value;
-    int64_t pc_seq, ct_seq;
-    int pc_have, ct_have;
-    long pc_drop, ct_drop, refusals, timeouts, skipped;
+    bus_seq pc_seq, ct_seq;   /* POINCARE, CONTACT: .missing = dropped */
+    long refusals, timeouts, skipped;
     int64_t *imp;             /* periods of mesh impacts from CONTACT */
     size_t nimp, capimp;
     double t0;
@@ -197,16 +196,6 @@ static int parse_opts(int argc, char **argv, opts *o)
 
 /* ---- messages ---------------------------------------------------------------- */
 
-/* Count a gap in a channel's seq; 1 if messages were lost. */
-static int seq_gap(int64_t seq, int64_t *last, int *have, long *dropped)
-{
-    int gap = *have && seq > *last + 1;
-    if (gap)
-        *dropped += seq - *last - 1;
-    *last = seq, *have = 1;
-    return gap;
-}
-
 static void write_section(rig *r, const wormgear_poincare_t *m, int i, const char *what)
 {
     if (!r->secf)
@@ -253,14 +242,14 @@ static void collect_one(rig *r, const wormgear_poincare_t *m, int i)
 
 static void on_poincare(rig *r, const wormgear_poincare_t *m)
 {
-    seq_gap(m->seq, &r->pc_seq, &r->pc_have, &r->pc_drop);
+    bus_seq_note(&r->pc_seq, m->seq);
     for (int i = 0; i < m->n; i++)
         collect_one(r, m, i);
 }
 
 static void on_contact(rig *r, const wormgear_contact_t *m)
 {
-    if (seq_gap(m->seq, &r->ct_seq, &r->ct_have, &r->ct_drop) && r->col.active &&
+    if (bus_seq_note(&r->ct_seq, m->seq) > 0 && r->col.active &&
         !r->col.ramp && m->n > 0) {
         /* lost impacts: record again, from periods after every event the
          * lost message can have held */
@@ -431,7 +420,7 @@ static void progress(rig *r, const char *dir, const wg_point *pt)
     int tty = isatty(STDERR_FILENO);
     fprintf(stderr, "%s[%s] %d/%d %s %s=%.6g %s %s %.3g imp/T | drops %ld refused %ld | %.0f s%s",
             tty ? "\r" : "", bar, r->done, r->total, dir, r->o.param, pt->value,
-            out_label(pt, lab, sizeof lab), wg_motion_name(pt->motion), pt->impacts, r->pc_drop,
+            out_label(pt, lab, sizeof lab), wg_motion_name(pt->motion), pt->impacts, r->pc_seq.missing,
             r->refusals, cli_mono_s() - r->t0, tty ? "\033[K" : "\n");
 }
 
@@ -725,7 +714,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "wgrig: %d/%d points, %ld skipped (refused), %ld refusals, %ld ACK timeouts, "
                         "%ld POINCARE and %ld CONTACT messages dropped, %ld recordings re-waited; "
                         "%.1f s; outputs %s.*\n", r->done, r->total, r->skipped, r->refusals,
-                r->timeouts, r->pc_drop, r->ct_drop, r->col.breaks, cli_mono_s() - r->t0, r->o.out);
+                r->timeouts, r->pc_seq.missing, r->ct_seq.missing, r->col.breaks, cli_mono_s() - r->t0, r->o.out);
         rc = g_stop ? 130 : failed || (r->skipped && r->skipped == r->done) ? 1 : rc;
     }
     if (r) {
