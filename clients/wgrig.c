@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "plot.h"
 #include "rig_point.h"
+#include "sweep_md.h"
 #include "sweep_out.h"
 #include "bus.h"
 
@@ -601,7 +602,7 @@ static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, c
     snprintf(path, sizeof path, "%s.json", r->o.out);
     rc = rc ? rc : out_json(path, &st, why, sizeof why);
     snprintf(path, sizeof path, "%s.md", r->o.out);
-    rc = rc ? rc : out_markdown(path, &st, why, sizeof why);
+    rc = rc ? rc : md_write(path, &st, why, sizeof why);
     rc = rc ? rc : out_pngs(r->o.out, &st, why, sizeof why);
     rc = rc ? rc : write_impacts(r, ch, win, why, sizeof why);
     if (rc)

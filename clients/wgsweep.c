@@ -7,6 +7,7 @@
 #include "plot.h"
 #include "sweep_at.h"
 #include "sweep_load.h"
+#include "sweep_md.h"
 #include "sweep_out.h"
 #include "sweep_par.h"
 #include "wormgear/wg_scene.h"
@@ -341,7 +342,7 @@ static int write_study(const opts *o, sweep_study *st)
     snprintf(path, sizeof path, "%s-poincare.csv", o->out);
     rc |= out_poincare_csv(path, st, why, sizeof why);
     snprintf(path, sizeof path, "%s.md", o->out);
-    rc |= out_markdown(path, st, why, sizeof why);
+    rc |= md_write(path, st, why, sizeof why);
     if (o->json) {
         snprintf(path, sizeof path, "%s.json", o->out);
         rc |= out_json(path, st, why, sizeof why);
@@ -463,7 +464,7 @@ static int do_table(const opts *o, const wg_scene *sc, const char *cmd)
     int rc = load_points_csv(o->table_from, &st, why, sizeof why);
     snprintf(path, sizeof path, "%s.md", o->out);
     if (!rc)
-        rc = out_markdown(path, &st, why, sizeof why);
+        rc = md_write(path, &st, why, sizeof why);
     if (rc)
         fprintf(stderr, "wgsweep: %s\n", why);
     load_free(&st);

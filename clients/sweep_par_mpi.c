@@ -1,4 +1,4 @@
-/* sweep_mpi.c - the MPI layer of sweep_par.h (built with WG_MPI=ON): chains
+/* sweep_par_mpi.c - the MPI layer of sweep_par.h (built with WG_MPI=ON): chains
  * are dealt round-robin to ranks, each rank runs its share on threads, and
  * rank 0 receives every foreign chain's points as raw bytes (homogeneous
  * nodes: same struct layout everywhere). */
