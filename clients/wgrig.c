@@ -8,7 +8,7 @@
  * Exit 0, 1 runtime error (no daemon, stalled), 2 usage error, 130 Ctrl-C. */
 #include "cli.h"
 #include "plot.h"
-#include "rig_point.h"
+#include "rig_ana.h"
 #include "sweep_md.h"
 #include "sweep_out.h"
 #include "bus.h"
@@ -455,7 +455,7 @@ static int run_point(rig *r, double v, wg_point *pt, window *win)
             fprintf(stderr, "\nwgrig: %s=%g: %s\n", r->o.param, v, why);
         return -1;
     }
-    rig_point_fill(&r->rec, pt);
+    rig_rec_fill(&r->rec, pt);
     pt->value = v;
     if (r->rec.n)
         *win = (window){r->rec.period[0], r->rec.period[r->rec.n - 1], r->rec.n};
@@ -508,9 +508,7 @@ static int run_ramp(rig *r, wg_chain *ch, window *win)
         memset(pt, 0, sizeof *pt);
         pt->value = v, pt->lle = NAN;
         if (k0 >= 0) {
-            rig_rec view = r->rec;
-            view.n = k1 - k0 + 1, view.y += (size_t)k0 * r->rec.nstate, view.stats += k0;
-            view.xn += k0, view.dxn += k0, view.period += k0;
+            rig_rec view = rig_rec_slice(&r->rec, k0, k1);
             wg_params p = r->base;
             p.v[r->pid] = v;
             rig_ana an;
@@ -519,7 +517,7 @@ static int run_ramp(rig *r, wg_chain *ch, window *win)
             if (view.n >= 2 && rig_ana_period(&an, &view, 0, pt, why, sizeof why) == 0)
                 pt->regime = WG_REGIME_NONE; /* no period on a ramp: not classified */
             rig_ana_fini(&an);
-            rig_point_fill(&view, pt);
+            rig_rec_fill(&view, pt);
             pt->value = v;
             win[i] = (window){view.period[0], view.period[view.n - 1], view.n};
         }
