@@ -48,7 +48,7 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
     bus_ack *a = &c->ack;
     a->got = 1;
     a->accepted = m->accepted;
-    a->status = m->status;
+    a->rc = m->status;
     a->cmd_seq = m->cmd_seq;
     a->steps = m->steps;
     a->tau = m->tau;

@@ -22,7 +22,7 @@
 typedef struct bus_ack {
     int got;
     int accepted;
-    int status;
+    int rc;                   /* the wire's status: 0 or a negative wg_status */
     int64_t cmd_seq, steps;
     double tau, t_s;
     char code[32];

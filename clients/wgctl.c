@@ -154,7 +154,7 @@ static int report(ctl *t, const char *what)
     if (t->o.json) {
         printf("{\"accepted\":%s,\"code\":", a->accepted ? "true" : "false");
         json_str(stdout, a->code);
-        printf(",\"status\":%d,\"message\":", a->status);
+        printf(",\"status\":%d,\"message\":", a->rc);
         json_str(stdout, a->message);
         printf(",\"tau\":%.17g,\"t_s\":%.17g,\"steps\":%lld,\"seq\":%lld,\"client\":", a->tau,
                a->t_s, (long long)a->steps, (long long)a->cmd_seq);

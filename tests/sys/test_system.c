@@ -110,7 +110,7 @@ static void start_daemon(void)
     }
 }
 
-/* Send cmd; return the ACK status (or 99 on no answer). */
+/* Send cmd; return the ACK's return code (or 99 on no answer). */
 static int cmd(wormgear_cmd_t *c)
 {
     c->unit = c->unit ? c->unit : (char *)"";
@@ -118,7 +118,7 @@ static int cmd(wormgear_cmd_t *c)
     ASSERT_TRUE(bus_send(&S.c, c) > 0);
     if (bus_wait_ack(&S.c, 3000))
         return 99;
-    return S.c.ack.status;
+    return S.c.ack.rc;
 }
 
 static int set1(const char *name, double v)
@@ -217,11 +217,11 @@ static void test_system(void)
     /* SIGTERM: STOPPING=1, exit 0 (under ASan: and no leak) */
     S.notes[0] = 0;
     kill(S.pid, SIGTERM);
-    int status = -1;
+    int wstat = -1;
     ASSERT_TRUE(notify_wait("STOPPING=1", 5000));
-    ASSERT_EQ_INT(waitpid(S.pid, &status, 0), S.pid);
-    ASSERT_TRUE(WIFEXITED(status));
-    ASSERT_EQ_INT(WEXITSTATUS(status), 0);
+    ASSERT_EQ_INT(waitpid(S.pid, &wstat, 0), S.pid);
+    ASSERT_TRUE(WIFEXITED(wstat));
+    ASSERT_EQ_INT(WEXITSTATUS(wstat), 0);
     S.pid = 0;
     wormgear_state_t_unsubscribe(S.c.lcm, S.subs[0]);
     wormgear_poincare_t_unsubscribe(S.c.lcm, S.subs[1]);
