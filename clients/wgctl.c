@@ -1,7 +1,7 @@
 /* wgctl - control wormgeard from the shell over LCM.
  * Exit 0 accepted, 1 refused or no answer, 2 usage error. */
-#include "cli.h"
 #include "bus.h"
+#include "cli.h"
 
 #include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_status_t.h"

@@ -18,6 +18,7 @@
 #include "lcmtypes/wormgear_state_t.h"
 #include "lcmtypes/wormgear_status_t.h"
 #include "lcmtypes/wormgear_tick_t.h"
+#include "wormgear/wg_model.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -84,9 +85,6 @@ static void lead(FILE *f, int64_t ts, int64_t utime, int64_t seq)
     fprintf(f, "%lld,%lld,%lld", (long long)ts, (long long)utime, (long long)seq);
 }
 
-static const char *const contact_names[7] = {"mesh", "x1", "y1", "z1", "x2", "y2", "z2"};
-static const char *const kind_names[4] = {"separation", "drive_impact", "back_impact",
-                                          "back_release"};
 
 /* ---- one row writer per type: decode, write, return samples (-1 bad) -------- */
 
@@ -151,8 +149,8 @@ static int rows_contact(chan *c, const lcm_eventlog_event_t *ev)
         lead(f, ev->timestamp, m.utime, m.seq);
         ci(f, i), cd(f, m.tau[i]), cd(f, m.t_s[i]), cd(f, m.velocity[i]), ci(f, m.period[i]);
         ci(f, m.contact[i]), ci(f, m.kind[i]);
-        csc(f, m.contact[i] >= 0 && m.contact[i] < 7 ? contact_names[m.contact[i]] : "?");
-        csc(f, m.kind[i] >= 0 && m.kind[i] < 4 ? kind_names[m.kind[i]] : "?");
+        csc(f, wg_contact_name(m.contact[i]));
+        csc(f, wg_event_name(m.kind[i]));
         fputc('\n', f);
     }
     int n = m.n;

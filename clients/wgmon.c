@@ -7,14 +7,15 @@
  * the analysis library), and dropped-message counts from seq gaps. A daemon
  * restart shows as a seq reset. Headless: --once / --frames N print frames
  * as plain text. Exit 0, 1 no STATUS heard (--once/--frames), 2 usage. */
-#include "cli.h"
 #include "bus.h"
+#include "cli.h"
 
 #include "lcmtypes/wormgear_contact_t.h"
 #include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_poincare_t.h"
 #include "lcmtypes/wormgear_state_t.h"
 #include "lcmtypes/wormgear_status_t.h"
+#include "wormgear/wg_model.h"
 #include "wormgear/wg_regime.h"
 
 #include <getopt.h>
@@ -77,7 +78,7 @@ typedef struct mon {
     long pc_n;
     double ys[WG_TRACK_LEN * WG_NSTATE_MAX]; /* last consecutive states (stride ydim) */
     int ny, ydim;
-    long contacts[7][4];          /* CONTACT events in the session by contact and kind */
+    long contacts[WG_NCONTACT][WG_NEVKIND]; /* CONTACT events in the session */
     int rows, cols, frozen;
     struct termios tio;
     int raw;
@@ -251,7 +252,8 @@ static void on_poincare(mon *m, const wormgear_poincare_t *p)
 static void on_contact(mon *m, const wormgear_contact_t *c)
 {
     for (int i = 0; i < c->n; i++)
-        if (c->contact[i] >= 0 && c->contact[i] < 7 && c->kind[i] >= 0 && c->kind[i] < 4)
+        if (c->contact[i] >= 0 && c->contact[i] < WG_NCONTACT && c->kind[i] >= 0 &&
+            c->kind[i] < WG_NEVKIND)
             m->contacts[c->contact[i]][c->kind[i]]++;
 }
 
@@ -419,12 +421,11 @@ static void draw_motion(mon *m, frame *f, double now)
         int c = m->pc_mot[j % PC_CAP];
         mot[c < 0 ? 0 : c > 2 ? 2 : c]++;
     }
-    static const char *const cls[3] = {"no_impact", "single_sided", "double_sided"};
     int worst = mot[2] ? 2 : mot[1] ? 1 : 0;
     fr_put(f, 0, "motion  daemon: %s, %.3g impacts/period", m->st.motion, m->st.imp_pp);
     if (n)
         fr_put(f, 0, "; last %.3g s: %s, %.3g impacts/period (periods none/single/double "
-               "%ld/%ld/%ld)", m->o.window_s, cls[worst], (double)imp / n, mot[0], mot[1], mot[2]);
+               "%ld/%ld/%ld)", m->o.window_s, wg_motion_name(worst), (double)imp / n, mot[0], mot[1], mot[2]);
     fr_nl(f);
     double resid = 0;
     int per = m->ny >= 16 ? wg_period_detect(m->ys, m->ny, m->ydim, WG_PERIOD_MAX,
@@ -457,7 +458,7 @@ static void draw_msgs(mon *m, frame *f)
     fr_put(f, drop ? 33 : 0, "  dropped %ld", drop);
     fr_put(f, 0, "  daemon-side %lld  cmds %lld/%lld refused  mesh impacts %ld",
            (long long)m->st.dropped, (long long)m->st.acc, (long long)m->st.ref,
-           m->contacts[0][1] + m->contacts[0][2]);
+           m->contacts[WG_C_MESH][WG_EV_DRIVE_IMPACT] + m->contacts[WG_C_MESH][WG_EV_BACK_IMPACT]);
     fr_nl(f);
 }
 

@@ -259,7 +259,8 @@ static void on_contact(rig *r, const wormgear_contact_t *m)
         r->col.after_period = m->period[m->n - 1];
     }
     for (int i = 0; i < m->n; i++) {
-        if (m->contact[i] != 0 || (m->kind[i] != 1 && m->kind[i] != 2))
+        if (m->contact[i] != WG_C_MESH ||
+            (m->kind[i] != WG_EV_DRIVE_IMPACT && m->kind[i] != WG_EV_BACK_IMPACT))
             continue; /* mesh drive- or back-side impacts only */
         if (r->nimp == r->capimp) {
             size_t cap = r->capimp ? 2 * r->capimp : 4096;
