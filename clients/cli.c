@@ -66,6 +66,23 @@ int cli_opt_int(const char *prog, const char *opt, const char *s, int lo, int hi
     return 0;
 }
 
+char *cli_join_args(int argc, char **argv)
+{
+    size_t len = 1;
+    for (int i = 0; i < argc; i++)
+        len += strlen(argv[i]) + 1;
+    char *s = malloc(len);
+    if (!s)
+        return NULL;
+    s[0] = 0;
+    for (int i = 0; i < argc; i++) {
+        strcat(s, argv[i]);
+        if (i + 1 < argc)
+            strcat(s, " ");
+    }
+    return s;
+}
+
 int cli_duration(const char *s, double *v, const char **unit)
 {
     static const struct {

@@ -37,6 +37,10 @@ int cli_opt_num(const char *prog, const char *opt, const char *s, double lo, dou
 int cli_opt_int(const char *prog, const char *opt, const char *s, int lo, int hi,
                 const char *allowed, int *v);
 
+/* argv[0] .. argv[argc - 1] joined by single spaces, the command line as
+ * a run records it (malloc'ed: free it), or NULL when out of memory. */
+char *cli_join_args(int argc, char **argv);
+
 /* A duration of simulated time: a number and a unit, "60s", "250ms",
  * "5us", "2min", "1h", "5000tau", or a bare number of seconds. *v in
  * seconds or tau, *unit "s" or "tau" (the unit of a ramp command). The

@@ -295,23 +295,6 @@ static int new_chain(wg_chain *c, const wg_params *base, const opts *o, int dir,
     return c->pts ? 0 : -1;
 }
 
-static char *join_args(int argc, char **argv)
-{
-    size_t len = 1;
-    for (int i = 0; i < argc; i++)
-        len += strlen(argv[i]) + 1;
-    char *s = malloc(len);
-    if (!s)
-        return NULL;
-    s[0] = 0;
-    for (int i = 0; i < argc; i++) {
-        strcat(s, argv[i]);
-        if (i + 1 < argc)
-            strcat(s, " ");
-    }
-    return s;
-}
-
 static void install_signals(void)
 {
     struct sigaction sa;
@@ -512,7 +495,7 @@ int main(int argc, char **argv)
     if (!rc) {
         o.so.model = sc.model;
         install_signals();
-        char *cmd = join_args(argc, argv);
+        char *cmd = cli_join_args(argc, argv);
         if (o.table_from)
             rc = rank == 0 ? do_table(&o, &sc, cmd) : 0;
         else if (o.at_set)
