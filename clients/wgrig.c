@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "plot.h"
 #include "rig_ana.h"
+#include "rig_imp.h"
 #include "sweep_md.h"
 #include "sweep_out.h"
 #include "bus.h"
@@ -67,8 +68,7 @@ typedef struct rig {
     double phase_value;
     bus_seq pc_seq, ct_seq;   /* POINCARE, CONTACT: .missing = dropped */
     long refusals, timeouts, skipped;
-    int64_t *imp;             /* periods of mesh impacts from CONTACT */
-    size_t nimp, capimp;
+    rig_imp imp;              /* mesh impacts from CONTACT */
     double t0;
     int done, total;
 } rig;
@@ -262,14 +262,8 @@ static void on_contact(rig *r, const wormgear_contact_t *m)
         if (m->contact[i] != WG_C_MESH ||
             (m->kind[i] != WG_EV_DRIVE_IMPACT && m->kind[i] != WG_EV_BACK_IMPACT))
             continue; /* mesh drive- or back-side impacts only */
-        if (r->nimp == r->capimp) {
-            size_t cap = r->capimp ? 2 * r->capimp : 4096;
-            int64_t *p = cap < (size_t)1 << 28 ? realloc(r->imp, cap * sizeof *p) : NULL;
-            if (!p)
-                return;
-            r->imp = p, r->capimp = cap;
-        }
-        r->imp[r->nimp++] = m->period[i];
+        if (rig_imp_push(&r->imp, m->period[i]))
+            return;
     }
 }
 
@@ -478,87 +472,81 @@ static int run_chain(rig *r, wg_chain *ch, window *win)
     return g_stop ? -1 : 0;
 }
 
-/* Ramp one direction, then bin the sections into the chain's points. */
-static int run_ramp(rig *r, wg_chain *ch, window *win)
+/* Send the ramp a -> b and record its sections (value of each in rval):
+ * 0, 1 when the recording was cut short (stalled, interrupted), or -1 with
+ * nothing recorded. */
+static int ramp_record(rig *r, double a, double b)
 {
-    double a = wg_chain_value(ch, 0), b = wg_chain_value(ch, ch->npts - 1), dur_tau;
     char *names[1] = {(char *)r->o.param};
     wormgear_cmd_t c = bus_cmd("ramp");
     c.nparams = 1, c.names = names, c.values = &b, c.has_from = 1, c.from = a;
     c.duration = r->o.ramp, c.unit = (char *)r->o.unit;
-    dur_tau = strcmp(r->o.unit, "tau") ? r->o.ramp * r->omega_n : r->o.ramp;
-    r->phase_dir = ch->dir > 0 ? "up" : "down", r->phase_idx = -1, r->phase_value = NAN;
+    double dur_tau = strcmp(r->o.unit, "tau") ? r->o.ramp * r->omega_n : r->o.ramp;
     if (command(r, &c, "ramp"))
         return -1;
-    r->col = (collector){.ramp = 1, .after_period = -1, .min_tau = r->c.ack.tau, .end_tau = r->c.ack.tau + dur_tau,
-                         .breaks = r->col.breaks};
+    r->col = (collector){.ramp = 1, .after_period = -1, .min_tau = r->c.ack.tau,
+                         .end_tau = r->c.ack.tau + dur_tau, .breaks = r->col.breaks};
     double save_from = r->o.from, save_to = r->o.to;
     r->o.from = a, r->o.to = b; /* the value of a section of a non-omega ramp */
     int rc = collect(r, 0, r->rec.cap);
     r->o.from = save_from, r->o.to = save_to;
-    if (rc && r->rec.n == 0)
+    return !rc ? 0 : r->rec.n ? 1 : -1;
+}
+
+/* Point i of a ramped chain from the sections within w/2 of its value. */
+static void ramp_bin(rig *r, wg_chain *ch, int i, double w, window *win)
+{
+    double v = wg_chain_value(ch, i);
+    int k0 = -1, k1 = -1; /* sections whose value falls in bin i */
+    for (int k = 0; k < r->rec.n; k++)
+        if (fabs(r->rval[k] - v) <= w / 2 && (k0 < 0 ? (k0 = k) : 1))
+            k1 = k;
+    wg_point *pt = &ch->pts[i];
+    memset(pt, 0, sizeof *pt);
+    pt->value = v, pt->lle = NAN;
+    if (k0 < 0)
+        return;
+    rig_rec view = rig_rec_slice(&r->rec, k0, k1);
+    wg_params p = r->base;
+    p.v[r->pid] = v;
+    rig_ana an;
+    char why[160];
+    rig_ana_init(&an, &p, r->model, r->stepper, r->steps, &r->so);
+    if (view.n >= 2 && rig_ana_period(&an, &view, 0, pt, why, sizeof why) == 0)
+        pt->regime = WG_REGIME_NONE; /* no period on a ramp: not classified */
+    rig_ana_fini(&an);
+    rig_rec_fill(&view, pt);
+    pt->value = v;
+    win[i] = (window){view.period[0], view.period[view.n - 1], view.n};
+}
+
+/* Ramp one direction, then bin the sections into the chain's points. */
+static int run_ramp(rig *r, wg_chain *ch, window *win)
+{
+    double a = wg_chain_value(ch, 0), b = wg_chain_value(ch, ch->npts - 1);
+    r->phase_dir = ch->dir > 0 ? "up" : "down", r->phase_idx = -1, r->phase_value = NAN;
+    int rc = ramp_record(r, a, b);
+    if (rc < 0)
         return -1;
     double w = fabs(b - a) / (ch->npts - 1); /* bins centred on the grid values */
     for (int i = 0; i < ch->npts; i++) {
-        double v = wg_chain_value(ch, i);
-        int k0 = -1, k1 = -1; /* sections whose value falls in bin i */
-        for (int k = 0; k < r->rec.n; k++)
-            if (fabs(r->rval[k] - v) <= w / 2 && (k0 < 0 ? (k0 = k) : 1))
-                k1 = k;
-        wg_point *pt = &ch->pts[i];
-        memset(pt, 0, sizeof *pt);
-        pt->value = v, pt->lle = NAN;
-        if (k0 >= 0) {
-            rig_rec view = rig_rec_slice(&r->rec, k0, k1);
-            wg_params p = r->base;
-            p.v[r->pid] = v;
-            rig_ana an;
-            char why[160];
-            rig_ana_init(&an, &p, r->model, r->stepper, r->steps, &r->so);
-            if (view.n >= 2 && rig_ana_period(&an, &view, 0, pt, why, sizeof why) == 0)
-                pt->regime = WG_REGIME_NONE; /* no period on a ramp: not classified */
-            rig_ana_fini(&an);
-            rig_rec_fill(&view, pt);
-            pt->value = v;
-            win[i] = (window){view.period[0], view.period[view.n - 1], view.n};
-        }
+        ramp_bin(r, ch, i, w, win);
         ch->ndone = i + 1;
         r->done++;
-        progress(r, r->phase_dir, pt);
+        progress(r, r->phase_dir, &ch->pts[i]);
     }
-    return rc;
+    return rc ? -1 : 0;
 }
 
 /* ---- outputs --------------------------------------------------------------------------- */
-
-static int cmp64(const void *a, const void *b)
-{
-    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-    return (x > y) - (x < y);
-}
-
-/* Mesh impacts from CONTACT in periods [p0, p1]. */
-static long impacts_in(const rig *r, int64_t p0, int64_t p1)
-{
-    size_t lo = 0, hi = r->nimp;
-    while (lo < hi) {
-        size_t mid = lo + (hi - lo) / 2;
-        if (r->imp[mid] < p0) lo = mid + 1; else hi = mid;
-    }
-    long n = 0;
-    for (size_t i = lo; i < r->nimp && r->imp[i] <= p1; i++)
-        n++;
-    return n;
-}
 
 static int write_impacts(rig *r, wg_chain *ch[2], window *win[2], char *why, size_t whylen)
 {
     char path[1024];
     snprintf(path, sizeof path, "%s-impacts.csv", r->o.out);
-    FILE *f = fopen(path, "w");
+    FILE *f = out_open(path, why, whylen);
     if (!f)
-        return snprintf(why, whylen, "cannot write %.400s", path), -1;
-    qsort(r->imp, r->nimp, sizeof *r->imp, cmp64);
+        return -1;
     fprintf(f, "dir,index,%s,impacts_per_period,contact_impacts_per_period,periods,motion,regime,"
                "period\n", r->o.param);
     int n = 0, cap = (ch[0] ? ch[0]->ndone : 0) + (ch[1] ? ch[1]->ndone : 0);
@@ -567,14 +555,14 @@ static int write_impacts(rig *r, wg_chain *ch[2], window *win[2], char *why, siz
         for (int i = 0; ch[d] && i < ch[d]->ndone; i++) {
             const wg_point *p = &ch[d]->pts[i];
             const window *w = &win[d][i];
-            double ci = w->n ? (double)impacts_in(r, w->p0, w->p1) / w->n : NAN;
+            double ci = w->n ? (double)rig_imp_count(&r->imp, w->p0, w->p1) / w->n : NAN;
             fprintf(f, "%s,%d,%.10g,%.6g,%.6g,%d,%s,%s,%d\n", d ? "down" : "up", i, p->value,
                     p->impacts, ci, w->n, wg_motion_name(p->motion), wg_regime_name(p->regime),
                     p->period);
             if (x && y && w->n)
                 x[n] = p->value, y[n++] = p->impacts;
         }
-    int rc = ferror(f) | fclose(f) ? (snprintf(why, whylen, "error writing %.400s", path), -1) : 0;
+    int rc = out_close(f, path, why, whylen);
     char title[160];
     snprintf(title, sizeof title, "%s: mesh impacts per period vs %s (rig: up, then back down)", r->scene,
              r->o.param);
@@ -611,9 +599,11 @@ static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, c
 
 /* ---- main -------------------------------------------------------------------------------- */
 
-static int setup(rig *r, int argc, char **argv)
+/* The swept parameter and the analysis options from the command line: 0,
+ * or 2 (reported). */
+static int check_param(rig *r)
 {
-    char why[256], path[1024];
+    char why[256];
     wg_sweep_opts_default(&r->so);
     r->so.transient = r->o.settle, r->so.record = r->o.record, r->so.extend = r->o.extend;
     if (r->o.tol > 0)
@@ -621,36 +611,59 @@ static int setup(rig *r, int argc, char **argv)
     if ((r->pid = wg_param_lookup(r->o.param)) < 0)
         return cli_usage_error(PROG, "--param '%s': a parameter name (wgctl params lists them)",
                                r->o.param);
-    const wg_param_info *pi = wg_param_info_get(r->pid);
-    if (wg_param_check(r->pid, r->o.from, why, sizeof why) || wg_param_check(r->pid, r->o.to, why, sizeof why))
+    if (wg_param_check(r->pid, r->o.from, why, sizeof why) ||
+        wg_param_check(r->pid, r->o.to, why, sizeof why))
         return fprintf(stderr, "wgrig: --from/--to: %s\n", why), 2;
-    if (r->o.ramp > 0 && !(pi->flags & WG_PF_RAMP))
+    if (r->o.ramp > 0 && !(wg_param_info_get(r->pid)->flags & WG_PF_RAMP))
         return cli_usage_error(PROG, "--param '%s': not rampable: use the stepwise sweep",
                                r->o.param);
+    return 0;
+}
+
+/* Sections the record must hold: one point's, or a whole ramp's (counted
+ * at its highest omega). 0, or 2 when the ramp is too long or too short. */
+static int record_cap(const rig *r, int *cap)
+{
+    *cap = REC_CAP;
+    if (r->o.ramp <= 0)
+        return 0;
+    double om = r->pid == WG_P_OMEGA ? fmax(r->o.from, r->o.to) : r->base.v[WG_P_OMEGA];
+    double per = (strcmp(r->o.unit, "tau") ? r->o.ramp * r->omega_n : r->o.ramp) * om / (2 * M_PI);
+    if (per > RAMP_MAX)
+        return fprintf(stderr, "wgrig: --ramp: %.0f mesh periods per ramp, more than %d: "
+                               "use a shorter ramp\n", per, RAMP_MAX), 2;
+    if (per < 4.0 * r->o.bins)
+        return fprintf(stderr, "wgrig: --ramp: %.0f mesh periods per ramp for %d bins: use a "
+                               "longer ramp (at least 4 periods per bin)\n", per, r->o.bins), 2;
+    *cap = (int)(1.1 * per) + 1000;
+    return 0;
+}
+
+/* Open LCM, subscribe raw to what the rig reads, and ask for PARAMS. */
+static int open_bus(rig *r)
+{
+    static const char *const chans[] = {"POINCARE", "CONTACT", "PARAMS", "STATUS"};
+    char why[256], ch[128];
     if (bus_open(&r->c, r->o.url, r->o.prefix, "wgrig", why, sizeof why))
         return fprintf(stderr, "wgrig: %s\n", why), 1;
-    static const char *const chans[] = {"POINCARE", "CONTACT", "PARAMS", "STATUS"};
     for (int k = 0; k < 4; k++) {
-        lcm_subscription_t *s = lcm_subscribe(r->c.lcm, bus_channel(&r->c, chans[k], path, sizeof path), on_raw, r);
+        lcm_subscription_t *s =
+            lcm_subscribe(r->c.lcm, bus_channel(&r->c, chans[k], ch, sizeof ch), on_raw, r);
         lcm_subscription_set_queue_capacity(s, 4096);
     }
-    (void)argc, (void)argv;
-    if (fetch_params(r))
-        return 1;
+    return fetch_params(r) ? 1 : 0;
+}
+
+static int setup(rig *r)
+{
+    char path[1024];
+    int rc, cap;
+    if ((rc = check_param(r)) || (rc = open_bus(r)))
+        return rc;
     r->orig = r->base.v[r->pid];
     r->so.steps = r->steps, r->so.model = r->model, r->so.stepper = r->stepper; /* the daemon's */
-    int cap = REC_CAP;
-    if (r->o.ramp > 0) { /* sections in one ramp, at the highest omega */
-        double om = r->pid == WG_P_OMEGA ? fmax(r->o.from, r->o.to) : r->base.v[WG_P_OMEGA];
-        double per = (strcmp(r->o.unit, "tau") ? r->o.ramp * r->omega_n : r->o.ramp) * om / (2 * M_PI);
-        if (per > RAMP_MAX)
-            return fprintf(stderr, "wgrig: --ramp: %.0f mesh periods per ramp, more than %d: "
-                                   "use a shorter ramp\n", per, RAMP_MAX), 2;
-        if (per < 4.0 * r->o.bins)
-            return fprintf(stderr, "wgrig: --ramp: %.0f mesh periods per ramp for %d bins: use a "
-                                   "longer ramp (at least 4 periods per bin)\n", per, r->o.bins), 2;
-        cap = (int)(1.1 * per) + 1000;
-    }
+    if ((rc = record_cap(r, &cap)))
+        return rc;
     if (rig_rec_init(&r->rec, r->nstate, cap) ||
         !(r->rval = malloc(sizeof(double) * (size_t)r->rec.cap)))
         return fprintf(stderr, "wgrig: out of memory\n"), 1;
@@ -677,56 +690,75 @@ static void finish(rig *r)
     bus_wait(&r->c, 300, NULL, NULL); /* CONTACT batches still on their way */
 }
 
+/* The up and down chains asked for (ch[d] NULL when not), with a window
+ * per point. */
+static void make_chains(rig *r, wg_chain chains[2], wg_chain *ch[2], window *win[2])
+{
+    int npts = r->o.ramp > 0 ? r->o.bins : r->o.points;
+    for (int d = 0; d < 2; d++) {
+        if (!(d ? r->o.down : r->o.up))
+            continue;
+        chains[d] = (wg_chain){.base = r->base, .param = r->pid, .v0 = fmin(r->o.from, r->o.to),
+                               .v1 = fmax(r->o.from, r->o.to), .npts = npts, .dir = d ? -1 : 1,
+                               .param2 = -1, .pts = calloc((size_t)npts, sizeof(wg_point))};
+        win[d] = calloc((size_t)npts, sizeof(window));
+        ch[d] = &chains[d];
+        r->total += npts;
+    }
+}
+
+/* Run the sweep, restore the daemon and write everything: the exit code. */
+static int sweep(rig *r, wg_chain chains[2], window *win[2], const char *cmdline)
+{
+    wg_chain *ch[2] = {NULL, NULL};
+    make_chains(r, chains, ch, win);
+    int failed = 0;
+    for (int d = 0; d < 2 && !failed; d++)
+        if (ch[d])
+            failed = r->o.ramp > 0 ? run_ramp(r, ch[d], win[d]) : run_chain(r, ch[d], win[d]);
+    if (!r->o.quiet)
+        fprintf(stderr, "%s", isatty(STDERR_FILENO) ? "\n" : "");
+    finish(r);
+    int rc = write_outputs(r, ch, win, failed || g_stop, cmdline);
+    fprintf(stderr, "wgrig: %d/%d points, %ld skipped (refused), %ld refusals, %ld ACK timeouts, "
+                    "%ld POINCARE and %ld CONTACT messages dropped, %ld recordings re-waited; "
+                    "%.1f s; outputs %s.*\n", r->done, r->total, r->skipped, r->refusals,
+            r->timeouts, r->pc_seq.missing, r->ct_seq.missing, r->col.breaks,
+            cli_mono_s() - r->t0, r->o.out);
+    return g_stop ? 130 : failed || (r->skipped && r->skipped == r->done) ? 1 : rc;
+}
+
+static void teardown(rig *r, wg_chain chains[2], window *win[2])
+{
+    if (r->secf)
+        fclose(r->secf);
+    bus_close(&r->c);
+    rig_rec_fini(&r->rec);
+    free(r->rval);
+    rig_imp_fini(&r->imp);
+    for (int d = 0; d < 2; d++)
+        free(chains[d].pts), free(win[d]);
+}
+
 int main(int argc, char **argv)
 {
     rig *r = calloc(1, sizeof *r);
-    char cmdline[2048] = "";
-    for (int i = 0, n = 0; i < argc && n < (int)sizeof cmdline - 2; i++)
-        n += snprintf(cmdline + n, sizeof cmdline - (size_t)n, "%s%s", i ? " " : "", argv[i]);
-    int rc = r ? parse_opts(argc, argv, &r->o) : 1;
+    if (!r)
+        return 1;
+    char *cmdline = cli_join_args(argc, argv);
+    int rc = parse_opts(argc, argv, &r->o);
     struct sigaction sa = {.sa_handler = on_signal};
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     r->t0 = cli_mono_s();
-    wg_chain chains[2], *ch[2] = {NULL, NULL};
-    memset(chains, 0, sizeof chains);
+    wg_chain chains[2];
     window *win[2] = {NULL, NULL};
-    if (!rc && !(rc = setup(r, argc, argv))) {
-        int npts = r->o.ramp > 0 ? r->o.bins : r->o.points;
-        for (int d = 0; d < 2; d++) {
-            if (!(d ? r->o.down : r->o.up))
-                continue;
-            chains[d] = (wg_chain){.base = r->base, .param = r->pid, .v0 = fmin(r->o.from, r->o.to),
-                                   .v1 = fmax(r->o.from, r->o.to), .npts = npts, .dir = d ? -1 : 1,
-                                   .param2 = -1, .pts = calloc((size_t)npts, sizeof(wg_point))};
-            win[d] = calloc((size_t)npts, sizeof(window));
-            ch[d] = &chains[d];
-            r->total += npts;
-        }
-        int failed = 0;
-        for (int d = 0; d < 2 && !failed; d++)
-            if (ch[d])
-                failed = r->o.ramp > 0 ? run_ramp(r, ch[d], win[d]) : run_chain(r, ch[d], win[d]);
-        if (!r->o.quiet)
-            fprintf(stderr, "%s", isatty(STDERR_FILENO) ? "\n" : "");
-        finish(r);
-        rc = write_outputs(r, ch, win, failed || g_stop, cmdline);
-        fprintf(stderr, "wgrig: %d/%d points, %ld skipped (refused), %ld refusals, %ld ACK timeouts, "
-                        "%ld POINCARE and %ld CONTACT messages dropped, %ld recordings re-waited; "
-                        "%.1f s; outputs %s.*\n", r->done, r->total, r->skipped, r->refusals,
-                r->timeouts, r->pc_seq.missing, r->ct_seq.missing, r->col.breaks, cli_mono_s() - r->t0, r->o.out);
-        rc = g_stop ? 130 : failed || (r->skipped && r->skipped == r->done) ? 1 : rc;
-    }
-    if (r) {
-        if (r->secf)
-            fclose(r->secf);
-        bus_close(&r->c);
-        rig_rec_fini(&r->rec);
-        free(r->rval), free(r->imp);
-        for (int d = 0; d < 2; d++)
-            free(chains[d].pts), free(win[d]);
-        free(r);
-    }
+    memset(chains, 0, sizeof chains);
+    if (!rc && !(rc = setup(r)))
+        rc = sweep(r, chains, win, cmdline ? cmdline : "");
+    teardown(r, chains, win);
+    free(r);
+    free(cmdline);
     plot_fini(); /* cairo and fontconfig caches: a clean exit under ASan */
     return rc;
 }
