@@ -194,6 +194,17 @@ static int parse_range(int c, const char *a, opts *o)
     return bad ? cli_usage_error(PROG, "%s '%s'", need, a) : 0;
 }
 
+static void opts_default(opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->scene = "table3", o->out = "sweep", o->param = WG_P_OMEGA, o->from = 0.1, o->to = 2.5;
+    o->points = 241, o->up = o->down = 1, o->gparam = -1, o->mparam = -1, o->png = o->json = 1;
+    o->at_periods = 2000;
+    long nc = sysconf(_SC_NPROCESSORS_ONLN);
+    o->threads = nc < 1 ? 1 : nc > 256 ? 256 : (int)nc;
+    wg_sweep_opts_default(&o->so);
+}
+
 static int parse_opts(int argc, char **argv, opts *o)
 {
     static const struct option lo[] = {
@@ -206,13 +217,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"threads", 1, 0, 'j'}, {"out", 1, 0, 'o'}, {"no-png", 0, 0, 'G'}, {"no-json", 0, 0, 'J'},
         {"at", 1, 0, 'A'}, {"at-periods", 1, 0, 'P'}, {"quiet", 0, 0, 'q'}, {"table-from", 1, 0, 'Y'},
         {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
-    memset(o, 0, sizeof *o);
-    o->scene = "table3", o->out = "sweep", o->param = WG_P_OMEGA, o->from = 0.1, o->to = 2.5;
-    o->points = 241, o->up = o->down = 1, o->gparam = -1, o->mparam = -1, o->png = o->json = 1;
-    o->at_periods = 2000;
-    long nc = sysconf(_SC_NPROCESSORS_ONLN);
-    o->threads = nc < 1 ? 1 : nc > 256 ? 256 : (int)nc;
-    wg_sweep_opts_default(&o->so);
+    opts_default(o);
     int c, rc;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
@@ -384,32 +389,34 @@ static int do_map(const opts *o, const wg_scene *sc, int rank, int size)
     return partial ? 130 : rc ? 1 : 0;
 }
 
+/* The up/down chains of every group of st into cs[n]: 0, or -1 (out of
+ * memory). */
+static int study_chains(sweep_study *st, wg_chain *cs, const opts *o, const wg_scene *sc)
+{
+    int per = o->up + o->down, rc = 0;
+    for (int k = 0; k < st->ngroups && !rc; k++) {
+        wg_params p = sc->p;
+        if (o->gparam >= 0)
+            p.v[o->gparam] = st->g[k].gval = o->gvals[k];
+        wg_chain *c = &cs[k * per];
+        if (o->up && !(rc = new_chain(c, &p, o, +1, o->gparam)))
+            st->g[k].up = c++;
+        if (o->down && !rc && !(rc = new_chain(c, &p, o, -1, o->gparam)))
+            st->g[k].down = c;
+    }
+    return rc;
+}
+
 /* 1-D study: up/down chains per group value. */
 static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank, int size)
 {
-    sweep_study st;
-    memset(&st, 0, sizeof st);
-    st.scene = sc->name;
-    st.command = cmd;
-    st.param = o->param;
-    st.gparam = o->gparam;
-    st.ngroups = o->gparam >= 0 ? o->ngvals : 1;
-    st.b = sc->p.v[WG_P_B];
-    st.o = &o->so;
-    st.threads = o->threads;
-    st.ranks = size;
-    int per = o->up + o->down, n = st.ngroups * per, rc = 0;
+    sweep_study st = {.scene = sc->name, .command = cmd, .param = o->param, .gparam = o->gparam,
+                      .ngroups = o->gparam >= 0 ? o->ngvals : 1, .b = sc->p.v[WG_P_B],
+                      .o = &o->so, .threads = o->threads, .ranks = size};
+    int n = st.ngroups * (o->up + o->down), rc = 0;
     wg_chain *cs = calloc((size_t)n, sizeof *cs);
-    for (int k = 0; k < st.ngroups && cs && !rc; k++) {
-        wg_params p = sc->p;
-        if (o->gparam >= 0)
-            p.v[o->gparam] = st.g[k].gval = o->gvals[k];
-        wg_chain *c = &cs[k * per];
-        if (o->up && !(rc = new_chain(c, &p, o, +1, o->gparam)))
-            st.g[k].up = c++;
-        if (o->down && !rc && !(rc = new_chain(c, &p, o, -1, o->gparam)))
-            st.g[k].down = c;
-    }
+    if (cs)
+        rc = study_chains(&st, cs, o, sc);
     if (!cs || rc) {
         fprintf(stderr, "wgsweep: out of memory\n");
         rc = 1;
