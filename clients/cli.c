@@ -20,6 +20,20 @@ int cli_usage_error(const char *prog, const char *fmt, ...)
     return CLI_EUSAGE;
 }
 
+int cli_getopt(const char *prog, int argc, char **argv, const char *shortopts,
+               const struct option *longopts, int (*one)(void *ctx, int c, const char *arg),
+               void *ctx)
+{
+    int c, rc;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, shortopts, longopts, NULL)) != -1)
+        if ((rc = one(ctx, c, optarg)))
+            return rc > 0 ? rc
+                          : cli_usage_error(prog, "unknown option or missing value '%s'",
+                                            argv[optind - 1]);
+    return 0;
+}
+
 int cli_double(const char *s, double *v)
 {
     char *end;

@@ -9,6 +9,7 @@
 #ifndef WG_CLI_H
 #define WG_CLI_H
 
+#include <getopt.h>
 #include <stdint.h>
 
 /* The exit code of a usage error, in every client. */
@@ -18,6 +19,14 @@ enum { CLI_EUSAGE = 2 };
  * CLI_EUSAGE, so a parser can `return cli_usage_error(...)`. */
 int cli_usage_error(const char *prog, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
+
+/* getopt_long over argv (its own messages off), one(ctx, c, optarg) for
+ * each option; one returns 0, CLI_EUSAGE (reported) or -1 for an option
+ * it does not know. Returns 0 with optind at the first operand, one's
+ * CLI_EUSAGE, or the usage error "unknown option or missing value 'ARG'". */
+int cli_getopt(const char *prog, int argc, char **argv, const char *shortopts,
+               const struct option *longopts, int (*one)(void *ctx, int c, const char *arg),
+               void *ctx);
 
 /* The whole of s as a number; infinities and NaN pass (for values that
  * the daemon judges and answers, not the client). */

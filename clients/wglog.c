@@ -46,7 +46,7 @@ typedef struct chan {
 
 typedef struct log_run {
     const char *path, *out, *pattern;
-    int export_, quiet;
+    int export_, quiet, also_summary;
     regex_t re;
     int has_re;
     chan *ch;
@@ -443,24 +443,27 @@ static void usage(FILE *f)
 
 #define PROG "wglog"
 
-static int parse(int argc, char **argv, log_run *r, int *also_summary)
+static int opt_one(void *ctx, int c, const char *a)
+{
+    log_run *r = ctx;
+    switch (c) {
+    case 'o': r->out = a; return 0;
+    case 'c': r->pattern = a; return 0;
+    case 's': r->also_summary = 1; return 0;
+    case 'q': r->quiet = 1; return 0;
+    case 'h': usage(stdout); exit(0);
+    default: return -1;
+    }
+}
+
+static int parse(int argc, char **argv, log_run *r)
 {
     static const struct option lo[] = {{"out", 1, 0, 'o'},     {"channel", 1, 0, 'c'},
                                        {"summary", 0, 0, 's'}, {"quiet", 0, 0, 'q'},
                                        {"help", 0, 0, 'h'},    {0, 0, 0, 0}};
-    int c;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, "o:c:sqh", lo, NULL)) != -1) {
-        switch (c) {
-        case 'o': r->out = optarg; break;
-        case 'c': r->pattern = optarg; break;
-        case 's': *also_summary = 1; break;
-        case 'q': r->quiet = 1; break;
-        case 'h': usage(stdout); exit(0);
-        default:
-            return cli_usage_error(PROG, "unknown option or missing value '%s'", argv[optind - 1]);
-        }
-    }
+    int rc = cli_getopt(PROG, argc, argv, "o:c:sqh", lo, opt_one, r);
+    if (rc)
+        return rc;
     if (argc - optind != 2)
         return cli_usage_error(PROG, "arguments '%s': expected a command (summary or export) and "
                                      "a log file", argc > optind ? argv[optind] : "");
@@ -482,7 +485,7 @@ static int parse(int argc, char **argv, log_run *r, int *also_summary)
 int main(int argc, char **argv)
 {
     log_run r = {.out = "."};
-    int also = 0, rc = parse(argc, argv, &r, &also);
+    int rc = parse(argc, argv, &r);
     if (!rc && r.export_ && mkdir(r.out, 0777) && errno != EEXIST) {
         fprintf(stderr, "wglog: cannot create --out directory '%s': %s\n", r.out, strerror(errno));
         rc = 1;
@@ -490,7 +493,7 @@ int main(int argc, char **argv)
     if (!rc)
         rc = read_log(&r);
     rc |= close_all(&r);
-    if (!rc && (!r.export_ || also))
+    if (!rc && (!r.export_ || r.also_summary))
         summary(&r, stdout);
     for (int i = 0; i < r.nch; i++)
         free(r.ch[i].name);

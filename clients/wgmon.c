@@ -120,8 +120,9 @@ static int opt_size(const char *a, opts *o)
 }
 
 /* One option c with argument a: 0, CLI_EUSAGE (reported), or -1 unknown. */
-static int opt_one(opts *o, int c, const char *a)
+static int opt_one(void *ctx, int c, const char *a)
 {
+    opts *o = ctx;
     switch (c) {
     case 'u': o->url = a; return 0;
     case 'p': o->prefix = a; return 0;
@@ -147,13 +148,9 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"frames", 1, 0, 'n'}, {"timeout", 1, 0, 'T'}, {"size", 1, 0, 's'},
         {"plain", 0, 0, 'P'},  {"help", 0, 0, 'h'},   {0, 0, 0, 0}};
     *o = (opts){.window_s = 5, .fps = 4, .timeout_s = 5, .tol = 1e-6};
-    int c, rc;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1)
-        if ((rc = opt_one(o, c, optarg)))
-            return rc > 0 ? rc
-                          : cli_usage_error(PROG, "unknown option or missing value '%s'",
-                                            argv[optind - 1]);
+    int rc = cli_getopt(PROG, argc, argv, "h", lo, opt_one, o);
+    if (rc)
+        return rc;
     if (optind < argc)
         return cli_usage_error(PROG, "argument '%s': wgmon takes no arguments", argv[optind]);
     return 0;

@@ -129,8 +129,9 @@ static int opt_dir(opts *o, const char *a)
     return o->up || o->down ? 0 : cli_usage_error(PROG, "--dir '%s': one of up, down, both", a);
 }
 
-static int opt_one(opts *o, int c, const char *a)
+static int opt_one(void *ctx, int c, const char *a)
 {
+    opts *o = ctx;
     switch (c) {
     case 'u': o->url = a; return 0;
     case 'p': o->prefix = a; return 0;
@@ -176,13 +177,9 @@ static int parse_opts(int argc, char **argv, opts *o)
     *o = (opts){.param = "omega", .out = "rig", .unit = "s", .points = 21, .up = 1, .down = 1,
                 .settle = 300, .record = 128, .extend = 3, .lle = 1, .timeout_s = 3,
                 .stall_s = 10, .retries = 5};
-    int c, rc;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1)
-        if ((rc = opt_one(o, c, optarg)))
-            return rc > 0 ? rc
-                          : cli_usage_error(PROG, "unknown option or missing value '%s'",
-                                            argv[optind - 1]);
+    int rc = cli_getopt(PROG, argc, argv, "h", lo, opt_one, o);
+    if (rc)
+        return rc;
     if (optind < argc)
         return cli_usage_error(PROG, "argument '%s': wgrig takes options only", argv[optind]);
     if (!o->have_from || !o->have_to)
