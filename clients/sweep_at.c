@@ -80,15 +80,18 @@ static int replay(const wg_params *p, const double *y, const wg_sweep_opts *o, i
 
 static int write_trace(const char *path, const views *w)
 {
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        fprintf(stderr, "wgsweep: cannot write %s\n", path);
+    char why[1200];
+    FILE *f = out_open(path, why, sizeof why);
+    if (f) {
+        fprintf(f, "tau,x_n,dx_n\n");
+        for (int i = 0; i < w->nt; i++)
+            fprintf(f, "%.12g,%.12g,%.12g\n", w->t[i], w->x[i], w->v[i]);
+    }
+    if (!f || out_close(f, path, why, sizeof why)) {
+        fprintf(stderr, "wgsweep: %s\n", why);
         return 1;
     }
-    fprintf(f, "tau,x_n,dx_n\n");
-    for (int i = 0; i < w->nt; i++)
-        fprintf(f, "%.12g,%.12g,%.12g\n", w->t[i], w->x[i], w->v[i]);
-    return fclose(f) ? 1 : 0;
+    return 0;
 }
 
 static int write_pngs(const char *base, const char *title, const views *w, double b)
