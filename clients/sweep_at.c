@@ -80,15 +80,18 @@ static int replay(const wg_params *p, const double *y, const wg_sweep_opts *o, i
 
 static int write_trace(const char *path, const views *w)
 {
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        fprintf(stderr, "wgsweep: cannot write %s\n", path);
+    char why[1200];
+    FILE *f = out_open(path, why, sizeof why);
+    if (f) {
+        fprintf(f, "tau,x_n,dx_n\n");
+        for (int i = 0; i < w->nt; i++)
+            fprintf(f, "%.12g,%.12g,%.12g\n", w->t[i], w->x[i], w->v[i]);
+    }
+    if (!f || out_close(f, path, why, sizeof why)) {
+        fprintf(stderr, "wgsweep: %s\n", why);
         return 1;
     }
-    fprintf(f, "tau,x_n,dx_n\n");
-    for (int i = 0; i < w->nt; i++)
-        fprintf(f, "%.12g,%.12g,%.12g\n", w->t[i], w->x[i], w->v[i]);
-    return fclose(f) ? 1 : 0;
+    return 0;
 }
 
 static int write_pngs(const char *base, const char *title, const views *w, double b)
@@ -154,6 +157,52 @@ static void summary(FILE *out, const wg_point *pt, double v, const at_opts *ao)
             pt->steps, pt->err, pt->tol, pt->resid);
 }
 
+/* The largest Lyapunov exponent from y, for every point here, periodic or
+ * not (printed only when it could be computed). */
+static void print_lle(FILE *out, const wg_params *p, const double *y, const wg_sweep_opts *o,
+                      int N)
+{
+    wg_sim sim, twin;
+    char why[256];
+    wg_sim_config cfg = {o->model, o->stepper, N};
+    if (wg_sim_init(&sim, p, &cfg, why, sizeof why) != WG_OK)
+        return;
+    if (wg_sim_init(&twin, p, &cfg, why, sizeof why) == WG_OK) {
+        wg_sim_set_state(&sim, y, 0, 0.0);
+        wg_simmap sb = {&sim, 1}, st = {&twin, 1};
+        wg_map mb = wg_simmap_map(&sb), mt = wg_simmap_map(&st);
+        double x[WG_NSTATE_MAX], lle;
+        memcpy(x, y, sizeof x);
+        if (wg_lle_twin(&mb, &mt, x, o->lle_periods, o->lle_d0, &lle) == WG_OK)
+            fprintf(out, "lyapunov    %.5f per mesh period (%d periods, d0 = %g)\n", lle,
+                    o->lle_periods, o->lle_d0);
+        wg_sim_fini(&twin);
+    }
+    wg_sim_fini(&sim);
+}
+
+/* Replay the orbit and write its trace CSV and (ao->png) PNGs: 0, or 1. */
+static int write_views(FILE *out, const wg_params *p, const double *y, const wg_sweep_opts *o,
+                       const at_opts *ao, int N)
+{
+    views w;
+    int rc = 1;
+    if (views_alloc(&w, ao->periods, ao->trace_periods, N) == 0 &&
+        replay(p, y, o, N, ao, &w) == 0) {
+        char base[1024], path[1100], title[200];
+        snprintf(base, sizeof base, "%s-at-%s=%g", ao->prefix, ao->pname, ao->value);
+        snprintf(path, sizeof path, "%s-trace.csv", base);
+        rc = write_trace(path, &w);
+        snprintf(title, sizeof title, "%s = %g", ao->pname, ao->value);
+        if (ao->png)
+            rc |= write_pngs(base, title, &w, p->v[WG_P_B]);
+        fprintf(out, "files       %s-trace.csv%s\n", base,
+                ao->png ? ", -phase.png, -poincare.png, -trace.png" : "");
+    }
+    views_free(&w);
+    return rc;
+}
+
 int at_view(const wg_params *p, const double *y0, const wg_sweep_opts *o, const at_opts *ao,
             FILE *out)
 {
@@ -166,45 +215,11 @@ int at_view(const wg_params *p, const double *y0, const wg_sweep_opts *o, const 
         free(pt);
         return 1;
     }
-    double v = ao->value;
-    summary(out, pt, v, ao);
-    /* the exponent for every point here, periodic or not */
-    wg_sim sim;
-    wg_sim_config cfg = {o->model, o->stepper, pt->steps};
-    if (wg_sim_init(&sim, p, &cfg, why, sizeof why) == WG_OK) {
-        wg_sim twin;
-        if (wg_sim_init(&twin, p, &cfg, why, sizeof why) == WG_OK) {
-            wg_sim_set_state(&sim, y, 0, 0.0);
-            wg_simmap sb = {&sim, 1}, st = {&twin, 1};
-            wg_map mb = wg_simmap_map(&sb), mt = wg_simmap_map(&st);
-            double x[WG_NSTATE_MAX], lle;
-            memcpy(x, y, sizeof x);
-            if (wg_lle_twin(&mb, &mt, x, o->lle_periods, o->lle_d0, &lle) == WG_OK)
-                fprintf(out, "lyapunov    %.5f per mesh period (%d periods, d0 = %g)\n", lle,
-                        o->lle_periods, o->lle_d0);
-            wg_sim_fini(&twin);
-        }
-        wg_sim_fini(&sim);
-    }
+    summary(out, pt, ao->value, ao);
+    print_lle(out, p, y, o, pt->steps);
     if (pt->regime == WG_REGIME_PERIODIC && pt->period > 0)
         print_floquet(out, p, y, o, pt->steps, pt->period);
-    views w;
-    int rc = 1;
-    if (views_alloc(&w, ao->periods, ao->trace_periods, pt->steps) == 0 &&
-        replay(p, y, o, pt->steps, ao, &w) == 0) {
-        char base[1024];
-        snprintf(base, sizeof base, "%s-at-%s=%g", ao->prefix, ao->pname, v);
-        char path[1100];
-        snprintf(path, sizeof path, "%s-trace.csv", base);
-        rc = write_trace(path, &w);
-        char title[200];
-        snprintf(title, sizeof title, "%s = %g", ao->pname, v);
-        if (ao->png)
-            rc |= write_pngs(base, title, &w, p->v[WG_P_B]);
-        fprintf(out, "files       %s-trace.csv%s\n", base,
-                ao->png ? ", -phase.png, -poincare.png, -trace.png" : "");
-    }
-    views_free(&w);
+    int rc = write_views(out, p, y, o, ao, pt->steps);
     free(pt);
     return rc;
 }

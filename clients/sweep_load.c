@@ -8,10 +8,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int lookup(const char *const *names, int n, const char *s)
+/* The i in [0, n) whose name(i) is s, or -1: the library's names read back. */
+static int lookup(const char *(*name)(int), int n, const char *s)
 {
     for (int i = 0; i < n; i++)
-        if (strcmp(names[i], s) == 0)
+        if (strcmp(name(i), s) == 0)
             return i;
     return -1;
 }
@@ -35,18 +36,15 @@ static int split(char *line, char **f, int max)
 /* One data row (fields after the optional group column) into pt. */
 static int parse_point(char **f, int n, wg_point *pt, int *dir)
 {
-    static const char *const regimes[] = {"none", "periodic", "quasiperiodic", "chaotic",
-                                          "diverged"};
-    static const char *const motions[] = {"no_impact", "single_sided", "double_sided"};
     if (n < 15)
         return -1;
     memset(pt, 0, sizeof *pt);
     *dir = strcmp(f[0], "down") == 0 ? -1 : 1;
     pt->value = strtod(f[2], NULL);
-    pt->regime = lookup(regimes, 5, f[3]);
+    pt->regime = lookup(wg_regime_name, WG_REGIME_DIVERGED + 1, f[3]);
     pt->period = atoi(f[4]);
     pt->converged = atoi(f[5]);
-    pt->motion = lookup(motions, 3, f[6]);
+    pt->motion = lookup(wg_motion_name, WG_MOTION_DOUBLE + 1, f[6]);
     pt->impacts = strtod(f[7], NULL);
     pt->min_xn = strtod(f[8], NULL);
     pt->max_xn = strtod(f[9], NULL);
@@ -58,9 +56,9 @@ static int parse_point(char **f, int n, wg_point *pt, int *dir)
     pt->value2 = NAN;
     if (n >= 21 && f[18][0]) { /* the 2N check, when the run had --verify-steps */
         pt->checked = 1;
-        pt->check_regime = lookup(regimes, 5, f[18]);
+        pt->check_regime = lookup(wg_regime_name, WG_REGIME_DIVERGED + 1, f[18]);
         pt->check_period = atoi(f[19]);
-        pt->check_motion = lookup(motions, 3, f[20]);
+        pt->check_motion = lookup(wg_motion_name, WG_MOTION_DOUBLE + 1, f[20]);
     }
     return pt->regime < 0 || pt->motion < 0 ? -1 : 0;
 }

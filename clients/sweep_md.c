@@ -1,17 +1,11 @@
-/* sweep_md.c - the Markdown transitions table of a study (the paper's
- * Table 3, computed): one row per transition, the up and down sweeps side by
- * side, matched by kind, periods and proximity. */
-#include "sweep_out.h"
+/* sweep_md.c - the Markdown transitions table of a study (see sweep_md.h):
+ * the up and down sweeps' transitions matched by kind, periods and
+ * proximity. */
+#include "sweep_md.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-static const char *pname(int id)
-{
-    const wg_param_info *r = wg_param_info_get(id);
-    return r ? r->name : "?";
-}
 
 static double grid_step(const wg_chain *c)
 {
@@ -219,7 +213,8 @@ static void halving(FILE *f, const char *dir, const wg_chain *c)
     fputs("\n", f);
 }
 
-void out_group_table(FILE *f, const sweep_study *st, const sweep_group *g)
+/* The table and notes of one group. */
+static void group_table(FILE *f, const sweep_study *st, const sweep_group *g)
 {
     wg_transition *t = malloc(sizeof *t * STUDY_MAX_TRANS);
     if (!t)
@@ -229,7 +224,7 @@ void out_group_table(FILE *f, const sweep_study *st, const sweep_group *g)
                            STUDY_MAX_TRANS);
     const wg_chain *c = g->up ? g->up : g->down;
     double h = grid_step(c);
-    const char *p = pname(st->param);
+    const char *p = out_pname(st->param);
     fprintf(f, "| transition | up sweep: %s | down sweep: %s | detail |\n|---|---|---|---|\n", p,
             p);
     rows(f, t, n, fmax(4.0 * h, 0.01 * (c ? fabs(c->v1 - c->v0) : 0.0)));
@@ -255,28 +250,15 @@ void out_group_table(FILE *f, const sweep_study *st, const sweep_group *g)
     free(t);
 }
 
-int out_markdown(const char *path, const sweep_study *st, char *why, size_t whylen)
+/* Where the points came from: a CSV read back, or this run's settings. */
+static void provenance(FILE *f, const sweep_study *st)
 {
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        snprintf(why, whylen, "cannot write %s", path);
-        return -1;
-    }
     const wg_sweep_opts *o = st->o;
-    fprintf(f, "# Transitions: scene %s, sweep of %s%s\n\n", st->scene, pname(st->param),
-            st->partial ? " (PARTIAL: interrupted)" : "");
-    if (st->command)
-        fprintf(f, "Command: `%s`\n\n", st->command);
     if (st->source) {
         fprintf(f, "Transitions recomputed from the points in `%s` (the run's settings are in "
                    "its JSON/Markdown).\n\n",
                 st->source);
-        for (int k = 0; k < st->ngroups; k++) {
-            if (st->gparam >= 0)
-                fprintf(f, "## %s = %g\n\n", pname(st->gparam), st->g[k].gval);
-            out_group_table(f, st, &st->g[k]);
-        }
-        return fclose(f) ? -1 : 0;
+        return;
     }
     fprintf(f, "Model %s, stepper %s, N = %d steps per mesh period (raised where RK4 needs "
                "more), transient %d + record %d periods per point (up to %d extensions), LLE "
@@ -285,15 +267,22 @@ int out_markdown(const char *path, const sweep_study *st, char *why, size_t whyl
             wg_model_name(o->model), wg_stepper_name(o->stepper), o->steps, o->transient,
             o->record, o->extend, o->lle_periods, o->lle_tol, o->tol_floor, o->tol_factor,
             st->wall_s, st->threads, st->ranks);
+}
+
+int md_write(const char *path, const sweep_study *st, char *why, size_t whylen)
+{
+    FILE *f = out_open(path, why, whylen);
+    if (!f)
+        return -1;
+    fprintf(f, "# Transitions: scene %s, sweep of %s%s\n\n", st->scene, out_pname(st->param),
+            st->partial ? " (PARTIAL: interrupted)" : "");
+    if (st->command)
+        fprintf(f, "Command: `%s`\n\n", st->command);
+    provenance(f, st);
     for (int k = 0; k < st->ngroups; k++) {
         if (st->gparam >= 0)
-            fprintf(f, "## %s = %g\n\n", pname(st->gparam), st->g[k].gval);
-        out_group_table(f, st, &st->g[k]);
+            fprintf(f, "## %s = %g\n\n", out_pname(st->gparam), st->g[k].gval);
+        group_table(f, st, &st->g[k]);
     }
-    int bad = ferror(f);
-    if (fclose(f) || bad) {
-        snprintf(why, whylen, "error writing %s", path);
-        return -1;
-    }
-    return 0;
+    return out_close(f, path, why, whylen);
 }

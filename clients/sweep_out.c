@@ -6,13 +6,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *pname(int id)
+const char *out_pname(int id)
 {
     const wg_param_info *r = wg_param_info_get(id);
     return r ? r->name : "?";
 }
 
-static FILE *open_w(const char *path, char *why, size_t whylen)
+FILE *out_open(const char *path, char *why, size_t whylen)
 {
     FILE *f = fopen(path, "w");
     if (!f)
@@ -20,7 +20,7 @@ static FILE *open_w(const char *path, char *why, size_t whylen)
     return f;
 }
 
-static int close_w(FILE *f, const char *path, char *why, size_t whylen)
+int out_close(FILE *f, const char *path, char *why, size_t whylen)
 {
     int bad = ferror(f);
     if (fclose(f) || bad) {
@@ -83,15 +83,15 @@ static void csv_point(FILE *f, const sweep_study *st, const sweep_group *g, cons
 
 int out_points_csv(const char *path, const sweep_study *st, char *why, size_t whylen)
 {
-    FILE *f = open_w(path, why, whylen);
+    FILE *f = out_open(path, why, whylen);
     if (!f)
         return -1;
     if (st->gparam >= 0)
-        fprintf(f, "%s,", pname(st->gparam));
+        fprintf(f, "%s,", out_pname(st->gparam));
     fprintf(f, "dir,index,%s,regime,period,converged,motion,impacts_per_period,min_xn,max_xn,"
                "lle_per_period,err,tol,resid,steps_per_period,floquet1_re,floquet1_im,"
                "floquet1_abs,check2n_regime,check2n_period,check2n_motion\n",
-            pname(st->param));
+            out_pname(st->param));
     for (int k = 0; k < st->ngroups; k++) {
         const wg_chain *c[2];
         const char *dir[2];
@@ -100,17 +100,17 @@ int out_points_csv(const char *path, const sweep_study *st, char *why, size_t wh
             for (int i = 0; i < c[j]->ndone; i++)
                 csv_point(f, st, &st->g[k], dir[j], i, &c[j]->pts[i]);
     }
-    return close_w(f, path, why, whylen);
+    return out_close(f, path, why, whylen);
 }
 
 int out_poincare_csv(const char *path, const sweep_study *st, char *why, size_t whylen)
 {
-    FILE *f = open_w(path, why, whylen);
+    FILE *f = out_open(path, why, whylen);
     if (!f)
         return -1;
     if (st->gparam >= 0)
-        fprintf(f, "%s,", pname(st->gparam));
-    fprintf(f, "dir,index,%s,k,x_n,dx_n\n", pname(st->param));
+        fprintf(f, "%s,", out_pname(st->gparam));
+    fprintf(f, "dir,index,%s,k,x_n,dx_n\n", out_pname(st->param));
     for (int k = 0; k < st->ngroups; k++) {
         const wg_chain *c[2];
         const char *dir[2];
@@ -126,17 +126,17 @@ int out_poincare_csv(const char *path, const sweep_study *st, char *why, size_t 
                 }
             }
     }
-    return close_w(f, path, why, whylen);
+    return out_close(f, path, why, whylen);
 }
 
 int out_map_csv(const char *path, const wg_chain *rows, int nrows, char *why, size_t whylen)
 {
-    FILE *f = open_w(path, why, whylen);
+    FILE *f = out_open(path, why, whylen);
     if (!f)
         return -1;
     if (nrows)
         fprintf(f, "%s,%s,regime,period,motion,impacts_per_period,min_xn,max_xn,lle_per_period\n",
-                pname(rows[0].param2), pname(rows[0].param));
+                out_pname(rows[0].param2), out_pname(rows[0].param));
     for (int r = 0; r < nrows; r++)
         for (int i = 0; i < rows[r].ndone; i++) {
             const wg_point *p = &rows[r].pts[i];
@@ -144,7 +144,7 @@ int out_map_csv(const char *path, const wg_chain *rows, int nrows, char *why, si
                     wg_regime_name(p->regime), p->period, wg_motion_name(p->motion), p->impacts,
                     p->min_xn, p->max_xn, p->lle);
         }
-    return close_w(f, path, why, whylen);
+    return out_close(f, path, why, whylen);
 }
 
 /* ---- JSON ---------------------------------------------------------------- */
@@ -236,13 +236,13 @@ static void json_opts(FILE *f, const wg_sweep_opts *o)
 
 int out_json(const char *path, const sweep_study *st, char *why, size_t whylen)
 {
-    FILE *f = open_w(path, why, whylen);
+    FILE *f = out_open(path, why, whylen);
     if (!f)
         return -1;
     fprintf(f, "{\"scene\":\"%s\",\"param\":\"%s\",\"group_param\":", st->scene,
-            pname(st->param));
+            out_pname(st->param));
     if (st->gparam >= 0)
-        fprintf(f, "\"%s\"", pname(st->gparam));
+        fprintf(f, "\"%s\"", out_pname(st->gparam));
     else
         fputs("null", f);
     fprintf(f, ",\"b\":%g,\"partial\":%s,\"wall_s\":%.3f,\"threads\":%d,\"ranks\":%d,\n",
@@ -261,7 +261,7 @@ int out_json(const char *path, const sweep_study *st, char *why, size_t whylen)
         fputs("}", f);
     }
     fputs("]}\n", f);
-    return close_w(f, path, why, whylen);
+    return out_close(f, path, why, whylen);
 }
 
 /* ---- PNG ------------------------------------------------------------------- */
@@ -278,15 +278,15 @@ int out_pngs(const char *prefix, const sweep_study *st, char *why, size_t whylen
         const sweep_group *g = &st->g[k];
         char path[1024], title[256];
         if (st->gparam >= 0) {
-            snprintf(path, sizeof path, "%s-%s=%g.png", prefix, pname(st->gparam), g->gval);
+            snprintf(path, sizeof path, "%s-%s=%g.png", prefix, out_pname(st->gparam), g->gval);
             snprintf(title, sizeof title, "%s: Poincare x_n vs %s, %s = %g%s", st->scene,
-                     pname(st->param), pname(st->gparam), g->gval, st->partial ? " (partial)" : "");
+                     out_pname(st->param), out_pname(st->gparam), g->gval, st->partial ? " (partial)" : "");
         } else {
             snprintf(path, sizeof path, "%s.png", prefix);
-            snprintf(title, sizeof title, "%s: Poincare x_n vs %s%s", st->scene, pname(st->param),
+            snprintf(title, sizeof title, "%s: Poincare x_n vs %s%s", st->scene, out_pname(st->param),
                      st->partial ? " (partial)" : "");
         }
-        plot_bif pb = {title, pname(st->param), g->up ? g->up->pts : NULL,
+        plot_bif pb = {title, out_pname(st->param), g->up ? g->up->pts : NULL,
                        g->down ? g->down->pts : NULL, g->up ? g->up->ndone : 0,
                        g->down ? g->down->ndone : 0, st->b, NULL, 0};
         rc = plot_bifurcation(path, &pb, why, whylen);

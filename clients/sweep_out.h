@@ -1,6 +1,7 @@
 /* sweep_out.h - a sweep study in memory and its writers: CSV of points,
- * long CSV of Poincare values, JSON, the Markdown transitions table, PNGs.
- * Shared by wgsweep and wgrig. Writers return 0 or -1 with why. */
+ * long CSV of Poincare values, JSON, PNGs (the Markdown transitions table
+ * is sweep_md.h). Shared by wgsweep and wgrig. Writers return 0 or -1 with
+ * why. */
 #ifndef WG_SWEEP_OUT_H
 #define WG_SWEEP_OUT_H
 
@@ -40,12 +41,6 @@ int out_poincare_csv(const char *path, const sweep_study *st, char *why, size_t 
  * transitions) as JSON. */
 int out_json(const char *path, const sweep_study *st, char *why, size_t whylen);
 
-/* The transitions table of every group in Markdown. */
-int out_markdown(const char *path, const sweep_study *st, char *why, size_t whylen);
-
-/* Write the Markdown table of one group to f (used by out_markdown). */
-void out_group_table(FILE *f, const sweep_study *st, const sweep_group *g);
-
 /* One bifurcation diagram per group: prefix.png, or prefix-NAME=V.png. */
 int out_pngs(const char *prefix, const sweep_study *st, char *why, size_t whylen);
 
@@ -54,5 +49,15 @@ int out_map_csv(const char *path, const wg_chain *rows, int nrows, char *why, si
 
 /* Label of a point: "P1", "P2", "P? (n>32)", "quasi", "chaos", "-". */
 const char *out_label(const wg_point *p, char *buf, size_t len);
+
+/* The name of parameter id, "?" if there is none. */
+const char *out_pname(int id);
+
+/* Open path for writing: the file, or NULL with "cannot write PATH" in why. */
+FILE *out_open(const char *path, char *why, size_t whylen);
+
+/* Close f: 0, or -1 with "error writing PATH" in why when a write or the
+ * close failed. */
+int out_close(FILE *f, const char *path, char *why, size_t whylen);
 
 #endif

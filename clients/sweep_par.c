@@ -1,4 +1,5 @@
-/* sweep_par.c - the single-process layer of sweep_par.h: threads only. */
+/* sweep_par.c - the single-process layer of sweep_par.h: threads only (the
+ * MPI layer is sweep_par_mpi.c). */
 #include "sweep_par.h"
 
 int par_init(int *argc, char ***argv, int *rank, int *size)

@@ -12,8 +12,8 @@
 int par_init(int *argc, char ***argv, int *rank, int *size);
 
 /* Run the n chains: rank r runs chains r, r + size, ... on `threads`
- * threads, then rank 0 receives every chain's points and status. Returns
- * WG_OK or the first chain failure (on rank 0). */
+ * threads, then rank 0 receives every chain's points and return code.
+ * Returns WG_OK or the first chain's failure code (on rank 0). */
 int par_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
             volatile sig_atomic_t *stop, wg_progress_fn progress, void *ctx);
 

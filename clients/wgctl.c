@@ -1,13 +1,13 @@
 /* wgctl - control wormgeard from the shell over LCM.
  * Exit 0 accepted, 1 refused or no answer, 2 usage error. */
-#include "wgcli.h"
+#include "bus.h"
+#include "cli.h"
 
 #include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_status_t.h"
 #include "wormgear/wg_param.h"
 
-#include <getopt.h>
-#include <math.h>
+#include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,7 +24,7 @@ typedef struct opts {
 } opts;
 
 typedef struct ctl {
-    wgcli c;
+    bus c;
     opts o;
     wormgear_params_t *params; /* copy of the PARAMS answering a get */
     wormgear_status_t *status;
@@ -61,42 +61,10 @@ static void usage(FILE *f)
             "  --json           machine-readable output on stdout\n"
             "  -h, --help       this text\n\n"
             "Exit status: 0 accepted, 1 refused or no answer, 2 usage error.\n",
-            WGCLI_DEFAULT_URL, WGCLI_DEFAULT_PREFIX);
+            BUS_DEFAULT_URL, BUS_DEFAULT_PREFIX);
 }
 
-static int bad(const char *msg, const char *arg)
-{
-    fprintf(stderr, "wgctl: ");
-    fprintf(stderr, msg, arg);
-    fprintf(stderr, "\n(try wgctl --help)\n");
-    return 2;
-}
-
-static int number(const char *s, double *v)
-{
-    char *end;
-    *v = strtod(s, &end);
-    return end == s || *end ? -1 : 0;
-}
-
-/* "60s", "250ms", "2min", "5000tau", "60" (seconds). */
-static int duration(const char *s, double *v, const char **unit)
-{
-    char *end;
-    *v = strtod(s, &end);
-    if (end == s)
-        return -1;
-    static const struct { const char *suf; double f; const char *unit; } u[] = {
-        {"", 1, "s"}, {"s", 1, "s"}, {"ms", 1e-3, "s"}, {"us", 1e-6, "s"},
-        {"min", 60, "s"}, {"h", 3600, "s"}, {"tau", 1, "tau"}};
-    for (unsigned i = 0; i < sizeof u / sizeof u[0]; i++)
-        if (strcmp(end, u[i].suf) == 0) {
-            *v *= u[i].f;
-            *unit = u[i].unit;
-            return 0;
-        }
-    return -1;
-}
+#define PROG "wgctl"
 
 /* Options may appear anywhere; everything else (negative numbers too) is
  * positional and collected into pos. */
@@ -107,23 +75,24 @@ static int option(opts *o, const char *name, const char *val, int *used)
     for (unsigned i = 0; i < 4; i++)
         if (strcmp(name, withval[i]) == 0) {
             if (!val)
-                return bad("option --%s needs a value", name);
+                return cli_usage_error(PROG, "option --%s needs a value", name);
             *used = 1;
         }
     if (!strcmp(name, "url")) o->url = val;
     else if (!strcmp(name, "prefix")) o->prefix = val;
     else if (!strcmp(name, "timeout")) {
-        if (number(val, &o->timeout_s) || !(o->timeout_s > 0) || o->timeout_s > 86400)
-            return bad("--timeout '%s': seconds in (0, 86400]", val);
+        if (cli_num(val, DBL_TRUE_MIN, 86400, &o->timeout_s))
+            return cli_usage_error(PROG, "--timeout '%s': seconds in (0, 86400]", val);
     } else if (!strcmp(name, "over")) {
-        if (duration(val, &o->over, &o->unit) || !(o->over > 0))
-            return bad("--over '%s': a positive duration like 60s, 250ms, 2min, 5000tau", val);
+        if (cli_duration(val, &o->over, &o->unit) || !(o->over > 0))
+            return cli_usage_error(PROG, "--over '%s': a positive duration like 60s, 250ms, "
+                                         "2min, 5000tau", val);
         o->have_over = 1;
     } else if (!strcmp(name, "params")) o->reset_params = 1;
     else if (!strcmp(name, "at-section")) o->at_section = 1;
     else if (!strcmp(name, "json")) o->json = 1;
     else if (!strcmp(name, "help")) { usage(stdout); exit(0); }
-    else return bad("unknown option '--%s'", name);
+    else return cli_usage_error(PROG, "unknown option '--%s'", name);
     return 0;
 }
 
@@ -154,9 +123,26 @@ static int parse_opts(int argc, char **argv, opts *o, char **pos, int *npos)
 
 /* ---- answers --------------------------------------------------------------- */
 
+/* s as a JSON string literal (quotes, backslashes and control characters
+ * escaped). */
+static void json_str(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; s && *s; s++) {
+        unsigned char ch = (unsigned char)*s;
+        if (ch == '"' || ch == '\\')
+            fprintf(f, "\\%c", ch);
+        else if (ch < 0x20)
+            fprintf(f, "\\u%04x", ch);
+        else
+            fputc(ch, f);
+    }
+    fputc('"', f);
+}
+
 static int report(ctl *t, const char *what)
 {
-    wgcli_ack *a = &t->c.ack;
+    bus_ack *a = &t->c.ack;
     if (!a->got) {
         if (t->o.json)
             printf("{\"accepted\":false,\"code\":\"ETIMEDOUT\",\"message\":\"no ACK within %g s\"}\n",
@@ -167,12 +153,12 @@ static int report(ctl *t, const char *what)
     }
     if (t->o.json) {
         printf("{\"accepted\":%s,\"code\":", a->accepted ? "true" : "false");
-        wgcli_json_str(stdout, a->code);
-        printf(",\"status\":%d,\"message\":", a->status);
-        wgcli_json_str(stdout, a->message);
+        json_str(stdout, a->code);
+        printf(",\"status\":%d,\"message\":", a->rc);
+        json_str(stdout, a->message);
         printf(",\"tau\":%.17g,\"t_s\":%.17g,\"steps\":%lld,\"seq\":%lld,\"client\":", a->tau,
                a->t_s, (long long)a->steps, (long long)a->cmd_seq);
-        wgcli_json_str(stdout, t->c.client);
+        json_str(stdout, t->c.client);
         printf("}\n");
     } else if (a->accepted) {
         printf("ok: %s [tau %.9g, t %.6g s]\n", a->message, a->tau, a->t_s);
@@ -184,17 +170,12 @@ static int report(ctl *t, const char *what)
 
 static int send_wait(ctl *t, wormgear_cmd_t *cmd)
 {
-    if (wgcli_send(&t->c, cmd) < 0) {
+    if (bus_send(&t->c, cmd) < 0) {
         fprintf(stderr, "wgctl: cannot publish on %sCMD\n", t->c.prefix);
         return 1;
     }
-    wgcli_wait_ack(&t->c, (int)(t->o.timeout_s * 1000));
+    bus_wait_ack(&t->c, (int)(t->o.timeout_s * 1000));
     return report(t, cmd->op);
-}
-
-static wormgear_cmd_t blank(const char *op)
-{
-    return (wormgear_cmd_t){.op = (char *)op, .unit = (char *)"", .name = (char *)""};
 }
 
 /* ---- commands ---------------------------------------------------------------- */
@@ -204,15 +185,15 @@ static int do_set(ctl *t, int n, char **args)
     char *names[WG_NPARAM + 8];
     double vals[WG_NPARAM + 8];
     if (n < 1 || n > WG_NPARAM)
-        return bad("set needs 1 to %s NAME=VALUE pairs", "29");
+        return cli_usage_error(PROG, "set needs 1 to %d NAME=VALUE pairs", WG_NPARAM);
     for (int i = 0; i < n; i++) {
         char *eq = strchr(args[i], '=');
-        if (!eq || eq == args[i] || number(eq + 1, &vals[i]))
-            return bad("set: '%s' is not NAME=NUMBER", args[i]);
+        if (!eq || eq == args[i] || cli_double(eq + 1, &vals[i]))
+            return cli_usage_error(PROG, "set: '%s' is not NAME=NUMBER", args[i]);
         *eq = 0;
         names[i] = args[i];
     }
-    wormgear_cmd_t c = blank("set");
+    wormgear_cmd_t c = bus_cmd("set");
     c.nparams = n;
     c.names = names;
     c.values = vals;
@@ -224,12 +205,12 @@ static int do_ramp(ctl *t, int n, char **args)
 {
     double from = 0, to;
     if (n < 2 || n > 3)
-        return bad("ramp: expected NAME [FROM] TO --over DURATION%s", "");
+        return cli_usage_error(PROG, "ramp: expected NAME [FROM] TO --over DURATION");
     if (!t->o.have_over)
-        return bad("ramp: --over DURATION is required (e.g. --over 60s)%s", "");
-    if (number(args[n - 1], &to) || (n == 3 && number(args[1], &from)))
-        return bad("ramp: FROM and TO must be numbers (got '%s')", args[n - 1]);
-    wormgear_cmd_t c = blank("ramp");
+        return cli_usage_error(PROG, "ramp: --over DURATION is required (e.g. --over 60s)");
+    if (cli_double(args[n - 1], &to) || (n == 3 && cli_double(args[1], &from)))
+        return cli_usage_error(PROG, "ramp: FROM and TO must be numbers (got '%s')", args[n - 1]);
+    wormgear_cmd_t c = bus_cmd("ramp");
     c.nparams = 1;
     c.names = &args[0];
     c.values = &to;
@@ -242,11 +223,10 @@ static int do_ramp(ctl *t, int n, char **args)
 
 static int do_step(ctl *t, int n, char **args)
 {
-    char *end;
-    long long v = n == 1 ? strtoll(args[0], &end, 10) : 0;
-    if (n != 1 || *end || v < 1)
-        return bad("step: expected a step count N >= 1%s", "");
-    wormgear_cmd_t c = blank("step");
+    int64_t v;
+    if (n != 1 || cli_int64(args[0], 1, INT64_MAX, &v))
+        return cli_usage_error(PROG, "step: expected a step count N >= 1");
+    wormgear_cmd_t c = bus_cmd("step");
     c.nsteps = v;
     return send_wait(t, &c);
 }
@@ -254,8 +234,8 @@ static int do_step(ctl *t, int n, char **args)
 static int do_named(ctl *t, const char *op, int n, char **args)
 {
     if (n != 1)
-        return bad("%s: expected one NAME", op);
-    wormgear_cmd_t c = blank(op);
+        return cli_usage_error(PROG, "%s: expected one NAME", op);
+    wormgear_cmd_t c = bus_cmd(op);
     c.name = args[0];
     return send_wait(t, &c);
 }
@@ -263,9 +243,9 @@ static int do_named(ctl *t, const char *op, int n, char **args)
 static int do_mode(ctl *t, int n, char **args)
 {
     double rate = 0;
-    if (n < 1 || n > 2 || (n == 2 && (number(args[1], &rate) || !(rate > 0))))
-        return bad("mode: expected realtime|fast|lockstep [RATE > 0]%s", "");
-    wormgear_cmd_t c = blank("mode");
+    if (n < 1 || n > 2 || (n == 2 && (cli_double(args[1], &rate) || !(rate > 0))))
+        return cli_usage_error(PROG, "mode: expected realtime|fast|lockstep [RATE > 0]");
+    wormgear_cmd_t c = bus_cmd("mode");
     c.name = args[0];
     c.rate = rate;
     return send_wait(t, &c);
@@ -274,8 +254,8 @@ static int do_mode(ctl *t, int n, char **args)
 static int do_simple(ctl *t, const char *op, int n)
 {
     if (n != 0)
-        return bad("%s takes no arguments", op);
-    wormgear_cmd_t c = blank(op);
+        return cli_usage_error(PROG, "%s takes no arguments", op);
+    wormgear_cmd_t c = bus_cmd(op);
     if (!strcmp(op, "reset") && t->o.reset_params)
         c.name = (char *)"params";
     return send_wait(t, &c);
@@ -301,7 +281,7 @@ static void print_params(const ctl *t, const wormgear_params_t *p)
 {
     if (t->o.json) {
         printf("{\"scene\":");
-        wgcli_json_str(stdout, p->scene);
+        json_str(stdout, p->scene);
         printf(",\"tau\":%.17g,\"omega_n_rad_s\":%.17g,\"steps_per_period\":%d,\"params\":{",
                p->tau, p->omega_n_rad_s, p->steps_per_period);
         for (int i = 0; i < p->n; i++)
@@ -322,11 +302,11 @@ static int do_get(ctl *t)
 {
     char ch[128];
     wormgear_params_t_subscription_t *s = wormgear_params_t_subscribe(
-        t->c.lcm, wgcli_channel(&t->c, "PARAMS", ch, sizeof ch), on_params, t);
-    wormgear_cmd_t c = blank("get");
-    if (wgcli_send(&t->c, &c) < 0)
+        t->c.lcm, bus_channel(&t->c, "PARAMS", ch, sizeof ch), on_params, t);
+    wormgear_cmd_t c = bus_cmd("get");
+    if (bus_send(&t->c, &c) < 0)
         return 1;
-    wgcli_wait(&t->c, (int)(t->o.timeout_s * 1000), get_done, t);
+    bus_wait(&t->c, (int)(t->o.timeout_s * 1000), get_done, t);
     int rc = 1;
     if (t->params && t->c.ack.got && t->c.ack.accepted) {
         print_params(t, t->params);
@@ -357,10 +337,10 @@ static void print_status(const ctl *t, const wormgear_status_t *s)
 {
     if (t->o.json) {
         printf("{\"scene\":");
-        wgcli_json_str(stdout, s->scene);
+        json_str(stdout, s->scene);
         printf(",\"mode\":\"%s\",\"rate\":%.17g,\"run\":\"%s\",\"health\":\"%s\",\"fault\":",
                s->mode, s->rate, s->run, s->health);
-        wgcli_json_str(stdout, s->fault);
+        json_str(stdout, s->fault);
         printf(",\"tau\":%.17g,\"t_s\":%.17g,\"omega\":%.17g,\"steps\":%lld,\"period\":%lld,"
                "\"rtf\":%.6g,\"lag_s\":%.6g,\"overruns\":%lld,\"loop_mean_us\":%.6g,"
                "\"loop_max_us\":%.6g,\"steps_per_s\":%.6g,\"cpu_share\":%.6g,"
@@ -393,8 +373,8 @@ static int do_status(ctl *t)
 {
     char ch[128];
     wormgear_status_t_subscription_t *s = wormgear_status_t_subscribe(
-        t->c.lcm, wgcli_channel(&t->c, "STATUS", ch, sizeof ch), on_status, t);
-    wgcli_wait(&t->c, (int)(t->o.timeout_s * 1000), status_done, t);
+        t->c.lcm, bus_channel(&t->c, "STATUS", ch, sizeof ch), on_status, t);
+    bus_wait(&t->c, (int)(t->o.timeout_s * 1000), status_done, t);
     wormgear_status_t_unsubscribe(t->c.lcm, s);
     if (!t->status) {
         fprintf(stderr, "wgctl: status: no STATUS on %sSTATUS within %g s\n", t->c.prefix,
@@ -414,7 +394,7 @@ static int do_params(const ctl *t)
             printf("%s{\"name\":\"%s\",\"unit\":\"%s\",\"min\":%.17g,\"max\":%.17g,"
                    "\"default\":%.17g,\"rampable\":%s,\"help\":", i ? "," : "[", r->name, r->unit,
                    r->min, r->max, r->def, r->flags & WG_PF_RAMP ? "true" : "false");
-            wgcli_json_str(stdout, r->help);
+            json_str(stdout, r->help);
             printf("}%s", i == WG_NPARAM - 1 ? "]\n" : "\n");
         } else {
             printf("%-5s %-3s [%g, %g] default %g%s: %s\n", r->name, r->unit, r->min, r->max,
@@ -427,7 +407,7 @@ static int do_params(const ctl *t)
 static int dispatch(ctl *t, const char *cmd, int n, char **args)
 {
     if (t->o.at_section && strcmp(cmd, "set"))
-        return bad("--at-section applies to set only, not to %s", cmd);
+        return cli_usage_error(PROG, "--at-section applies to set only, not to %s", cmd);
     if (!strcmp(cmd, "set")) return do_set(t, n, args);
     if (!strcmp(cmd, "ramp")) return do_ramp(t, n, args);
     if (!strcmp(cmd, "step")) return do_step(t, n, args);
@@ -435,9 +415,12 @@ static int dispatch(ctl *t, const char *cmd, int n, char **args)
     if (!strcmp(cmd, "mode")) return do_mode(t, n, args);
     if (!strcmp(cmd, "pause") || !strcmp(cmd, "resume") || !strcmp(cmd, "reset"))
         return do_simple(t, cmd, n);
-    if (!strcmp(cmd, "get")) return n ? bad("get takes no arguments%s", "") : do_get(t);
-    if (!strcmp(cmd, "status")) return n ? bad("status takes no arguments%s", "") : do_status(t);
-    return bad("unknown command '%s'", cmd);
+    if (!strcmp(cmd, "get") || !strcmp(cmd, "status")) {
+        if (n)
+            return cli_usage_error(PROG, "%s takes no arguments", cmd);
+        return !strcmp(cmd, "get") ? do_get(t) : do_status(t);
+    }
+    return cli_usage_error(PROG, "unknown command '%s'", cmd);
 }
 
 int main(int argc, char **argv)
@@ -446,26 +429,26 @@ int main(int argc, char **argv)
     char *pos[256], why[256];
     int npos;
     if (argc > 256)
-        return bad("too many arguments%s", "");
+        return cli_usage_error(PROG, "too many arguments");
     int rc = parse_opts(argc, argv, &t.o, pos, &npos);
     if (rc)
         return rc;
     if (npos == 0)
-        return bad("no command given%s", "");
+        return cli_usage_error(PROG, "no command given");
     if (!strcmp(pos[0], "params"))
-        return npos > 1 ? bad("params takes no arguments%s", "") : do_params(&t);
+        return npos > 1 ? cli_usage_error(PROG, "params takes no arguments") : do_params(&t);
     static const char *const known[] = {"set", "ramp", "step", "save", "restore", "mode",
                                         "pause", "resume", "reset", "get", "status"};
     unsigned k = 0;
     while (k < sizeof known / sizeof known[0] && strcmp(known[k], pos[0]))
         k++;
     if (k == sizeof known / sizeof known[0])
-        return bad("unknown command '%s'", pos[0]);
-    if (wgcli_open(&t.c, t.o.url, t.o.prefix, "wgctl", why, sizeof why)) {
+        return cli_usage_error(PROG, "unknown command '%s'", pos[0]);
+    if (bus_open(&t.c, t.o.url, t.o.prefix, "wgctl", why, sizeof why)) {
         fprintf(stderr, "wgctl: %s\n", why);
         return 1;
     }
     rc = dispatch(&t, pos[0], npos - 1, pos + 1);
-    wgcli_close(&t.c);
+    bus_close(&t.c);
     return rc;
 }

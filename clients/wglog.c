@@ -8,6 +8,8 @@
  * batched types (STATE, POINCARE, CONTACT). Numbers are printed with 17
  * significant digits: the CSV holds exactly what was published.
  * Exit 0, 1 unreadable log or unwritable output, 2 usage error. */
+#include "bus.h"
+#include "cli.h"
 #include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_cmd_t.h"
 #include "lcmtypes/wormgear_contact_t.h"
@@ -16,6 +18,7 @@
 #include "lcmtypes/wormgear_state_t.h"
 #include "lcmtypes/wormgear_status_t.h"
 #include "lcmtypes/wormgear_tick_t.h"
+#include "wormgear/wg_model.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -36,16 +39,14 @@ typedef struct chan {
     long msgs, samples, bad;
     long long bytes;
     int64_t t0, t1;           /* log timestamps, us */
-    int64_t last_seq;
-    int have_seq;
-    long gaps, missing, restarts;
+    bus_seq seq;              /* gaps, missing (messages lost), restarts */
     FILE *csv;
     int ncols;                /* params_t / poincare_t: columns fixed by the first message */
 } chan;
 
 typedef struct log_run {
     const char *path, *out, *pattern;
-    int export_, quiet;
+    int export_, quiet, also_summary;
     regex_t re;
     int has_re;
     chan *ch;
@@ -84,9 +85,6 @@ static void lead(FILE *f, int64_t ts, int64_t utime, int64_t seq)
     fprintf(f, "%lld,%lld,%lld", (long long)ts, (long long)utime, (long long)seq);
 }
 
-static const char *const contact_names[7] = {"mesh", "x1", "y1", "z1", "x2", "y2", "z2"};
-static const char *const kind_names[4] = {"separation", "drive_impact", "back_impact",
-                                          "back_release"};
 
 /* ---- one row writer per type: decode, write, return samples (-1 bad) -------- */
 
@@ -151,8 +149,8 @@ static int rows_contact(chan *c, const lcm_eventlog_event_t *ev)
         lead(f, ev->timestamp, m.utime, m.seq);
         ci(f, i), cd(f, m.tau[i]), cd(f, m.t_s[i]), cd(f, m.velocity[i]), ci(f, m.period[i]);
         ci(f, m.contact[i]), ci(f, m.kind[i]);
-        csc(f, m.contact[i] >= 0 && m.contact[i] < 7 ? contact_names[m.contact[i]] : "?");
-        csc(f, m.kind[i] >= 0 && m.kind[i] < 4 ? kind_names[m.kind[i]] : "?");
+        csc(f, wg_contact_name(m.contact[i]));
+        csc(f, wg_event_name(m.kind[i]));
         fputc('\n', f);
     }
     int n = m.n;
@@ -336,13 +334,7 @@ static void note_seq(chan *c, const lcm_eventlog_event_t *ev)
 {
     if (c->type == T_UNKNOWN || ev->datalen < 24 || !strcmp(types[c->type].name, "cmd_t"))
         return; /* cmd_t seq counts per client, not per channel */
-    int64_t seq = be64((const char *)ev->data + 16);
-    if (c->have_seq && seq > c->last_seq + 1)
-        c->gaps++, c->missing += seq - c->last_seq - 1;
-    else if (c->have_seq && seq <= c->last_seq)
-        c->restarts++;
-    c->last_seq = seq;
-    c->have_seq = 1;
+    bus_seq_note(&c->seq, be64((const char *)ev->data + 16));
 }
 
 static int event(log_run *r, const lcm_eventlog_event_t *ev)
@@ -410,7 +402,7 @@ static void summary(log_run *r, FILE *f)
         double s = (c->t1 - c->t0) * 1e-6, rate = c->msgs > 1 && s > 0 ? (c->msgs - 1) / s : 0;
         fprintf(f, "%-24s %-11s %8ld %9ld %11lld %9.2f %5ld %8ld %8ld %6ld\n", c->name,
                 c->type == T_UNKNOWN ? "unknown" : types[c->type].name, c->msgs, c->samples, c->bytes,
-                rate, c->gaps, c->missing, c->restarts, c->bad);
+                rate, c->seq.gaps, c->seq.missing, c->seq.restarts, c->bad);
     }
 }
 
@@ -449,44 +441,42 @@ static void usage(FILE *f)
             "Exit status: 0 ok, 1 unreadable log or unwritable output, 2 usage error.\n");
 }
 
-static int bad(const char *what, const char *val, const char *allowed)
+#define PROG "wglog"
+
+static int opt_one(void *ctx, int c, const char *a)
 {
-    fprintf(stderr, "wglog: %s '%s': %s\n(try wglog --help)\n", what, val, allowed);
-    return 2;
+    log_run *r = ctx;
+    switch (c) {
+    case 'o': r->out = a; return 0;
+    case 'c': r->pattern = a; return 0;
+    case 's': r->also_summary = 1; return 0;
+    case 'q': r->quiet = 1; return 0;
+    case 'h': usage(stdout); exit(0);
+    default: return -1;
+    }
 }
 
-static int parse(int argc, char **argv, log_run *r, int *also_summary)
+static int parse(int argc, char **argv, log_run *r)
 {
     static const struct option lo[] = {{"out", 1, 0, 'o'},     {"channel", 1, 0, 'c'},
                                        {"summary", 0, 0, 's'}, {"quiet", 0, 0, 'q'},
                                        {"help", 0, 0, 'h'},    {0, 0, 0, 0}};
-    int c;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, "o:c:sqh", lo, NULL)) != -1) {
-        switch (c) {
-        case 'o': r->out = optarg; break;
-        case 'c': r->pattern = optarg; break;
-        case 's': *also_summary = 1; break;
-        case 'q': r->quiet = 1; break;
-        case 'h': usage(stdout); exit(0);
-        default:
-            fprintf(stderr, "wglog: unknown option or missing value '%s'\n(try wglog --help)\n",
-                    argv[optind - 1]);
-            return 2;
-        }
-    }
+    int rc = cli_getopt(PROG, argc, argv, "o:c:sqh", lo, opt_one, r);
+    if (rc)
+        return rc;
     if (argc - optind != 2)
-        return bad("arguments", argc > optind ? argv[optind] : "",
-                   "expected a command (summary or export) and a log file");
+        return cli_usage_error(PROG, "arguments '%s': expected a command (summary or export) and "
+                                     "a log file", argc > optind ? argv[optind] : "");
     if (strcmp(argv[optind], "summary") && strcmp(argv[optind], "export"))
-        return bad("command", argv[optind], "one of summary, export");
+        return cli_usage_error(PROG, "command '%s': one of summary, export", argv[optind]);
     r->export_ = !strcmp(argv[optind], "export");
     r->path = argv[optind + 1];
     if (r->pattern) {
         char anchored[1024];
         snprintf(anchored, sizeof anchored, "^(%s)$", r->pattern);
         if (regcomp(&r->re, anchored, REG_EXTENDED | REG_NOSUB))
-            return bad("--channel", r->pattern, "a POSIX extended regular expression");
+            return cli_usage_error(PROG, "--channel '%s': a POSIX extended regular expression",
+                                   r->pattern);
         r->has_re = 1;
     }
     return 0;
@@ -495,7 +485,7 @@ static int parse(int argc, char **argv, log_run *r, int *also_summary)
 int main(int argc, char **argv)
 {
     log_run r = {.out = "."};
-    int also = 0, rc = parse(argc, argv, &r, &also);
+    int rc = parse(argc, argv, &r);
     if (!rc && r.export_ && mkdir(r.out, 0777) && errno != EEXIST) {
         fprintf(stderr, "wglog: cannot create --out directory '%s': %s\n", r.out, strerror(errno));
         rc = 1;
@@ -503,7 +493,7 @@ int main(int argc, char **argv)
     if (!rc)
         rc = read_log(&r);
     rc |= close_all(&r);
-    if (!rc && (!r.export_ || also))
+    if (!rc && (!r.export_ || r.also_summary))
         summary(&r, stdout);
     for (int i = 0; i < r.nch; i++)
         free(r.ch[i].name);

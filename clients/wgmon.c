@@ -7,13 +7,15 @@
  * the analysis library), and dropped-message counts from seq gaps. A daemon
  * restart shows as a seq reset. Headless: --once / --frames N print frames
  * as plain text. Exit 0, 1 no STATUS heard (--once/--frames), 2 usage. */
-#include "wgcli.h"
+#include "bus.h"
+#include "cli.h"
 
 #include "lcmtypes/wormgear_contact_t.h"
 #include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_poincare_t.h"
 #include "lcmtypes/wormgear_state_t.h"
 #include "lcmtypes/wormgear_status_t.h"
+#include "wormgear/wg_model.h"
 #include "wormgear/wg_regime.h"
 
 #include <getopt.h>
@@ -26,7 +28,6 @@
 #include <sys/ioctl.h>
 #include <sys/select.h>
 #include <termios.h>
-#include <time.h>
 #include <unistd.h>
 
 enum { TR_CAP = 1 << 17, PC_CAP = 1 << 15, NKEY = 8 };
@@ -45,8 +46,8 @@ typedef struct opts {
 } opts;
 
 typedef struct seqc {      /* per-channel counters */
-    int64_t last, count, dropped, restarts, bad;
-    int have;
+    bus_seq seq;          /* .missing: messages dropped */
+    int64_t count, bad;
 } seqc;
 
 typedef struct status_copy {
@@ -58,7 +59,7 @@ typedef struct status_copy {
 } status_copy;
 
 typedef struct mon {
-    wgcli c;
+    bus c;
     opts o;
     seqc sc[NCH];
     void *subs[NCH];
@@ -77,18 +78,11 @@ typedef struct mon {
     long pc_n;
     double ys[WG_TRACK_LEN * WG_NSTATE_MAX]; /* last consecutive states (stride ydim) */
     int ny, ydim;
-    long contacts[7][4];          /* CONTACT events in the session by contact and kind */
+    long contacts[WG_NCONTACT][WG_NEVKIND]; /* CONTACT events in the session */
     int rows, cols, frozen;
     struct termios tio;
     int raw;
 } mon;
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 /* ---- options --------------------------------------------------------------- */
 
@@ -111,20 +105,39 @@ static void usage(FILE *f)
             "  --plain            no ANSI escapes (default when stdout is not a terminal)\n"
             "  -h, --help         this text\n\n"
             "Exit status: 0 ok, 1 no STATUS heard (--once/--frames), 2 usage error.\n",
-            WGCLI_DEFAULT_URL, WGCLI_DEFAULT_PREFIX);
+            BUS_DEFAULT_URL, BUS_DEFAULT_PREFIX);
 }
 
-static int bad(const char *opt, const char *val, const char *allowed)
+#define PROG "wgmon"
+
+static int opt_size(const char *a, opts *o)
 {
-    fprintf(stderr, "wgmon: %s '%s': %s\n(try wgmon --help)\n", opt, val, allowed);
-    return 2;
+    if (sscanf(a, "%dx%d%c", &o->cols, &o->rows, (char[2]){0}) != 2 || o->cols < 40 ||
+        o->cols > 1000 || o->rows < 16 || o->rows > 500)
+        return cli_usage_error(PROG, "--size '%s': %s", a,
+                               "COLSxROWS with COLS in [40, 1000], ROWS in [16, 500]");
+    return 0;
 }
 
-static int num(const char *s, double lo, double hi, double *v)
+/* One option c with argument a: 0, CLI_EUSAGE (reported), or -1 unknown. */
+static int opt_one(void *ctx, int c, const char *a)
 {
-    char *end;
-    *v = strtod(s, &end);
-    return end == s || *end || !isfinite(*v) || *v < lo || *v > hi ? -1 : 0;
+    opts *o = ctx;
+    switch (c) {
+    case 'u': o->url = a; return 0;
+    case 'p': o->prefix = a; return 0;
+    case 'w': return cli_opt_num(PROG, "--window", a, 0.5, 600, "seconds in [0.5, 600]", &o->window_s);
+    case 'f': return cli_opt_num(PROG, "--fps", a, 0.2, 30, "frames per second in [0.2, 30]", &o->fps);
+    case 't': return cli_opt_num(PROG, "--tol", a, 1e-300, 1, "a tolerance in (0, 1]", &o->tol);
+    case '1': o->frames = 1; return 0;
+    case 'n': return cli_opt_int(PROG, "--frames", a, 1, 100000, "an integer in [1, 100000]", &o->frames);
+    case 'T':
+        return cli_opt_num(PROG, "--timeout", a, 0.1, 3600, "seconds in [0.1, 3600]", &o->timeout_s);
+    case 's': return opt_size(a, o);
+    case 'P': o->plain = 1; return 0;
+    case 'h': usage(stdout); exit(0);
+    default: return -1;
+    }
 }
 
 static int parse_opts(int argc, char **argv, opts *o)
@@ -135,37 +148,11 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"frames", 1, 0, 'n'}, {"timeout", 1, 0, 'T'}, {"size", 1, 0, 's'},
         {"plain", 0, 0, 'P'},  {"help", 0, 0, 'h'},   {0, 0, 0, 0}};
     *o = (opts){.window_s = 5, .fps = 4, .timeout_s = 5, .tol = 1e-6};
-    double v;
-    int c;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
-        switch (c) {
-        case 'u': o->url = optarg; break;
-        case 'p': o->prefix = optarg; break;
-        case 'w': if (num(optarg, 0.5, 600, &o->window_s)) return bad("--window", optarg, "seconds in [0.5, 600]"); break;
-        case 'f': if (num(optarg, 0.2, 30, &o->fps)) return bad("--fps", optarg, "frames per second in [0.2, 30]"); break;
-        case 't': if (num(optarg, 1e-300, 1, &o->tol)) return bad("--tol", optarg, "a tolerance in (0, 1]"); break;
-        case '1': o->frames = 1; break;
-        case 'n':
-            if (num(optarg, 1, 100000, &v) || v != floor(v)) return bad("--frames", optarg, "an integer in [1, 100000]");
-            o->frames = (int)v;
-            break;
-        case 'T': if (num(optarg, 0.1, 3600, &o->timeout_s)) return bad("--timeout", optarg, "seconds in [0.1, 3600]"); break;
-        case 's':
-            if (sscanf(optarg, "%dx%d%c", &o->cols, &o->rows, (char[2]){0}) != 2 || o->cols < 40 ||
-                o->cols > 1000 || o->rows < 16 || o->rows > 500)
-                return bad("--size", optarg, "COLSxROWS with COLS in [40, 1000], ROWS in [16, 500]");
-            break;
-        case 'P': o->plain = 1; break;
-        case 'h': usage(stdout); exit(0);
-        default:
-            fprintf(stderr, "wgmon: unknown option or missing value '%s'\n(try wgmon --help)\n",
-                    argv[optind - 1]);
-            return 2;
-        }
-    }
+    int rc = cli_getopt(PROG, argc, argv, "h", lo, opt_one, o);
+    if (rc)
+        return rc;
     if (optind < argc)
-        return bad("argument", argv[optind], "wgmon takes no arguments");
+        return cli_usage_error(PROG, "argument '%s': wgmon takes no arguments", argv[optind]);
     return 0;
 }
 
@@ -176,21 +163,12 @@ static void ask_params(mon *m);
 /* Count a message's seq on channel k; a backwards seq is a daemon restart. */
 static void seq_note(mon *m, int k, int64_t seq)
 {
-    seqc *s = &m->sc[k];
-    s->count++;
-    if (s->have && seq > s->last + 1)
-        s->dropped += seq - s->last - 1;
-    else if (s->have && seq <= s->last) {
-        s->restarts++;
-        if (k == CH_STATUS)
-            m->restarts++, ask_params(m);
-        if (k == CH_POINCARE)
-            m->ny = 0;
-    }
-    if (k == CH_POINCARE && s->have && seq != s->last + 1)
+    m->sc[k].count++;
+    int jump = bus_seq_note(&m->sc[k].seq, seq);
+    if (jump < 0 && k == CH_STATUS)
+        m->restarts++, ask_params(m);
+    if (jump && k == CH_POINCARE)
         m->ny = 0; /* the period detection needs consecutive sections */
-    s->last = seq;
-    s->have = 1;
 }
 
 #define CPY(dst, src) snprintf((dst), sizeof(dst), "%s", (src) ? (src) : "")
@@ -199,8 +177,8 @@ static void seq_note(mon *m, int k, int64_t seq)
  * ACK is not awaited. */
 static void ask_params(mon *m)
 {
-    wormgear_cmd_t c = {.op = (char *)"get", .unit = (char *)"", .name = (char *)""};
-    wgcli_send(&m->c, &c);
+    wormgear_cmd_t c = bus_cmd("get");
+    bus_send(&m->c, &c);
 }
 
 static void on_status(mon *m, const wormgear_status_t *s)
@@ -216,7 +194,7 @@ static void on_status(mon *m, const wormgear_status_t *s)
     c->overruns = s->overruns; c->dropped = s->msgs_dropped; c->acc = s->cmds_accepted;
     c->ref = s->cmds_refused; c->N = s->steps_per_period; c->ramp = s->ramp_active;
     m->have_status = 1;
-    m->status_at = now_s();
+    m->status_at = cli_mono_s();
 }
 
 static void on_params(mon *m, const wormgear_params_t *p)
@@ -239,7 +217,7 @@ static void on_params(mon *m, const wormgear_params_t *p)
 
 static void on_state(mon *m, const wormgear_state_t *s)
 {
-    double t = now_s();
+    double t = cli_mono_s();
     for (int i = 0; i < s->n; i++) {
         long j = m->tr_n++ % TR_CAP;
         m->tr_t[j] = t;
@@ -249,7 +227,7 @@ static void on_state(mon *m, const wormgear_state_t *s)
 
 static void on_poincare(mon *m, const wormgear_poincare_t *p)
 {
-    double t = now_s();
+    double t = cli_mono_s();
     int dim = p->nstate > WG_NSTATE_MAX ? WG_NSTATE_MAX : p->nstate;
     if (dim != m->ydim)
         m->ny = 0, m->ydim = dim;
@@ -271,7 +249,8 @@ static void on_poincare(mon *m, const wormgear_poincare_t *p)
 static void on_contact(mon *m, const wormgear_contact_t *c)
 {
     for (int i = 0; i < c->n; i++)
-        if (c->contact[i] >= 0 && c->contact[i] < 7 && c->kind[i] >= 0 && c->kind[i] < 4)
+        if (c->contact[i] >= 0 && c->contact[i] < WG_NCONTACT && c->kind[i] >= 0 &&
+            c->kind[i] < WG_NEVKIND)
             m->contacts[c->contact[i]][c->kind[i]]++;
 }
 
@@ -386,7 +365,7 @@ static void draw_header(mon *m, frame *f, double now)
 {
     const status_copy *s = &m->st;
     fr_put(f, 1, "wormgear monitor");
-    fr_put(f, 0, "  %s* on %s", m->c.prefix, m->o.url ? m->o.url : wgcli_default_url());
+    fr_put(f, 0, "  %s* on %s", m->c.prefix, m->o.url ? m->o.url : bus_default_url());
     fr_nl(f);
     if (!m->have_status) {
         fr_put(f, 33, "waiting for %sSTATUS ... (is wormgeard running with this URL and prefix?)", m->c.prefix);
@@ -439,12 +418,11 @@ static void draw_motion(mon *m, frame *f, double now)
         int c = m->pc_mot[j % PC_CAP];
         mot[c < 0 ? 0 : c > 2 ? 2 : c]++;
     }
-    static const char *const cls[3] = {"no_impact", "single_sided", "double_sided"};
     int worst = mot[2] ? 2 : mot[1] ? 1 : 0;
     fr_put(f, 0, "motion  daemon: %s, %.3g impacts/period", m->st.motion, m->st.imp_pp);
     if (n)
         fr_put(f, 0, "; last %.3g s: %s, %.3g impacts/period (periods none/single/double "
-               "%ld/%ld/%ld)", m->o.window_s, cls[worst], (double)imp / n, mot[0], mot[1], mot[2]);
+               "%ld/%ld/%ld)", m->o.window_s, wg_motion_name(worst), (double)imp / n, mot[0], mot[1], mot[2]);
     fr_nl(f);
     double resid = 0;
     int per = m->ny >= 16 ? wg_period_detect(m->ys, m->ny, m->ydim, WG_PERIOD_MAX,
@@ -467,17 +445,17 @@ static void draw_msgs(mon *m, frame *f)
     long drop = 0;
     fr_put(f, 0, "msgs   ");
     for (int k = 0; k < NCH; k++) {
-        drop += m->sc[k].dropped;
+        drop += m->sc[k].seq.missing;
         fr_put(f, 0, " %s %lld", ch_suffix[k], (long long)m->sc[k].count);
-        if (m->sc[k].dropped)
-            fr_put(f, 33, " (-%lld)", (long long)m->sc[k].dropped);
+        if (m->sc[k].seq.missing)
+            fr_put(f, 33, " (-%lld)", (long long)m->sc[k].seq.missing);
         if (m->sc[k].bad)
             fr_put(f, 31, " (%lld undecodable)", (long long)m->sc[k].bad);
     }
     fr_put(f, drop ? 33 : 0, "  dropped %ld", drop);
     fr_put(f, 0, "  daemon-side %lld  cmds %lld/%lld refused  mesh impacts %ld",
            (long long)m->st.dropped, (long long)m->st.acc, (long long)m->st.ref,
-           m->contacts[0][1] + m->contacts[0][2]);
+           m->contacts[WG_C_MESH][WG_EV_DRIVE_IMPACT] + m->contacts[WG_C_MESH][WG_EV_BACK_IMPACT]);
     fr_nl(f);
 }
 
@@ -591,7 +569,7 @@ static void draw_plots(mon *m, frame *f, double now, int h)
 
 static void render(mon *m, frame *f)
 {
-    double now = now_s();
+    double now = cli_mono_s();
     f->len = 0, f->col = 0, f->cols = m->cols;
     if (!f->plain)
         fr_raw(f, "\033[H", 3);
@@ -671,7 +649,7 @@ static void key(mon *m)
 static void pump(mon *m, double until)
 {
     int lfd = lcm_get_fileno(m->c.lcm), kfd = m->raw ? STDIN_FILENO : -1;
-    for (double left; !g_quit && (left = until - now_s()) > 0;) {
+    for (double left; !g_quit && (left = until - cli_mono_s()) > 0;) {
         fd_set set;
         FD_ZERO(&set);
         FD_SET(lfd, &set);
@@ -691,16 +669,16 @@ static void pump(mon *m, double until)
 static int run(mon *m)
 {
     frame f = {.plain = m->o.plain};
-    double next = now_s();
+    double next = cli_mono_s();
     if (m->o.frames) { /* headless: first wait for a heartbeat */
-        double end = now_s() + m->o.timeout_s;
-        while (!m->have_status && !g_quit && now_s() < end)
-            pump(m, fmin(end, now_s() + 0.05));
+        double end = cli_mono_s() + m->o.timeout_s;
+        while (!m->have_status && !g_quit && cli_mono_s() < end)
+            pump(m, fmin(end, cli_mono_s() + 0.05));
         /* a little data for the plots, PARAMS and the local period detection */
-        for (end = now_s() + 1.5; m->have_status && !g_quit && now_s() < end &&
+        for (end = cli_mono_s() + 1.5; m->have_status && !g_quit && cli_mono_s() < end &&
                                   (m->ny < 24 || !m->have_params);)
-            pump(m, fmin(end, now_s() + 0.05));
-        next = now_s();
+            pump(m, fmin(end, cli_mono_s() + 0.05));
+        next = cli_mono_s();
     }
     term_enter(m);
     for (int n = 0; !g_quit && (!m->o.frames || n < m->o.frames); n++) {
@@ -723,12 +701,12 @@ static int run(mon *m)
 static int setup(mon *m)
 {
     char why[256], ch[128];
-    if (wgcli_open(&m->c, m->o.url, m->o.prefix, "wgmon", why, sizeof why)) {
+    if (bus_open(&m->c, m->o.url, m->o.prefix, "wgmon", why, sizeof why)) {
         fprintf(stderr, "wgmon: %s\n", why);
         return 1;
     }
     for (int k = 0; k < NCH; k++)
-        m->subs[k] = lcm_subscribe(m->c.lcm, wgcli_channel(&m->c, ch_suffix[k], ch, sizeof ch),
+        m->subs[k] = lcm_subscribe(m->c.lcm, bus_channel(&m->c, ch_suffix[k], ch, sizeof ch),
                                    on_raw, m);
     ask_params(m);
     m->tr_t = malloc(sizeof(double) * TR_CAP);
@@ -747,7 +725,7 @@ static int setup(mon *m)
 
 static void teardown(mon *m)
 {
-    wgcli_close(&m->c);
+    bus_close(&m->c);
     free(m->tr_t), free(m->tr_x), free(m->pc_t), free(m->pc_x), free(m->pc_v);
     free(m->pc_imp), free(m->pc_mot);
 }

@@ -6,10 +6,13 @@
  * impacts-per-period curve. Dropped messages are counted and the recording
  * re-waited; refusals are reported and the point skipped.
  * Exit 0, 1 runtime error (no daemon, stalled), 2 usage error, 130 Ctrl-C. */
+#include "cli.h"
 #include "plot.h"
-#include "rig_point.h"
+#include "rig_ana.h"
+#include "rig_imp.h"
+#include "sweep_md.h"
 #include "sweep_out.h"
-#include "wgcli.h"
+#include "bus.h"
 
 #include "lcmtypes/wormgear_contact_t.h"
 #include "lcmtypes/wormgear_params_t.h"
@@ -23,7 +26,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 enum { REC_CAP = 8192, RAMP_MAX = 1 << 20, STOPPED = -1000 };
@@ -50,7 +52,7 @@ typedef struct collector { /* what the POINCARE handler does with sections */
 typedef struct window { int64_t p0, p1; int n; } window; /* periods recorded for a point */
 
 typedef struct rig {
-    wgcli c;
+    bus c;
     opts o;
     wg_sweep_opts so;
     wg_params base;
@@ -64,21 +66,12 @@ typedef struct rig {
     const char *phase_dir;
     int phase_idx;
     double phase_value;
-    int64_t pc_seq, ct_seq;
-    int pc_have, ct_have;
-    long pc_drop, ct_drop, refusals, timeouts, skipped;
-    int64_t *imp;             /* periods of mesh impacts from CONTACT */
-    size_t nimp, capimp;
+    bus_seq pc_seq, ct_seq;   /* POINCARE, CONTACT: .missing = dropped */
+    long refusals, timeouts, skipped;
+    rig_imp imp;              /* mesh impacts from CONTACT */
     double t0;
     int done, total;
 } rig;
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 static void on_signal(int sig) { (void)sig, g_stop = 1; }
 
@@ -115,72 +108,57 @@ static void usage(FILE *f)
         "  --quiet             no progress bar on stderr\n"
         "  -h, --help          this text\n\n"
         "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted (partial outputs).\n",
-        WGCLI_DEFAULT_URL, WGCLI_DEFAULT_PREFIX, REC_CAP);
+        BUS_DEFAULT_URL, BUS_DEFAULT_PREFIX, REC_CAP);
 }
 
-static int bad(const char *opt, const char *val, const char *allowed)
-{
-    fprintf(stderr, "wgrig: %s '%s': %s\n(try wgrig --help)\n", opt, val, allowed);
-    return 2;
-}
+#define PROG "wgrig"
 
-static int num(const char *s, double lo, double hi, double *v)
+/* --ramp: a duration > 0 (cli_duration). */
+static int opt_ramp(opts *o, const char *a)
 {
-    char *end;
-    *v = strtod(s, &end);
-    return end == s || *end || !isfinite(*v) || *v < lo || *v > hi ? -1 : 0;
-}
-
-static int inum(const char *s, int lo, int hi, int *v)
-{
-    double d;
-    if (num(s, lo, hi, &d) || d != floor(d))
-        return -1;
-    *v = (int)d;
+    if (cli_duration(a, &o->ramp, &o->unit) || !isfinite(o->ramp) || !(o->ramp > 0))
+        return cli_usage_error(PROG, "--ramp '%s': %s", a,
+                               "a positive duration: 2s, 500ms, 1min, 20000tau");
     return 0;
 }
 
-/* "2s", "500ms", "1min", "20000tau": value and unit ("s" or "tau"). */
-static int duration(const char *s, double *v, const char **unit)
+static int opt_dir(opts *o, const char *a)
 {
-    char *end;
-    *v = strtod(s, &end);
-    static const struct { const char *suf; double f; const char *u; } t[] = {
-        {"s", 1, "s"}, {"ms", 1e-3, "s"}, {"min", 60, "s"}, {"tau", 1, "tau"}};
-    for (unsigned i = 0; end != s && i < sizeof t / sizeof t[0]; i++)
-        if (!strcmp(end, t[i].suf) && isfinite(*v) && *v > 0) {
-            *v *= t[i].f, *unit = t[i].u;
-            return 0;
-        }
-    return -1;
+    o->up = !strcmp(a, "up") || !strcmp(a, "both");
+    o->down = !strcmp(a, "down") || !strcmp(a, "both");
+    return o->up || o->down ? 0 : cli_usage_error(PROG, "--dir '%s': one of up, down, both", a);
 }
 
-static int opt_one(opts *o, int c, const char *a)
+static int opt_one(void *ctx, int c, const char *a)
 {
+    opts *o = ctx;
     switch (c) {
     case 'u': o->url = a; return 0;
     case 'p': o->prefix = a; return 0;
     case 'P': o->param = a; return 0;
     case 'o': o->out = a; return 0;
-    case 'f': o->have_from = 1; return num(a, -1e300, 1e300, &o->from) ? bad("--from", a, "a number") : 0;
-    case 't': o->have_to = 1; return num(a, -1e300, 1e300, &o->to) ? bad("--to", a, "a number") : 0;
-    case 'n': return inum(a, 2, 10000, &o->points) ? bad("--points", a, "an integer in [2, 10000]") : 0;
-    case 'd':
-        o->up = !strcmp(a, "up") || !strcmp(a, "both");
-        o->down = !strcmp(a, "down") || !strcmp(a, "both");
-        return o->up || o->down ? 0 : bad("--dir", a, "one of up, down, both");
-    case 's': return inum(a, 0, 1000000, &o->settle) ? bad("--settle", a, "mesh periods, an integer in [0, 1000000]") : 0;
-    case 'r': return inum(a, 64, REC_CAP, &o->record) ? bad("--record", a, "mesh periods, an integer in [64, 8192]") : 0;
-    case 'e': return inum(a, 0, 100, &o->extend) ? bad("--extend", a, "an integer in [0, 100]") : 0;
-    case 'R': return duration(a, &o->ramp, &o->unit) ? bad("--ramp", a, "a positive duration: 2s, 500ms, 1min, 20000tau") : 0;
-    case 'b': return inum(a, 2, 10000, &o->bins) ? bad("--bins", a, "an integer in [2, 10000]") : 0;
-    case 'T': return num(a, 1e-300, 1, &o->tol) ? bad("--tol", a, "a tolerance in (0, 1]") : 0;
+    case 'f':
+        o->have_from = 1;
+        return cli_opt_num(PROG, "--from", a, -1e300, 1e300, "a number", &o->from);
+    case 't': o->have_to = 1; return cli_opt_num(PROG, "--to", a, -1e300, 1e300, "a number", &o->to);
+    case 'n': return cli_opt_int(PROG, "--points", a, 2, 10000, "an integer in [2, 10000]", &o->points);
+    case 'd': return opt_dir(o, a);
+    case 's':
+        return cli_opt_int(PROG, "--settle", a, 0, 1000000,
+                           "mesh periods, an integer in [0, 1000000]", &o->settle);
+    case 'r':
+        return cli_opt_int(PROG, "--record", a, 64, REC_CAP,
+                           "mesh periods, an integer in [64, 8192]", &o->record);
+    case 'e': return cli_opt_int(PROG, "--extend", a, 0, 100, "an integer in [0, 100]", &o->extend);
+    case 'R': return opt_ramp(o, a);
+    case 'b': return cli_opt_int(PROG, "--bins", a, 2, 10000, "an integer in [2, 10000]", &o->bins);
+    case 'T': return cli_opt_num(PROG, "--tol", a, 1e-300, 1, "a tolerance in (0, 1]", &o->tol);
     case 'L': o->lle = 0; return 0;
     case 'F': o->fast = 1; return 0;
     case 'K': o->keep = 1; return 0;
-    case 'w': return num(a, 1e-3, 600, &o->timeout_s) ? bad("--timeout", a, "seconds in (0, 600]") : 0;
-    case 'S': return num(a, 0.1, 3600, &o->stall_s) ? bad("--stall", a, "seconds in [0.1, 3600]") : 0;
-    case 'x': return inum(a, 0, 1000, &o->retries) ? bad("--retries", a, "an integer in [0, 1000]") : 0;
+    case 'w': return cli_opt_num(PROG, "--timeout", a, 1e-3, 600, "seconds in (0, 600]", &o->timeout_s);
+    case 'S': return cli_opt_num(PROG, "--stall", a, 0.1, 3600, "seconds in [0.1, 3600]", &o->stall_s);
+    case 'x': return cli_opt_int(PROG, "--retries", a, 0, 1000, "an integer in [0, 1000]", &o->retries);
     case 'q': o->quiet = 1; return 0;
     case 'h': usage(stdout); exit(0);
     default: return -1;
@@ -199,35 +177,22 @@ static int parse_opts(int argc, char **argv, opts *o)
     *o = (opts){.param = "omega", .out = "rig", .unit = "s", .points = 21, .up = 1, .down = 1,
                 .settle = 300, .record = 128, .extend = 3, .lle = 1, .timeout_s = 3,
                 .stall_s = 10, .retries = 5};
-    int c, rc;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1)
-        if ((rc = opt_one(o, c, optarg)))
-            return rc < 0 ? (fprintf(stderr, "wgrig: unknown option or missing value '%s'\n"
-                                             "(try wgrig --help)\n", argv[optind - 1]), 2)
-                          : rc;
+    int rc = cli_getopt(PROG, argc, argv, "h", lo, opt_one, o);
+    if (rc)
+        return rc;
     if (optind < argc)
-        return bad("argument", argv[optind], "wgrig takes options only");
+        return cli_usage_error(PROG, "argument '%s': wgrig takes options only", argv[optind]);
     if (!o->have_from || !o->have_to)
-        return bad(o->have_from ? "--to" : "--from", "", "required (the range of the sweep)");
+        return cli_usage_error(PROG, "%s '': required (the range of the sweep)",
+                               o->have_from ? "--to" : "--from");
     if (o->from == o->to)
-        return bad("--to", "", "must differ from --from");
+        return cli_usage_error(PROG, "--to '': must differ from --from");
     if (!o->bins)
         o->bins = o->points;
     return 0;
 }
 
 /* ---- messages ---------------------------------------------------------------- */
-
-/* Count a gap in a channel's seq; 1 if messages were lost. */
-static int seq_gap(int64_t seq, int64_t *last, int *have, long *dropped)
-{
-    int gap = *have && seq > *last + 1;
-    if (gap)
-        *dropped += seq - *last - 1;
-    *last = seq, *have = 1;
-    return gap;
-}
 
 static void write_section(rig *r, const wormgear_poincare_t *m, int i, const char *what)
 {
@@ -246,7 +211,7 @@ static void collect_one(rig *r, const wormgear_poincare_t *m, int i)
     if (!c->active || m->tau[i] <= c->min_tau || m->nstate != r->nstate ||
         m->period[i] <= c->after_period)
         return;
-    c->last_at = now_s();
+    c->last_at = cli_mono_s();
     if (c->have_last && m->period[i] != c->last_period + 1 && !c->ramp && c->skip == 0 &&
         r->rec.n > 0) {
         r->rec.n = 0; /* a gap: the period test needs consecutive sections */
@@ -275,14 +240,14 @@ static void collect_one(rig *r, const wormgear_poincare_t *m, int i)
 
 static void on_poincare(rig *r, const wormgear_poincare_t *m)
 {
-    seq_gap(m->seq, &r->pc_seq, &r->pc_have, &r->pc_drop);
+    bus_seq_note(&r->pc_seq, m->seq);
     for (int i = 0; i < m->n; i++)
         collect_one(r, m, i);
 }
 
 static void on_contact(rig *r, const wormgear_contact_t *m)
 {
-    if (seq_gap(m->seq, &r->ct_seq, &r->ct_have, &r->ct_drop) && r->col.active &&
+    if (bus_seq_note(&r->ct_seq, m->seq) > 0 && r->col.active &&
         !r->col.ramp && m->n > 0) {
         /* lost impacts: record again, from periods after every event the
          * lost message can have held */
@@ -291,16 +256,11 @@ static void on_contact(rig *r, const wormgear_contact_t *m)
         r->col.after_period = m->period[m->n - 1];
     }
     for (int i = 0; i < m->n; i++) {
-        if (m->contact[i] != 0 || (m->kind[i] != 1 && m->kind[i] != 2))
+        if (m->contact[i] != WG_C_MESH ||
+            (m->kind[i] != WG_EV_DRIVE_IMPACT && m->kind[i] != WG_EV_BACK_IMPACT))
             continue; /* mesh drive- or back-side impacts only */
-        if (r->nimp == r->capimp) {
-            size_t cap = r->capimp ? 2 * r->capimp : 4096;
-            int64_t *p = cap < (size_t)1 << 28 ? realloc(r->imp, cap * sizeof *p) : NULL;
-            if (!p)
-                return;
-            r->imp = p, r->capimp = cap;
-        }
-        r->imp[r->nimp++] = m->period[i];
+        if (rig_imp_push(&r->imp, m->period[i]))
+            return;
     }
 }
 
@@ -357,7 +317,7 @@ static int command(rig *r, wormgear_cmd_t *cmd, const char *what)
 {
     int refused = 0;
     for (int attempt = 0; attempt <= r->o.retries && !g_stop; attempt++) {
-        if (wgcli_send(&r->c, cmd) < 0 || wgcli_wait_ack(&r->c, (int)(r->o.timeout_s * 1000))) {
+        if (bus_send(&r->c, cmd) < 0 || bus_wait_ack(&r->c, (int)(r->o.timeout_s * 1000))) {
             r->timeouts++;
             continue;
         }
@@ -367,7 +327,7 @@ static int command(rig *r, wormgear_cmd_t *cmd, const char *what)
         fprintf(stderr, "\nwgrig: %s refused (%s): %s\n", what, r->c.ack.code, r->c.ack.message);
         if (strcmp(r->c.ack.code, "ESTATE") != 0)
             return 1; /* permanent: bad name or value; ESTATE ("not now") is retried */
-        wgcli_wait(&r->c, 200, NULL, NULL);
+        bus_wait(&r->c, 200, NULL, NULL);
     }
     if (refused)
         return 1;
@@ -376,18 +336,13 @@ static int command(rig *r, wormgear_cmd_t *cmd, const char *what)
     return -1;
 }
 
-static wormgear_cmd_t blank(const char *op)
-{
-    return (wormgear_cmd_t){.op = (char *)op, .unit = (char *)"", .name = (char *)""};
-}
-
 /* Set the swept parameter at the next Poincare section (psi = 0), as the
  * offline chain changes it: each point starts from the previous point's
  * state on the section, not from wherever in the period the command lands. */
 static int set_value(rig *r, double v)
 {
     char *names[1] = {(char *)r->o.param}, what[96];
-    wormgear_cmd_t c = blank("set");
+    wormgear_cmd_t c = bus_cmd("set");
     c.nparams = 1, c.names = names, c.values = &v, c.at_section = 1;
     snprintf(what, sizeof what, "set %s=%.10g", r->o.param, v);
     return command(r, &c, what);
@@ -395,7 +350,7 @@ static int set_value(rig *r, double v)
 
 static int set_mode(rig *r, const char *mode, double rate)
 {
-    wormgear_cmd_t c = blank("mode");
+    wormgear_cmd_t c = bus_cmd("mode");
     c.name = (char *)mode, c.rate = rate;
     return command(r, &c, "mode");
 }
@@ -403,11 +358,11 @@ static int set_mode(rig *r, const char *mode, double rate)
 /* The daemon's parameters, model and N (a `get` makes PARAMS come now). */
 static int fetch_params(rig *r)
 {
-    wormgear_cmd_t c = blank("get");
+    wormgear_cmd_t c = bus_cmd("get");
     if (command(r, &c, "get"))
         return -1;
-    if (wgcli_wait(&r->c, (int)(r->o.timeout_s * 1000), flag_true, &r->have_params) ||
-        (r->o.fast && wgcli_wait(&r->c, 3000, flag_true, &r->have_status))) {
+    if (bus_wait(&r->c, (int)(r->o.timeout_s * 1000), flag_true, &r->have_params) ||
+        (r->o.fast && bus_wait(&r->c, 3000, flag_true, &r->have_status))) {
         fprintf(stderr, "wgrig: no %s on %s%s\n", r->have_params ? "STATUS" : "PARAMS", r->c.prefix,
                 r->have_params ? "STATUS" : "PARAMS");
         return -1;
@@ -419,13 +374,13 @@ static int fetch_params(rig *r)
 static int collect(rig *r, int skip, int want)
 {
     collector *c = &r->col;
-    c->skip = skip, c->want = want, c->have_last = 0, c->active = 1, c->last_at = now_s();
+    c->skip = skip, c->want = want, c->have_last = 0, c->active = 1, c->last_at = cli_mono_s();
     c->after_period = -1;
     r->rec.n = 0;
     long breaks0 = c->breaks;
     while (c->active && !g_stop) {
-        wgcli_wait(&r->c, 100, NULL, NULL);
-        if (now_s() - c->last_at > r->o.stall_s) {
+        bus_wait(&r->c, 100, NULL, NULL);
+        if (cli_mono_s() - c->last_at > r->o.stall_s) {
             fprintf(stderr, "\nwgrig: no POINCARE section for %g s (daemon paused, stopped, or "
                             "publishing elsewhere?)\n", r->o.stall_s);
             break;
@@ -458,8 +413,8 @@ static void progress(rig *r, const char *dir, const wg_point *pt)
     int tty = isatty(STDERR_FILENO);
     fprintf(stderr, "%s[%s] %d/%d %s %s=%.6g %s %s %.3g imp/T | drops %ld refused %ld | %.0f s%s",
             tty ? "\r" : "", bar, r->done, r->total, dir, r->o.param, pt->value,
-            out_label(pt, lab, sizeof lab), wg_motion_name(pt->motion), pt->impacts, r->pc_drop,
-            r->refusals, now_s() - r->t0, tty ? "\033[K" : "\n");
+            out_label(pt, lab, sizeof lab), wg_motion_name(pt->motion), pt->impacts, r->pc_seq.missing,
+            r->refusals, cli_mono_s() - r->t0, tty ? "\033[K" : "\n");
 }
 
 /* Analyse the point at value v the way wg_point_run does: settle, record,
@@ -492,7 +447,7 @@ static int run_point(rig *r, double v, wg_point *pt, window *win)
             fprintf(stderr, "\nwgrig: %s=%g: %s\n", r->o.param, v, why);
         return -1;
     }
-    rig_point_fill(&r->rec, pt);
+    rig_rec_fill(&r->rec, pt);
     pt->value = v;
     if (r->rec.n)
         *win = (window){r->rec.period[0], r->rec.period[r->rec.n - 1], r->rec.n};
@@ -514,89 +469,81 @@ static int run_chain(rig *r, wg_chain *ch, window *win)
     return g_stop ? -1 : 0;
 }
 
-/* Ramp one direction, then bin the sections into the chain's points. */
-static int run_ramp(rig *r, wg_chain *ch, window *win)
+/* Send the ramp a -> b and record its sections (value of each in rval):
+ * 0, 1 when the recording was cut short (stalled, interrupted), or -1 with
+ * nothing recorded. */
+static int ramp_record(rig *r, double a, double b)
 {
-    double a = wg_chain_value(ch, 0), b = wg_chain_value(ch, ch->npts - 1), dur_tau;
     char *names[1] = {(char *)r->o.param};
-    wormgear_cmd_t c = blank("ramp");
+    wormgear_cmd_t c = bus_cmd("ramp");
     c.nparams = 1, c.names = names, c.values = &b, c.has_from = 1, c.from = a;
     c.duration = r->o.ramp, c.unit = (char *)r->o.unit;
-    dur_tau = strcmp(r->o.unit, "tau") ? r->o.ramp * r->omega_n : r->o.ramp;
-    r->phase_dir = ch->dir > 0 ? "up" : "down", r->phase_idx = -1, r->phase_value = NAN;
+    double dur_tau = strcmp(r->o.unit, "tau") ? r->o.ramp * r->omega_n : r->o.ramp;
     if (command(r, &c, "ramp"))
         return -1;
-    r->col = (collector){.ramp = 1, .after_period = -1, .min_tau = r->c.ack.tau, .end_tau = r->c.ack.tau + dur_tau,
-                         .breaks = r->col.breaks};
+    r->col = (collector){.ramp = 1, .after_period = -1, .min_tau = r->c.ack.tau,
+                         .end_tau = r->c.ack.tau + dur_tau, .breaks = r->col.breaks};
     double save_from = r->o.from, save_to = r->o.to;
     r->o.from = a, r->o.to = b; /* the value of a section of a non-omega ramp */
     int rc = collect(r, 0, r->rec.cap);
     r->o.from = save_from, r->o.to = save_to;
-    if (rc && r->rec.n == 0)
+    return !rc ? 0 : r->rec.n ? 1 : -1;
+}
+
+/* Point i of a ramped chain from the sections within w/2 of its value. */
+static void ramp_bin(rig *r, wg_chain *ch, int i, double w, window *win)
+{
+    double v = wg_chain_value(ch, i);
+    int k0 = -1, k1 = -1; /* sections whose value falls in bin i */
+    for (int k = 0; k < r->rec.n; k++)
+        if (fabs(r->rval[k] - v) <= w / 2 && (k0 < 0 ? (k0 = k) : 1))
+            k1 = k;
+    wg_point *pt = &ch->pts[i];
+    memset(pt, 0, sizeof *pt);
+    pt->value = v, pt->lle = NAN;
+    if (k0 < 0)
+        return;
+    rig_rec view = rig_rec_slice(&r->rec, k0, k1);
+    wg_params p = r->base;
+    p.v[r->pid] = v;
+    rig_ana an;
+    char why[160];
+    rig_ana_init(&an, &p, r->model, r->stepper, r->steps, &r->so);
+    if (view.n >= 2 && rig_ana_period(&an, &view, 0, pt, why, sizeof why) == 0)
+        pt->regime = WG_REGIME_NONE; /* no period on a ramp: not classified */
+    rig_ana_fini(&an);
+    rig_rec_fill(&view, pt);
+    pt->value = v;
+    win[i] = (window){view.period[0], view.period[view.n - 1], view.n};
+}
+
+/* Ramp one direction, then bin the sections into the chain's points. */
+static int run_ramp(rig *r, wg_chain *ch, window *win)
+{
+    double a = wg_chain_value(ch, 0), b = wg_chain_value(ch, ch->npts - 1);
+    r->phase_dir = ch->dir > 0 ? "up" : "down", r->phase_idx = -1, r->phase_value = NAN;
+    int rc = ramp_record(r, a, b);
+    if (rc < 0)
         return -1;
     double w = fabs(b - a) / (ch->npts - 1); /* bins centred on the grid values */
     for (int i = 0; i < ch->npts; i++) {
-        double v = wg_chain_value(ch, i);
-        int k0 = -1, k1 = -1; /* sections whose value falls in bin i */
-        for (int k = 0; k < r->rec.n; k++)
-            if (fabs(r->rval[k] - v) <= w / 2 && (k0 < 0 ? (k0 = k) : 1))
-                k1 = k;
-        wg_point *pt = &ch->pts[i];
-        memset(pt, 0, sizeof *pt);
-        pt->value = v, pt->lle = NAN;
-        if (k0 >= 0) {
-            rig_rec view = r->rec;
-            view.n = k1 - k0 + 1, view.y += (size_t)k0 * r->rec.nstate, view.stats += k0;
-            view.xn += k0, view.dxn += k0, view.period += k0;
-            wg_params p = r->base;
-            p.v[r->pid] = v;
-            rig_ana an;
-            char why[160];
-            rig_ana_init(&an, &p, r->model, r->stepper, r->steps, &r->so);
-            if (view.n >= 2 && rig_ana_period(&an, &view, 0, pt, why, sizeof why) == 0)
-                pt->regime = WG_REGIME_NONE; /* no period on a ramp: not classified */
-            rig_ana_fini(&an);
-            rig_point_fill(&view, pt);
-            pt->value = v;
-            win[i] = (window){view.period[0], view.period[view.n - 1], view.n};
-        }
+        ramp_bin(r, ch, i, w, win);
         ch->ndone = i + 1;
         r->done++;
-        progress(r, r->phase_dir, pt);
+        progress(r, r->phase_dir, &ch->pts[i]);
     }
-    return rc;
+    return rc ? -1 : 0;
 }
 
 /* ---- outputs --------------------------------------------------------------------------- */
-
-static int cmp64(const void *a, const void *b)
-{
-    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-    return (x > y) - (x < y);
-}
-
-/* Mesh impacts from CONTACT in periods [p0, p1]. */
-static long impacts_in(const rig *r, int64_t p0, int64_t p1)
-{
-    size_t lo = 0, hi = r->nimp;
-    while (lo < hi) {
-        size_t mid = lo + (hi - lo) / 2;
-        if (r->imp[mid] < p0) lo = mid + 1; else hi = mid;
-    }
-    long n = 0;
-    for (size_t i = lo; i < r->nimp && r->imp[i] <= p1; i++)
-        n++;
-    return n;
-}
 
 static int write_impacts(rig *r, wg_chain *ch[2], window *win[2], char *why, size_t whylen)
 {
     char path[1024];
     snprintf(path, sizeof path, "%s-impacts.csv", r->o.out);
-    FILE *f = fopen(path, "w");
+    FILE *f = out_open(path, why, whylen);
     if (!f)
-        return snprintf(why, whylen, "cannot write %.400s", path), -1;
-    qsort(r->imp, r->nimp, sizeof *r->imp, cmp64);
+        return -1;
     fprintf(f, "dir,index,%s,impacts_per_period,contact_impacts_per_period,periods,motion,regime,"
                "period\n", r->o.param);
     int n = 0, cap = (ch[0] ? ch[0]->ndone : 0) + (ch[1] ? ch[1]->ndone : 0);
@@ -605,14 +552,14 @@ static int write_impacts(rig *r, wg_chain *ch[2], window *win[2], char *why, siz
         for (int i = 0; ch[d] && i < ch[d]->ndone; i++) {
             const wg_point *p = &ch[d]->pts[i];
             const window *w = &win[d][i];
-            double ci = w->n ? (double)impacts_in(r, w->p0, w->p1) / w->n : NAN;
+            double ci = w->n ? (double)rig_imp_count(&r->imp, w->p0, w->p1) / w->n : NAN;
             fprintf(f, "%s,%d,%.10g,%.6g,%.6g,%d,%s,%s,%d\n", d ? "down" : "up", i, p->value,
                     p->impacts, ci, w->n, wg_motion_name(p->motion), wg_regime_name(p->regime),
                     p->period);
             if (x && y && w->n)
                 x[n] = p->value, y[n++] = p->impacts;
         }
-    int rc = ferror(f) | fclose(f) ? (snprintf(why, whylen, "error writing %.400s", path), -1) : 0;
+    int rc = out_close(f, path, why, whylen);
     char title[160];
     snprintf(title, sizeof title, "%s: mesh impacts per period vs %s (rig: up, then back down)", r->scene,
              r->o.param);
@@ -629,7 +576,7 @@ static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, c
     char why[512] = "", path[1024];
     sweep_study st = {.scene = r->scene, .command = cmdline, .param = r->pid, .gparam = -1,
                       .ngroups = 1, .b = r->base.v[WG_P_B], .o = &r->so, .partial = partial,
-                      .wall_s = now_s() - r->t0, .threads = 1, .ranks = 1};
+                      .wall_s = cli_mono_s() - r->t0, .threads = 1, .ranks = 1};
     st.g[0] = (sweep_group){0, ch[0], ch[1]};
     int rc = 0;
     snprintf(path, sizeof path, "%s.csv", r->o.out);
@@ -639,7 +586,7 @@ static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, c
     snprintf(path, sizeof path, "%s.json", r->o.out);
     rc = rc ? rc : out_json(path, &st, why, sizeof why);
     snprintf(path, sizeof path, "%s.md", r->o.out);
-    rc = rc ? rc : out_markdown(path, &st, why, sizeof why);
+    rc = rc ? rc : md_write(path, &st, why, sizeof why);
     rc = rc ? rc : out_pngs(r->o.out, &st, why, sizeof why);
     rc = rc ? rc : write_impacts(r, ch, win, why, sizeof why);
     if (rc)
@@ -649,44 +596,71 @@ static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, c
 
 /* ---- main -------------------------------------------------------------------------------- */
 
-static int setup(rig *r, int argc, char **argv)
+/* The swept parameter and the analysis options from the command line: 0,
+ * or 2 (reported). */
+static int check_param(rig *r)
 {
-    char why[256], path[1024];
+    char why[256];
     wg_sweep_opts_default(&r->so);
     r->so.transient = r->o.settle, r->so.record = r->o.record, r->so.extend = r->o.extend;
     if (r->o.tol > 0)
         r->so.tol_floor = r->o.tol, r->so.tol_factor = 0;
     if ((r->pid = wg_param_lookup(r->o.param)) < 0)
-        return bad("--param", r->o.param, "a parameter name (wgctl params lists them)");
-    const wg_param_info *pi = wg_param_info_get(r->pid);
-    if (wg_param_check(r->pid, r->o.from, why, sizeof why) || wg_param_check(r->pid, r->o.to, why, sizeof why))
+        return cli_usage_error(PROG, "--param '%s': a parameter name (wgctl params lists them)",
+                               r->o.param);
+    if (wg_param_check(r->pid, r->o.from, why, sizeof why) ||
+        wg_param_check(r->pid, r->o.to, why, sizeof why))
         return fprintf(stderr, "wgrig: --from/--to: %s\n", why), 2;
-    if (r->o.ramp > 0 && !(pi->flags & WG_PF_RAMP))
-        return bad("--param", r->o.param, "not rampable: use the stepwise sweep");
-    if (wgcli_open(&r->c, r->o.url, r->o.prefix, "wgrig", why, sizeof why))
-        return fprintf(stderr, "wgrig: %s\n", why), 1;
+    if (r->o.ramp > 0 && !(wg_param_info_get(r->pid)->flags & WG_PF_RAMP))
+        return cli_usage_error(PROG, "--param '%s': not rampable: use the stepwise sweep",
+                               r->o.param);
+    return 0;
+}
+
+/* Sections the record must hold: one point's, or a whole ramp's (counted
+ * at its highest omega). 0, or 2 when the ramp is too long or too short. */
+static int record_cap(const rig *r, int *cap)
+{
+    *cap = REC_CAP;
+    if (r->o.ramp <= 0)
+        return 0;
+    double om = r->pid == WG_P_OMEGA ? fmax(r->o.from, r->o.to) : r->base.v[WG_P_OMEGA];
+    double per = (strcmp(r->o.unit, "tau") ? r->o.ramp * r->omega_n : r->o.ramp) * om / (2 * M_PI);
+    if (per > RAMP_MAX)
+        return fprintf(stderr, "wgrig: --ramp: %.0f mesh periods per ramp, more than %d: "
+                               "use a shorter ramp\n", per, RAMP_MAX), 2;
+    if (per < 4.0 * r->o.bins)
+        return fprintf(stderr, "wgrig: --ramp: %.0f mesh periods per ramp for %d bins: use a "
+                               "longer ramp (at least 4 periods per bin)\n", per, r->o.bins), 2;
+    *cap = (int)(1.1 * per) + 1000;
+    return 0;
+}
+
+/* Open LCM, subscribe raw to what the rig reads, and ask for PARAMS. */
+static int open_bus(rig *r)
+{
     static const char *const chans[] = {"POINCARE", "CONTACT", "PARAMS", "STATUS"};
+    char why[256], ch[128];
+    if (bus_open(&r->c, r->o.url, r->o.prefix, "wgrig", why, sizeof why))
+        return fprintf(stderr, "wgrig: %s\n", why), 1;
     for (int k = 0; k < 4; k++) {
-        lcm_subscription_t *s = lcm_subscribe(r->c.lcm, wgcli_channel(&r->c, chans[k], path, sizeof path), on_raw, r);
+        lcm_subscription_t *s =
+            lcm_subscribe(r->c.lcm, bus_channel(&r->c, chans[k], ch, sizeof ch), on_raw, r);
         lcm_subscription_set_queue_capacity(s, 4096);
     }
-    (void)argc, (void)argv;
-    if (fetch_params(r))
-        return 1;
+    return fetch_params(r) ? 1 : 0;
+}
+
+static int setup(rig *r)
+{
+    char path[1024];
+    int rc, cap;
+    if ((rc = check_param(r)) || (rc = open_bus(r)))
+        return rc;
     r->orig = r->base.v[r->pid];
     r->so.steps = r->steps, r->so.model = r->model, r->so.stepper = r->stepper; /* the daemon's */
-    int cap = REC_CAP;
-    if (r->o.ramp > 0) { /* sections in one ramp, at the highest omega */
-        double om = r->pid == WG_P_OMEGA ? fmax(r->o.from, r->o.to) : r->base.v[WG_P_OMEGA];
-        double per = (strcmp(r->o.unit, "tau") ? r->o.ramp * r->omega_n : r->o.ramp) * om / (2 * M_PI);
-        if (per > RAMP_MAX)
-            return fprintf(stderr, "wgrig: --ramp: %.0f mesh periods per ramp, more than %d: "
-                                   "use a shorter ramp\n", per, RAMP_MAX), 2;
-        if (per < 4.0 * r->o.bins)
-            return fprintf(stderr, "wgrig: --ramp: %.0f mesh periods per ramp for %d bins: use a "
-                                   "longer ramp (at least 4 periods per bin)\n", per, r->o.bins), 2;
-        cap = (int)(1.1 * per) + 1000;
-    }
+    if ((rc = record_cap(r, &cap)))
+        return rc;
     if (rig_rec_init(&r->rec, r->nstate, cap) ||
         !(r->rval = malloc(sizeof(double) * (size_t)r->rec.cap)))
         return fprintf(stderr, "wgrig: out of memory\n"), 1;
@@ -710,59 +684,78 @@ static void finish(rig *r)
         set_mode(r, r->orig_mode, r->orig_rate);
     if (!r->o.keep && r->have_params && r->o.ramp <= 0 && r->done)
         set_value(r, r->orig);
-    wgcli_wait(&r->c, 300, NULL, NULL); /* CONTACT batches still on their way */
+    bus_wait(&r->c, 300, NULL, NULL); /* CONTACT batches still on their way */
+}
+
+/* The up and down chains asked for (ch[d] NULL when not), with a window
+ * per point. */
+static void make_chains(rig *r, wg_chain chains[2], wg_chain *ch[2], window *win[2])
+{
+    int npts = r->o.ramp > 0 ? r->o.bins : r->o.points;
+    for (int d = 0; d < 2; d++) {
+        if (!(d ? r->o.down : r->o.up))
+            continue;
+        chains[d] = (wg_chain){.base = r->base, .param = r->pid, .v0 = fmin(r->o.from, r->o.to),
+                               .v1 = fmax(r->o.from, r->o.to), .npts = npts, .dir = d ? -1 : 1,
+                               .param2 = -1, .pts = calloc((size_t)npts, sizeof(wg_point))};
+        win[d] = calloc((size_t)npts, sizeof(window));
+        ch[d] = &chains[d];
+        r->total += npts;
+    }
+}
+
+/* Run the sweep, restore the daemon and write everything: the exit code. */
+static int sweep(rig *r, wg_chain chains[2], window *win[2], const char *cmdline)
+{
+    wg_chain *ch[2] = {NULL, NULL};
+    make_chains(r, chains, ch, win);
+    int failed = 0;
+    for (int d = 0; d < 2 && !failed; d++)
+        if (ch[d])
+            failed = r->o.ramp > 0 ? run_ramp(r, ch[d], win[d]) : run_chain(r, ch[d], win[d]);
+    if (!r->o.quiet)
+        fprintf(stderr, "%s", isatty(STDERR_FILENO) ? "\n" : "");
+    finish(r);
+    int rc = write_outputs(r, ch, win, failed || g_stop, cmdline);
+    fprintf(stderr, "wgrig: %d/%d points, %ld skipped (refused), %ld refusals, %ld ACK timeouts, "
+                    "%ld POINCARE and %ld CONTACT messages dropped, %ld recordings re-waited; "
+                    "%.1f s; outputs %s.*\n", r->done, r->total, r->skipped, r->refusals,
+            r->timeouts, r->pc_seq.missing, r->ct_seq.missing, r->col.breaks,
+            cli_mono_s() - r->t0, r->o.out);
+    return g_stop ? 130 : failed || (r->skipped && r->skipped == r->done) ? 1 : rc;
+}
+
+static void teardown(rig *r, wg_chain chains[2], window *win[2])
+{
+    if (r->secf)
+        fclose(r->secf);
+    bus_close(&r->c);
+    rig_rec_fini(&r->rec);
+    free(r->rval);
+    rig_imp_fini(&r->imp);
+    for (int d = 0; d < 2; d++)
+        free(chains[d].pts), free(win[d]);
 }
 
 int main(int argc, char **argv)
 {
     rig *r = calloc(1, sizeof *r);
-    char cmdline[2048] = "";
-    for (int i = 0, n = 0; i < argc && n < (int)sizeof cmdline - 2; i++)
-        n += snprintf(cmdline + n, sizeof cmdline - (size_t)n, "%s%s", i ? " " : "", argv[i]);
-    int rc = r ? parse_opts(argc, argv, &r->o) : 1;
+    if (!r)
+        return 1;
+    char *cmdline = cli_join_args(argc, argv);
+    int rc = parse_opts(argc, argv, &r->o);
     struct sigaction sa = {.sa_handler = on_signal};
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
-    r->t0 = now_s();
-    wg_chain chains[2], *ch[2] = {NULL, NULL};
-    memset(chains, 0, sizeof chains);
+    r->t0 = cli_mono_s();
+    wg_chain chains[2];
     window *win[2] = {NULL, NULL};
-    if (!rc && !(rc = setup(r, argc, argv))) {
-        int npts = r->o.ramp > 0 ? r->o.bins : r->o.points;
-        for (int d = 0; d < 2; d++) {
-            if (!(d ? r->o.down : r->o.up))
-                continue;
-            chains[d] = (wg_chain){.base = r->base, .param = r->pid, .v0 = fmin(r->o.from, r->o.to),
-                                   .v1 = fmax(r->o.from, r->o.to), .npts = npts, .dir = d ? -1 : 1,
-                                   .param2 = -1, .pts = calloc((size_t)npts, sizeof(wg_point))};
-            win[d] = calloc((size_t)npts, sizeof(window));
-            ch[d] = &chains[d];
-            r->total += npts;
-        }
-        int failed = 0;
-        for (int d = 0; d < 2 && !failed; d++)
-            if (ch[d])
-                failed = r->o.ramp > 0 ? run_ramp(r, ch[d], win[d]) : run_chain(r, ch[d], win[d]);
-        if (!r->o.quiet)
-            fprintf(stderr, "%s", isatty(STDERR_FILENO) ? "\n" : "");
-        finish(r);
-        rc = write_outputs(r, ch, win, failed || g_stop, cmdline);
-        fprintf(stderr, "wgrig: %d/%d points, %ld skipped (refused), %ld refusals, %ld ACK timeouts, "
-                        "%ld POINCARE and %ld CONTACT messages dropped, %ld recordings re-waited; "
-                        "%.1f s; outputs %s.*\n", r->done, r->total, r->skipped, r->refusals,
-                r->timeouts, r->pc_drop, r->ct_drop, r->col.breaks, now_s() - r->t0, r->o.out);
-        rc = g_stop ? 130 : failed || (r->skipped && r->skipped == r->done) ? 1 : rc;
-    }
-    if (r) {
-        if (r->secf)
-            fclose(r->secf);
-        wgcli_close(&r->c);
-        rig_rec_fini(&r->rec);
-        free(r->rval), free(r->imp);
-        for (int d = 0; d < 2; d++)
-            free(chains[d].pts), free(win[d]);
-        free(r);
-    }
+    memset(chains, 0, sizeof chains);
+    if (!rc && !(rc = setup(r)))
+        rc = sweep(r, chains, win, cmdline ? cmdline : "");
+    teardown(r, chains, win);
+    free(r);
+    free(cmdline);
     plot_fini(); /* cairo and fontconfig caches: a clean exit under ASan */
     return rc;
 }

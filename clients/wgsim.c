@@ -1,5 +1,6 @@
 /* wgsim - run the worm-gear model offline and write CSV or a summary.
  * Exit 0 ok, 1 runtime error, 2 usage error. */
+#include "cli.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_sim.h"
 #include "wormgear/wg_status.h"
@@ -9,15 +10,15 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #define TWO_PI 6.283185307179586
+#define PROG "wgsim"
 
 typedef struct opts {
     const char *scene;
     const char *sets[64];
     int nsets;
-    long periods, transient;
+    int periods, transient;
     int steps, stepper, model; /* model -1: the scene's */
     const char *poincare, *events, *trace;
     int physical;
@@ -68,22 +69,59 @@ static void usage(FILE *f)
     }
 }
 
-static int bad(const char *fmt, const char *a)
+static int opt_model(const char *a, int *model)
 {
-    fprintf(stderr, "wgsim: ");
-    fprintf(stderr, fmt, a);
-    fprintf(stderr, "\n(try wgsim --help)\n");
-    return 2;
+    if (strcmp(a, "consistent") == 0)
+        *model = WG_MODEL_CONSISTENT;
+    else if (strcmp(a, "printed") == 0)
+        *model = WG_MODEL_PRINTED;
+    else
+        return cli_usage_error(PROG, "--model '%s': allowed values are consistent, printed", a);
+    return 0;
 }
 
-static int parse_long(const char *s, long lo, long hi, long *out)
+static int opt_units(const char *a, int *physical)
 {
-    char *end;
-    long v = strtol(s, &end, 10);
-    if (end == s || *end || v < lo || v > hi)
-        return -1;
-    *out = v;
+    if (strcmp(a, "physical") == 0)
+        *physical = 1;
+    else if (strcmp(a, "dimensionless") != 0)
+        return cli_usage_error(PROG, "--units '%s': allowed values are dimensionless, physical",
+                               a);
     return 0;
+}
+
+/* One option c with argument a: 0, CLI_EUSAGE (reported), or -1 unknown. */
+static int opt_one(opts *o, int c, const char *a)
+{
+    switch (c) {
+    case 's': o->scene = a; return 0;
+    case 'S':
+        if (o->nsets == 64)
+            return cli_usage_error(PROG, "too many --set options (at most %s)", "64");
+        o->sets[o->nsets++] = a;
+        return 0;
+    case 'p':
+        return cli_opt_int(PROG, "--periods", a, 1, 1000000000, "must be an integer in [1, 1e9]",
+                           &o->periods);
+    case 't':
+        return cli_opt_int(PROG, "--transient", a, 0, 1000000000,
+                           "must be an integer in [0, 1e9]", &o->transient);
+    case 'n':
+        return cli_opt_int(PROG, "--steps-per-period", a, WG_STEPS_MIN, WG_STEPS_MAX,
+                           "must be an integer in [8, 65536]", &o->steps);
+    case 'k':
+        if ((o->stepper = wg_stepper_lookup(a)) < WG_STEPPER_DEFAULT)
+            return cli_usage_error(PROG, "--stepper '%s': allowed values are default, rk4, "
+                                         "rk4-event", a);
+        return 0;
+    case 'm': return opt_model(a, &o->model);
+    case 'P': o->poincare = a; return 0;
+    case 'E': o->events = a; return 0;
+    case 'T': o->trace = a; return 0;
+    case 'u': return opt_units(a, &o->physical);
+    case 'h': usage(stdout); exit(0);
+    default: return -1;
+    }
 }
 
 static int parse_opts(int argc, char **argv, opts *o)
@@ -98,63 +136,18 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"help", no_argument, 0, 'h'},            {0, 0, 0, 0}};
     *o = (opts){.scene = "table3", .periods = 200, .transient = 100,
                 .steps = WG_STEPS_DEFAULT, .stepper = WG_STEPPER_DEFAULT, .model = -1};
-    int c;
-    long v;
+    int c, rc;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
-        switch (c) {
-        case 's': o->scene = optarg; break;
-        case 'S':
-            if (o->nsets == 64)
-                return bad("too many --set options (at most %s)", "64");
-            o->sets[o->nsets++] = optarg;
-            break;
-        case 'p':
-            if (parse_long(optarg, 1, 1000000000L, &o->periods))
-                return bad("--periods '%s': must be an integer in [1, 1e9]", optarg);
-            break;
-        case 't':
-            if (parse_long(optarg, 0, 1000000000L, &o->transient))
-                return bad("--transient '%s': must be an integer in [0, 1e9]", optarg);
-            break;
-        case 'n':
-            if (parse_long(optarg, WG_STEPS_MIN, WG_STEPS_MAX, &v))
-                return bad("--steps-per-period '%s': must be an integer in [8, 65536]", optarg);
-            o->steps = (int)v;
-            break;
-        case 'k':
-            if ((o->stepper = wg_stepper_lookup(optarg)) < WG_STEPPER_DEFAULT)
-                return bad("--stepper '%s': allowed values are default, rk4, rk4-event", optarg);
-            break;
-        case 'm':
-            if (strcmp(optarg, "consistent") == 0)
-                o->model = WG_MODEL_CONSISTENT;
-            else if (strcmp(optarg, "printed") == 0)
-                o->model = WG_MODEL_PRINTED;
-            else
-                return bad("--model '%s': allowed values are consistent, printed", optarg);
-            break;
-        case 'P': o->poincare = optarg; break;
-        case 'E': o->events = optarg; break;
-        case 'T': o->trace = optarg; break;
-        case 'u':
-            if (strcmp(optarg, "physical") == 0)
-                o->physical = 1;
-            else if (strcmp(optarg, "dimensionless") != 0)
-                return bad("--units '%s': allowed values are dimensionless, physical", optarg);
-            break;
-        case 'h': usage(stdout); exit(0);
-        default:
-            if (optopt)
-                fprintf(stderr, "wgsim: option -%c needs an argument or is unknown\n", optopt);
-            else
-                fprintf(stderr, "wgsim: unknown option '%s'\n", argv[optind - 1]);
-            fprintf(stderr, "(try wgsim --help)\n");
-            return 2;
-        }
+        if ((rc = opt_one(o, c, optarg)) > 0)
+            return rc;
+        if (rc < 0 && optopt)
+            return cli_usage_error(PROG, "option -%c needs an argument or is unknown", optopt);
+        if (rc < 0)
+            return cli_usage_error(PROG, "unknown option '%s'", argv[optind - 1]);
     }
     if (optind < argc)
-        return bad("unexpected argument '%s'", argv[optind]);
+        return cli_usage_error(PROG, "unexpected argument '%s'", argv[optind]);
     return 0;
 }
 
@@ -253,13 +246,6 @@ static void on_step(void *ctx, const wg_sim *s)
             o.xn * sc_x(r), o.dxn * sc_v(r), o.F * sc_f(r));
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static void summary(const run *r, const wg_sim *s, double wall)
 {
     const wg_scene *sc = r->sc;
@@ -295,60 +281,91 @@ static void summary(const run *r, const wg_sim *s, double wall)
         printf("splits      %llu located crossings\n", (unsigned long long)s->nsplit);
 }
 
-int main(int argc, char **argv)
+/* The scene with the command line's --set, --model and --stepper, and a
+ * sim at its initial state. 0, or the exit code (the message printed). */
+static int setup(opts *o, wg_scene *sc, wg_sim *sim)
 {
-    opts o;
-    int rc = parse_opts(argc, argv, &o);
-    if (rc)
-        return rc;
-    wg_scene sc;
     char why[640];
-    if ((rc = wg_scene_open(&sc, o.scene, why, sizeof why))) {
+    int rc;
+    if ((rc = wg_scene_open(sc, o->scene, why, sizeof why))) {
         fprintf(stderr, "wgsim: %s\n", why);
-        return rc == WG_EIO && !strchr(o.scene, '/') ? 2 : 1;
+        return rc == WG_EIO && !strchr(o->scene, '/') ? 2 : 1;
     }
-    if (wg_scene_apply_sets(&sc, o.sets, o.nsets, why, sizeof why)) {
-        fprintf(stderr, "wgsim: --set %s\n(try wgsim --help)\n", why);
+    if (wg_scene_apply_sets(sc, o->sets, o->nsets, why, sizeof why))
+        return cli_usage_error(PROG, "--set %s", why);
+    if (o->model >= 0)
+        sc->model = o->model;
+    if (wg_stepper_choose(sc->model, o->stepper, &o->stepper, why, sizeof why)) {
+        fprintf(stderr, "wgsim: --stepper %s: %s\n", wg_stepper_name(o->stepper), why);
         return 2;
     }
-    if (o.model >= 0)
-        sc.model = o.model;
-    if (wg_stepper_choose(sc.model, o.stepper, &o.stepper, why, sizeof why)) {
-        fprintf(stderr, "wgsim: --stepper %s: %s\n", wg_stepper_name(o.stepper), why);
-        return 2;
-    }
-    wg_sim_config cfg = {sc.model, o.stepper, o.steps};
-    wg_sim sim;
-    if ((rc = wg_sim_init(&sim, &sc.p, &cfg, why, sizeof why))) {
+    wg_sim_config cfg = {sc->model, o->stepper, o->steps};
+    if ((rc = wg_sim_init(sim, &sc->p, &cfg, why, sizeof why))) {
         fprintf(stderr, "wgsim: %s\n", why);
         return rc == WG_ESTABILITY || rc == WG_ERANGE ? 2 : 1;
     }
     double y[WG_NSTATE_MAX];
-    wg_scene_initial(&sc, y);
-    wg_sim_set_state(&sim, y, 0, 0.0);
+    wg_scene_initial(sc, y);
+    wg_sim_set_state(sim, y, 0, 0.0);
+    return 0;
+}
 
-    run r = {.o = &o, .sc = &sc, .min_xn = INFINITY, .max_xn = -INFINITY};
-    r.fp = open_out(o.poincare);
-    r.fe = open_out(o.events);
-    r.ft = open_out(o.trace);
-    if ((o.poincare && !r.fp) || (o.events && !r.fe) || (o.trace && !r.ft))
-        return 1;
-    write_headers(&r);
-    wg_sink sink = {&r, r.ft ? on_step : NULL, on_section, r.fe ? on_event : NULL};
-    uint64_t n = (uint64_t)(o.periods + o.transient) * (uint64_t)o.steps, done = 0;
-    double t0 = now_s();
-    rc = wg_sim_run(&sim, n, &sink, &done);
-    double wall = now_s() - t0;
-    if (rc)
-        fprintf(stderr, "wgsim: step %llu (tau = %.9g): %s: the state blew up; the last good "
-                        "state is kept. Try more --steps-per-period.\n",
-                (unsigned long long)done, sim.tau, wg_status_str(rc));
-    FILE *fs[3] = {r.fp, r.fe, r.ft};
+/* Open the CSV files asked for and write their headers: 0, or -1. */
+static int open_outputs(run *r)
+{
+    const opts *o = r->o;
+    r->fp = open_out(o->poincare);
+    r->fe = open_out(o->events);
+    r->ft = open_out(o->trace);
+    if ((o->poincare && !r->fp) || (o->events && !r->fe) || (o->trace && !r->ft))
+        return -1;
+    write_headers(r);
+    return 0;
+}
+
+static void close_outputs(run *r)
+{
+    FILE *fs[3] = {r->fp, r->fe, r->ft};
     for (int i = 0; i < 3; i++)
         if (fs[i] && fs[i] != stdout)
             fclose(fs[i]);
-    if (!o.poincare && !o.events && !o.trace)
-        summary(&r, &sim, wall);
+}
+
+/* Run the transient and the recorded periods into r's sinks; the wall time
+ * in *wall. WG_OK, or the code of a blow-up (reported). */
+static int run_periods(run *r, wg_sim *sim, double *wall)
+{
+    const opts *o = r->o;
+    wg_sink sink = {r, r->ft ? on_step : NULL, on_section, r->fe ? on_event : NULL};
+    uint64_t n = ((uint64_t)o->periods + (uint64_t)o->transient) * (uint64_t)o->steps, done = 0;
+    double t0 = cli_mono_s();
+    int rc = wg_sim_run(sim, n, &sink, &done);
+    *wall = cli_mono_s() - t0;
+    if (rc)
+        fprintf(stderr, "wgsim: step %llu (tau = %.9g): %s: the state blew up; the last good "
+                        "state is kept. Try more --steps-per-period.\n",
+                (unsigned long long)done, sim->tau, wg_status_str(rc));
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    opts o;
+    wg_scene sc;
+    wg_sim sim;
+    int rc = parse_opts(argc, argv, &o);
+    if (rc || (rc = setup(&o, &sc, &sim)))
+        return rc;
+    run r = {.o = &o, .sc = &sc, .min_xn = INFINITY, .max_xn = -INFINITY};
+    double wall = 0.0;
+    if (open_outputs(&r) == 0) {
+        rc = run_periods(&r, &sim, &wall);
+        if (!o.poincare && !o.events && !o.trace)
+            summary(&r, &sim, wall);
+    } else {
+        rc = 1;
+    }
+    close_outputs(&r);
     wg_sim_fini(&sim);
     return rc ? 1 : 0;
 }

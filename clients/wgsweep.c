@@ -3,20 +3,22 @@
  * values of a second parameter; 2-D regime maps; single-point views.
  * Exit 0 ok, 1 runtime error, 2 usage error, 130 interrupted (partial
  * results written). */
+#include "cli.h"
 #include "plot.h"
 #include "sweep_at.h"
 #include "sweep_load.h"
+#include "sweep_md.h"
 #include "sweep_out.h"
 #include "sweep_par.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_status.h"
 
+#include <float.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 static volatile sig_atomic_t g_stop; /* set by the signal handler only */
@@ -88,28 +90,7 @@ static void usage(FILE *f)
         "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted.\n");
 }
 
-static int bad(const char *what, const char *arg)
-{
-    fprintf(stderr, "wgsweep: %s '%s'\n(try wgsweep --help)\n", what, arg);
-    return 2;
-}
-
-static int num(const char *s, double *v)
-{
-    char *end;
-    *v = strtod(s, &end);
-    return end != s && !*end && isfinite(*v) ? 0 : -1;
-}
-
-static int inum(const char *s, long lo, long hi, int *v)
-{
-    char *end;
-    long x = strtol(s, &end, 10);
-    if (end == s || *end || x < lo || x > hi)
-        return -1;
-    *v = (int)x;
-    return 0;
-}
+#define PROG "wgsweep"
 
 /* NAME=v1,v2,... */
 static int parse_values(const char *arg, opts *o)
@@ -125,7 +106,7 @@ static int parse_values(const char *arg, opts *o)
     o->ngvals = 0;
     for (char *t = strtok_r(eq + 1, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
         double v;
-        if (o->ngvals == STUDY_MAX_GROUPS || num(t, &v) ||
+        if (o->ngvals == STUDY_MAX_GROUPS || cli_num(t, -DBL_MAX, DBL_MAX, &v) ||
             wg_param_check(o->gparam, v, NULL, 0))
             return -1;
         o->gvals[o->ngvals++] = v;
@@ -143,51 +124,85 @@ static int parse_map(const char *arg, opts *o)
     if (!c2)
         return -1;
     *eq = *c1 = *c2 = 0;
-    if ((o->mparam = wg_param_lookup(buf)) < 0 || num(eq + 1, &o->mfrom) || num(c1 + 1, &o->mto) ||
-        inum(c2 + 1, 1, 100000, &o->mrows))
+    if ((o->mparam = wg_param_lookup(buf)) < 0 || cli_num(eq + 1, -DBL_MAX, DBL_MAX, &o->mfrom) ||
+        cli_num(c1 + 1, -DBL_MAX, DBL_MAX, &o->mto) || cli_int(c2 + 1, 1, 100000, &o->mrows))
         return -1;
     return wg_param_check(o->mparam, o->mfrom, NULL, 0) || wg_param_check(o->mparam, o->mto, NULL, 0);
 }
 
-/* Options that set analysis numbers (wg_sweep_opts). */
+/* Options that set analysis numbers (wg_sweep_opts). "> 0": from
+ * DBL_TRUE_MIN up. */
 static int parse_numeric(int c, const char *a, opts *o)
 {
     wg_sweep_opts *s = &o->so;
+    int bad = 0;
+    const char *need = "unknown option";
     switch (c) {
-    case 'T': return inum(a, 0, 100000000, &s->transient) ? bad("--transient: need 0..1e8, got", a) : 0;
-    case 'R': return inum(a, 64, 4096, &s->record) ? bad("--record: need 64..4096, got", a) : 0;
-    case 'E': return inum(a, 0, 1000, &s->extend) ? bad("--extend: need 0..1000, got", a) : 0;
-    case 'L': return inum(a, 1, 100000000, &s->lle_periods) ? bad("--lle-periods: need >= 1, got", a) : 0;
-    case 'l': return num(a, &s->lle_tol) || s->lle_tol <= 0 ? bad("--lle-tol: need > 0, got", a) : 0;
-    case 'F': return num(a, &s->tol_factor) || s->tol_factor <= 0 ? bad("--tol-factor: need > 0, got", a) : 0;
-    case 'f': return num(a, &s->tol_floor) || s->tol_floor <= 0 ? bad("--tol-floor: need > 0, got", a) : 0;
-    case 'N': return inum(a, WG_STEPS_MIN, WG_STEPS_MAX, &s->steps) ? bad("--steps-per-period: need 8..65536, got", a) : 0;
-    case 'k': return (s->stepper = wg_stepper_lookup(a)) < WG_STEPPER_DEFAULT ? bad("--stepper: default, rk4 or rk4-event, got", a) : 0;
-    default: return bad("unknown option", a);
+    case 'T': bad = cli_int(a, 0, 100000000, &s->transient), need = "--transient: need 0..1e8, got"; break;
+    case 'R': bad = cli_int(a, 64, 4096, &s->record), need = "--record: need 64..4096, got"; break;
+    case 'E': bad = cli_int(a, 0, 1000, &s->extend), need = "--extend: need 0..1000, got"; break;
+    case 'L': bad = cli_int(a, 1, 100000000, &s->lle_periods), need = "--lle-periods: need >= 1, got"; break;
+    case 'l': bad = cli_num(a, DBL_TRUE_MIN, DBL_MAX, &s->lle_tol), need = "--lle-tol: need > 0, got"; break;
+    case 'F':
+        bad = cli_num(a, DBL_TRUE_MIN, DBL_MAX, &s->tol_factor), need = "--tol-factor: need > 0, got";
+        break;
+    case 'f':
+        bad = cli_num(a, DBL_TRUE_MIN, DBL_MAX, &s->tol_floor), need = "--tol-floor: need > 0, got";
+        break;
+    case 'N':
+        bad = cli_int(a, WG_STEPS_MIN, WG_STEPS_MAX, &s->steps);
+        need = "--steps-per-period: need 8..65536, got";
+        break;
+    case 'k':
+        bad = (s->stepper = wg_stepper_lookup(a)) < WG_STEPPER_DEFAULT;
+        need = "--stepper: default, rk4 or rk4-event, got";
+        break;
+    default: bad = 1;
     }
+    return bad ? cli_usage_error(PROG, "%s '%s'", need, a) : 0;
+}
+
+static int parse_dir(const char *a, opts *o)
+{
+    if (strcmp(a, "both") && strcmp(a, "up") && strcmp(a, "down"))
+        return cli_usage_error(PROG, "--dir: up, down or both, got '%s'", a);
+    o->up = strcmp(a, "down") != 0;
+    o->down = strcmp(a, "up") != 0;
+    return 0;
 }
 
 static int parse_range(int c, const char *a, opts *o)
 {
+    int bad = 0;
+    const char *need = NULL;
     switch (c) {
-    case 'a': return num(a, &o->from) ? bad("--from: not a number:", a) : 0;
-    case 'b': return num(a, &o->to) ? bad("--to: not a number:", a) : 0;
-    case 'n': return inum(a, 1, 1000000, &o->points) ? bad("--points: need 1..1e6, got", a) : 0;
-    case 'd': return num(a, &o->step) || o->step <= 0 ? bad("--step: need > 0, got", a) : 0;
-    case 'D':
-        if (strcmp(a, "both") && strcmp(a, "up") && strcmp(a, "down"))
-            return bad("--dir: up, down or both, got", a);
-        o->up = strcmp(a, "down") != 0;
-        o->down = strcmp(a, "up") != 0;
-        return 0;
-    case 'p': return (o->param = wg_param_lookup(a)) < 0 ? bad("--param: unknown parameter", a) : 0;
-    case 'V': return parse_values(a, o) ? bad("--values: need NAME=v1,v2,... in range, got", a) : 0;
-    case 'M': return parse_map(a, o) ? bad("--map: need NAME=A:B:M in range, got", a) : 0;
-    case 'A': o->at_set = 1; return num(a, &o->at) ? bad("--at: not a number:", a) : 0;
-    case 'P': return inum(a, 1, 10000000, &o->at_periods) ? bad("--at-periods: need >= 1, got", a) : 0;
-    case 'j': return inum(a, 1, 256, &o->threads) ? bad("--threads: need 1..256, got", a) : 0;
+    case 'a': bad = cli_num(a, -DBL_MAX, DBL_MAX, &o->from), need = "--from: not a number:"; break;
+    case 'b': bad = cli_num(a, -DBL_MAX, DBL_MAX, &o->to), need = "--to: not a number:"; break;
+    case 'n': bad = cli_int(a, 1, 1000000, &o->points), need = "--points: need 1..1e6, got"; break;
+    case 'd': bad = cli_num(a, DBL_TRUE_MIN, DBL_MAX, &o->step), need = "--step: need > 0, got"; break;
+    case 'D': return parse_dir(a, o);
+    case 'p': bad = (o->param = wg_param_lookup(a)) < 0, need = "--param: unknown parameter"; break;
+    case 'V': bad = parse_values(a, o), need = "--values: need NAME=v1,v2,... in range, got"; break;
+    case 'M': bad = parse_map(a, o), need = "--map: need NAME=A:B:M in range, got"; break;
+    case 'A':
+        o->at_set = 1, bad = cli_num(a, -DBL_MAX, DBL_MAX, &o->at), need = "--at: not a number:";
+        break;
+    case 'P': bad = cli_int(a, 1, 10000000, &o->at_periods), need = "--at-periods: need >= 1, got"; break;
+    case 'j': bad = cli_int(a, 1, 256, &o->threads), need = "--threads: need 1..256, got"; break;
     default: return parse_numeric(c, a, o);
     }
+    return bad ? cli_usage_error(PROG, "%s '%s'", need, a) : 0;
+}
+
+static void opts_default(opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->scene = "table3", o->out = "sweep", o->param = WG_P_OMEGA, o->from = 0.1, o->to = 2.5;
+    o->points = 241, o->up = o->down = 1, o->gparam = -1, o->mparam = -1, o->png = o->json = 1;
+    o->at_periods = 2000;
+    long nc = sysconf(_SC_NPROCESSORS_ONLN);
+    o->threads = nc < 1 ? 1 : nc > 256 ? 256 : (int)nc;
+    wg_sweep_opts_default(&o->so);
 }
 
 static int parse_opts(int argc, char **argv, opts *o)
@@ -202,13 +217,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"threads", 1, 0, 'j'}, {"out", 1, 0, 'o'}, {"no-png", 0, 0, 'G'}, {"no-json", 0, 0, 'J'},
         {"at", 1, 0, 'A'}, {"at-periods", 1, 0, 'P'}, {"quiet", 0, 0, 'q'}, {"table-from", 1, 0, 'Y'},
         {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
-    memset(o, 0, sizeof *o);
-    o->scene = "table3", o->out = "sweep", o->param = WG_P_OMEGA, o->from = 0.1, o->to = 2.5;
-    o->points = 241, o->up = o->down = 1, o->gparam = -1, o->mparam = -1, o->png = o->json = 1;
-    o->at_periods = 2000;
-    long nc = sysconf(_SC_NPROCESSORS_ONLN);
-    o->threads = nc < 1 ? 1 : nc > 256 ? 256 : (int)nc;
-    wg_sweep_opts_default(&o->so);
+    opts_default(o);
     int c, rc;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
@@ -216,7 +225,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         case 's': o->scene = optarg; break;
         case 'S':
             if (o->nsets == 64)
-                return bad("too many --set options, at most", "64");
+                return cli_usage_error(PROG, "too many --set options, at most '%s'", "64");
             o->sets[o->nsets++] = optarg;
             break;
         case 'o': o->out = optarg; break;
@@ -227,14 +236,16 @@ static int parse_opts(int argc, char **argv, opts *o)
         case 'q': o->quiet = 1; break;
         case 'Y': o->table_from = optarg; break;
         case 'h': usage(stdout); exit(0);
-        case '?': return bad("unknown option or missing argument:", argv[optind - 1]);
+        case '?':
+            return cli_usage_error(PROG, "unknown option or missing argument: '%s'",
+                                   argv[optind - 1]);
         default:
             if ((rc = parse_range(c, optarg, o)))
                 return rc;
         }
     }
     if (optind < argc)
-        return bad("unexpected argument", argv[optind]);
+        return cli_usage_error(PROG, "unexpected argument '%s'", argv[optind]);
     if (o->step > 0)
         o->points = (int)floor(fabs(o->to - o->from) / o->step + 1.5e-9) + 1;
     return 0;
@@ -248,13 +259,6 @@ typedef struct progress {
     int tty, quiet, lastpct;
 } progress;
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static void on_progress(void *ctx, int chain, int ndone)
 {
     (void)chain, (void)ndone;
@@ -262,7 +266,7 @@ static void on_progress(void *ctx, int chain, int ndone)
     p->done++;
     if (p->quiet)
         return;
-    double t = now_s(), el = t - p->t0;
+    double t = cli_mono_s(), el = t - p->t0;
     int pct = (int)(100 * p->done / (p->total ? p->total : 1));
     if (p->tty ? (t - p->last < 0.2 && p->done < p->total) : pct / 10 == p->lastpct / 10)
         return;
@@ -296,23 +300,6 @@ static int new_chain(wg_chain *c, const wg_params *base, const opts *o, int dir,
     return c->pts ? 0 : -1;
 }
 
-static char *join_args(int argc, char **argv)
-{
-    size_t len = 1;
-    for (int i = 0; i < argc; i++)
-        len += strlen(argv[i]) + 1;
-    char *s = malloc(len);
-    if (!s)
-        return NULL;
-    s[0] = 0;
-    for (int i = 0; i < argc; i++) {
-        strcat(s, argv[i]);
-        if (i + 1 < argc)
-            strcat(s, " ");
-    }
-    return s;
-}
-
 static void install_signals(void)
 {
     struct sigaction sa;
@@ -328,9 +315,9 @@ static int run_all(wg_chain *cs, int n, const opts *o, int size, double *wall)
     long total = 0;
     for (int i = 0; i < n; i++)
         total += cs[i].npts;
-    progress pg = {total / size, 0, now_s(), 0.0, isatty(2), o->quiet, -1};
+    progress pg = {total / size, 0, cli_mono_s(), 0.0, isatty(2), o->quiet, -1};
     int rc = par_run(cs, n, &o->so, o->threads, &g_stop, on_progress, &pg);
-    *wall = now_s() - pg.t0;
+    *wall = cli_mono_s() - pg.t0;
     return rc;
 }
 
@@ -343,7 +330,7 @@ static int write_study(const opts *o, sweep_study *st)
     snprintf(path, sizeof path, "%s-poincare.csv", o->out);
     rc |= out_poincare_csv(path, st, why, sizeof why);
     snprintf(path, sizeof path, "%s.md", o->out);
-    rc |= out_markdown(path, st, why, sizeof why);
+    rc |= md_write(path, st, why, sizeof why);
     if (o->json) {
         snprintf(path, sizeof path, "%s.json", o->out);
         rc |= out_json(path, st, why, sizeof why);
@@ -402,32 +389,34 @@ static int do_map(const opts *o, const wg_scene *sc, int rank, int size)
     return partial ? 130 : rc ? 1 : 0;
 }
 
+/* The up/down chains of every group of st into cs[n]: 0, or -1 (out of
+ * memory). */
+static int study_chains(sweep_study *st, wg_chain *cs, const opts *o, const wg_scene *sc)
+{
+    int per = o->up + o->down, rc = 0;
+    for (int k = 0; k < st->ngroups && !rc; k++) {
+        wg_params p = sc->p;
+        if (o->gparam >= 0)
+            p.v[o->gparam] = st->g[k].gval = o->gvals[k];
+        wg_chain *c = &cs[k * per];
+        if (o->up && !(rc = new_chain(c, &p, o, +1, o->gparam)))
+            st->g[k].up = c++;
+        if (o->down && !rc && !(rc = new_chain(c, &p, o, -1, o->gparam)))
+            st->g[k].down = c;
+    }
+    return rc;
+}
+
 /* 1-D study: up/down chains per group value. */
 static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank, int size)
 {
-    sweep_study st;
-    memset(&st, 0, sizeof st);
-    st.scene = sc->name;
-    st.command = cmd;
-    st.param = o->param;
-    st.gparam = o->gparam;
-    st.ngroups = o->gparam >= 0 ? o->ngvals : 1;
-    st.b = sc->p.v[WG_P_B];
-    st.o = &o->so;
-    st.threads = o->threads;
-    st.ranks = size;
-    int per = o->up + o->down, n = st.ngroups * per, rc = 0;
+    sweep_study st = {.scene = sc->name, .command = cmd, .param = o->param, .gparam = o->gparam,
+                      .ngroups = o->gparam >= 0 ? o->ngvals : 1, .b = sc->p.v[WG_P_B],
+                      .o = &o->so, .threads = o->threads, .ranks = size};
+    int n = st.ngroups * (o->up + o->down), rc = 0;
     wg_chain *cs = calloc((size_t)n, sizeof *cs);
-    for (int k = 0; k < st.ngroups && cs && !rc; k++) {
-        wg_params p = sc->p;
-        if (o->gparam >= 0)
-            p.v[o->gparam] = st.g[k].gval = o->gvals[k];
-        wg_chain *c = &cs[k * per];
-        if (o->up && !(rc = new_chain(c, &p, o, +1, o->gparam)))
-            st.g[k].up = c++;
-        if (o->down && !rc && !(rc = new_chain(c, &p, o, -1, o->gparam)))
-            st.g[k].down = c;
-    }
+    if (cs)
+        rc = study_chains(&st, cs, o, sc);
     if (!cs || rc) {
         fprintf(stderr, "wgsweep: out of memory\n");
         rc = 1;
@@ -465,7 +454,7 @@ static int do_table(const opts *o, const wg_scene *sc, const char *cmd)
     int rc = load_points_csv(o->table_from, &st, why, sizeof why);
     snprintf(path, sizeof path, "%s.md", o->out);
     if (!rc)
-        rc = out_markdown(path, &st, why, sizeof why);
+        rc = md_write(path, &st, why, sizeof why);
     if (rc)
         fprintf(stderr, "wgsweep: %s\n", why);
     load_free(&st);
@@ -513,7 +502,7 @@ int main(int argc, char **argv)
     if (!rc) {
         o.so.model = sc.model;
         install_signals();
-        char *cmd = join_args(argc, argv);
+        char *cmd = cli_join_args(argc, argv);
         if (o.table_from)
             rc = rank == 0 ? do_table(&o, &sc, cmd) : 0;
         else if (o.at_set)

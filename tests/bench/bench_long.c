@@ -6,6 +6,7 @@
  * bounded, mean x_n of the first and last 10^4 periods, tau against
  * steps * h, resident-set high-water mark before and after.
  * usage: bench_long [steps (1e9)] [scene (table3)] */
+#include "cli.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_sim.h"
 #include "wormgear/wg_status.h"
@@ -15,7 +16,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
-#include <time.h>
 
 enum { N = 128, WINDOW = 10000 };
 
@@ -34,13 +34,6 @@ static void on_sec(void *ctx, const wg_section *s)
     a->maxabs = fmax(a->maxabs, m);
     a->sum_xn += s->out.xn;
     a->sections++;
-}
-
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 static double cpu_s(long *maxrss)
@@ -76,7 +69,7 @@ int main(int argc, char **argv)
     wg_sim_run(&s, (uint64_t)N * WINDOW, &sink, NULL);
     double mean0 = a.sum_xn / WINDOW;
     long rss0, rss1;
-    double c0 = cpu_s(&rss0), t0 = now_s();
+    double c0 = cpu_s(&rss0), t0 = cli_mono_s();
     const uint64_t chunk = 100000000ull;
     uint64_t left = total - total % N, done_all = 0;
     printf("bench_long: %s, omega 2.5, N %d, rk4-event, %.3g steps in chunks of %.0e\n", scene, N,
@@ -84,9 +77,9 @@ int main(int argc, char **argv)
     printf("| chunk | ns/step | x physical real time |\n|---|---|---|\n");
     for (int c = 1; left > 0; c++) {
         uint64_t n = left < chunk ? left : chunk, done = 0;
-        double tc = now_s();
+        double tc = cli_mono_s();
         int rc = wg_sim_run(&s, n, &sink, &done);
-        double ns = (now_s() - tc) * 1e9 / (double)done;
+        double ns = (cli_mono_s() - tc) * 1e9 / (double)done;
         done_all += done;
         printf("| %d | %.1f | %.1fx |\n", c, ns, 1e9 / ns / 1.62e6);
         fflush(stdout);
@@ -97,7 +90,7 @@ int main(int argc, char **argv)
         }
         left -= n;
     }
-    double wall = now_s() - t0, cpu = cpu_s(&rss1) - c0;
+    double wall = cli_mono_s() - t0, cpu = cpu_s(&rss1) - c0;
     a.sum_xn = 0;
     wg_sim_run(&s, (uint64_t)N * WINDOW, &sink, NULL);
     double mean1 = a.sum_xn / WINDOW;

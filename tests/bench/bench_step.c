@@ -6,20 +6,13 @@
  * mu = 1e-300 for the torsional path), which selects the general kernel on
  * an otherwise identical scene.
  * usage: bench_step [steps per repetition (default 2e6)] [reps (default 7)] */
+#include "cli.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_sim.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-
-static double now_ns(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return 1e9 * (double)t.tv_sec + (double)t.tv_nsec;
-}
 
 static int cmp(const void *a, const void *b)
 {
@@ -43,12 +36,12 @@ static double time_steps(const wg_params *p, int stepper, int N, long n, int rep
     double t[32];
     uint64_t sp0 = s.nsplit;
     for (int r = 0; r < reps && r < 32; r++) {
-        double t0 = now_ns();
+        double t0 = (double)cli_mono_ns();
         if (wg_sim_run(&s, (uint64_t)n, NULL, NULL)) {
             fprintf(stderr, "bench_step: blow-up\n");
             exit(1);
         }
-        t[r] = (now_ns() - t0) / (double)n;
+        t[r] = ((double)cli_mono_ns() - t0) / (double)n;
     }
     *splits_per_step = (double)(s.nsplit - sp0) / ((double)n * reps);
     wg_sim_fini(&s);

@@ -2,7 +2,8 @@
  * command->ACK latency (p50/p99/max) and the daemon's CPU share at physical
  * real time (table3, omega = 2.5, N = 128, publishing on).
  * usage: netns.sh wgd_bench WORMGEARD [SECONDS] [NCMDS] */
-#include "wgcli.h"
+#include "cli.h"
+#include "bus.h"
 
 #include "lcmtypes/wormgear_status_t.h"
 
@@ -11,11 +12,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 typedef struct bench {
-    wgcli c;
+    bus c;
     wormgear_status_t last;
     int nstatus;
     char health[16];
@@ -32,13 +32,6 @@ static void on_status(const lcm_recv_buf_t *r, const char *ch, const wormgear_st
     B.last.scene = B.last.mode = B.last.run = B.last.health = B.last.fault = B.last.motion =
         B.last.regime = NULL;
     B.nstatus++;
-}
-
-static double now_us(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e6 + (double)ts.tv_nsec * 1e-3;
 }
 
 static double cpu_ticks(pid_t pid)
@@ -78,11 +71,11 @@ static void latency(const char *op, int n)
         int set = !strcmp(op, "set");
         wormgear_cmd_t c = {.op = (char *)op, .nparams = set, .names = name, .values = &v,
                             .unit = "", .name = ""};
-        double t0 = now_us();
-        wgcli_send(&B.c, &c);
-        if (wgcli_wait_ack(&B.c, 1000) == 0 && B.c.ack.accepted)
-            lat[got++] = now_us() - t0;
-        wgcli_wait(&B.c, 5, NULL, NULL); /* 5 ms apart */
+        double t0 = cli_mono_ns() * 1e-3;
+        bus_send(&B.c, &c);
+        if (bus_wait_ack(&B.c, 1000) == 0 && B.c.ack.accepted)
+            lat[got++] = cli_mono_ns() * 1e-3 - t0;
+        bus_wait(&B.c, 5, NULL, NULL); /* 5 ms apart */
     }
     qsort(lat, (size_t)got, sizeof *lat, cmp);
     if (got)
@@ -108,11 +101,11 @@ int main(int argc, char **argv)
               "1", (char *)NULL);
         _exit(127);
     }
-    if (wgcli_open(&B.c, url, "BENCH_", "wgd_bench", why, sizeof why))
+    if (bus_open(&B.c, url, "BENCH_", "wgd_bench", why, sizeof why))
         return 1;
     wormgear_status_t_subscription_t *s =
         wormgear_status_t_subscribe(B.c.lcm, "BENCH_STATUS", on_status, NULL);
-    wgcli_wait(&B.c, 3000, NULL, NULL); /* start-up and grace */
+    bus_wait(&B.c, 3000, NULL, NULL); /* start-up and grace */
     printf("wormgeard benchmark: table3, omega 2.5, N 128, realtime rate 1 (physical real "
            "time), STATE 2000 samples/s + POINCARE + CONTACT published; %ld CPUs, load %s",
            sysconf(_SC_NPROCESSORS_ONLN), "");
@@ -121,9 +114,9 @@ int main(int argc, char **argv)
     if (la && fgets(lbuf, sizeof lbuf, la))
         fclose(la);
     printf("%s", lbuf);
-    double c0 = cpu_ticks(pid), t0 = now_us();
-    wgcli_wait(&B.c, secs * 1000, NULL, NULL);
-    double c1 = cpu_ticks(pid), t1 = now_us();
+    double c0 = cpu_ticks(pid), t0 = cli_mono_ns() * 1e-3;
+    bus_wait(&B.c, secs * 1000, NULL, NULL);
+    double c1 = cpu_ticks(pid), t1 = cli_mono_ns() * 1e-3;
     printf("CPU share over %d s: %.1f%% of one core (/proc utime+stime, all threads)\n", secs,
            100.0 * (c1 - c0) / ((t1 - t0) * 1e-6));
     printf("last STATUS: %.4g steps/s, rtf %.4f, lag %.3f ms, overruns %lld, loop %.0f us mean "
@@ -133,7 +126,7 @@ int main(int argc, char **argv)
     latency("get", ncmd);
     latency("set", ncmd);
     wormgear_status_t_unsubscribe(B.c.lcm, s);
-    wgcli_close(&B.c);
+    bus_close(&B.c);
     kill(pid, SIGTERM);
     int st;
     waitpid(pid, &st, 0);

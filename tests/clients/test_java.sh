@@ -8,20 +8,20 @@
 #   and runs without a Java exception. Exit 77 (skip) without Xvfb.
 #   Run through netns.sh (host-local URL only).
 mode=$1; shift
-status=0
+code=0
 tmp=$(mktemp -d) || exit 1
 pids=
 cleanup() { for p in $pids; do kill -KILL "$p" 2>/dev/null; done; rm -rf "$tmp"; }
 trap cleanup EXIT
-fail() { echo "FAIL: $*"; status=1; }
+fail() { echo "FAIL: $*"; code=1; }
 
 if [ "$mode" = decode ]; then
     ENC=$1 JAR=$2 LCMJAR=$3 JAVAC=$4 JAVA=$5 SRC=$6
     "$ENC" "$tmp" || { echo "FAIL: wgenc"; exit 1; }
     mkdir "$tmp/cls"
     "$JAVAC" -nowarn -cp "$JAR:$LCMJAR" -d "$tmp/cls" "$SRC/DecodeTest.java" || exit 1
-    "$JAVA" -cp "$tmp/cls:$JAR:$LCMJAR" DecodeTest "$tmp" || status=1
-    exit $status
+    "$JAVA" -cp "$tmp/cls:$JAR:$LCMJAR" DecodeTest "$tmp" || code=1
+    exit $code
 fi
 
 D=$1 JAR=$2 LCMJAR=$3 JAVAC=$4 JAVA=$5 SRC=$6 SPY=$7
@@ -56,4 +56,4 @@ timeout 3 "$SPY" --jar "$JAR" >"$tmp/wgspy.out" 2>&1
 rc=$?
 [ $rc -eq 124 ] || fail "wgspy exited early ($rc): $(cat "$tmp/wgspy.out")"
 grep -q "Exception\|Unrecognized option" "$tmp/wgspy.out" && fail "wgspy: $(cat "$tmp/wgspy.out")"
-exit $status
+exit $code

@@ -1,10 +1,10 @@
-/* test_rig_point.c - the live point analysis of wgrig (rig_point.c) gives
+/* test_rig_point.c - the live point analysis of wgrig (rig_ana.c) gives
  * the offline sweep's result (wg_point_run) when fed the same sections: a
  * local sim plays the daemon (transient, then record periods delivered as
  * POINCARE would), for a period-1, a period-2 and an impacting orbit, and
  * an aperiodic one (extend rounds, LLE, classification). */
 #include "test.h"
-#include "rig_point.h"
+#include "rig_ana.h"
 
 #include "wormgear/wg_status.h"
 
@@ -50,7 +50,7 @@ static void rig_point(const wg_params *p, const wg_sweep_opts *o, const double *
         play(&sim, &rec, o->lle_periods, o->record);
         rig_ana_aperiodic(&a, &rec, pt);
     }
-    rig_point_fill(&rec, pt);
+    rig_rec_fill(&rec, pt);
     rig_ana_fini(&a);
     rig_rec_fini(&rec);
     wg_sim_fini(&sim);

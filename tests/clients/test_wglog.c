@@ -97,7 +97,8 @@ static void write_others(lcm_eventlog_t *l)
     put(l, "OTHER", 1300001, "not an lcm message", 18);
 }
 
-/* Run the shell command; its stdout into out (may be NULL); exit status. */
+/* Run the shell command; its stdout into out (may be NULL); its exit code,
+ * or -1. */
 static int run(const char *cmd, char *out, size_t len)
 {
     FILE *p = popen(cmd, "r");

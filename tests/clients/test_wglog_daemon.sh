@@ -6,7 +6,7 @@
 # (17 significant digits), the summary has the channels, and a set command
 # shows up in CMD/ACK. Run through netns.sh (host-local URL only).
 D=$1 W=$2 T=$3 C=$4 L=$5
-status=0
+code=0
 tmp=$(mktemp -d) || exit 1
 dpid= lpid=
 cleanup() {
@@ -14,7 +14,7 @@ cleanup() {
     rm -rf "$tmp"
 }
 trap cleanup EXIT
-fail() { echo "FAIL: $*"; status=1; }
+fail() { echo "FAIL: $*"; code=1; }
 export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0" WORMGEAR_PREFIX=LOGT_
 
 "$L" --lcm-url="$WORMGEAR_URL" "$tmp/run.lcmlog" >"$tmp/logger.out" 2>&1 &
@@ -53,4 +53,4 @@ grep -q ',OK,' "$tmp/csv/LOGT_ACK.csv" || fail "ACK.csv lacks the OK: $(cat "$tm
 # omega in STATE goes 0.7 -> 0.75 once
 awk -F, 'NR > 1 && $9 != last { n++; last = $9 } END { exit !(n == 2) }' "$tmp/csv/LOGT_STATE.csv" ||
     fail "STATE omega does not step once from 0.7 to 0.75"
-exit $status
+exit $code

@@ -4,7 +4,7 @@
 # errors, no daemon, a regime change after `wgctl set`, a daemon restart.
 # Run through netns.sh (host-local URL only).
 D=$1 M=$2 C=$3
-status=0
+code=0
 tmp=$(mktemp -d) || exit 1
 pid=
 sock=wgmon-test-$$
@@ -14,7 +14,7 @@ cleanup() {
     rm -rf "$tmp"
 }
 trap cleanup EXIT
-fail() { echo "FAIL: $*"; status=1; }
+fail() { echo "FAIL: $*"; code=1; }
 expect() {
     want=$1; shift
     "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
@@ -93,4 +93,4 @@ else
     echo "tmux not installed: interactive checks skipped"
 fi
 kill -TERM $pid; wait $pid; pid=
-exit $status
+exit $code

@@ -8,12 +8,12 @@
 # CONTACT impacts equal the POINCARE statistics; a ramp; refusals; usage.
 # Run through netns.sh (host-local URL only).
 D=$1 R=$2 S=$3 C=$4
-status=0
+code=0
 tmp=$(mktemp -d) || exit 1
 pid=
 cleanup() { [ -n "$pid" ] && kill -KILL "$pid" 2>/dev/null; rm -rf "$tmp"; }
 trap cleanup EXIT
-fail() { echo "FAIL: $*"; status=1; }
+fail() { echo "FAIL: $*"; code=1; }
 expect() {
     want=$1; shift
     "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
@@ -90,4 +90,4 @@ expect 1 "$R" --from 0.5 --to 0.6 --points 2 --dir up --retries 1 --out "$tmp/re
 has err "refused (ESTATE)"
 has err "2 skipped (refused)"
 kill -TERM $pid; wait $pid; pid=
-exit $status
+exit $code

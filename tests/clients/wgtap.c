@@ -3,6 +3,7 @@
  *   STATE,seq,i,tau,xn      POINCARE,seq,i,period,xn
  * with 17 significant digits (the same numbers wglog writes to its CSV).
  * usage: wgtap URL PREFIX SEC */
+#include "cli.h"
 #include "lcmtypes/wormgear_poincare_t.h"
 #include "lcmtypes/wormgear_state_t.h"
 
@@ -10,14 +11,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <sys/select.h>
-#include <time.h>
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, const wormgear_state_t *m, void *u)
 {
@@ -48,8 +41,8 @@ int main(int argc, char **argv)
     wormgear_state_t_subscription_t *s1 = wormgear_state_t_subscribe(l, ch, on_state, NULL);
     snprintf(ch, sizeof ch, "%sPOINCARE", argv[2]);
     wormgear_poincare_t_subscription_t *s2 = wormgear_poincare_t_subscribe(l, ch, on_pc, NULL);
-    double end = now() + atof(argv[3]);
-    for (double left; (left = end - now()) > 0;) {
+    double end = cli_mono_s() + atof(argv[3]);
+    for (double left; (left = end - cli_mono_s()) > 0;) {
         int fd = lcm_get_fileno(l);
         fd_set s;
         FD_ZERO(&s);

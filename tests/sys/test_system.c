@@ -4,7 +4,8 @@
  * RELOADING on SIGHUP, STOPPING; SIGTERM -> exit 0.
  * usage: test_system WORMGEARD [URL]   (run it through netns.sh) */
 #include "test.h"
-#include "wgcli.h"
+#include "cli.h"
+#include "bus.h"
 
 #include "lcmtypes/wormgear_contact_t.h"
 #include "lcmtypes/wormgear_poincare_t.h"
@@ -23,7 +24,7 @@ typedef struct sys {
     pid_t pid;
     int nfd;                  /* notify socket */
     char notes[4096];         /* everything received on it */
-    wgcli c;
+    bus c;
     int64_t next[3];
     long msgs[3], gaps[3], samples[3];
     char health[16], run[16];
@@ -75,8 +76,8 @@ static void on_ack(const lcm_recv_buf_t *r, const char *ch, const wormgear_ack_t
 /* Read notify datagrams for up to ms; returns 1 once `want` was seen. */
 static int notify_wait(const char *want, int ms)
 {
-    int64_t end = wgcli_now_ms() + ms;
-    while (!strstr(S.notes, want) && wgcli_now_ms() < end) {
+    double end = cli_mono_s() + ms * 1e-3;
+    while (!strstr(S.notes, want) && cli_mono_s() < end) {
         char buf[512];
         struct timeval tv = {0, 20000};
         setsockopt(S.nfd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
@@ -86,7 +87,7 @@ static int notify_wait(const char *want, int ms)
             strncat(S.notes, buf, sizeof S.notes - strlen(S.notes) - 2);
             strcat(S.notes, "\n");
         }
-        wgcli_wait(&S.c, 1, NULL, NULL); /* keep LCM queues moving */
+        bus_wait(&S.c, 1, NULL, NULL); /* keep LCM queues moving */
     }
     return strstr(S.notes, want) != NULL;
 }
@@ -109,15 +110,15 @@ static void start_daemon(void)
     }
 }
 
-/* Send cmd; return the ACK status (or 99 on no answer). */
+/* Send cmd; return the ACK's return code (or 99 on no answer). */
 static int cmd(wormgear_cmd_t *c)
 {
     c->unit = c->unit ? c->unit : (char *)"";
     c->name = c->name ? c->name : (char *)"";
-    ASSERT_TRUE(wgcli_send(&S.c, c) > 0);
-    if (wgcli_wait_ack(&S.c, 3000))
+    ASSERT_TRUE(bus_send(&S.c, c) > 0);
+    if (bus_wait_ack(&S.c, 3000))
         return 99;
-    return S.c.ack.status;
+    return S.c.ack.rc;
 }
 
 static int set1(const char *name, double v)
@@ -138,7 +139,7 @@ static void healthy(void)
 {
     ASSERT_EQ_INT(op("get", ""), 0);
     int n = S.nstatus;
-    wgcli_wait(&S.c, 300, NULL, NULL);
+    bus_wait(&S.c, 300, NULL, NULL);
     ASSERT_TRUE(S.nstatus > n);
     ASSERT_STR(S.health, "ok");
 }
@@ -146,7 +147,7 @@ static void healthy(void)
 static void test_system(void)
 {
     char why[256], ch[64];
-    ASSERT_EQ_INT(wgcli_open(&S.c, S.url, "SYS_", "systest", why, sizeof why), 0);
+    ASSERT_EQ_INT(bus_open(&S.c, S.url, "SYS_", "systest", why, sizeof why), 0);
     S.subs[0] = wormgear_state_t_subscribe(S.c.lcm, "SYS_STATE", on_state, NULL);
     S.subs[1] = wormgear_poincare_t_subscribe(S.c.lcm, "SYS_POINCARE", on_pc, NULL);
     S.subs[2] = wormgear_contact_t_subscribe(S.c.lcm, "SYS_CONTACT", on_ct, NULL);
@@ -167,7 +168,7 @@ static void test_system(void)
                          .duration = 0.02, .unit = "s"};
     ASSERT_EQ_INT(cmd(&rp), 0);
     ASSERT_EQ_INT(op("pause", ""), 0);
-    wgcli_wait(&S.c, 300, NULL, NULL);
+    bus_wait(&S.c, 300, NULL, NULL);
     double tau_paused = S.status_tau;
     ASSERT_STR(S.run, "paused");
     wormgear_cmd_t st = {.op = "step", .nsteps = 1000};
@@ -192,12 +193,12 @@ static void test_system(void)
     healthy();
     /* undecodable bytes on CMD: still an ACK (client unknown) */
     S.subs[4] = wormgear_ack_t_subscribe(S.c.lcm, "SYS_ACK", on_ack, NULL);
-    lcm_publish(S.c.lcm, wgcli_channel(&S.c, "CMD", ch, sizeof ch), "garbage!", 8);
+    lcm_publish(S.c.lcm, bus_channel(&S.c, "CMD", ch, sizeof ch), "garbage!", 8);
     healthy();
     ASSERT_EQ_INT(S.ndecode, 1);
 
     /* streams: consecutive seq, nothing lost on the way */
-    wgcli_wait(&S.c, 1500, NULL, NULL);
+    bus_wait(&S.c, 1500, NULL, NULL);
     for (int i = 0; i < 3; i++) {
         printf("  channel %d: %ld messages, %ld samples, %ld seq gaps\n", i, S.msgs[i],
                S.samples[i], S.gaps[i]);
@@ -216,18 +217,18 @@ static void test_system(void)
     /* SIGTERM: STOPPING=1, exit 0 (under ASan: and no leak) */
     S.notes[0] = 0;
     kill(S.pid, SIGTERM);
-    int status = -1;
+    int wstat = -1;
     ASSERT_TRUE(notify_wait("STOPPING=1", 5000));
-    ASSERT_EQ_INT(waitpid(S.pid, &status, 0), S.pid);
-    ASSERT_TRUE(WIFEXITED(status));
-    ASSERT_EQ_INT(WEXITSTATUS(status), 0);
+    ASSERT_EQ_INT(waitpid(S.pid, &wstat, 0), S.pid);
+    ASSERT_TRUE(WIFEXITED(wstat));
+    ASSERT_EQ_INT(WEXITSTATUS(wstat), 0);
     S.pid = 0;
     wormgear_state_t_unsubscribe(S.c.lcm, S.subs[0]);
     wormgear_poincare_t_unsubscribe(S.c.lcm, S.subs[1]);
     wormgear_contact_t_unsubscribe(S.c.lcm, S.subs[2]);
     wormgear_status_t_unsubscribe(S.c.lcm, S.subs[3]);
     wormgear_ack_t_unsubscribe(S.c.lcm, S.subs[4]);
-    wgcli_close(&S.c);
+    bus_close(&S.c);
     close(S.nfd);
     S.nfd = -1;
 }

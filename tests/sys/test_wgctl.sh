@@ -4,14 +4,14 @@
 # --json), config-file errors with file:line, CLI overrides, the foreground
 # status line, SIGTERM -> 0. Run through netns.sh (host-local URL only).
 D=$1 C=$2
-status=0
+code=0
 tmp=$(mktemp -d) || exit 1
 pid=
 cleanup() { [ -n "$pid" ] && kill -KILL "$pid" 2>/dev/null; rm -rf "$tmp"; }
 trap cleanup EXIT
 export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0" WORMGEAR_PREFIX=CTL_
 
-fail() { echo "FAIL: $*"; status=1; }
+fail() { echo "FAIL: $*"; code=1; }
 # expect CODE CMD...: run, keep stdout/stderr in $tmp/out, $tmp/err
 expect() {
     want=$1; shift
@@ -115,5 +115,5 @@ rc=$?
 pid=
 [ $rc -eq 0 ] || fail "SIGTERM: exit $rc: $(tail -5 "$tmp/log")"
 grep -q "refused set" "$tmp/log" || fail "refusals not logged"
-[ $status -eq 0 ] && echo "ok: wgctl against wormgeard"
-exit $status
+[ $code -eq 0 ] && echo "ok: wgctl against wormgeard"
+exit $code

@@ -1,4 +1,4 @@
-/* sweep_mpi.c - the MPI layer of sweep_par.h (built with WG_MPI=ON): chains
+/* sweep_par_mpi.c - the MPI layer of sweep_par.h (built with WG_MPI=ON): chains
  * are dealt round-robin to ranks, each rank runs its share on threads, and
  * rank 0 receives every foreign chain's points as raw bytes (homogeneous
  * nodes: same struct layout everywhere). */
@@ -21,7 +21,7 @@ int par_init(int *argc, char ***argv, int *rank, int *size)
 
 /* Header of a chain's result on the wire. */
 typedef struct wire {
-    int ndone, status;
+    int ndone, rc;            /* rc: the chain's return code (wg_chain.status) */
     char why[160];
 } wire;
 
@@ -40,7 +40,7 @@ static void recv_chain(wg_chain *c, int from, int tag)
     wire w;
     MPI_Recv(&w, (int)sizeof w, MPI_BYTE, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     c->ndone = w.ndone;
-    c->status = w.status;
+    c->status = w.rc;
     memcpy(c->why, w.why, sizeof c->why);
     if (w.ndone)
         MPI_Recv(c->pts, (int)(sizeof(wg_point) * (size_t)w.ndone), MPI_BYTE, from, tag,
@@ -65,7 +65,7 @@ int par_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
         idx[mine++] = i;
     }
     wg_chains_run(local, mine, o, threads, stop, progress, ctx);
-    for (int k = 0; k < mine; k++) /* copy back status/ndone (pts are shared) */
+    for (int k = 0; k < mine; k++) /* copy back the return code, ndone (pts are shared) */
         cs[idx[k]] = local[k];
     free(local);
     free(idx);

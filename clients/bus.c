@@ -1,34 +1,38 @@
-/* wgcli.c - shared LCM client helpers. */
-#include "wgcli.h"
+/* bus.c - the daemon on LCM, for the clients (see bus.h). */
+#include "bus.h"
+#include "cli.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/select.h>
 #include <sys/time.h>
-#include <time.h>
 #include <unistd.h>
 
-const char *wgcli_default_url(void)
+const char *bus_default_url(void)
 {
     const char *u = getenv("WORMGEAR_URL");
-    return u && *u ? u : WGCLI_DEFAULT_URL;
+    return u && *u ? u : BUS_DEFAULT_URL;
 }
 
-const char *wgcli_default_prefix(void)
+const char *bus_default_prefix(void)
 {
     const char *p = getenv("WORMGEAR_PREFIX");
-    return p ? p : WGCLI_DEFAULT_PREFIX;
+    return p ? p : BUS_DEFAULT_PREFIX;
 }
 
-int64_t wgcli_now_ms(void)
+int bus_seq_note(bus_seq *s, int64_t seq)
 {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+    int jump = !s->have ? 0 : seq > s->last + 1 ? 1 : seq <= s->last ? -1 : 0;
+    if (jump > 0)
+        s->gaps++, s->missing += seq - s->last - 1;
+    else if (jump < 0)
+        s->restarts++;
+    s->last = seq, s->have = 1;
+    return jump;
 }
 
-const char *wgcli_channel(const wgcli *c, const char *suffix, char *buf, size_t len)
+const char *bus_channel(const bus *c, const char *suffix, char *buf, size_t len)
 {
     snprintf(buf, len, "%s%s", c->prefix, suffix);
     return buf;
@@ -38,13 +42,13 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
 {
     (void)rb;
     (void)ch;
-    wgcli *c = u;
+    bus *c = u;
     if (m->cmd_seq != c->seq || strcmp(m->client, c->client) != 0)
         return; /* someone else's */
-    wgcli_ack *a = &c->ack;
+    bus_ack *a = &c->ack;
     a->got = 1;
     a->accepted = m->accepted;
-    a->status = m->status;
+    a->rc = m->status;
     a->cmd_seq = m->cmd_seq;
     a->steps = m->steps;
     a->tau = m->tau;
@@ -54,13 +58,13 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
     snprintf(a->message, sizeof a->message, "%s", m->message);
 }
 
-int wgcli_open(wgcli *c, const char *url, const char *prefix, const char *name, char *why,
-               size_t whylen)
+int bus_open(bus *c, const char *url, const char *prefix, const char *name, char *why,
+             size_t whylen)
 {
     char host[64] = "host", ch[128];
     memset(c, 0, sizeof *c);
-    url = url ? url : wgcli_default_url();
-    snprintf(c->prefix, sizeof c->prefix, "%s", prefix ? prefix : wgcli_default_prefix());
+    url = url ? url : bus_default_url();
+    snprintf(c->prefix, sizeof c->prefix, "%s", prefix ? prefix : bus_default_prefix());
     gethostname(host, sizeof host - 1);
     snprintf(c->client, sizeof c->client, "%s-%d@%s", name, (int)getpid(), host);
     c->lcm = lcm_create(url);
@@ -68,12 +72,12 @@ int wgcli_open(wgcli *c, const char *url, const char *prefix, const char *name, 
         snprintf(why, whylen, "cannot open LCM URL '%s'", url);
         return -1;
     }
-    c->ack_sub = wormgear_ack_t_subscribe(c->lcm, wgcli_channel(c, "ACK", ch, sizeof ch),
+    c->ack_sub = wormgear_ack_t_subscribe(c->lcm, bus_channel(c, "ACK", ch, sizeof ch),
                                           on_ack, c);
     return 0;
 }
 
-void wgcli_close(wgcli *c)
+void bus_close(bus *c)
 {
     if (c->lcm && c->ack_sub)
         wormgear_ack_t_unsubscribe(c->lcm, c->ack_sub);
@@ -83,26 +87,29 @@ void wgcli_close(wgcli *c)
     c->lcm = NULL;
 }
 
-int64_t wgcli_send(wgcli *c, wormgear_cmd_t *cmd)
+wormgear_cmd_t bus_cmd(const char *op)
 {
-    struct timeval tv;
+    return (wormgear_cmd_t){.op = (char *)op, .unit = (char *)"", .name = (char *)""};
+}
+
+int64_t bus_send(bus *c, wormgear_cmd_t *cmd)
+{
     char ch[128];
-    gettimeofday(&tv, NULL);
-    cmd->utime = (int64_t)tv.tv_sec * 1000000 + tv.tv_usec;
+    cmd->utime = cli_wall_us();
     cmd->seq = ++c->seq;
     cmd->client = c->client;
     c->ack.got = 0;
-    if (wormgear_cmd_t_publish(c->lcm, wgcli_channel(c, "CMD", ch, sizeof ch), cmd) != 0)
+    if (wormgear_cmd_t_publish(c->lcm, bus_channel(c, "CMD", ch, sizeof ch), cmd) != 0)
         return -1;
     return cmd->seq;
 }
 
-int wgcli_wait(wgcli *c, int timeout_ms, int (*done)(void *ctx), void *ctx)
+int bus_wait(bus *c, int timeout_ms, int (*done)(void *ctx), void *ctx)
 {
-    int64_t end = wgcli_now_ms() + timeout_ms;
+    int64_t end = cli_mono_ns() / 1000000 + timeout_ms;
     int fd = lcm_get_fileno(c->lcm);
     while (!(done && done(ctx))) {
-        int64_t left = end - wgcli_now_ms();
+        int64_t left = end - cli_mono_ns() / 1000000;
         if (left <= 0)
             return -1;
         fd_set set;
@@ -115,22 +122,6 @@ int wgcli_wait(wgcli *c, int timeout_ms, int (*done)(void *ctx), void *ctx)
     return 0;
 }
 
-static int ack_done(void *ctx) { return ((wgcli *)ctx)->ack.got; }
+static int ack_done(void *ctx) { return ((bus *)ctx)->ack.got; }
 
-int wgcli_wait_ack(wgcli *c, int timeout_ms) { return wgcli_wait(c, timeout_ms, ack_done, c); }
-
-void wgcli_json_str(void *fp, const char *s)
-{
-    FILE *f = fp;
-    fputc('"', f);
-    for (; s && *s; s++) {
-        unsigned char ch = (unsigned char)*s;
-        if (ch == '"' || ch == '\\')
-            fprintf(f, "\\%c", ch);
-        else if (ch < 0x20)
-            fprintf(f, "\\u%04x", ch);
-        else
-            fputc(ch, f);
-    }
-    fputc('"', f);
-}
+int bus_wait_ack(bus *c, int timeout_ms) { return bus_wait(c, timeout_ms, ack_done, c); }

@@ -1,24 +1,16 @@
-/* rig_point.h - the regime analysis of one live sweep point (wgrig): the
+/* rig_ana.h - the regime analysis of one live sweep point (wgrig): the
  * offline sweep's own steps (wg_record_* in wg_sweep.h: statistics, the
  * one-period integration error |P_2N(x) - P_N(x)| on a local sim, tolerance
  * max(floor, factor * err), period detection, and for orbits with no period
  * the twin-trajectory Lyapunov exponent with the same thresholds). Only the
- * sections come from the daemon instead of a local integration; this file
- * holds the record buffer and the local sims. */
-#ifndef RIG_POINT_H
-#define RIG_POINT_H
+ * sections come from the daemon (rig_rec.h) instead of a local integration;
+ * this file holds the local sims. */
+#ifndef WG_RIG_ANA_H
+#define WG_RIG_ANA_H
 
 #include <stddef.h>
+#include "rig_rec.h"
 #include "wormgear/wg_sweep.h"
-
-/* Sections recorded from the POINCARE stream for one point. */
-typedef struct rig_rec {
-    int nstate, n, cap;
-    double *y;           /* n x nstate states at the section */
-    wg_period *stats;    /* the period that ended at each section */
-    double *xn, *dxn;    /* x_n, x_n' at the section (as published) */
-    int64_t *period;     /* daemon period index of each section */
-} rig_rec;
 
 /* Local sims of the model the daemon runs (from PARAMS). */
 typedef struct rig_ana {
@@ -29,14 +21,6 @@ typedef struct rig_ana {
     int have_fine, have_lle;
 } rig_ana;
 
-/* Buffer for cap sections of nstate values; 0 or -1 (out of memory). */
-int rig_rec_init(rig_rec *r, int nstate, int cap);
-void rig_rec_fini(rig_rec *r);
-
-/* Append one section (ignored when full). */
-void rig_rec_push(rig_rec *r, const double *y, const wg_period *st, double xn, double dxn,
-                  int64_t period);
-
 /* Analysis of parameters p (the point's value set) with the daemon's model,
  * stepper and N; o gives the tolerances. Sims are built when first needed. */
 void rig_ana_init(rig_ana *a, const wg_params *p, int model, int stepper, int steps,
@@ -45,7 +29,7 @@ void rig_ana_fini(rig_ana *a);
 
 /* First look at a record: pt is cleared, err/tol set (attempt 0 only) and
  * the period detected. Returns the period (> 0), 0 none, or a negative
- * status with why. */
+ * return code (wg_status.h) with why. */
 int rig_ana_period(rig_ana *a, const rig_rec *r, int attempt, wg_point *pt, char *why,
                    size_t whylen);
 
@@ -55,9 +39,5 @@ int rig_ana_lle(rig_ana *a, const rig_rec *r, wg_point *pt, char *why, size_t wh
 /* Classify an orbit with no strict period from a fresh record taken after
  * the LLE, as the offline sweep does (loose tolerance when LLE <= lle_tol). */
 void rig_ana_aperiodic(const rig_ana *a, const rig_rec *r, wg_point *pt);
-
-/* Statistics (min/max x_n, worst motion, impacts per period) and the last
- * WG_POINT_NSEC Poincare values of the record into pt; y_end. */
-void rig_point_fill(const rig_rec *r, wg_point *pt);
 
 #endif

@@ -1,48 +1,10 @@
-/* rig_point.c - live point analysis, mirroring wg_sweep.c (see rig_point.h). */
-#include "rig_point.h"
+/* rig_ana.c - live point analysis, mirroring wg_sweep.c (see rig_ana.h). */
+#include "rig_ana.h"
 #include "wormgear/wg_status.h"
 
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-
-
-int rig_rec_init(rig_rec *r, int nstate, int cap)
-{
-    memset(r, 0, sizeof *r);
-    r->nstate = nstate;
-    r->cap = cap;
-    r->y = malloc(sizeof(double) * (size_t)nstate * (size_t)cap);
-    r->stats = malloc(sizeof(wg_period) * (size_t)cap);
-    r->xn = malloc(sizeof(double) * (size_t)cap);
-    r->dxn = malloc(sizeof(double) * (size_t)cap);
-    r->period = malloc(sizeof(int64_t) * (size_t)cap);
-    if (!r->y || !r->stats || !r->xn || !r->dxn || !r->period) {
-        rig_rec_fini(r);
-        return -1;
-    }
-    return 0;
-}
-
-void rig_rec_fini(rig_rec *r)
-{
-    free(r->y), free(r->stats), free(r->xn), free(r->dxn), free(r->period);
-    r->y = NULL, r->stats = NULL, r->xn = r->dxn = NULL, r->period = NULL;
-    r->n = r->cap = 0;
-}
-
-void rig_rec_push(rig_rec *r, const double *y, const wg_period *st, double xn, double dxn,
-                  int64_t period)
-{
-    if (r->n >= r->cap)
-        return;
-    memcpy(r->y + (size_t)r->n * r->nstate, y, sizeof(double) * (size_t)r->nstate);
-    r->stats[r->n] = *st;
-    r->xn[r->n] = xn;
-    r->dxn[r->n] = dxn;
-    r->period[r->n++] = period;
-}
 
 void rig_ana_init(rig_ana *a, const wg_params *p, int model, int stepper, int steps,
                   const wg_sweep_opts *o)
@@ -70,11 +32,6 @@ static int sim_for(const rig_ana *a, wg_sim *s, int n, char *why, size_t whylen)
     return wg_sim_init(s, &a->p, &cfg, why, whylen);
 }
 
-static wg_record view(const rig_rec *r)
-{
-    return (wg_record){r->nstate, r->n, r->y, r->stats};
-}
-
 /* The one-period error of the record (wg_record_period_error). */
 static int period_error(rig_ana *a, const rig_rec *r, double *err, char *why, size_t whylen)
 {
@@ -88,7 +45,7 @@ static int period_error(rig_ana *a, const rig_rec *r, double *err, char *why, si
             return rc;
         a->have_fine = 1;
     }
-    wg_record v = view(r);
+    wg_record v = rig_rec_view(r);
     return wg_record_period_error(&a->fine, &v, err);
 }
 
@@ -137,20 +94,6 @@ int rig_ana_lle(rig_ana *a, const rig_rec *r, wg_point *pt, char *why, size_t wh
 
 void rig_ana_aperiodic(const rig_ana *a, const rig_rec *r, wg_point *pt)
 {
-    wg_record v = view(r);
+    wg_record v = rig_rec_view(r);
     wg_record_classify(a->o, &v, pt);
-}
-
-void rig_point_fill(const rig_rec *r, wg_point *pt)
-{
-    wg_record v = view(r);
-    wg_record_stats(&v, pt);
-    int k0 = r->n > WG_POINT_NSEC ? r->n - WG_POINT_NSEC : 0;
-    pt->nsec = r->n - k0;
-    for (int i = 0; i < pt->nsec; i++) {
-        pt->xn[i] = r->xn[k0 + i];
-        pt->dxn[i] = r->dxn[k0 + i];
-    }
-    if (r->n)
-        memcpy(pt->y_end, r->y + (size_t)(r->n - 1) * r->nstate, sizeof(double) * (size_t)r->nstate);
 }

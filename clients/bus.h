@@ -1,0 +1,85 @@
+/* bus.h - the daemon as the LCM clients (wgctl, wgmon, wgrig; the system
+ * test and the daemon benchmark) see it: the URL/prefix defaults, channel
+ * names, a client id, sending a command and waiting for its ACK.
+ *
+ * Defaults match wormgeard: URL $WORMGEAR_URL or udpm://239.255.76.67:7667?ttl=0,
+ * prefix $WORMGEAR_PREFIX or WORMGEAR_. A command is matched to its ACK by
+ * (client id, seq); see lcmtypes/PROTOCOL.md. */
+#ifndef WG_BUS_H
+#define WG_BUS_H
+
+#include <lcm/lcm.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lcmtypes/wormgear_ack_t.h"
+#include "lcmtypes/wormgear_cmd_t.h"
+
+#define BUS_DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
+#define BUS_DEFAULT_PREFIX "WORMGEAR_"
+
+/* A received ACK, copied out of the LCM message. */
+typedef struct bus_ack {
+    int got;
+    int accepted;
+    int rc;                   /* the wire's status: 0 or a negative wg_status */
+    int64_t cmd_seq, steps;
+    double tau, t_s;
+    char code[32];
+    char op[16];
+    char message[768];
+} bus_ack;
+
+typedef struct bus {
+    lcm_t *lcm;
+    char prefix[64];
+    char client[96];          /* "<name>-<pid>@<host>" */
+    int64_t seq;              /* last command seq sent */
+    bus_ack ack;              /* the ACK of the last command, once it came */
+    wormgear_ack_t_subscription_t *ack_sub;
+} bus;
+
+/* The seq counter of one channel (every wormgear message has one, see
+ * lcmtypes/PROTOCOL.md): a jump forward is messages lost, a step back or a
+ * repeat is a daemon restart. */
+typedef struct bus_seq {
+    int64_t last;
+    int have;
+    long gaps, missing, restarts;
+} bus_seq;
+
+/* Count seq: 1 after a gap (missing grows by the messages lost), -1 after
+ * a restart, 0 in order or on the first message. */
+int bus_seq_note(bus_seq *s, int64_t seq);
+
+/* $WORMGEAR_URL or the default; $WORMGEAR_PREFIX or the default. */
+const char *bus_default_url(void);
+const char *bus_default_prefix(void);
+
+/* Open LCM on url (NULL: default) with prefix (NULL: default); name is the
+ * program name used in the client id. 0, or -1 with a message in why. */
+int bus_open(bus *c, const char *url, const char *prefix, const char *name, char *why,
+             size_t whylen);
+
+/* Close LCM. Safe on a failed open. */
+void bus_close(bus *c);
+
+/* "<prefix><suffix>" into buf (e.g. suffix "STATUS"). */
+const char *bus_channel(const bus *c, const char *suffix, char *buf, size_t len);
+
+/* A command op with every string field "" and every number 0, to fill in. */
+wormgear_cmd_t bus_cmd(const char *op);
+
+/* Stamp cmd (utime, seq = ++c->seq, client) and publish it on CMD.
+ * Returns the seq, or -1 if publishing failed. */
+int64_t bus_send(bus *c, wormgear_cmd_t *cmd);
+
+/* Handle LCM messages until done(ctx) is true or timeout_ms passes.
+ * Returns 0 when done, -1 on timeout. done may be NULL (just wait). */
+int bus_wait(bus *c, int timeout_ms, int (*done)(void *ctx), void *ctx);
+
+/* Wait for the ACK of the last command sent; 0 when it came (c->ack), -1
+ * on timeout. */
+int bus_wait_ack(bus *c, int timeout_ms);
+
+#endif

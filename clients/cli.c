@@ -1,0 +1,144 @@
+/* cli.c - usage errors, numbers from text and clocks for the clients (see
+ * cli.h). */
+#include "cli.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+int cli_usage_error(const char *prog, const char *fmt, ...)
+{
+    va_list ap;
+    fprintf(stderr, "%s: ", prog);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fprintf(stderr, "\n(try %s --help)\n", prog);
+    return CLI_EUSAGE;
+}
+
+int cli_getopt(const char *prog, int argc, char **argv, const char *shortopts,
+               const struct option *longopts, int (*one)(void *ctx, int c, const char *arg),
+               void *ctx)
+{
+    int c, rc;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, shortopts, longopts, NULL)) != -1)
+        if ((rc = one(ctx, c, optarg)))
+            return rc > 0 ? rc
+                          : cli_usage_error(prog, "unknown option or missing value '%s'",
+                                            argv[optind - 1]);
+    return 0;
+}
+
+int cli_double(const char *s, double *v)
+{
+    char *end;
+    *v = strtod(s, &end);
+    return end == s || *end ? -1 : 0;
+}
+
+int cli_num(const char *s, double lo, double hi, double *v)
+{
+    return cli_double(s, v) || !isfinite(*v) || *v < lo || *v > hi ? -1 : 0;
+}
+
+int cli_int64(const char *s, int64_t lo, int64_t hi, int64_t *v)
+{
+    double d;
+    if (cli_num(s, (double)lo, (double)hi, &d) || d != floor(d) || fabs(d) >= 0x1p63)
+        return -1;
+    *v = (int64_t)d;
+    return 0;
+}
+
+int cli_int(const char *s, int lo, int hi, int *v)
+{
+    int64_t x;
+    if (cli_int64(s, lo, hi, &x))
+        return -1;
+    *v = (int)x;
+    return 0;
+}
+
+int cli_opt_num(const char *prog, const char *opt, const char *s, double lo, double hi,
+                const char *allowed, double *v)
+{
+    if (cli_num(s, lo, hi, v))
+        return cli_usage_error(prog, "%s '%s': %s", opt, s, allowed);
+    return 0;
+}
+
+int cli_opt_int(const char *prog, const char *opt, const char *s, int lo, int hi,
+                const char *allowed, int *v)
+{
+    if (cli_int(s, lo, hi, v))
+        return cli_usage_error(prog, "%s '%s': %s", opt, s, allowed);
+    return 0;
+}
+
+char *cli_join_args(int argc, char **argv)
+{
+    size_t len = 1;
+    for (int i = 0; i < argc; i++)
+        len += strlen(argv[i]) + 1;
+    char *s = malloc(len);
+    if (!s)
+        return NULL;
+    s[0] = 0;
+    for (int i = 0; i < argc; i++) {
+        strcat(s, argv[i]);
+        if (i + 1 < argc)
+            strcat(s, " ");
+    }
+    return s;
+}
+
+int cli_duration(const char *s, double *v, const char **unit)
+{
+    static const struct {
+        const char *suffix;
+        double factor;
+        const char *unit;
+    } u[] = {{"", 1, "s"},     {"s", 1, "s"},    {"ms", 1e-3, "s"}, {"us", 1e-6, "s"},
+             {"min", 60, "s"}, {"h", 3600, "s"}, {"tau", 1, "tau"}};
+    char *end;
+    *v = strtod(s, &end);
+    if (end == s)
+        return -1;
+    for (unsigned i = 0; i < sizeof u / sizeof u[0]; i++)
+        if (strcmp(end, u[i].suffix) == 0) {
+            *v *= u[i].factor;
+            *unit = u[i].unit;
+            return 0;
+        }
+    return -1;
+}
+
+static struct timespec clock_now(clockid_t id)
+{
+    struct timespec ts;
+    clock_gettime(id, &ts);
+    return ts;
+}
+
+double cli_mono_s(void)
+{
+    struct timespec ts = clock_now(CLOCK_MONOTONIC);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int64_t cli_mono_ns(void)
+{
+    struct timespec ts = clock_now(CLOCK_MONOTONIC);
+    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
+int64_t cli_wall_us(void)
+{
+    struct timespec ts = clock_now(CLOCK_REALTIME);
+    return (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
+}

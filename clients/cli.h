@@ -1,0 +1,66 @@
+/* cli.h - what every client program needs and would otherwise write again:
+ * the usage-error report, numbers from the command line, and the clocks.
+ * No LCM and no cairo: wgsim and wglog link it as well as the LCM clients,
+ * and tests and benchmarks take their clock from here.
+ *
+ * Numbers follow one rule: strtod, nothing may follow the number, and
+ * (except cli_double) finite and inside [lo, hi]. Parsers return 0, or -1
+ * with *v unspecified; the cli_opt_* forms also report the usage error. */
+#ifndef WG_CLI_H
+#define WG_CLI_H
+
+#include <getopt.h>
+#include <stdint.h>
+
+/* The exit code of a usage error, in every client. */
+enum { CLI_EUSAGE = 2 };
+
+/* Print "prog: <message>" and "(try prog --help)" on stderr. Returns
+ * CLI_EUSAGE, so a parser can `return cli_usage_error(...)`. */
+int cli_usage_error(const char *prog, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+
+/* getopt_long over argv (its own messages off), one(ctx, c, optarg) for
+ * each option; one returns 0, CLI_EUSAGE (reported) or -1 for an option
+ * it does not know. Returns 0 with optind at the first operand, one's
+ * CLI_EUSAGE, or the usage error "unknown option or missing value 'ARG'". */
+int cli_getopt(const char *prog, int argc, char **argv, const char *shortopts,
+               const struct option *longopts, int (*one)(void *ctx, int c, const char *arg),
+               void *ctx);
+
+/* The whole of s as a number; infinities and NaN pass (for values that
+ * the daemon judges and answers, not the client). */
+int cli_double(const char *s, double *v);
+
+/* The whole of s as a finite number in [lo, hi]. */
+int cli_num(const char *s, double lo, double hi, double *v);
+
+/* The whole of s as a whole number in [lo, hi] ("12", "12.0", "1.2e1"). */
+int cli_int(const char *s, int lo, int hi, int *v);
+int cli_int64(const char *s, int64_t lo, int64_t hi, int64_t *v);
+
+/* Option opt's value s by cli_num / cli_int: 0, or CLI_EUSAGE after
+ * reporting "prog: opt 's': allowed" (allowed names the range in words). */
+int cli_opt_num(const char *prog, const char *opt, const char *s, double lo, double hi,
+                const char *allowed, double *v);
+int cli_opt_int(const char *prog, const char *opt, const char *s, int lo, int hi,
+                const char *allowed, int *v);
+
+/* argv[0] .. argv[argc - 1] joined by single spaces, the command line as
+ * a run records it (malloc'ed: free it), or NULL when out of memory. */
+char *cli_join_args(int argc, char **argv);
+
+/* A duration of simulated time: a number and a unit, "60s", "250ms",
+ * "5us", "2min", "1h", "5000tau", or a bare number of seconds. *v in
+ * seconds or tau, *unit "s" or "tau" (the unit of a ramp command). The
+ * number is not range-checked: the caller says what is allowed. */
+int cli_duration(const char *s, double *v, const char **unit);
+
+/* The monotonic clock: seconds, and nanoseconds. */
+double cli_mono_s(void);
+int64_t cli_mono_ns(void);
+
+/* The wall clock in microseconds since the epoch (LCM's utime). */
+int64_t cli_wall_us(void);
+
+#endif
