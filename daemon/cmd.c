@@ -379,7 +379,7 @@ static int op_restore(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     stream_regime_reset(&d->st);
     d->fault = 0;
     d->fault_msg[0] = 0;
-    pace_anchor(&d->pace, wgd_now_ns(), d->sim.tau);
+    pace_anchor(&d->pace, log_now_ns(), d->sim.tau);
     status_decimation(d);
     status_params(d, "restore", c->client, c->seq);
     snprintf(why, len, "restored %s: tau %.9g, step %" PRIu64 "%s%s", c->name, d->sim.tau,

@@ -11,16 +11,8 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
 #define TWO_PI 6.283185307179586
-
-int64_t wgd_now_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
-}
 
 static int apply_sets(wgd *d)
 {
@@ -80,9 +72,9 @@ static uint64_t run_steps(wgd *d, uint64_t n)
     wg_sink sink = stream_sink(d);
     uint64_t done = 0;
     int ramping = d->sim.ramp.active;
-    int64_t t0 = wgd_now_ns();
+    int64_t t0 = log_now_ns();
     int rc = wg_sim_run(&d->sim, n, &sink, &done);
-    double c = (double)(wgd_now_ns() - t0) / (double)(done ? done : 1);
+    double c = (double)(log_now_ns() - t0) / (double)(done ? done : 1);
     if (done >= 16) /* smoothed cost per step (drives fast-mode chunks) */
         d->stat.ns_per_step = d->stat.ns_per_step > 0 ? 0.8 * d->stat.ns_per_step + 0.2 * c : c;
     if (ramping && !d->sim.ramp.active) {
@@ -116,7 +108,7 @@ void engine_resume(wgd *d)
     d->fault = 0;
     d->fault_msg[0] = 0;
     d->run = RUN_RUNNING;
-    pace_anchor(&d->pace, wgd_now_ns(), d->sim.tau);
+    pace_anchor(&d->pace, log_now_ns(), d->sim.tau);
 }
 
 void engine_reset(wgd *d, int params)
@@ -133,7 +125,7 @@ void engine_reset(wgd *d, int params)
     wg_sim_set_state(&d->sim, y, 0, 0.0);
     d->fault = 0;
     d->fault_msg[0] = 0;
-    pace_anchor(&d->pace, wgd_now_ns(), 0.0);
+    pace_anchor(&d->pace, log_now_ns(), 0.0);
 }
 
 double engine_h(const wgd *d)

@@ -38,7 +38,7 @@ void loop_repace(wgd *d)
                    .stop_after = d->conf.overrun_stop_after,
                    .grace_ns = (int64_t)(d->conf.startup_grace_s * 1e9)};
     uint64_t ov = d->pace.overruns, gov = d->pace.grace_overruns;
-    pace_init(&d->pace, &pc, wgd_now_ns(), d->sim.tau);
+    pace_init(&d->pace, &pc, log_now_ns(), d->sim.tau);
     d->pace.overruns = ov;
     d->pace.grace_overruns = gov;
 }
@@ -95,7 +95,7 @@ static void on_tick(struct ev_loop *loop, ev_io *w, int revents)
     uint64_t expirations;
     if (read(d->tfd, &expirations, sizeof expirations) < 0 && errno != EAGAIN)
         log_msg(&d->log, LOG_ERR, "timerfd read: %s", strerror(errno));
-    int64_t t0 = wgd_now_ns();
+    int64_t t0 = log_now_ns();
     if (d->reload)
         reload(d);
     if (d->run == RUN_RUNNING && d->conf.mode == MODE_REALTIME)
@@ -107,7 +107,7 @@ static void on_tick(struct ev_loop *loop, ev_io *w, int revents)
     status_tick(d, t0);
     sdn_watchdog(&d->sd, t0); /* only a loop that steps reaches this */
     first_ready(d);
-    status_loop(d, wgd_now_ns() - t0);
+    status_loop(d, log_now_ns() - t0);
 }
 
 static void on_fast(struct ev_loop *loop, ev_idle *w, int revents)
@@ -115,11 +115,11 @@ static void on_fast(struct ev_loop *loop, ev_idle *w, int revents)
     (void)loop;
     (void)revents;
     wgd *d = w->data;
-    int64_t t0 = wgd_now_ns();
+    int64_t t0 = log_now_ns();
     engine_run(d, pace_fast_chunk(d->stat.ns_per_step, FAST_CHUNK_NS));
     if (d->run != RUN_RUNNING)
         loop_sync(d);
-    status_loop(d, wgd_now_ns() - t0);
+    status_loop(d, log_now_ns() - t0);
 }
 
 static void on_lcm(struct ev_loop *loop, ev_io *w, int revents)

@@ -115,7 +115,7 @@ int main(int argc, char **argv)
     d->argc = argc;
     d->argv = argv;
     d->tfd = -1;
-    d->start_ns = wgd_now_ns();
+    d->start_ns = log_now_ns();
     log_init(&d->log, 0);
     int rc = conf_load(&d->conf, argc, argv, d->why, sizeof d->why);
     if (rc == 2)

@@ -43,7 +43,7 @@ static void interval_start(wgd *d, int64_t now)
 
 void status_init(wgd *d)
 {
-    int64_t now = wgd_now_ns();
+    int64_t now = log_now_ns();
     memset(&d->stat, 0, sizeof d->stat);
     d->stat.tick_seq_next = -1;
     interval_start(d, now);
@@ -122,12 +122,12 @@ static void fill_status(const wgd *d, wormgear_status_t *m, char *regime, unsign
         .impacts_per_period = s->impacts_per_period, .regime = d->sim.ramp.active ? (char *)"ramping"
                                                       : (char *)stream_regime(&d->st, regime, rlen),
         .ramp_active = (int8_t)d->sim.ramp.active,
-        .uptime_s = (double)(wgd_now_ns() - d->start_ns) * 1e-9};
+        .uptime_s = (double)(log_now_ns() - d->start_ns) * 1e-9};
 }
 
 void status_publish(wgd *d)
 {
-    int64_t now = wgd_now_ns();
+    int64_t now = log_now_ns();
     compute(d, now);
     wormgear_status_t m;
     char regime[24];

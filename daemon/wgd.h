@@ -99,7 +99,4 @@ typedef struct wgd {
     char why[640];             /* scratch for messages */
 } wgd;
 
-/* CLOCK_MONOTONIC in nanoseconds. */
-int64_t wgd_now_ns(void);
-
 #endif
