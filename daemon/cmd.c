@@ -42,7 +42,7 @@ static void ack(wgd *d, const char *client, int64_t seq, const char *op, int sta
                         .op = (char *)clean(op, o, sizeof o), .accepted = status == WG_OK,
                         .status = status, .code = (char *)wg_status_name(status),
                         .message = (char *)msg, .tau = d->sim.tau,
-                        .t_s = engine_seconds(d, d->sim.tau), .steps = (int64_t)d->sim.steps};
+                        .t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau), .steps = (int64_t)d->sim.steps};
     lcmio_pub_ack(&d->io, &a);
     if (status == WG_OK) {
         d->stat.cmds_accepted++;
@@ -223,7 +223,7 @@ static int op_ramp(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
         return rc; /* nothing applied */
     double v0 = d->sim.ramp.v0;
     snprintf(why, len, "ramp %s %.9g -> %.9g over %.9g tau (%.6g s simulated)", c->names[0], v0,
-             c->values[0], dur, engine_seconds(d, dur));
+             c->values[0], dur, wg_scale_seconds(&d->scene.scale, dur));
     stream_regime_reset(&d->st);
     status_params(d, "ramp", c->client, c->seq);
     return WG_OK;

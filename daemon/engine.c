@@ -8,11 +8,8 @@
 #include "wormgear/wg_status.h"
 
 #include <inttypes.h>
-#include <math.h>
 #include <stdio.h>
 #include <string.h>
-
-#define TWO_PI 6.283185307179586
 
 static int apply_sets(wgd *d)
 {
@@ -127,10 +124,3 @@ void engine_reset(wgd *d, int params)
     d->fault_msg[0] = 0;
     pace_anchor(&d->pace, log_now_ns(), 0.0);
 }
-
-double engine_h(const wgd *d)
-{
-    return TWO_PI / (d->sim.p.v[WG_P_OMEGA] * d->sim.cfg.steps_per_period);
-}
-
-double engine_seconds(const wgd *d, double tau) { return tau / d->scene.scale.omega_n_rad_s; }

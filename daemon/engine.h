@@ -27,12 +27,6 @@ uint64_t engine_run(struct wgd *d, uint64_t n);
  * parameters. Re-anchors pacing. */
 void engine_reset(struct wgd *d, int params);
 
-/* Current step size h (tau), including during a ramp (approximate). */
-double engine_h(const struct wgd *d);
-
-/* Simulated physical seconds of a tau. */
-double engine_seconds(const struct wgd *d, double tau);
-
 /* Pause with a fault message (health FAULT until a resume/reset/restore). */
 void engine_fault(struct wgd *d, const char *msg);
 

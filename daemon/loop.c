@@ -57,7 +57,7 @@ void loop_sync(wgd *d)
 /* Realtime: run the steps due now; apply the overrun policy. */
 static void realtime(wgd *d, int64_t now)
 {
-    pace_due due = pace_steps_due(&d->pace, now, d->sim.tau, engine_h(d));
+    pace_due due = pace_steps_due(&d->pace, now, d->sim.tau, wg_sim_step_tau(&d->sim));
     if (due.overrun)
         log_msg(&d->log, LOG_WARNING, "overrun: more than %g ticks behind (lag %.3f ms, "
                 "policy %s)", d->conf.catchup_ticks, pace_lag_s(&d->pace) * 1e3,

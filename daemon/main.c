@@ -35,7 +35,7 @@ static int m_lcm(wgd *d)
 static int m_stream(wgd *d)
 {
     int on = d->conf.state_rate_hz > 0 || d->conf.state_decimation > 0;
-    stream_init(&d->st, d->sim.nstate, d->scene.scale.omega_n_rad_s, on);
+    stream_init(&d->st, d->sim.nstate, &d->scene.scale, on);
     return 0;
 }
 

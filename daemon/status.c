@@ -68,7 +68,7 @@ void status_loop(wgd *d, int64_t dur_ns)
 static double step_rate(const wgd *d)
 {
     if (d->conf.mode == MODE_REALTIME)
-        return d->pace.cfg.tau_per_ns * 1e9 / engine_h(d);
+        return d->pace.cfg.tau_per_ns * 1e9 / wg_sim_step_tau(&d->sim);
     return d->stat.ns_per_step > 0 ? 1e9 / d->stat.ns_per_step : 0.0;
 }
 
@@ -89,7 +89,7 @@ static void compute(wgd *d, int64_t now)
     double wall = (double)(now - s->t_ns) * 1e-9;
     if (wall <= 0)
         return;
-    s->rtf = engine_seconds(d, d->sim.tau - s->tau) / wall;
+    s->rtf = wg_scale_seconds(&d->scene.scale, d->sim.tau - s->tau) / wall;
     s->steps_per_s = (double)(d->sim.steps - s->steps) / wall;
     s->cpu_share = (cpu_seconds() - s->cpu_s) / wall;
     s->loop_mean_us = s->loops ? s->loop_sum_ns / (double)s->loops * 1e-3 : 0.0;
@@ -109,7 +109,7 @@ static void fill_status(const wgd *d, wormgear_status_t *m, char *regime, unsign
         .scene = (char *)d->scene.name, .mode = (char *)conf_mode_name(d->conf.mode),
         .rate = d->conf.rate, .run = (char *)status_run_name(d),
         .health = (char *)status_health_name(s->health), .fault = (char *)d->fault_msg,
-        .tau = d->sim.tau, .t_s = engine_seconds(d, d->sim.tau),
+        .tau = d->sim.tau, .t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau),
         .omega = d->sim.p.v[WG_P_OMEGA], .steps = (int64_t)d->sim.steps,
         .period = (int64_t)d->sim.period, .steps_per_period = d->sim.cfg.steps_per_period,
         .rtf = s->rtf, .lag_s = d->conf.mode == MODE_REALTIME ? pace_lag_s(&d->pace) : 0.0,
@@ -142,7 +142,7 @@ void status_line(const wgd *d, char *buf, unsigned len)
              "%s %s %s | t %.4f s tau %.6g | omega %.4g | rtf %.3f lag %.1f ms | %.3g steps/s "
              "cpu %.0f%% | %s %.2f imp/period | overruns %llu | cmds %llu/%llu refused",
              conf_mode_name(d->conf.mode), status_run_name(d), status_health_name(s->health),
-             engine_seconds(d, d->sim.tau), d->sim.tau, d->sim.p.v[WG_P_OMEGA], s->rtf,
+             wg_scale_seconds(&d->scene.scale, d->sim.tau), d->sim.tau, d->sim.p.v[WG_P_OMEGA], s->rtf,
              pace_lag_s(&d->pace) * 1e3, s->steps_per_s, s->cpu_share * 100.0,
              d->sim.period ? wg_motion_name(d->st.motion) : "-", s->impacts_per_period,
              (unsigned long long)d->pace.overruns, (unsigned long long)s->cmds_accepted,

@@ -130,7 +130,7 @@ static wgd *setup(int steps_per_period)
     d->tfd = -1;
     ASSERT_EQ_INT(engine_init(d), WG_OK);
     ASSERT_EQ_INT(lcmio_init(&d->io, "memq://", "T_", d->why, sizeof d->why), WG_OK);
-    stream_init(&d->st, d->sim.nstate, d->scene.scale.omega_n_rad_s, 1);
+    stream_init(&d->st, d->sim.nstate, &d->scene.scale, 1);
     ASSERT_EQ_INT(cmd_init(d), WG_OK);
     loop_repace(d);
     status_init(d);
