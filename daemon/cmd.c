@@ -42,7 +42,8 @@ static void ack(wgd *d, const char *client, int64_t seq, const char *op, int sta
                         .op = (char *)clean(op, o, sizeof o), .accepted = status == WG_OK,
                         .status = status, .code = (char *)wg_status_name(status),
                         .message = (char *)msg, .tau = d->sim.tau,
-                        .t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau), .steps = (int64_t)d->sim.steps};
+                        .t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau),
+                        .steps = (int64_t)d->sim.steps};
     lcmio_pub_ack(&d->io, &a);
     if (status == WG_OK) {
         d->stat.cmds_accepted++;
@@ -344,7 +345,8 @@ static int op_mode(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
         cmd_step_cancel(d, WG_ESTATE, "cancelled by a mode change");
     d->conf.mode = mode;
     d->conf.rate = tmp.rate;
-    loop_repace(d);
+    pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
+                   d->sim.tau);
     loop_sync(d);
     status_decimation(d);
     snprintf(why, len, "mode %s, rate %g", conf_mode_name(mode), d->conf.rate);

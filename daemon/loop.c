@@ -29,20 +29,6 @@ static int arm_timer(wgd *d)
     return timerfd_settime(d->tfd, TFD_TIMER_ABSTIME, &its, NULL);
 }
 
-void loop_repace(wgd *d)
-{
-    pace_cfg pc = {.tau_per_ns = d->conf.rate * d->scene.scale.omega_n_rad_s * 1e-9,
-                   .tick_ns = (int64_t)d->conf.tick_us * 1000,
-                   .catchup_ticks = d->conf.catchup_ticks,
-                   .policy = d->conf.overrun_policy,
-                   .stop_after = d->conf.overrun_stop_after,
-                   .grace_ns = (int64_t)(d->conf.startup_grace_s * 1e9)};
-    uint64_t ov = d->pace.overruns, gov = d->pace.grace_overruns;
-    pace_init(&d->pace, &pc, log_now_ns(), d->sim.tau);
-    d->pace.overruns = ov;
-    d->pace.grace_overruns = gov;
-}
-
 void loop_sync(wgd *d)
 {
     if (!d->loop)
@@ -176,7 +162,8 @@ static void reload(wgd *d)
         d->conf.nsets = keep.nsets;
         memcpy(d->conf.sets, keep.sets, sizeof keep.sets);
         d->log.max_prio = c.verbose ? LOG_DEBUG : LOG_INFO;
-        loop_repace(d);
+        pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
+                       d->sim.tau);
         if (tick && arm_timer(d))
             log_msg(&d->log, LOG_ERR, "reload: timerfd: %s", strerror(errno));
         loop_sync(d);
@@ -221,7 +208,8 @@ int loop_init(wgd *d)
     start_signal(d, &d->sig_int, SIGINT);
     start_signal(d, &d->sig_term, SIGTERM);
     start_signal(d, &d->sig_hup, SIGHUP);
-    loop_repace(d);
+    pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
+                   d->sim.tau);
     loop_sync(d);
     return WG_OK;
 }

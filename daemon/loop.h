@@ -23,7 +23,4 @@ void loop_run(struct wgd *d);
  * call after mode, pause, resume commands. Safe without a loop (tests). */
 void loop_sync(struct wgd *d);
 
-/* Apply a new realtime rate / mode to pacing (re-anchors at now). */
-void loop_repace(struct wgd *d);
-
 #endif

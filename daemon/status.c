@@ -142,8 +142,8 @@ void status_line(const wgd *d, char *buf, unsigned len)
              "%s %s %s | t %.4f s tau %.6g | omega %.4g | rtf %.3f lag %.1f ms | %.3g steps/s "
              "cpu %.0f%% | %s %.2f imp/period | overruns %llu | cmds %llu/%llu refused",
              conf_mode_name(d->conf.mode), status_run_name(d), status_health_name(s->health),
-             wg_scale_seconds(&d->scene.scale, d->sim.tau), d->sim.tau, d->sim.p.v[WG_P_OMEGA], s->rtf,
-             pace_lag_s(&d->pace) * 1e3, s->steps_per_s, s->cpu_share * 100.0,
+             wg_scale_seconds(&d->scene.scale, d->sim.tau), d->sim.tau, d->sim.p.v[WG_P_OMEGA],
+             s->rtf, pace_lag_s(&d->pace) * 1e3, s->steps_per_s, s->cpu_share * 100.0,
              d->sim.period ? wg_motion_name(d->st.motion) : "-", s->impacts_per_period,
              (unsigned long long)d->pace.overruns, (unsigned long long)s->cmds_accepted,
              (unsigned long long)s->cmds_refused);

@@ -132,7 +132,8 @@ static wgd *setup(int steps_per_period)
     ASSERT_EQ_INT(lcmio_init(&d->io, "memq://", "T_", d->why, sizeof d->why), WG_OK);
     stream_init(&d->st, d->sim.nstate, &d->scene.scale, 1);
     ASSERT_EQ_INT(cmd_init(d), WG_OK);
-    loop_repace(d);
+    pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
+                   d->sim.tau);
     status_init(d);
     stream_set_decimation(&d->st, 1);
     lcm_t *l = d->io.lcm;
