@@ -4,7 +4,7 @@
 #include "engine.h"
 #include "loop.h"
 #include "snap.h"
-#include "status.h"
+#include "report.h"
 #include "wgd.h"
 #include "wire.h"
 #include "wormgear/wg_status.h"
@@ -34,18 +34,18 @@ static const char *clean(const char *s, char *out, size_t n)
 
 /* ---- ACK ------------------------------------------------------------------ */
 
-static void ack(wgd *d, const char *client, int64_t seq, const char *op, int status,
+static void ack(wgd *d, const char *client, int64_t seq, const char *op, int rc,
                 const char *msg)
 {
     char cl[72], o[24];
     wormgear_ack_t a = {.client = (char *)clean(client, cl, sizeof cl), .cmd_seq = seq,
-                        .op = (char *)clean(op, o, sizeof o), .accepted = status == WG_OK,
-                        .status = status, .code = (char *)wg_status_name(status),
+                        .op = (char *)clean(op, o, sizeof o), .accepted = rc == WG_OK,
+                        .status = rc, .code = (char *)wg_status_name(rc),
                         .message = (char *)msg, .tau = d->sim.tau,
                         .t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau),
                         .steps = (int64_t)d->sim.steps};
     lcmio_pub_ack(&d->io, &a);
-    if (status == WG_OK) {
+    if (rc == WG_OK) {
         d->stat.cmds_accepted++;
         if (strcmp(op, "get") && strcmp(op, "step"))
             log_msg(&d->log, LOG_INFO, "%s from %s (seq %" PRId64 "): %s", a.op, a.client, seq,
@@ -112,8 +112,8 @@ static int apply_set(wgd *d, const int *ids, const double *values, int n, const 
         snprintf(why + k, len - k, " (cancelled the ramp of %s at %.9g)",
                  wg_param_info_get(ramp)->name, d->sim.p.v[ramp]);
     stream_regime_reset(&d->st);
-    status_decimation(d);
-    status_params(d, "set", client, seq);
+    report_decimation(d);
+    report_params(d, "set", client, seq);
     return WG_OK;
 }
 
@@ -162,13 +162,13 @@ void cmd_sync_apply(wgd *d)
     ack(d, j->client, j->seq, "set", rc, why);
 }
 
-void cmd_sync_cancel(wgd *d, int status, const char *why)
+void cmd_sync_cancel(wgd *d, int code, const char *why)
 {
     syncjob *j = &d->sync;
     if (!j->active)
         return;
     j->active = 0;
-    ack(d, j->client, j->seq, "set", status, why);
+    ack(d, j->client, j->seq, "set", code, why);
 }
 
 /* Ramp duration in tau from the command's duration and unit. */
@@ -226,7 +226,7 @@ static int op_ramp(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     snprintf(why, len, "ramp %s %.9g -> %.9g over %.9g tau (%.6g s simulated)", c->names[0], v0,
              c->values[0], dur, wg_scale_seconds(&d->scene.scale, dur));
     stream_regime_reset(&d->st);
-    status_params(d, "ramp", c->client, c->seq);
+    report_params(d, "ramp", c->client, c->seq);
     return WG_OK;
 }
 
@@ -265,8 +265,8 @@ static int op_reset(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     cmd_sync_cancel(d, WG_ESTATE, "set at the next section cancelled by reset");
     engine_reset(d, params);
     stream_regime_reset(&d->st);
-    status_decimation(d);
-    status_params(d, "reset", c->client, c->seq);
+    report_decimation(d);
+    report_params(d, "reset", c->client, c->seq);
     snprintf(why, len, "reset to the scene's initial state%s",
              params ? " and parameters" : " (parameters kept)");
     return WG_OK;
@@ -316,7 +316,7 @@ uint64_t cmd_step_progress(wgd *d, uint64_t max)
     return done;
 }
 
-void cmd_step_cancel(wgd *d, int status, const char *why)
+void cmd_step_cancel(wgd *d, int code, const char *why)
 {
     stepjob *j = &d->step;
     if (!j->active)
@@ -325,7 +325,7 @@ void cmd_step_cancel(wgd *d, int status, const char *why)
     snprintf(msg, sizeof msg, "%s after %" PRIu64 " of %" PRIu64 " steps", why,
              j->total - j->left, j->total);
     j->active = 0;
-    ack(d, j->client, j->seq, j->op, status, msg);
+    ack(d, j->client, j->seq, j->op, code, msg);
 }
 
 static int op_mode(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
@@ -348,7 +348,7 @@ static int op_mode(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
                    d->sim.tau);
     loop_sync(d);
-    status_decimation(d);
+    report_decimation(d);
     snprintf(why, len, "mode %s, rate %g", conf_mode_name(mode), d->conf.rate);
     return WG_OK;
 }
@@ -382,8 +382,8 @@ static int op_restore(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     d->fault = 0;
     d->fault_msg[0] = 0;
     pace_anchor(&d->pace, log_now_ns(), d->sim.tau);
-    status_decimation(d);
-    status_params(d, "restore", c->client, c->seq);
+    report_decimation(d);
+    report_params(d, "restore", c->client, c->seq);
     snprintf(why, len, "restored %s: tau %.9g, step %" PRIu64 "%s%s", c->name, d->sim.tau,
              d->sim.steps, strcmp(s.scene, d->scene.name) ? ", taken with scene " : "",
              strcmp(s.scene, d->scene.name) ? s.scene : "");
@@ -392,7 +392,7 @@ static int op_restore(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 
 static int op_get(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 {
-    status_params(d, "get", c->client, c->seq);
+    report_params(d, "get", c->client, c->seq);
     snprintf(why, len, "parameters published on %s", d->io.ch[CH_PARAMS]);
     return WG_OK;
 }

@@ -28,14 +28,15 @@ void cmd_handle(struct wgd *d, const void *buf, size_t len);
  * (or refuses it on a blow-up). Returns the steps run. */
 uint64_t cmd_step_progress(struct wgd *d, uint64_t max);
 
-/* Refuse a pending `step` (pause, reset, mode change) with code status. */
-void cmd_step_cancel(struct wgd *d, int status, const char *why);
+/* Refuse a pending `step` (pause, reset, mode change) with return code
+ * code (WG_E*) and why. */
+void cmd_step_cancel(struct wgd *d, int code, const char *why);
 
 /* Apply and ACK a `set` waiting for the Poincare section (at_section), if
  * one is pending and the phase index is 0 (the engine calls this). */
 void cmd_sync_apply(struct wgd *d);
 
 /* Refuse a `set` waiting for the section (reset, restore, shutdown). */
-void cmd_sync_cancel(struct wgd *d, int status, const char *why);
+void cmd_sync_cancel(struct wgd *d, int code, const char *why);
 
 #endif

@@ -3,7 +3,7 @@
 
 #include "cmd.h"
 
-#include "status.h"
+#include "report.h"
 #include "wgd.h"
 #include "wormgear/wg_status.h"
 
@@ -75,7 +75,7 @@ static uint64_t run_steps(wgd *d, uint64_t n)
     if (done >= 16) /* smoothed cost per step (drives fast-mode chunks) */
         d->stat.ns_per_step = d->stat.ns_per_step > 0 ? 0.8 * d->stat.ns_per_step + 0.2 * c : c;
     if (ramping && !d->sim.ramp.active) {
-        status_params(d, "ramp-end", "", -1);
+        report_params(d, "ramp-end", "", -1);
         stream_regime_reset(&d->st);
     }
     if (rc) {
@@ -95,7 +95,7 @@ void engine_fault(wgd *d, const char *msg)
     snprintf(d->fault_msg, sizeof d->fault_msg, "%s", msg);
     log_msg(&d->log, LOG_ERR, "FAULT: %s", msg);
     stream_flush(d);
-    status_publish(d);
+    report_status(d);
 }
 
 void engine_pause(wgd *d) { d->run = RUN_PAUSED; }

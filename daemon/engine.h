@@ -13,7 +13,7 @@
 struct wgd;
 
 /* Load the scene, apply the --set overrides, set up the sim at the scene's
- * initial state. WG_OK or a status with d->why. */
+ * initial state. WG_OK or a return code (WG_E*) with d->why. */
 int engine_init(struct wgd *d);
 
 /* Free the sim. */

@@ -4,7 +4,7 @@
 #include "cmd.h"
 #include "engine.h"
 #include "sdn.h"
-#include "status.h"
+#include "report.h"
 #include "wgd.h"
 #include "wormgear/wg_status.h"
 
@@ -90,10 +90,10 @@ static void on_tick(struct ev_loop *loop, ev_io *w, int revents)
         cmd_step_progress(d, d->stat.ns_per_step > 0
                                  ? (uint64_t)(STEP_CHUNK_NS / d->stat.ns_per_step) + 1
                                  : 10000);
-    status_tick(d, t0);
+    report_tick(d, t0);
     sdn_watchdog(&d->sd, t0); /* only a loop that steps reaches this */
     first_ready(d);
-    status_loop(d, log_now_ns() - t0);
+    report_loop(d, log_now_ns() - t0);
 }
 
 static void on_fast(struct ev_loop *loop, ev_idle *w, int revents)
@@ -105,7 +105,7 @@ static void on_fast(struct ev_loop *loop, ev_idle *w, int revents)
     engine_run(d, pace_fast_chunk(d->stat.ns_per_step, FAST_CHUNK_NS));
     if (d->run != RUN_RUNNING)
         loop_sync(d);
-    status_loop(d, log_now_ns() - t0);
+    report_loop(d, log_now_ns() - t0);
 }
 
 static void on_lcm(struct ev_loop *loop, ev_io *w, int revents)
@@ -167,14 +167,14 @@ static void reload(wgd *d)
         if (tick && arm_timer(d))
             log_msg(&d->log, LOG_ERR, "reload: timerfd: %s", strerror(errno));
         loop_sync(d);
-        status_decimation(d);
-        status_params(d, "reload", "", -1);
+        report_decimation(d);
+        report_params(d, "reload", "", -1);
         log_msg(&d->log, LOG_NOTICE, "reloaded %s: mode %s, rate %g",
                 d->conf.path[0] ? d->conf.path : "(no config file)",
                 conf_mode_name(d->conf.mode), d->conf.rate);
     }
     char line[400];
-    status_line(d, line, sizeof line);
+    report_line(d, line, sizeof line);
     sdn_ready(&d->sd, line);
 }
 

@@ -5,7 +5,7 @@
 #include "engine.h"
 #include "loop.h"
 #include "sdn.h"
-#include "status.h"
+#include "report.h"
 #include "wgd.h"
 #include "wormgear/wg_status.h"
 
@@ -41,7 +41,7 @@ static int m_stream(wgd *d)
 
 static int m_cmd(wgd *d) { return cmd_init(d) ? 1 : 0; }
 static int m_loop(wgd *d) { return loop_init(d) ? 1 : 0; }
-static int m_status(wgd *d) { return status_init(d), 0; }
+static int m_report(wgd *d) { return report_init(d), 0; }
 static int m_sdn(wgd *d) { return sdn_init(&d->sd), 0; }
 static void f_lcm(wgd *d) { lcmio_fini(&d->io); }
 static void f_stream(wgd *d) { stream_fini(&d->st); }
@@ -53,8 +53,8 @@ static const struct module {
     int (*init)(wgd *d); /* 0, 1 runtime failure, 2 config error */
     void (*fini)(wgd *d);
 } modules[] = {
-    {"engine", m_engine, engine_fini}, {"lcm", m_lcm, f_lcm},          {"stream", m_stream, f_stream},
-    {"cmd", m_cmd, cmd_fini},          {"loop", m_loop, loop_fini},    {"status", m_status, status_fini},
+    {"engine", m_engine, engine_fini}, {"lcm", m_lcm, f_lcm},     {"stream", m_stream, f_stream},
+    {"cmd", m_cmd, cmd_fini},          {"loop", m_loop, loop_fini}, {"report", m_report, report_fini},
     {"sdn", m_sdn, f_sdn},
 };
 enum { NMOD = sizeof modules / sizeof modules[0] };
@@ -74,7 +74,7 @@ static void started(wgd *d)
             wg_sim_kernel_name(&d->sim, kn, sizeof kn), wg_stepper_name(d->sim.cfg.stepper),
             d->sim.cfg.steps_per_period, conf_mode_name(d->conf.mode), d->conf.rate,
             d->conf.url, d->conf.prefix, d->conf.state_dir);
-    status_params(d, "start", "", -1);
+    report_params(d, "start", "", -1);
 }
 
 static int run(wgd *d)
@@ -99,7 +99,7 @@ static int run(wgd *d)
     loop_run(d);
     log_msg(&d->log, LOG_INFO, "stopping on %s", strsignal(d->stop));
     stream_flush(d);
-    status_publish(d);
+    report_status(d);
     finish(d, NMOD);
     sdn_stopping();
     return 0;

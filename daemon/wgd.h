@@ -42,7 +42,7 @@ typedef struct syncjob {
     int64_t seq;
 } syncjob;
 
-/* Accumulators and derived figures for STATUS (status.c). */
+/* Accumulators and derived figures for STATUS (report.c). */
 typedef struct stats {
     int64_t t_ns;              /* start of the current STATUS interval */
     double tau;                /* simulated time then */

@@ -5,7 +5,7 @@
 #include "engine.h"
 #include "loop.h"
 #include "snap.h"
-#include "status.h"
+#include "report.h"
 
 /* Each test must tear its daemon down (teardown() clears F.d). */
 #define TEST_TEARDOWN_CHECK() ASSERT_TRUE(F.d == NULL)
@@ -21,7 +21,7 @@ enum { MAXS = 200000 };
 typedef struct fx {
     wgd *d;
     int nack;
-    int accepted, status;
+    int accepted, rc;
     int64_t cmd_seq;
     char client[96], code[32], message[700];
     int nparams_msgs;
@@ -48,7 +48,7 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
     (void)rb, (void)ch, (void)u;
     F.nack++;
     F.accepted = m->accepted;
-    F.status = m->status;
+    F.rc = m->status;
     F.cmd_seq = m->cmd_seq;
     F.ack_tau = m->tau;
     snprintf(F.client, sizeof F.client, "%s", m->client);
@@ -113,7 +113,7 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
     F.impacts_per_period = m->impacts_per_period;
 }
 
-/* A daemon without its loop: engine, lcm (memq), streams, commands, status. */
+/* A daemon without its loop: engine, lcm (memq), streams, commands, report. */
 static wgd *setup(int steps_per_period)
 {
     static double tau[MAXS], omega[MAXS], xn[MAXS];
@@ -134,7 +134,7 @@ static wgd *setup(int steps_per_period)
     ASSERT_EQ_INT(cmd_init(d), WG_OK);
     pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
                    d->sim.tau);
-    status_init(d);
+    report_init(d);
     stream_set_decimation(&d->st, 1);
     lcm_t *l = d->io.lcm;
     F.subs[0] = wormgear_ack_t_subscribe(l, "T_ACK", on_ack, NULL);
@@ -170,7 +170,7 @@ static void drain(wgd *d)
         ;
 }
 
-/* Publish a command and handle everything up to its ACK; returns the status. */
+/* Publish a command and handle everything up to its ACK; returns its code. */
 static int send(wgd *d, wormgear_cmd_t *c)
 {
     c->client = c->client ? c->client : (char *)"tester";
@@ -183,7 +183,7 @@ static int send(wgd *d, wormgear_cmd_t *c)
     drain(d);
     ASSERT_EQ_INT(F.nack, before + 1);
     ASSERT_EQ_INT(F.cmd_seq, c->seq);
-    return F.status;
+    return F.rc;
 }
 
 /* Publish a command that is answered later; nothing may answer it now. */
@@ -586,7 +586,7 @@ static void test_step_and_modes(void)
     drain(d);
     ASSERT_EQ_INT(F.nack, n0 + 2);
     ASSERT_EQ_INT(F.cmd_seq, F.myseq - 1);
-    ASSERT_EQ_INT(F.status, WG_OK);
+    ASSERT_EQ_INT(F.rc, WG_OK);
     ASSERT_EQ_INT(d->sim.steps, s0 + 500 + 300000);
     /* realtime and running: step refused; paused: allowed */
     wormgear_cmd_t m = {.op = "mode", .name = "realtime", .rate = 0.5};
@@ -638,7 +638,7 @@ static void test_blowup_fault(void)
     ASSERT_EQ_INT(simple(d, "reset", ""), WG_OK); /* h rebuilt, fault cleared */
     ASSERT_TRUE(!d->fault);
     run(d, 5000);
-    status_publish(d);
+    report_status(d);
     drain(d);
     ASSERT_STR(F.health, "ok");
     teardown(d);
@@ -673,17 +673,17 @@ static void test_status_regime(void)
 {
     wgd *d = setup(64);
     ASSERT_EQ_INT(set1(d, "omega", 0.3), WG_OK);
-    status_publish(d);
+    report_status(d);
     drain(d);
     ASSERT_STR(F.regime, "unknown");
     run(d, 64 * 400);
-    status_publish(d);
+    report_status(d);
     drain(d);
     ASSERT_STR(F.regime, "period-1");
     ASSERT_STR(F.motion, "no_impact");
     ASSERT_EQ_INT(ramp(d, "omega", 0, 0, 0.35, 500, "tau"), WG_OK);
     run(d, 64);
-    status_publish(d);
+    report_status(d);
     drain(d);
     ASSERT_STR(F.regime, "ramping");
     teardown(d);
@@ -716,7 +716,7 @@ static void test_set_at_section(void)
     drain(d);
     ASSERT_EQ_INT(F.nack, before + 1);
     ASSERT_EQ_INT(F.cmd_seq, c.seq);
-    ASSERT_EQ_INT(F.status, WG_OK);
+    ASSERT_EQ_INT(F.rc, WG_OK);
     ASSERT_NEAR(F.ack_tau, tau_section, 1e-9); /* took effect at the section */
     ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.3, 0);
     ASSERT_EQ_INT(d->sim.k, 4);
@@ -739,7 +739,7 @@ static void test_set_at_section(void)
     drain(d);
     ASSERT_EQ_INT(F.nack, before + 2); /* the pending set refused (ESTATE), then the reset */
     ASSERT_EQ_INT(F.cmd_seq, rs.seq);
-    ASSERT_EQ_INT(F.status, WG_OK);
+    ASSERT_EQ_INT(F.rc, WG_OK);
     ASSERT_TRUE(!d->sync.active);
     wormgear_cmd_t r = {.op = "ramp", .nparams = 1, .names = n, .values = &v, .duration = 10,
                         .unit = "tau", .at_section = 1};
@@ -754,13 +754,13 @@ static void test_status_after_set(void)
     wgd *d = setup(128);
     ASSERT_EQ_INT(set1(d, "omega", 1.2), WG_OK); /* impacting, 0.5 per period */
     run(d, 128 * 400);
-    status_publish(d);
+    report_status(d);
     drain(d);
     ASSERT_NEAR(F.impacts_per_period, 0.5, 0.05);
     run(d, 128 * 200); /* the same STATUS interval continues ... */
     ASSERT_EQ_INT(set1(d, "omega", 0.3), WG_OK); /* ... into a quiet orbit */
     run(d, 128 * 400);
-    status_publish(d);
+    report_status(d);
     drain(d);
     ASSERT_STR(F.motion, "no_impact");
     ASSERT_NEAR(F.impacts_per_period, 0.0, 0);
