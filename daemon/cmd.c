@@ -111,9 +111,7 @@ static int apply_set(wgd *d, const int *ids, const double *values, int n, const 
     if (ramp >= 0 && k < len)
         snprintf(why + k, len - k, " (cancelled the ramp of %s at %.9g)",
                  wg_param_info_get(ramp)->name, d->sim.p.v[ramp]);
-    stream_regime_reset(&d->st);
-    report_decimation(d);
-    report_params(d, "set", client, seq);
+    report_change(d, REPORT_ORBIT | REPORT_RATE, "set", client, seq);
     return WG_OK;
 }
 
@@ -225,8 +223,7 @@ static int op_ramp(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     double v0 = d->sim.ramp.v0;
     snprintf(why, len, "ramp %s %.9g -> %.9g over %.9g tau (%.6g s simulated)", c->names[0], v0,
              c->values[0], dur, wg_scale_seconds(&d->scene.scale, dur));
-    stream_regime_reset(&d->st);
-    report_params(d, "ramp", c->client, c->seq);
+    report_change(d, REPORT_ORBIT, "ramp", c->client, c->seq);
     return WG_OK;
 }
 
@@ -264,9 +261,7 @@ static int op_reset(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     cmd_step_cancel(d, WG_ESTATE, "cancelled by reset");
     cmd_sync_cancel(d, WG_ESTATE, "set at the next section cancelled by reset");
     engine_reset(d, params);
-    stream_regime_reset(&d->st);
-    report_decimation(d);
-    report_params(d, "reset", c->client, c->seq);
+    report_change(d, REPORT_ORBIT | REPORT_RATE, "reset", c->client, c->seq);
     snprintf(why, len, "reset to the scene's initial state%s",
              params ? " and parameters" : " (parameters kept)");
     return WG_OK;
@@ -378,12 +373,8 @@ static int op_restore(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
         return rc;
     cmd_step_cancel(d, WG_ESTATE, "cancelled by restore");
     cmd_sync_cancel(d, WG_ESTATE, "set at the next section cancelled by restore");
-    stream_regime_reset(&d->st);
-    d->fault = 0;
-    d->fault_msg[0] = 0;
-    pace_anchor(&d->pace, log_now_ns(), d->sim.tau);
-    report_decimation(d);
-    report_params(d, "restore", c->client, c->seq);
+    engine_restore(d);
+    report_change(d, REPORT_ORBIT | REPORT_RATE, "restore", c->client, c->seq);
     snprintf(why, len, "restored %s: tau %.9g, step %" PRIu64 "%s%s", c->name, d->sim.tau,
              d->sim.steps, strcmp(s.scene, d->scene.name) ? ", taken with scene " : "",
              strcmp(s.scene, d->scene.name) ? s.scene : "");

@@ -74,10 +74,8 @@ static uint64_t run_steps(wgd *d, uint64_t n)
     double c = (double)(log_now_ns() - t0) / (double)(done ? done : 1);
     if (done >= 16) /* smoothed cost per step (drives fast-mode chunks) */
         d->stat.ns_per_step = d->stat.ns_per_step > 0 ? 0.8 * d->stat.ns_per_step + 0.2 * c : c;
-    if (ramping && !d->sim.ramp.active) {
-        report_params(d, "ramp-end", "", -1);
-        stream_regime_reset(&d->st);
-    }
+    if (ramping && !d->sim.ramp.active)
+        report_change(d, REPORT_ORBIT, "ramp-end", "", -1);
     if (rc) {
         char msg[sizeof d->fault_msg];
         snprintf(msg, sizeof msg, "integration blew up after step %" PRIu64 " (tau = %.9g): %s;"
@@ -100,12 +98,17 @@ void engine_fault(wgd *d, const char *msg)
 
 void engine_pause(wgd *d) { d->run = RUN_PAUSED; }
 
-void engine_resume(wgd *d)
+void engine_restore(wgd *d)
 {
     d->fault = 0;
     d->fault_msg[0] = 0;
-    d->run = RUN_RUNNING;
     pace_anchor(&d->pace, log_now_ns(), d->sim.tau);
+}
+
+void engine_resume(wgd *d)
+{
+    d->run = RUN_RUNNING;
+    engine_restore(d);
 }
 
 void engine_reset(wgd *d, int params)
@@ -120,7 +123,5 @@ void engine_reset(wgd *d, int params)
         wg_equilibrium(d->sim.cfg.model, &d->sim.p, y);
     wg_sim_reset(&d->sim);
     wg_sim_set_state(&d->sim, y, 0, 0.0);
-    d->fault = 0;
-    d->fault_msg[0] = 0;
-    pace_anchor(&d->pace, log_now_ns(), 0.0);
+    engine_restore(d);
 }

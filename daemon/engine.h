@@ -24,13 +24,18 @@ void engine_fini(struct wgd *d);
 uint64_t engine_run(struct wgd *d, uint64_t n);
 
 /* Back to the scene's initial state (tau = 0); with params also the scene's
- * parameters. Re-anchors pacing. */
+ * parameters. Clears a fault and re-anchors pacing (engine_restore). */
 void engine_reset(struct wgd *d, int params);
+
+/* The state was put back (reset, restore, resume): clear a fault and
+ * re-anchor pacing at the current simulated time. */
+void engine_restore(struct wgd *d);
 
 /* Pause with a fault message (health FAULT until a resume/reset/restore). */
 void engine_fault(struct wgd *d, const char *msg);
 
-/* Pause or resume; resume clears a fault and re-anchors pacing. */
+/* Pause or resume; resume clears a fault and re-anchors pacing
+ * (engine_restore). */
 void engine_pause(struct wgd *d);
 void engine_resume(struct wgd *d);
 

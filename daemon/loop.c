@@ -167,8 +167,7 @@ static void reload(wgd *d)
         if (tick && arm_timer(d))
             log_msg(&d->log, LOG_ERR, "reload: timerfd: %s", strerror(errno));
         loop_sync(d);
-        report_decimation(d);
-        report_params(d, "reload", "", -1);
+        report_change(d, REPORT_RATE, "reload", "", -1);
         log_msg(&d->log, LOG_NOTICE, "reloaded %s: mode %s, rate %g",
                 d->conf.path[0] ? d->conf.path : "(no config file)",
                 conf_mode_name(d->conf.mode), d->conf.rate);

@@ -180,6 +180,15 @@ void report_params(wgd *d, const char *reason, const char *client, int64_t cmd_s
     lcmio_pub_params(&d->io, &m);
 }
 
+void report_change(wgd *d, int what, const char *reason, const char *client, int64_t cmd_seq)
+{
+    if (what & REPORT_ORBIT)
+        stream_regime_reset(&d->st);
+    if (what & REPORT_RATE)
+        report_decimation(d);
+    report_params(d, reason, client, cmd_seq);
+}
+
 static void foreground(wgd *d)
 {
     char line[400];

@@ -41,6 +41,16 @@ void report_line(const struct wgd *d, char *buf, unsigned len);
 /* Recompute the STATE decimation from state_rate_hz and the step rate. */
 void report_decimation(struct wgd *d);
 
+/* What a change touched, for report_change. */
+enum { REPORT_ORBIT = 1, REPORT_RATE = 2 };
+
+/* After a change: with REPORT_ORBIT the regime tracker and the impacts per
+ * period restart (they describe the new orbit only: set, ramp, reset,
+ * restore); with REPORT_RATE the STATE decimation is recomputed (the step
+ * rate moved); then PARAMS is published as report_params. */
+void report_change(struct wgd *d, int what, const char *reason, const char *client,
+                   int64_t cmd_seq);
+
 /* Names: "ok" "lagging" "fault"; "running" "paused" "stepping". */
 const char *report_health_name(int health);
 const char *report_run_name(const struct wgd *d);
