@@ -115,8 +115,8 @@ static int apply_set(wgd *d, const int *ids, const double *values, int n, const 
     return WG_OK;
 }
 
-/* A set for the next Poincare section: validated now, applied by
- * cmd_sync_apply when the phase index reaches 0. */
+/* A set for the next Poincare section: validated now, applied by cmd_run
+ * when the phase index reaches 0. */
 static int defer_set(wgd *d, const wormgear_cmd_t *c, const int *ids, char *why, size_t len)
 {
     syncjob *j = &d->sync;
@@ -149,7 +149,8 @@ static int op_set(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     return apply_set(d, ids, c->values, c->nparams, c->client, c->seq, why, len);
 }
 
-void cmd_sync_apply(wgd *d)
+/* Apply and ACK the set waiting for the section (phase index 0). */
+static void sync_apply(wgd *d)
 {
     syncjob *j = &d->sync;
     if (!j->active || d->sim.k != 0)
@@ -160,13 +161,40 @@ void cmd_sync_apply(wgd *d)
     ack(d, j->client, j->seq, "set", rc, why);
 }
 
-void cmd_sync_cancel(wgd *d, int code, const char *why)
+/* Refuse a set waiting for the section (reset, restore, shutdown). */
+static void sync_cancel(wgd *d, int code, const char *why)
 {
     syncjob *j = &d->sync;
     if (!j->active)
         return;
     j->active = 0;
     ack(d, j->client, j->seq, "set", code, why);
+}
+
+/* n steps on the engine, then what they did announced: the end of a ramp
+ * (a new orbit, PARAMS "ramp-end"), a blow-up (STATUS with the fault). */
+static uint64_t run_steps(wgd *d, uint64_t n)
+{
+    int events;
+    uint64_t done = engine_run(d, n, &events);
+    if (events & ENGINE_RAMP_ENDED)
+        report_change(d, REPORT_ORBIT, "ramp-end", "", -1);
+    if (events & ENGINE_FAULTED)
+        report_fault(d);
+    return done;
+}
+
+uint64_t cmd_run(wgd *d, uint64_t n)
+{
+    uint32_t N = (uint32_t)d->sim.cfg.steps_per_period;
+    uint64_t to = (N - d->sim.k) % N; /* steps to the next section */
+    if (!d->sync.active || to > n)
+        return run_steps(d, n);
+    uint64_t done = run_steps(d, to);
+    if (done < to)
+        return done;
+    sync_apply(d);
+    return done + run_steps(d, n - to);
 }
 
 /* Ramp duration in tau from the command's duration and unit. */
@@ -259,7 +287,7 @@ static int op_reset(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
         return WG_EINVAL;
     }
     cmd_step_cancel(d, WG_ESTATE, "cancelled by reset");
-    cmd_sync_cancel(d, WG_ESTATE, "set at the next section cancelled by reset");
+    sync_cancel(d, WG_ESTATE, "set at the next section cancelled by reset");
     engine_reset(d, params);
     report_change(d, REPORT_ORBIT | REPORT_RATE, "reset", c->client, c->seq);
     snprintf(why, len, "reset to the scene's initial state%s",
@@ -297,7 +325,7 @@ uint64_t cmd_step_progress(wgd *d, uint64_t max)
     stepjob *j = &d->step;
     if (!j->active)
         return 0;
-    uint64_t n = j->left < max ? j->left : max, done = engine_run(d, n);
+    uint64_t n = j->left < max ? j->left : max, done = cmd_run(d, n);
     j->left -= done;
     if (done < n) {
         j->active = 0;
@@ -372,7 +400,7 @@ static int op_restore(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     if ((rc = snap_apply(&s, &d->sim, why, len)))
         return rc;
     cmd_step_cancel(d, WG_ESTATE, "cancelled by restore");
-    cmd_sync_cancel(d, WG_ESTATE, "set at the next section cancelled by restore");
+    sync_cancel(d, WG_ESTATE, "set at the next section cancelled by restore");
     engine_restore(d);
     report_change(d, REPORT_ORBIT | REPORT_RATE, "restore", c->client, c->seq);
     snprintf(why, len, "restored %s: tau %.9g, step %" PRIu64 "%s%s", c->name, d->sim.tau,
@@ -481,7 +509,7 @@ static void on_tick(const lcm_recv_buf_t *rb, const char *channel, void *user)
                 t.nsteps);
         return;
     }
-    engine_run(d, (uint64_t)t.nsteps);
+    cmd_run(d, (uint64_t)t.nsteps);
 }
 
 int cmd_init(wgd *d)
@@ -499,5 +527,5 @@ int cmd_init(wgd *d)
 void cmd_fini(wgd *d)
 {
     cmd_step_cancel(d, WG_ESTATE, "cancelled: the daemon is stopping");
-    cmd_sync_cancel(d, WG_ESTATE, "set at the next section cancelled: the daemon is stopping");
+    sync_cancel(d, WG_ESTATE, "set at the next section cancelled: the daemon is stopping");
 }

@@ -1,9 +1,6 @@
 /* engine.c - scene, sim, the step path and blow-up handling. */
 #include "engine.h"
 
-#include "cmd.h"
-
-#include "report.h"
 #include "wgd.h"
 #include "wormgear/wg_status.h"
 
@@ -43,27 +40,9 @@ void engine_fini(wgd *d)
     d->sim_ok = 0;
 }
 
-static uint64_t run_steps(wgd *d, uint64_t n);
-
-/* A set waiting for the Poincare section is applied on the section's step
- * boundary: the run is cut there. */
-uint64_t engine_run(wgd *d, uint64_t n)
+uint64_t engine_run(wgd *d, uint64_t n, int *events)
 {
-    if (!d->sync.active)
-        return run_steps(d, n);
-    uint32_t N = (uint32_t)d->sim.cfg.steps_per_period;
-    uint64_t to = (N - d->sim.k) % N;
-    if (to > n)
-        return run_steps(d, n);
-    uint64_t done = run_steps(d, to);
-    if (done < to)
-        return done;
-    cmd_sync_apply(d);
-    return done + run_steps(d, n - to);
-}
-
-static uint64_t run_steps(wgd *d, uint64_t n)
-{
+    *events = 0;
     if (!n)
         return 0;
     wg_sink sink = stream_sink(d);
@@ -75,13 +54,14 @@ static uint64_t run_steps(wgd *d, uint64_t n)
     if (done >= 16) /* smoothed cost per step (drives fast-mode chunks) */
         d->stat.ns_per_step = d->stat.ns_per_step > 0 ? 0.8 * d->stat.ns_per_step + 0.2 * c : c;
     if (ramping && !d->sim.ramp.active)
-        report_change(d, REPORT_ORBIT, "ramp-end", "", -1);
+        *events |= ENGINE_RAMP_ENDED;
     if (rc) {
         char msg[sizeof d->fault_msg];
         snprintf(msg, sizeof msg, "integration blew up after step %" PRIu64 " (tau = %.9g): %s;"
                  " kept the last good state and paused", d->sim.steps, d->sim.tau,
                  wg_status_str(rc));
         engine_fault(d, msg);
+        *events |= ENGINE_FAULTED;
     }
     return done;
 }
@@ -92,8 +72,6 @@ void engine_fault(wgd *d, const char *msg)
     d->run = RUN_PAUSED;
     snprintf(d->fault_msg, sizeof d->fault_msg, "%s", msg);
     log_msg(&d->log, LOG_ERR, "FAULT: %s", msg);
-    stream_flush(d);
-    report_status(d);
 }
 
 void engine_pause(wgd *d) { d->run = RUN_PAUSED; }

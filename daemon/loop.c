@@ -48,12 +48,13 @@ static void realtime(wgd *d, int64_t now)
         log_msg(&d->log, LOG_WARNING, "overrun: more than %g ticks behind (lag %.3f ms, "
                 "policy %s)", d->conf.catchup_ticks, pace_lag_s(&d->pace) * 1e3,
                 conf_policy_name(d->conf.overrun_policy));
-    engine_run(d, due.steps);
+    cmd_run(d, due.steps);
     if (due.stop && !d->fault) {
         char msg[160];
         snprintf(msg, sizeof msg, "stopped after %d consecutive overruns (overrun_policy = "
                  "stop): cannot keep up with rate %g", d->conf.overrun_stop_after, d->conf.rate);
         engine_fault(d, msg);
+        report_fault(d);
         loop_sync(d);
     }
 }
@@ -102,7 +103,7 @@ static void on_fast(struct ev_loop *loop, ev_idle *w, int revents)
     (void)revents;
     wgd *d = w->data;
     int64_t t0 = log_now_ns();
-    engine_run(d, pace_fast_chunk(d->stat.ns_per_step, FAST_CHUNK_NS));
+    cmd_run(d, pace_fast_chunk(d->stat.ns_per_step, FAST_CHUNK_NS));
     if (d->run != RUN_RUNNING)
         loop_sync(d);
     report_loop(d, log_now_ns() - t0);

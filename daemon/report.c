@@ -135,6 +135,12 @@ void report_status(wgd *d)
     lcmio_pub_status(&d->io, &m);
 }
 
+void report_fault(wgd *d)
+{
+    stream_flush(d);
+    report_status(d);
+}
+
 void report_line(const wgd *d, char *buf, unsigned len)
 {
     const stats *s = &d->stat;

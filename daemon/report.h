@@ -28,8 +28,12 @@ void report_loop(struct wgd *d, int64_t dur_ns);
  * (status_hz), PARAMS (1 Hz), foreground line (1 Hz). */
 void report_tick(struct wgd *d, int64_t now_ns);
 
-/* Compute and publish a STATUS message now (faults, shutdown, tests). */
+/* Compute and publish a STATUS message now (shutdown, tests). */
 void report_status(struct wgd *d);
+
+/* A fault was raised (engine_fault): publish the stream batches, which end
+ * at the last good state, then a STATUS with health fault, at once. */
+void report_fault(struct wgd *d);
 
 /* Publish the full parameter set; reason as in params_t, client/cmd_seq of
  * the causing command ("" / -1 if none). */

@@ -224,7 +224,7 @@ static void run(wgd *d, uint64_t n)
 {
     while (n) {
         uint64_t k = n < 5000 ? n : 5000;
-        ASSERT_EQ_INT(engine_run(d, k), k);
+        ASSERT_EQ_INT(cmd_run(d, k), k);
         stream_flush(d);
         drain(d);
         n -= k;
@@ -620,7 +620,7 @@ static void test_blowup_fault(void)
     wgd *d = setup(128);
     run(d, 2000);
     d->sim.h *= 400; /* test only: force RK4 far past its stability limit */
-    uint64_t done = engine_run(d, 100000);
+    uint64_t done = cmd_run(d, 100000);
     drain(d);
     ASSERT_TRUE(done < 100000);
     ASSERT_EQ_INT(d->sim.steps, 2000 + done);
@@ -706,13 +706,13 @@ static void test_set_at_section(void)
     wormgear_cmd_t c2 = {.op = "set", .nparams = 1, .names = n, .values = &v, .at_section = 1};
     ASSERT_EQ_INT(send(d, &c2), WG_ESTATE);
     ASSERT_CONTAINS(F.message, "already pending");
-    ASSERT_EQ_INT(engine_run(d, 128 - 37 - 1), 128 - 37 - 1); /* one step short */
+    ASSERT_EQ_INT(cmd_run(d, 128 - 37 - 1), 128 - 37 - 1); /* one step short */
     drain(d);
     ASSERT_TRUE(d->sync.active);
     ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.0, 0);
     int before = F.nack;
     double tau_section = d->sim.tau + d->sim.h; /* the next step ends the period */
-    ASSERT_EQ_INT(engine_run(d, 5), 5);
+    ASSERT_EQ_INT(cmd_run(d, 5), 5);
     drain(d);
     ASSERT_EQ_INT(F.nack, before + 1);
     ASSERT_EQ_INT(F.cmd_seq, c.seq);
