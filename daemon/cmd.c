@@ -2,7 +2,6 @@
 #include "cmd.h"
 
 #include "engine.h"
-#include "loop.h"
 #include "snap.h"
 #include "report.h"
 #include "wgd.h"
@@ -262,7 +261,6 @@ static int op_pause(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     (void)c;
     int was = d->run == RUN_PAUSED;
     engine_pause(d);
-    loop_sync(d);
     snprintf(why, len, "%s at tau %.9g", was ? "already paused" : "paused", d->sim.tau);
     return WG_OK;
 }
@@ -272,7 +270,6 @@ static int op_resume(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     (void)c;
     int fault = d->fault;
     engine_resume(d);
-    loop_sync(d);
     snprintf(why, len, "running from tau %.9g%s", d->sim.tau,
              fault ? " (fault cleared: continuing from the last good state)" : "");
     return WG_OK;
@@ -370,7 +367,6 @@ static int op_mode(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     d->conf.rate = tmp.rate;
     pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
                    d->sim.tau);
-    loop_sync(d);
     report_decimation(d);
     snprintf(why, len, "mode %s, rate %g", conf_mode_name(mode), d->conf.rate);
     return WG_OK;

@@ -29,10 +29,11 @@ static int arm_timer(wgd *d)
     return timerfd_settime(d->tfd, TFD_TIMER_ABSTIME, &its, NULL);
 }
 
-void loop_sync(wgd *d)
+/* Start or stop the fast-mode idle watcher to match mode and run state.
+ * Called at the end of every handler (redis's before-sleep hook): a
+ * command, a reload or a fault changes them, never the handler itself. */
+static void sync_fast(wgd *d)
 {
-    if (!d->loop)
-        return;
     int want = d->conf.mode == MODE_FAST && d->run == RUN_RUNNING;
     if (want && !ev_is_active(&d->fast_w))
         ev_idle_start(d->loop, &d->fast_w);
@@ -55,7 +56,6 @@ static void realtime(wgd *d, int64_t now)
                  "stop): cannot keep up with rate %g", d->conf.overrun_stop_after, d->conf.rate);
         engine_fault(d, msg);
         report_fault(d);
-        loop_sync(d);
     }
 }
 
@@ -95,6 +95,7 @@ static void on_tick(struct ev_loop *loop, ev_io *w, int revents)
     sdn_watchdog(&d->sd, t0); /* only a loop that steps reaches this */
     first_ready(d);
     report_loop(d, log_now_ns() - t0);
+    sync_fast(d);
 }
 
 static void on_fast(struct ev_loop *loop, ev_idle *w, int revents)
@@ -104,9 +105,8 @@ static void on_fast(struct ev_loop *loop, ev_idle *w, int revents)
     wgd *d = w->data;
     int64_t t0 = log_now_ns();
     cmd_run(d, pace_fast_chunk(d->stat.ns_per_step, FAST_CHUNK_NS));
-    if (d->run != RUN_RUNNING)
-        loop_sync(d);
     report_loop(d, log_now_ns() - t0);
+    sync_fast(d);
 }
 
 static void on_lcm(struct ev_loop *loop, ev_io *w, int revents)
@@ -114,7 +114,8 @@ static void on_lcm(struct ev_loop *loop, ev_io *w, int revents)
     (void)loop;
     (void)revents;
     wgd *d = w->data;
-    lcmio_drain(&d->io, 64);
+    lcmio_drain(&d->io, 64); /* the CMD and TICK handlers of cmd.c */
+    sync_fast(d);
 }
 
 static void on_signal(struct ev_loop *loop, ev_signal *w, int revents)
@@ -167,7 +168,6 @@ static void reload(wgd *d)
                        d->sim.tau);
         if (tick && arm_timer(d))
             log_msg(&d->log, LOG_ERR, "reload: timerfd: %s", strerror(errno));
-        loop_sync(d);
         report_change(d, REPORT_RATE, "reload", "", -1);
         log_msg(&d->log, LOG_NOTICE, "reloaded %s: mode %s, rate %g",
                 d->conf.path[0] ? d->conf.path : "(no config file)",
@@ -210,7 +210,7 @@ int loop_init(wgd *d)
     start_signal(d, &d->sig_hup, SIGHUP);
     pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
                    d->sim.tau);
-    loop_sync(d);
+    sync_fast(d);
     return WG_OK;
 }
 

@@ -3,7 +3,6 @@
  * command path, save/restore bit-exact, step, blow-up handling, stream seq. */
 #include "cmd.h"
 #include "engine.h"
-#include "loop.h"
 #include "snap.h"
 #include "report.h"
 
