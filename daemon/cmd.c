@@ -14,7 +14,7 @@
 #include <stdio.h>
 #include <string.h>
 
-enum { CMD_PENDING = 1 };
+enum { CMD_PENDING = 1, ACK_TEXT = 640 }; /* ACK_TEXT: room for an ACK's message */
 #define STEP_MAX 1e12
 
 typedef int (*op_fn)(wgd *d, const wormgear_cmd_t *c, char *why, size_t len);
@@ -155,8 +155,8 @@ static void sync_apply(wgd *d)
     if (!j->active || d->sim.k != 0)
         return;
     j->active = 0;
-    char *why = d->why;
-    int rc = apply_set(d, j->ids, j->values, j->n, j->client, j->seq, why, sizeof d->why);
+    char why[ACK_TEXT];
+    int rc = apply_set(d, j->ids, j->values, j->n, j->client, j->seq, why, sizeof why);
     ack(d, j->client, j->seq, "set", rc, why);
 }
 
@@ -423,8 +423,8 @@ static const struct {
 
 static void dispatch(wgd *d, const wormgear_cmd_t *c)
 {
-    char *why = d->why, op[24];
-    size_t len = sizeof d->why;
+    char why[ACK_TEXT], op[24];
+    size_t len = sizeof why;
     int rc = WG_EINVAL;
     unsigned i;
     for (i = 0; i < sizeof ops / sizeof ops[0]; i++)
@@ -513,7 +513,7 @@ int cmd_init(wgd *d)
     lcm_subscription_t *a = lcm_subscribe(d->io.lcm, d->io.ch[CH_CMD], on_cmd, d);
     lcm_subscription_t *b = lcm_subscribe(d->io.lcm, d->io.ch[CH_TICK], on_tick, d);
     if (!a || !b) {
-        snprintf(d->why, sizeof d->why, "LCM: cannot subscribe %s", d->io.ch[CH_CMD]);
+        snprintf(d->init_why, sizeof d->init_why, "LCM: cannot subscribe %s", d->io.ch[CH_CMD]);
         return WG_EIO;
     }
     lcm_subscription_set_queue_capacity(a, 256);

@@ -15,7 +15,7 @@
 
 struct wgd;
 
-/* Subscribe CMD and TICK. WG_OK or WG_EIO with d->why. */
+/* Subscribe CMD and TICK. WG_OK or WG_EIO with d->init_why. */
 int cmd_init(struct wgd *d);
 
 /* Nothing to release (subscriptions end with the lcm instance). */

@@ -13,17 +13,18 @@ static int apply_sets(wgd *d)
     const char *sets[CONF_MAX_SETS];
     for (int i = 0; i < d->conf.nsets; i++)
         sets[i] = d->conf.sets[i];
-    return wg_scene_apply_sets(&d->scene, sets, d->conf.nsets, d->why, sizeof d->why);
+    return wg_scene_apply_sets(&d->scene, sets, d->conf.nsets, d->init_why,
+                               sizeof d->init_why);
 }
 
 int engine_init(wgd *d)
 {
-    int rc = wg_scene_open(&d->scene, d->conf.scene, d->why, sizeof d->why);
+    int rc = wg_scene_open(&d->scene, d->conf.scene, d->init_why, sizeof d->init_why);
     if (rc || (rc = apply_sets(d)))
         return rc;
     d->scene_params = d->scene.p;
     wg_sim_config cfg = {d->scene.model, d->conf.stepper, d->conf.steps_per_period};
-    if ((rc = wg_sim_init(&d->sim, &d->scene.p, &cfg, d->why, sizeof d->why)))
+    if ((rc = wg_sim_init(&d->sim, &d->scene.p, &cfg, d->init_why, sizeof d->init_why)))
         return rc;
     d->sim_ok = 1;
     double y[WG_NSTATE_MAX];
@@ -91,9 +92,10 @@ void engine_resume(wgd *d)
 
 void engine_reset(wgd *d, int params)
 {
+    char why[320];
     stream_flush(d);
     if (params)
-        wg_sim_set_params(&d->sim, &d->scene_params, d->why, sizeof d->why); /* valid at start */
+        wg_sim_set_params(&d->sim, &d->scene_params, why, sizeof why); /* valid at start */
     double y[WG_NSTATE_MAX];
     if (d->scene.has_state)
         wg_scene_initial(&d->scene, y);

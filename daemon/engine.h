@@ -16,7 +16,7 @@
 struct wgd;
 
 /* Load the scene, apply the --set overrides, set up the sim at the scene's
- * initial state. WG_OK or a return code (WG_E*) with d->why. */
+ * initial state. WG_OK or a return code (WG_E*) with d->init_why. */
 int engine_init(struct wgd *d);
 
 /* Free the sim. */

@@ -190,12 +190,12 @@ int loop_init(wgd *d)
     d->tfd = -1;
     d->loop = ev_loop_new(EVFLAG_AUTO);
     if (!d->loop) {
-        snprintf(d->why, sizeof d->why, "libev: cannot create the event loop");
+        snprintf(d->init_why, sizeof d->init_why, "libev: cannot create the event loop");
         return WG_EIO;
     }
     d->tfd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
     if (d->tfd < 0 || arm_timer(d)) {
-        snprintf(d->why, sizeof d->why, "timerfd: %s", strerror(errno));
+        snprintf(d->init_why, sizeof d->init_why, "timerfd: %s", strerror(errno));
         return WG_EIO;
     }
     ev_io_init(&d->tick_w, on_tick, d->tfd, EV_READ);

@@ -26,7 +26,7 @@ static int m_lcm(wgd *d)
 {
     if (d->conf.mlock && mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
         log_msg(&d->log, LOG_WARNING, "mlockall: %s (raise LimitMEMLOCK=)", strerror(errno));
-    if (lcmio_init(&d->io, d->conf.url, d->conf.prefix, d->why, sizeof d->why))
+    if (lcmio_init(&d->io, d->conf.url, d->conf.prefix, d->init_why, sizeof d->init_why))
         return 1;
     d->io_ok = 1;
     return 0;
@@ -53,8 +53,12 @@ static const struct module {
     int (*init)(wgd *d); /* 0, 1 runtime failure, 2 config error */
     void (*fini)(wgd *d);
 } modules[] = {
-    {"engine", m_engine, engine_fini}, {"lcm", m_lcm, f_lcm},     {"stream", m_stream, f_stream},
-    {"cmd", m_cmd, cmd_fini},          {"loop", m_loop, loop_fini}, {"report", m_report, report_fini},
+    {"engine", m_engine, engine_fini},
+    {"lcm", m_lcm, f_lcm},
+    {"stream", m_stream, f_stream},
+    {"cmd", m_cmd, cmd_fini},
+    {"loop", m_loop, loop_fini},
+    {"report", m_report, report_fini},
     {"sdn", m_sdn, f_sdn},
 };
 enum { NMOD = sizeof modules / sizeof modules[0] };
@@ -82,7 +86,7 @@ static int run(wgd *d)
     int i, rc = 0;
     for (i = 0; i < NMOD && !rc; i++)
         if ((rc = modules[i].init(d)))
-            log_msg(&d->log, LOG_ERR, "%s: %s", modules[i].name, d->why);
+            log_msg(&d->log, LOG_ERR, "%s: %s", modules[i].name, d->init_why);
     if (rc) {
         finish(d, i - 1);
         return rc;
@@ -117,9 +121,9 @@ int main(int argc, char **argv)
     d->tfd = -1;
     d->start_ns = log_now_ns();
     log_init(&d->log, 0);
-    int rc = conf_load(&d->conf, argc, argv, d->why, sizeof d->why);
+    int rc = conf_load(&d->conf, argc, argv, d->init_why, sizeof d->init_why);
     if (rc == 2)
-        fprintf(stderr, "wormgeard: %s\n(try wormgeard --help)\n", d->why);
+        fprintf(stderr, "wormgeard: %s\n(try wormgeard --help)\n", d->init_why);
     if (rc == 0) {
         d->log.max_prio = d->conf.verbose ? LOG_DEBUG : LOG_INFO;
         rc = run(d);

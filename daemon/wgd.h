@@ -96,7 +96,7 @@ typedef struct wgd {
     int tfd;
     int stop, reload;          /* set by the signal callbacks */
     int64_t start_ns;
-    char why[640];             /* scratch for messages */
+    char init_why[640];        /* why a module's init failed (main logs it) */
 } wgd;
 
 #endif

@@ -128,7 +128,8 @@ static wgd *setup(int steps_per_period)
     d->log.max_prio = LOG_ERR; /* refusals are expected here */
     d->tfd = -1;
     ASSERT_EQ_INT(engine_init(d), WG_OK);
-    ASSERT_EQ_INT(lcmio_init(&d->io, "memq://", "T_", d->why, sizeof d->why), WG_OK);
+    ASSERT_EQ_INT(lcmio_init(&d->io, "memq://", "T_", d->init_why, sizeof d->init_why),
+                  WG_OK);
     stream_init(&d->st, d->sim.nstate, &d->scene.scale, 1);
     ASSERT_EQ_INT(cmd_init(d), WG_OK);
     pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
