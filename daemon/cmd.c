@@ -350,21 +350,20 @@ void cmd_step_cancel(wgd *d, int code, const char *why)
 
 static int op_mode(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 {
-    char nm[24], num[40];
+    char nm[24];
     int mode = conf_mode_lookup(c->name);
     if (mode < 0) {
         snprintf(why, len, "mode '%s' is not one of realtime, fast, lockstep",
                  clean(c->name, nm, sizeof nm));
         return WG_EINVAL;
     }
-    conf tmp = d->conf;
-    snprintf(num, sizeof num, "%.17g", c->rate);
-    if (c->rate != 0.0 && conf_set(&tmp, "rate", num, why, len))
+    if (c->rate != 0.0 && conf_check_number("rate", c->rate, why, len)) /* 0: keep the rate */
         return WG_ERANGE;
     if (mode != MODE_LOCKSTEP)
         cmd_step_cancel(d, WG_ESTATE, "cancelled by a mode change");
     d->conf.mode = mode;
-    d->conf.rate = tmp.rate;
+    if (c->rate != 0.0)
+        d->conf.rate = c->rate;
     pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
                    d->sim.tau);
     report_decimation(d);

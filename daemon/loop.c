@@ -130,44 +130,50 @@ static void on_signal(struct ev_loop *loop, ev_signal *w, int revents)
     ev_break(loop, EVBREAK_ALL);
 }
 
-/* Keys that need a restart to change. */
-static void restart_only(wgd *d, const conf *c)
+/* Apply hooks of the live keys (conf_reload calls them when one changed). */
+static void apply_mode(void *ctx, const conf *was)
 {
-    if (strcmp(c->scene, d->conf.scene) || strcmp(c->url, d->conf.url) ||
-        strcmp(c->prefix, d->conf.prefix) || c->steps_per_period != d->conf.steps_per_period ||
-        c->stepper != d->conf.stepper || c->mlock != d->conf.mlock || c->nsets != d->conf.nsets)
-        log_msg(&d->log, LOG_WARNING, "reload: scene, url, prefix, steps_per_period, stepper, "
-                "mlock and [params] changes take effect at the next restart");
+    wgd *d = ctx;
+    if (d->conf.mode != MODE_LOCKSTEP && was->mode == MODE_LOCKSTEP)
+        cmd_step_cancel(d, WG_ESTATE, "cancelled by a mode change (reload)");
 }
 
+static void apply_tick(void *ctx, const conf *was)
+{
+    wgd *d = ctx;
+    (void)was;
+    if (arm_timer(d))
+        log_msg(&d->log, LOG_ERR, "reload: timerfd: %s", strerror(errno));
+}
+
+static void apply_verbose(void *ctx, const conf *was)
+{
+    wgd *d = ctx;
+    (void)was;
+    d->log.max_prio = d->conf.verbose ? LOG_DEBUG : LOG_INFO;
+}
+
+static const conf_apply_fn hooks[CONF_NAPPLY] = {
+    [CONF_APPLY_MODE] = apply_mode, [CONF_APPLY_TICK] = apply_tick,
+    [CONF_APPLY_VERBOSE] = apply_verbose};
+
+/* SIGHUP: re-read the configuration; live keys now, restart-only ones
+ * logged. Pacing re-anchors and PARAMS goes out as after any reload. */
 static void reload(wgd *d)
 {
     conf c;
-    char why[640];
+    char why[640], kept[200];
     d->reload = 0;
     sdn_reloading(&d->sd);
     if (conf_load(&c, d->argc, d->argv, why, sizeof why)) {
         log_msg(&d->log, LOG_ERR, "reload: %s; keeping the running configuration", why);
     } else {
-        restart_only(d, &c);
-        int tick = c.tick_us != d->conf.tick_us;
-        if (c.mode != MODE_LOCKSTEP && d->conf.mode == MODE_LOCKSTEP)
-            cmd_step_cancel(d, WG_ESTATE, "cancelled by a mode change (reload)");
-        conf keep = d->conf;
-        d->conf = c; /* live keys from c, restart-only keys as running */
-        snprintf(d->conf.scene, sizeof d->conf.scene, "%s", keep.scene);
-        snprintf(d->conf.url, sizeof d->conf.url, "%s", keep.url);
-        snprintf(d->conf.prefix, sizeof d->conf.prefix, "%s", keep.prefix);
-        d->conf.steps_per_period = keep.steps_per_period;
-        d->conf.stepper = keep.stepper;
-        d->conf.mlock = keep.mlock;
-        d->conf.nsets = keep.nsets;
-        memcpy(d->conf.sets, keep.sets, sizeof keep.sets);
-        d->log.max_prio = c.verbose ? LOG_DEBUG : LOG_INFO;
+        conf_reload(&d->conf, &c, hooks, d, kept, sizeof kept);
+        if (kept[0])
+            log_msg(&d->log, LOG_WARNING, "reload: %s changes take effect at the next restart",
+                    kept);
         pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
                        d->sim.tau);
-        if (tick && arm_timer(d))
-            log_msg(&d->log, LOG_ERR, "reload: timerfd: %s", strerror(errno));
         report_change(d, REPORT_RATE, "reload", "", -1);
         log_msg(&d->log, LOG_NOTICE, "reloaded %s: mode %s, rate %g",
                 d->conf.path[0] ? d->conf.path : "(no config file)",

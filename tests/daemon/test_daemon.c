@@ -594,6 +594,7 @@ static void test_step_and_modes(void)
     ASSERT_NEAR(d->conf.rate, 0.5, 0);
     m.rate = 1e9;
     ASSERT_EQ_INT(send(d, &m), WG_ERANGE);
+    ASSERT_STR(F.message, "rate: '1000000000' must be a number in [1e-06, 1000]");
     m.name = "warp";
     ASSERT_EQ_INT(send(d, &m), WG_EINVAL);
     ASSERT_EQ_INT(send(d, &c), WG_ESTATE);
