@@ -1,7 +1,6 @@
 /* report.c - STATUS, PARAMS, foreground line and periodic bookkeeping. */
 #include "report.h"
 
-#include "engine.h"
 #include "sdn.h"
 #include "wgd.h"
 
