@@ -2,8 +2,8 @@
 #include "cmd.h"
 
 #include "engine.h"
-#include "snap.h"
 #include "report.h"
+#include "snap.h"
 #include "wgd.h"
 #include "wire.h"
 #include "wormgear/wg_status.h"

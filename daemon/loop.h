@@ -12,7 +12,7 @@
 
 struct wgd;
 
-/* Create the loop, the timerfd and the watchers. WG_OK or WG_EIO with why. */
+/* Create the loop, the timerfd and the watchers. WG_OK or WG_EIO with d->init_why. */
 int loop_init(struct wgd *d);
 
 /* Stop the watchers, close the timerfd, destroy the loop. */

@@ -4,8 +4,8 @@
 #include "cmd.h"
 #include "engine.h"
 #include "loop.h"
-#include "sdn.h"
 #include "report.h"
+#include "sdn.h"
 #include "wgd.h"
 #include "wormgear/wg_status.h"
 
