@@ -30,8 +30,9 @@ static int arm_timer(wgd *d)
 }
 
 /* Start or stop the fast-mode idle watcher to match mode and run state.
- * Called at the end of every handler (redis's before-sleep hook): a
- * command, a reload or a fault changes them, never the handler itself. */
+ * Called at the end of each handler, as redis runs its before-sleep hook:
+ * whatever a command, a reload or a fault changed is matched before the
+ * loop polls again, and no module below the loop knows the watcher. */
 static void sync_fast(wgd *d)
 {
     int want = d->conf.mode == MODE_FAST && d->run == RUN_RUNNING;
