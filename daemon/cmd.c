@@ -2,9 +2,8 @@
 #include "cmd.h"
 
 #include "engine.h"
-#include "loop.h"
+#include "report.h"
 #include "snap.h"
-#include "status.h"
 #include "wgd.h"
 #include "wire.h"
 #include "wormgear/wg_status.h"
@@ -15,7 +14,7 @@
 #include <stdio.h>
 #include <string.h>
 
-enum { CMD_PENDING = 1 };
+enum { CMD_PENDING = 1, ACK_TEXT = 640 }; /* ACK_TEXT: room for an ACK's message */
 #define STEP_MAX 1e12
 
 typedef int (*op_fn)(wgd *d, const wormgear_cmd_t *c, char *why, size_t len);
@@ -34,17 +33,18 @@ static const char *clean(const char *s, char *out, size_t n)
 
 /* ---- ACK ------------------------------------------------------------------ */
 
-static void ack(wgd *d, const char *client, int64_t seq, const char *op, int status,
+static void ack(wgd *d, const char *client, int64_t seq, const char *op, int rc,
                 const char *msg)
 {
     char cl[72], o[24];
     wormgear_ack_t a = {.client = (char *)clean(client, cl, sizeof cl), .cmd_seq = seq,
-                        .op = (char *)clean(op, o, sizeof o), .accepted = status == WG_OK,
-                        .status = status, .code = (char *)wg_status_name(status),
+                        .op = (char *)clean(op, o, sizeof o), .accepted = rc == WG_OK,
+                        .status = rc, .code = (char *)wg_status_name(rc),
                         .message = (char *)msg, .tau = d->sim.tau,
-                        .t_s = engine_seconds(d, d->sim.tau), .steps = (int64_t)d->sim.steps};
+                        .t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau),
+                        .steps = (int64_t)d->sim.steps};
     lcmio_pub_ack(&d->io, &a);
-    if (status == WG_OK) {
+    if (rc == WG_OK) {
         d->stat.cmds_accepted++;
         if (strcmp(op, "get") && strcmp(op, "step"))
             log_msg(&d->log, LOG_INFO, "%s from %s (seq %" PRId64 "): %s", a.op, a.client, seq,
@@ -110,14 +110,12 @@ static int apply_set(wgd *d, const int *ids, const double *values, int n, const 
     if (ramp >= 0 && k < len)
         snprintf(why + k, len - k, " (cancelled the ramp of %s at %.9g)",
                  wg_param_info_get(ramp)->name, d->sim.p.v[ramp]);
-    stream_regime_reset(&d->st);
-    status_decimation(d);
-    status_params(d, "set", client, seq);
+    report_change(d, REPORT_ORBIT | REPORT_RATE, "set", client, seq);
     return WG_OK;
 }
 
-/* A set for the next Poincare section: validated now, applied by
- * cmd_sync_apply when the phase index reaches 0. */
+/* A set for the next Poincare section: validated now, applied by cmd_run
+ * when the phase index reaches 0. */
 static int defer_set(wgd *d, const wormgear_cmd_t *c, const int *ids, char *why, size_t len)
 {
     syncjob *j = &d->sync;
@@ -150,24 +148,52 @@ static int op_set(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     return apply_set(d, ids, c->values, c->nparams, c->client, c->seq, why, len);
 }
 
-void cmd_sync_apply(wgd *d)
+/* Apply and ACK the set waiting for the section (phase index 0). */
+static void sync_apply(wgd *d)
 {
     syncjob *j = &d->sync;
     if (!j->active || d->sim.k != 0)
         return;
     j->active = 0;
-    char *why = d->why;
-    int rc = apply_set(d, j->ids, j->values, j->n, j->client, j->seq, why, sizeof d->why);
+    char why[ACK_TEXT];
+    int rc = apply_set(d, j->ids, j->values, j->n, j->client, j->seq, why, sizeof why);
     ack(d, j->client, j->seq, "set", rc, why);
 }
 
-void cmd_sync_cancel(wgd *d, int status, const char *why)
+/* Refuse a set waiting for the section (reset, restore, shutdown). */
+static void sync_cancel(wgd *d, int code, const char *why)
 {
     syncjob *j = &d->sync;
     if (!j->active)
         return;
     j->active = 0;
-    ack(d, j->client, j->seq, "set", status, why);
+    ack(d, j->client, j->seq, "set", code, why);
+}
+
+/* n steps on the engine, then what they did announced: the end of a ramp
+ * (a new orbit, PARAMS "ramp-end"), a blow-up (STATUS with the fault). */
+static uint64_t run_steps(wgd *d, uint64_t n)
+{
+    int events;
+    uint64_t done = engine_run(d, n, &events);
+    if (events & ENGINE_RAMP_ENDED)
+        report_change(d, REPORT_ORBIT, "ramp-end", "", -1);
+    if (events & ENGINE_FAULTED)
+        report_fault(d);
+    return done;
+}
+
+uint64_t cmd_run(wgd *d, uint64_t n)
+{
+    uint32_t N = (uint32_t)d->sim.cfg.steps_per_period;
+    uint64_t to = (N - d->sim.k) % N; /* steps to the next section */
+    if (!d->sync.active || to > n)
+        return run_steps(d, n);
+    uint64_t done = run_steps(d, to);
+    if (done < to)
+        return done;
+    sync_apply(d);
+    return done + run_steps(d, n - to);
 }
 
 /* Ramp duration in tau from the command's duration and unit. */
@@ -223,9 +249,8 @@ static int op_ramp(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
         return rc; /* nothing applied */
     double v0 = d->sim.ramp.v0;
     snprintf(why, len, "ramp %s %.9g -> %.9g over %.9g tau (%.6g s simulated)", c->names[0], v0,
-             c->values[0], dur, engine_seconds(d, dur));
-    stream_regime_reset(&d->st);
-    status_params(d, "ramp", c->client, c->seq);
+             c->values[0], dur, wg_scale_seconds(&d->scene.scale, dur));
+    report_change(d, REPORT_ORBIT, "ramp", c->client, c->seq);
     return WG_OK;
 }
 
@@ -236,7 +261,6 @@ static int op_pause(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     (void)c;
     int was = d->run == RUN_PAUSED;
     engine_pause(d);
-    loop_sync(d);
     snprintf(why, len, "%s at tau %.9g", was ? "already paused" : "paused", d->sim.tau);
     return WG_OK;
 }
@@ -246,7 +270,6 @@ static int op_resume(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     (void)c;
     int fault = d->fault;
     engine_resume(d);
-    loop_sync(d);
     snprintf(why, len, "running from tau %.9g%s", d->sim.tau,
              fault ? " (fault cleared: continuing from the last good state)" : "");
     return WG_OK;
@@ -261,11 +284,9 @@ static int op_reset(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
         return WG_EINVAL;
     }
     cmd_step_cancel(d, WG_ESTATE, "cancelled by reset");
-    cmd_sync_cancel(d, WG_ESTATE, "set at the next section cancelled by reset");
+    sync_cancel(d, WG_ESTATE, "set at the next section cancelled by reset");
     engine_reset(d, params);
-    stream_regime_reset(&d->st);
-    status_decimation(d);
-    status_params(d, "reset", c->client, c->seq);
+    report_change(d, REPORT_ORBIT | REPORT_RATE, "reset", c->client, c->seq);
     snprintf(why, len, "reset to the scene's initial state%s",
              params ? " and parameters" : " (parameters kept)");
     return WG_OK;
@@ -301,7 +322,7 @@ uint64_t cmd_step_progress(wgd *d, uint64_t max)
     stepjob *j = &d->step;
     if (!j->active)
         return 0;
-    uint64_t n = j->left < max ? j->left : max, done = engine_run(d, n);
+    uint64_t n = j->left < max ? j->left : max, done = cmd_run(d, n);
     j->left -= done;
     if (done < n) {
         j->active = 0;
@@ -315,7 +336,7 @@ uint64_t cmd_step_progress(wgd *d, uint64_t max)
     return done;
 }
 
-void cmd_step_cancel(wgd *d, int status, const char *why)
+void cmd_step_cancel(wgd *d, int code, const char *why)
 {
     stepjob *j = &d->step;
     if (!j->active)
@@ -324,29 +345,28 @@ void cmd_step_cancel(wgd *d, int status, const char *why)
     snprintf(msg, sizeof msg, "%s after %" PRIu64 " of %" PRIu64 " steps", why,
              j->total - j->left, j->total);
     j->active = 0;
-    ack(d, j->client, j->seq, j->op, status, msg);
+    ack(d, j->client, j->seq, j->op, code, msg);
 }
 
 static int op_mode(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 {
-    char nm[24], num[40];
+    char nm[24];
     int mode = conf_mode_lookup(c->name);
     if (mode < 0) {
         snprintf(why, len, "mode '%s' is not one of realtime, fast, lockstep",
                  clean(c->name, nm, sizeof nm));
         return WG_EINVAL;
     }
-    conf tmp = d->conf;
-    snprintf(num, sizeof num, "%.17g", c->rate);
-    if (c->rate != 0.0 && conf_set(&tmp, "rate", num, why, len))
+    if (c->rate != 0.0 && conf_check_number("rate", c->rate, why, len)) /* 0: keep the rate */
         return WG_ERANGE;
     if (mode != MODE_LOCKSTEP)
         cmd_step_cancel(d, WG_ESTATE, "cancelled by a mode change");
     d->conf.mode = mode;
-    d->conf.rate = tmp.rate;
-    loop_repace(d);
-    loop_sync(d);
-    status_decimation(d);
+    if (c->rate != 0.0)
+        d->conf.rate = c->rate;
+    pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
+                   d->sim.tau);
+    report_decimation(d);
     snprintf(why, len, "mode %s, rate %g", conf_mode_name(mode), d->conf.rate);
     return WG_OK;
 }
@@ -375,13 +395,9 @@ static int op_restore(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     if ((rc = snap_apply(&s, &d->sim, why, len)))
         return rc;
     cmd_step_cancel(d, WG_ESTATE, "cancelled by restore");
-    cmd_sync_cancel(d, WG_ESTATE, "set at the next section cancelled by restore");
-    stream_regime_reset(&d->st);
-    d->fault = 0;
-    d->fault_msg[0] = 0;
-    pace_anchor(&d->pace, wgd_now_ns(), d->sim.tau);
-    status_decimation(d);
-    status_params(d, "restore", c->client, c->seq);
+    sync_cancel(d, WG_ESTATE, "set at the next section cancelled by restore");
+    engine_restore(d);
+    report_change(d, REPORT_ORBIT | REPORT_RATE, "restore", c->client, c->seq);
     snprintf(why, len, "restored %s: tau %.9g, step %" PRIu64 "%s%s", c->name, d->sim.tau,
              d->sim.steps, strcmp(s.scene, d->scene.name) ? ", taken with scene " : "",
              strcmp(s.scene, d->scene.name) ? s.scene : "");
@@ -390,7 +406,7 @@ static int op_restore(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 
 static int op_get(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 {
-    status_params(d, "get", c->client, c->seq);
+    report_params(d, "get", c->client, c->seq);
     snprintf(why, len, "parameters published on %s", d->io.ch[CH_PARAMS]);
     return WG_OK;
 }
@@ -406,8 +422,8 @@ static const struct {
 
 static void dispatch(wgd *d, const wormgear_cmd_t *c)
 {
-    char *why = d->why, op[24];
-    size_t len = sizeof d->why;
+    char why[ACK_TEXT], op[24];
+    size_t len = sizeof why;
     int rc = WG_EINVAL;
     unsigned i;
     for (i = 0; i < sizeof ops / sizeof ops[0]; i++)
@@ -488,7 +504,7 @@ static void on_tick(const lcm_recv_buf_t *rb, const char *channel, void *user)
                 t.nsteps);
         return;
     }
-    engine_run(d, (uint64_t)t.nsteps);
+    cmd_run(d, (uint64_t)t.nsteps);
 }
 
 int cmd_init(wgd *d)
@@ -496,7 +512,7 @@ int cmd_init(wgd *d)
     lcm_subscription_t *a = lcm_subscribe(d->io.lcm, d->io.ch[CH_CMD], on_cmd, d);
     lcm_subscription_t *b = lcm_subscribe(d->io.lcm, d->io.ch[CH_TICK], on_tick, d);
     if (!a || !b) {
-        snprintf(d->why, sizeof d->why, "LCM: cannot subscribe %s", d->io.ch[CH_CMD]);
+        snprintf(d->init_why, sizeof d->init_why, "LCM: cannot subscribe %s", d->io.ch[CH_CMD]);
         return WG_EIO;
     }
     lcm_subscription_set_queue_capacity(a, 256);
@@ -506,5 +522,5 @@ int cmd_init(wgd *d)
 void cmd_fini(wgd *d)
 {
     cmd_step_cancel(d, WG_ESTATE, "cancelled: the daemon is stopping");
-    cmd_sync_cancel(d, WG_ESTATE, "set at the next section cancelled: the daemon is stopping");
+    sync_cancel(d, WG_ESTATE, "set at the next section cancelled: the daemon is stopping");
 }

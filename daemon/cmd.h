@@ -15,7 +15,7 @@
 
 struct wgd;
 
-/* Subscribe CMD and TICK. WG_OK or WG_EIO with d->why. */
+/* Subscribe CMD and TICK. WG_OK or WG_EIO with d->init_why. */
 int cmd_init(struct wgd *d);
 
 /* Nothing to release (subscriptions end with the lcm instance). */
@@ -24,18 +24,19 @@ void cmd_fini(struct wgd *d);
 /* Handle one raw CMD payload (the subscription calls this; tests may too). */
 void cmd_handle(struct wgd *d, const void *buf, size_t len);
 
+/* The daemon's step path: run n steps, cut at the Poincare section when a
+ * set waits for it (applied and ACKed on the section's step boundary, then
+ * the rest run), and announce what the engine reports (a ramp's end on
+ * PARAMS, a fault on STATUS at once). Returns the steps done: fewer after a
+ * blow-up. */
+uint64_t cmd_run(struct wgd *d, uint64_t n);
+
 /* Advance a pending `step` command by at most max steps; ACKs it when done
  * (or refuses it on a blow-up). Returns the steps run. */
 uint64_t cmd_step_progress(struct wgd *d, uint64_t max);
 
-/* Refuse a pending `step` (pause, reset, mode change) with code status. */
-void cmd_step_cancel(struct wgd *d, int status, const char *why);
-
-/* Apply and ACK a `set` waiting for the Poincare section (at_section), if
- * one is pending and the phase index is 0 (the engine calls this). */
-void cmd_sync_apply(struct wgd *d);
-
-/* Refuse a `set` waiting for the section (reset, restore, shutdown). */
-void cmd_sync_cancel(struct wgd *d, int status, const char *why);
+/* Refuse a pending `step` (pause, reset, mode change) with return code
+ * code (WG_E*) and why. */
+void cmd_step_cancel(struct wgd *d, int code, const char *why);
 
 #endif

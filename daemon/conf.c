@@ -18,6 +18,8 @@ static const char *const policy_names[] = {"continue", "freeze", "stop", NULL};
 
 typedef struct key {
     const char *name;
+    unsigned flags;           /* CONF_RESTART: a reload keeps the running value */
+    int apply;                /* CONF_APPLY_*: the hook a reload calls on a change */
     int type;
     size_t off, size;
     double min, max;
@@ -26,48 +28,60 @@ typedef struct key {
     const char *help;
 } key;
 
+/* How each key takes a new value: at once, at the next restart, or at once
+ * through an apply hook. */
+#define LIVE 0, CONF_APPLY_NONE
+#define RESTART CONF_RESTART, CONF_APPLY_NONE
+#define APPLY(slot) 0, slot
 #define S(f) offsetof(conf, f), sizeof(((conf *)0)->f)
 static const key keys[] = {
-    {"scene", K_STR, S(scene), 0, 0, NULL, "table3", "scene name or INI file"},
-    {"url", K_STR, S(url), 0, 0, NULL, "udpm://239.255.76.67:7667?ttl=0",
+    {"scene", RESTART, K_STR, S(scene), 0, 0, NULL, "table3", "scene name or INI file"},
+    {"url", RESTART, K_STR, S(url), 0, 0, NULL, "udpm://239.255.76.67:7667?ttl=0",
      "LCM URL ($WORMGEAR_URL; ttl=0: this host only, ttl=1: the LAN)"},
-    {"prefix", K_STR, S(prefix), 0, 0, NULL, "WORMGEAR_",
+    {"prefix", RESTART, K_STR, S(prefix), 0, 0, NULL, "WORMGEAR_",
      "channel prefix ($WORMGEAR_PREFIX), [A-Za-z0-9_.-]{0,40}, one per rig"},
-    {"mode", K_ENUM, S(mode), 0, 0, mode_names, "realtime", "pacing: realtime, fast, lockstep"},
-    {"rate", K_DBL, S(rate), 1e-6, 1000, NULL, "1",
+    {"mode", APPLY(CONF_APPLY_MODE), K_ENUM, S(mode), 0, 0, mode_names, "realtime",
+     "pacing: realtime, fast, lockstep"},
+    {"rate", LIVE, K_DBL, S(rate), 1e-6, 1000, NULL, "1",
      "realtime rate factor, 1 = physical real time (omega_n of the scene)"},
-    {"steps_per_period", K_INT, S(steps_per_period), WG_STEPS_MIN, WG_STEPS_MAX, NULL, "128",
-     "RK4 steps per mesh period N"},
-    {"stepper", K_STEPPER, S(stepper), 0, 0, NULL, "default",
+    {"steps_per_period", RESTART, K_INT, S(steps_per_period), WG_STEPS_MIN, WG_STEPS_MAX, NULL,
+     "128", "RK4 steps per mesh period N"},
+    {"stepper", RESTART, K_STEPPER, S(stepper), 0, 0, NULL, "default",
      "rk4, or rk4-event (split at dead-zone crossings); default: rk4-event, the printed "
      "model rk4"},
-    {"state_rate_hz", K_DBL, S(state_rate_hz), 0, 100000, NULL, "2000",
+    {"state_rate_hz", LIVE, K_DBL, S(state_rate_hz), 0, 100000, NULL, "2000",
      "STATE samples per wall second, 0 = no STATE"},
-    {"state_decimation", K_INT, S(state_decimation), 0, 1000000000, NULL, "0",
+    {"state_decimation", LIVE, K_INT, S(state_decimation), 0, 1000000000, NULL, "0",
      "fixed steps per STATE sample; 0 = derive from state_rate_hz"},
-    {"tick_us", K_INT, S(tick_us), 100, 100000, NULL, "1000", "pacing tick, microseconds"},
-    {"catchup_ticks", K_DBL, S(catchup_ticks), 1, 1000, NULL, "10",
+    {"tick_us", APPLY(CONF_APPLY_TICK), K_INT, S(tick_us), 100, 100000, NULL, "1000",
+     "pacing tick, microseconds"},
+    {"catchup_ticks", LIVE, K_DBL, S(catchup_ticks), 1, 1000, NULL, "10",
      "catch-up cap: at most this many ticks' worth of steps per tick"},
-    {"overrun_policy", K_ENUM, S(overrun_policy), 0, 0, policy_names, "continue",
+    {"overrun_policy", LIVE, K_ENUM, S(overrun_policy), 0, 0, policy_names, "continue",
      "on overrun: continue (catch up), freeze (drop the backlog), stop (pause after N)"},
-    {"overrun_stop_after", K_INT, S(overrun_stop_after), 1, 1000000000, NULL, "1000",
+    {"overrun_stop_after", LIVE, K_INT, S(overrun_stop_after), 1, 1000000000, NULL, "1000",
      "consecutive overruns before policy stop pauses the run"},
-    {"startup_grace_s", K_DBL, S(startup_grace_s), 0, 3600, NULL, "2",
+    {"startup_grace_s", LIVE, K_DBL, S(startup_grace_s), 0, 3600, NULL, "2",
      "overruns ignored by the policy this long after start/resume, seconds"},
-    {"lag_warn_ms", K_DBL, S(lag_warn_ms), 0.1, 1e6, NULL, "50",
+    {"lag_warn_ms", LIVE, K_DBL, S(lag_warn_ms), 0.1, 1e6, NULL, "50",
      "health = lagging when behind the pace target by more, milliseconds"},
-    {"status_hz", K_DBL, S(status_hz), 1, 10, NULL, "2", "STATUS heartbeat rate, Hz"},
-    {"state_dir", K_STR, S(state_dir), 0, 0, NULL, NULL,
+    {"status_hz", LIVE, K_DBL, S(status_hz), 1, 10, NULL, "2", "STATUS heartbeat rate, Hz"},
+    {"state_dir", LIVE, K_STR, S(state_dir), 0, 0, NULL, NULL,
      "directory of save/restore files ($STATE_DIRECTORY, else /var/lib/wormgeard)"},
-    {"accept_commands", K_BOOL, S(accept_commands), 0, 1, NULL, "yes",
+    {"accept_commands", LIVE, K_BOOL, S(accept_commands), 0, 1, NULL, "yes",
      "no: refuse every command but get (monitor-only rig)"},
-    {"start_paused", K_BOOL, S(start_paused), 0, 1, NULL, "no", "start paused"},
-    {"mlock", K_BOOL, S(mlock), 0, 1, NULL, "no", "mlockall(MCL_CURRENT|MCL_FUTURE) at start"},
-    {"foreground", K_BOOL, S(foreground), 0, 1, NULL, "no",
+    {"start_paused", LIVE, K_BOOL, S(start_paused), 0, 1, NULL, "no", "start paused"},
+    {"mlock", RESTART, K_BOOL, S(mlock), 0, 1, NULL, "no",
+     "mlockall(MCL_CURRENT|MCL_FUTURE) at start"},
+    {"foreground", LIVE, K_BOOL, S(foreground), 0, 1, NULL, "no",
      "print a one-line status on stdout each second (-F)"},
-    {"verbose", K_BOOL, S(verbose), 0, 1, NULL, "no", "debug logging (-v)"},
+    {"verbose", APPLY(CONF_APPLY_VERBOSE), K_BOOL, S(verbose), 0, 1, NULL, "no",
+     "debug logging (-v)"},
 };
 #undef S
+#undef LIVE
+#undef RESTART
+#undef APPLY
 enum { NKEYS = sizeof keys / sizeof keys[0] };
 
 const char *conf_mode_name(int m) { return m >= 0 && m < 3 ? mode_names[m] : "?"; }
@@ -130,18 +144,26 @@ static int valid_prefix(const char *v)
     return 1;
 }
 
+/* x against k's range (and integer for K_INT); text is x as the user
+ * wrote it, for the message. 0, or 2 with why. */
+static int check_number(const key *k, double x, const char *text, char *why, size_t len)
+{
+    int isint = k->type == K_INT;
+    if (!isfinite(x) || x < k->min || x > k->max || (isint && x != floor(x))) {
+        snprintf(why, len, "%s: '%s' must be %s in [%g, %g]", k->name, text,
+                 isint ? "an integer" : "a number", k->min, k->max);
+        return 2;
+    }
+    return 0;
+}
+
 static int set_number(const key *k, void *dst, const char *v, char *why, size_t len)
 {
     char *end;
     double x = strtod(v, &end);
-    int isint = k->type == K_INT;
-    if (end == v || *end || !isfinite(x) || x < k->min || x > k->max ||
-        (isint && x != floor(x))) {
-        snprintf(why, len, "%s: '%s' must be %s in [%g, %g]", k->name, v,
-                 isint ? "an integer" : "a number", k->min, k->max);
+    if (check_number(k, end == v || *end ? NAN : x, v, why, len)) /* not all a number */
         return 2;
-    }
-    if (isint)
+    if (k->type == K_INT)
         *(int *)dst = (int)x;
     else
         *(double *)dst = x;
@@ -209,6 +231,18 @@ int conf_set(conf *c, const char *name, const char *value, char *why, size_t why
         return 2;
     }
     return set_key(c, k, value, why, whylen);
+}
+
+int conf_check_number(const char *name, double x, char *why, size_t whylen)
+{
+    char text[40];
+    const key *k = key_find(name);
+    if (!k || (k->type != K_INT && k->type != K_DBL)) {
+        snprintf(why, whylen, "unknown numeric key '%s' (see wormgeard --help)", name);
+        return 2;
+    }
+    snprintf(text, sizeof text, "%.17g", x); /* for the message only */
+    return check_number(k, x, text, why, whylen);
 }
 
 void conf_defaults(conf *c)
@@ -422,6 +456,55 @@ int conf_load(conf *c, int argc, char **argv, char *why, size_t whylen)
     if (cfg && (rc = conf_read_file(c, cfg, why, whylen)))
         return rc;
     return walk(c, argc, argv, 1, &cfg, why, whylen);
+}
+
+/* ---- reload --------------------------------------------------------------- */
+
+static int key_differs(const key *k, const conf *a, const conf *b)
+{
+    const char *x = (const char *)a + k->off, *y = (const char *)b + k->off;
+    return k->type == K_STR ? strcmp(x, y) != 0 : memcmp(x, y, k->size) != 0;
+}
+
+static int sets_differ(const conf *a, const conf *b)
+{
+    int differ = a->nsets != b->nsets;
+    for (int i = 0; i < a->nsets && !differ; i++)
+        differ = strcmp(a->sets[i], b->sets[i]) != 0;
+    return differ;
+}
+
+/* "a", "a and b", "a, b and c". */
+static void join(const char *const *names, int n, char *buf, size_t len)
+{
+    buf[0] = 0;
+    for (int i = 0; i < n; i++)
+        snprintf(buf + strlen(buf), len - strlen(buf), "%s%s",
+                 i == 0 ? "" : i == n - 1 ? " and " : ", ", names[i]);
+}
+
+void conf_reload(conf *run, const conf *next, const conf_apply_fn *hooks, void *ctx,
+                 char *kept, size_t keptlen)
+{
+    const char *names[NKEYS + 1];
+    int n = 0;
+    conf was = *run;
+    for (int i = 0; i < NKEYS; i++) {
+        const key *k = &keys[i];
+        if (!key_differs(k, &was, next))
+            continue;
+        if (k->flags & CONF_RESTART) {
+            names[n++] = k->name;
+            continue;
+        }
+        memcpy((char *)run + k->off, (const char *)next + k->off, k->size);
+        if (k->apply != CONF_APPLY_NONE && hooks[k->apply])
+            hooks[k->apply](ctx, &was);
+    }
+    if (sets_differ(&was, next))
+        names[n++] = "[params]";
+    snprintf(run->path, sizeof run->path, "%s", next->path);
+    join(names, n, kept, keptlen);
 }
 
 static void key_range(const key *k, char *buf, size_t len)

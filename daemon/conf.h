@@ -1,10 +1,13 @@
 /* conf.h - wormgeard configuration: one key table for the INI file, the
- * command line and --help.
+ * command line, --help, the mode command's checks and SIGHUP reload.
  *
  * Precedence: built-in defaults < config file (-c FILE, INI, keys in a
  * [wormgeard] section or at top level) < command-line options. Every key is
  * also a long option (`steps_per_period` -> `--steps-per-period`). Errors
- * name the file, line, key and the allowed values or range. */
+ * name the file, line, key and the allowed values or range. Each key is
+ * live or restart-only (scene, url, prefix, steps_per_period, stepper,
+ * mlock; the [params] overrides too); a live key may name an apply hook
+ * that a reload calls when its value changes. */
 #ifndef WGD_CONF_H
 #define WGD_CONF_H
 
@@ -14,6 +17,11 @@
 enum { MODE_REALTIME, MODE_FAST, MODE_LOCKSTEP };
 enum { POLICY_CONTINUE, POLICY_FREEZE, POLICY_STOP };
 enum { CONF_MAX_SETS = 32 };
+enum { CONF_RESTART = 1 }; /* key flag: takes effect at the next restart only */
+
+/* The apply hooks of live keys, by slot; the caller of conf_reload supplies
+ * them (conf.c calls nothing above it). */
+enum { CONF_APPLY_NONE, CONF_APPLY_MODE, CONF_APPLY_TICK, CONF_APPLY_VERBOSE, CONF_NAPPLY };
 
 typedef struct conf {
     char path[512];           /* config file read ("" = none) */
@@ -59,6 +67,23 @@ int conf_read_file(conf *c, const char *path, char *why, size_t whylen);
 /* Set one key from text, as the file and the options do. 0, or 2 with why
  * naming the key and its allowed values. */
 int conf_set(conf *c, const char *key, const char *value, char *why, size_t whylen);
+
+/* A live key changed on reload: ctx as given to conf_reload, was the
+ * running configuration before the reload (the new values are in place). */
+typedef void (*conf_apply_fn)(void *ctx, const conf *was);
+
+/* Reload: one loop over the key table. Each live key whose value in next
+ * differs is copied into run, then its hook (hooks[slot], may be NULL) is
+ * called; restart-only keys and the [params] overrides keep their running
+ * values, and the names of those that differ go to kept ("scene, url and
+ * [params]"; "" if none). The config file path follows next. */
+void conf_reload(conf *run, const conf *next, const conf_apply_fn *hooks, void *ctx,
+                 char *kept, size_t keptlen);
+
+/* Check number x for key name against the table (its range; an integer for
+ * integer keys), as conf_set checks text: 0, or 2 with why naming the key,
+ * the value (%.17g) and the range. */
+int conf_check_number(const char *name, double x, char *why, size_t whylen);
 
 /* Names of enum values, for logs and STATUS. */
 const char *conf_mode_name(int mode);

@@ -1,43 +1,30 @@
 /* engine.c - scene, sim, the step path and blow-up handling. */
 #include "engine.h"
 
-#include "cmd.h"
-
-#include "status.h"
 #include "wgd.h"
 #include "wormgear/wg_status.h"
 
 #include <inttypes.h>
-#include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
-
-#define TWO_PI 6.283185307179586
-
-int64_t wgd_now_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
-}
 
 static int apply_sets(wgd *d)
 {
     const char *sets[CONF_MAX_SETS];
     for (int i = 0; i < d->conf.nsets; i++)
         sets[i] = d->conf.sets[i];
-    return wg_scene_apply_sets(&d->scene, sets, d->conf.nsets, d->why, sizeof d->why);
+    return wg_scene_apply_sets(&d->scene, sets, d->conf.nsets, d->init_why,
+                               sizeof d->init_why);
 }
 
 int engine_init(wgd *d)
 {
-    int rc = wg_scene_open(&d->scene, d->conf.scene, d->why, sizeof d->why);
+    int rc = wg_scene_open(&d->scene, d->conf.scene, d->init_why, sizeof d->init_why);
     if (rc || (rc = apply_sets(d)))
         return rc;
     d->scene_params = d->scene.p;
     wg_sim_config cfg = {d->scene.model, d->conf.stepper, d->conf.steps_per_period};
-    if ((rc = wg_sim_init(&d->sim, &d->scene.p, &cfg, d->why, sizeof d->why)))
+    if ((rc = wg_sim_init(&d->sim, &d->scene.p, &cfg, d->init_why, sizeof d->init_why)))
         return rc;
     d->sim_ok = 1;
     double y[WG_NSTATE_MAX];
@@ -54,47 +41,28 @@ void engine_fini(wgd *d)
     d->sim_ok = 0;
 }
 
-static uint64_t run_steps(wgd *d, uint64_t n);
-
-/* A set waiting for the Poincare section is applied on the section's step
- * boundary: the run is cut there. */
-uint64_t engine_run(wgd *d, uint64_t n)
+uint64_t engine_run(wgd *d, uint64_t n, int *events)
 {
-    if (!d->sync.active)
-        return run_steps(d, n);
-    uint32_t N = (uint32_t)d->sim.cfg.steps_per_period;
-    uint64_t to = (N - d->sim.k) % N;
-    if (to > n)
-        return run_steps(d, n);
-    uint64_t done = run_steps(d, to);
-    if (done < to)
-        return done;
-    cmd_sync_apply(d);
-    return done + run_steps(d, n - to);
-}
-
-static uint64_t run_steps(wgd *d, uint64_t n)
-{
+    *events = 0;
     if (!n)
         return 0;
     wg_sink sink = stream_sink(d);
     uint64_t done = 0;
     int ramping = d->sim.ramp.active;
-    int64_t t0 = wgd_now_ns();
+    int64_t t0 = log_now_ns();
     int rc = wg_sim_run(&d->sim, n, &sink, &done);
-    double c = (double)(wgd_now_ns() - t0) / (double)(done ? done : 1);
+    double c = (double)(log_now_ns() - t0) / (double)(done ? done : 1);
     if (done >= 16) /* smoothed cost per step (drives fast-mode chunks) */
         d->stat.ns_per_step = d->stat.ns_per_step > 0 ? 0.8 * d->stat.ns_per_step + 0.2 * c : c;
-    if (ramping && !d->sim.ramp.active) {
-        status_params(d, "ramp-end", "", -1);
-        stream_regime_reset(&d->st);
-    }
+    if (ramping && !d->sim.ramp.active)
+        *events |= ENGINE_RAMP_ENDED;
     if (rc) {
         char msg[sizeof d->fault_msg];
         snprintf(msg, sizeof msg, "integration blew up after step %" PRIu64 " (tau = %.9g): %s;"
                  " kept the last good state and paused", d->sim.steps, d->sim.tau,
                  wg_status_str(rc));
         engine_fault(d, msg);
+        *events |= ENGINE_FAULTED;
     }
     return done;
 }
@@ -105,25 +73,29 @@ void engine_fault(wgd *d, const char *msg)
     d->run = RUN_PAUSED;
     snprintf(d->fault_msg, sizeof d->fault_msg, "%s", msg);
     log_msg(&d->log, LOG_ERR, "FAULT: %s", msg);
-    stream_flush(d);
-    status_publish(d);
 }
 
 void engine_pause(wgd *d) { d->run = RUN_PAUSED; }
 
-void engine_resume(wgd *d)
+void engine_restore(wgd *d)
 {
     d->fault = 0;
     d->fault_msg[0] = 0;
+    pace_anchor(&d->pace, log_now_ns(), d->sim.tau);
+}
+
+void engine_resume(wgd *d)
+{
     d->run = RUN_RUNNING;
-    pace_anchor(&d->pace, wgd_now_ns(), d->sim.tau);
+    engine_restore(d);
 }
 
 void engine_reset(wgd *d, int params)
 {
+    char why[320];
     stream_flush(d);
     if (params)
-        wg_sim_set_params(&d->sim, &d->scene_params, d->why, sizeof d->why); /* valid at start */
+        wg_sim_set_params(&d->sim, &d->scene_params, why, sizeof why); /* valid at start */
     double y[WG_NSTATE_MAX];
     if (d->scene.has_state)
         wg_scene_initial(&d->scene, y);
@@ -131,14 +103,5 @@ void engine_reset(wgd *d, int params)
         wg_equilibrium(d->sim.cfg.model, &d->sim.p, y);
     wg_sim_reset(&d->sim);
     wg_sim_set_state(&d->sim, y, 0, 0.0);
-    d->fault = 0;
-    d->fault_msg[0] = 0;
-    pace_anchor(&d->pace, wgd_now_ns(), 0.0);
+    engine_restore(d);
 }
-
-double engine_h(const wgd *d)
-{
-    return TWO_PI / (d->sim.p.v[WG_P_OMEGA] * d->sim.cfg.steps_per_period);
-}
-
-double engine_seconds(const wgd *d, double tau) { return tau / d->scene.scale.omega_n_rad_s; }

@@ -8,7 +8,7 @@
 #include <time.h>
 #include <unistd.h>
 
-static int64_t mono_ns(void)
+int64_t log_now_ns(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -75,7 +75,7 @@ void log_msg(log_ctx *l, int prio, const char *fmt, ...)
 {
     if (prio > l->max_prio)
         return;
-    int64_t now = mono_ns();
+    int64_t now = log_now_ns();
     log_slot *s = slot_of(l, fmt);
     if (now - s->window_ns >= l->window_ns) {
         flush_slot(l, s);

@@ -36,6 +36,10 @@ void log_init(log_ctx *l, int verbose);
 /* Report suppressed counts still pending. */
 void log_fini(log_ctx *l);
 
+/* CLOCK_MONOTONIC in nanoseconds: the daemon's one clock (the rate limit
+ * here, pacing, step costs, STATUS intervals). */
+int64_t log_now_ns(void);
+
 /* Log one line at syslog priority prio (LOG_ERR ... LOG_DEBUG), rate-limited
  * per format string. */
 void log_msg(log_ctx *l, int prio, const char *fmt, ...) __attribute__((format(printf, 3, 4)));

@@ -3,8 +3,8 @@
 
 #include "cmd.h"
 #include "engine.h"
+#include "report.h"
 #include "sdn.h"
-#include "status.h"
 #include "wgd.h"
 #include "wormgear/wg_status.h"
 
@@ -29,24 +29,12 @@ static int arm_timer(wgd *d)
     return timerfd_settime(d->tfd, TFD_TIMER_ABSTIME, &its, NULL);
 }
 
-void loop_repace(wgd *d)
+/* Start or stop the fast-mode idle watcher to match mode and run state.
+ * Called at the end of each handler, as redis runs its before-sleep hook:
+ * whatever a command, a reload or a fault changed is matched before the
+ * loop polls again, and no module below the loop knows the watcher. */
+static void sync_fast(wgd *d)
 {
-    pace_cfg pc = {.tau_per_ns = d->conf.rate * d->scene.scale.omega_n_rad_s * 1e-9,
-                   .tick_ns = (int64_t)d->conf.tick_us * 1000,
-                   .catchup_ticks = d->conf.catchup_ticks,
-                   .policy = d->conf.overrun_policy,
-                   .stop_after = d->conf.overrun_stop_after,
-                   .grace_ns = (int64_t)(d->conf.startup_grace_s * 1e9)};
-    uint64_t ov = d->pace.overruns, gov = d->pace.grace_overruns;
-    pace_init(&d->pace, &pc, wgd_now_ns(), d->sim.tau);
-    d->pace.overruns = ov;
-    d->pace.grace_overruns = gov;
-}
-
-void loop_sync(wgd *d)
-{
-    if (!d->loop)
-        return;
     int want = d->conf.mode == MODE_FAST && d->run == RUN_RUNNING;
     if (want && !ev_is_active(&d->fast_w))
         ev_idle_start(d->loop, &d->fast_w);
@@ -57,18 +45,18 @@ void loop_sync(wgd *d)
 /* Realtime: run the steps due now; apply the overrun policy. */
 static void realtime(wgd *d, int64_t now)
 {
-    pace_due due = pace_steps_due(&d->pace, now, d->sim.tau, engine_h(d));
+    pace_due due = pace_steps_due(&d->pace, now, d->sim.tau, wg_sim_step_tau(&d->sim));
     if (due.overrun)
         log_msg(&d->log, LOG_WARNING, "overrun: more than %g ticks behind (lag %.3f ms, "
                 "policy %s)", d->conf.catchup_ticks, pace_lag_s(&d->pace) * 1e3,
                 conf_policy_name(d->conf.overrun_policy));
-    engine_run(d, due.steps);
+    cmd_run(d, due.steps);
     if (due.stop && !d->fault) {
         char msg[160];
         snprintf(msg, sizeof msg, "stopped after %d consecutive overruns (overrun_policy = "
                  "stop): cannot keep up with rate %g", d->conf.overrun_stop_after, d->conf.rate);
         engine_fault(d, msg);
-        loop_sync(d);
+        report_fault(d);
     }
 }
 
@@ -95,7 +83,7 @@ static void on_tick(struct ev_loop *loop, ev_io *w, int revents)
     uint64_t expirations;
     if (read(d->tfd, &expirations, sizeof expirations) < 0 && errno != EAGAIN)
         log_msg(&d->log, LOG_ERR, "timerfd read: %s", strerror(errno));
-    int64_t t0 = wgd_now_ns();
+    int64_t t0 = log_now_ns();
     if (d->reload)
         reload(d);
     if (d->run == RUN_RUNNING && d->conf.mode == MODE_REALTIME)
@@ -104,10 +92,11 @@ static void on_tick(struct ev_loop *loop, ev_io *w, int revents)
         cmd_step_progress(d, d->stat.ns_per_step > 0
                                  ? (uint64_t)(STEP_CHUNK_NS / d->stat.ns_per_step) + 1
                                  : 10000);
-    status_tick(d, t0);
+    report_tick(d, t0);
     sdn_watchdog(&d->sd, t0); /* only a loop that steps reaches this */
     first_ready(d);
-    status_loop(d, wgd_now_ns() - t0);
+    report_loop(d, log_now_ns() - t0);
+    sync_fast(d);
 }
 
 static void on_fast(struct ev_loop *loop, ev_idle *w, int revents)
@@ -115,11 +104,10 @@ static void on_fast(struct ev_loop *loop, ev_idle *w, int revents)
     (void)loop;
     (void)revents;
     wgd *d = w->data;
-    int64_t t0 = wgd_now_ns();
-    engine_run(d, pace_fast_chunk(d->stat.ns_per_step, FAST_CHUNK_NS));
-    if (d->run != RUN_RUNNING)
-        loop_sync(d);
-    status_loop(d, wgd_now_ns() - t0);
+    int64_t t0 = log_now_ns();
+    cmd_run(d, pace_fast_chunk(d->stat.ns_per_step, FAST_CHUNK_NS));
+    report_loop(d, log_now_ns() - t0);
+    sync_fast(d);
 }
 
 static void on_lcm(struct ev_loop *loop, ev_io *w, int revents)
@@ -127,7 +115,8 @@ static void on_lcm(struct ev_loop *loop, ev_io *w, int revents)
     (void)loop;
     (void)revents;
     wgd *d = w->data;
-    lcmio_drain(&d->io, 64);
+    lcmio_drain(&d->io, 64); /* the CMD and TICK handlers of cmd.c */
+    sync_fast(d);
 }
 
 static void on_signal(struct ev_loop *loop, ev_signal *w, int revents)
@@ -142,52 +131,57 @@ static void on_signal(struct ev_loop *loop, ev_signal *w, int revents)
     ev_break(loop, EVBREAK_ALL);
 }
 
-/* Keys that need a restart to change. */
-static void restart_only(wgd *d, const conf *c)
+/* Apply hooks of the live keys (conf_reload calls them when one changed). */
+static void apply_mode(void *ctx, const conf *was)
 {
-    if (strcmp(c->scene, d->conf.scene) || strcmp(c->url, d->conf.url) ||
-        strcmp(c->prefix, d->conf.prefix) || c->steps_per_period != d->conf.steps_per_period ||
-        c->stepper != d->conf.stepper || c->mlock != d->conf.mlock || c->nsets != d->conf.nsets)
-        log_msg(&d->log, LOG_WARNING, "reload: scene, url, prefix, steps_per_period, stepper, "
-                "mlock and [params] changes take effect at the next restart");
+    wgd *d = ctx;
+    if (d->conf.mode != MODE_LOCKSTEP && was->mode == MODE_LOCKSTEP)
+        cmd_step_cancel(d, WG_ESTATE, "cancelled by a mode change (reload)");
 }
 
+static void apply_tick(void *ctx, const conf *was)
+{
+    wgd *d = ctx;
+    (void)was;
+    if (arm_timer(d))
+        log_msg(&d->log, LOG_ERR, "reload: timerfd: %s", strerror(errno));
+}
+
+static void apply_verbose(void *ctx, const conf *was)
+{
+    wgd *d = ctx;
+    (void)was;
+    d->log.max_prio = d->conf.verbose ? LOG_DEBUG : LOG_INFO;
+}
+
+static const conf_apply_fn hooks[CONF_NAPPLY] = {
+    [CONF_APPLY_MODE] = apply_mode, [CONF_APPLY_TICK] = apply_tick,
+    [CONF_APPLY_VERBOSE] = apply_verbose};
+
+/* SIGHUP: re-read the configuration; live keys now, restart-only ones
+ * logged. Pacing re-anchors and PARAMS goes out as after any reload. */
 static void reload(wgd *d)
 {
     conf c;
-    char why[640];
+    char why[640], kept[200];
     d->reload = 0;
     sdn_reloading(&d->sd);
     if (conf_load(&c, d->argc, d->argv, why, sizeof why)) {
         log_msg(&d->log, LOG_ERR, "reload: %s; keeping the running configuration", why);
     } else {
-        restart_only(d, &c);
-        int tick = c.tick_us != d->conf.tick_us;
-        if (c.mode != MODE_LOCKSTEP && d->conf.mode == MODE_LOCKSTEP)
-            cmd_step_cancel(d, WG_ESTATE, "cancelled by a mode change (reload)");
-        conf keep = d->conf;
-        d->conf = c; /* live keys from c, restart-only keys as running */
-        snprintf(d->conf.scene, sizeof d->conf.scene, "%s", keep.scene);
-        snprintf(d->conf.url, sizeof d->conf.url, "%s", keep.url);
-        snprintf(d->conf.prefix, sizeof d->conf.prefix, "%s", keep.prefix);
-        d->conf.steps_per_period = keep.steps_per_period;
-        d->conf.stepper = keep.stepper;
-        d->conf.mlock = keep.mlock;
-        d->conf.nsets = keep.nsets;
-        memcpy(d->conf.sets, keep.sets, sizeof keep.sets);
-        d->log.max_prio = c.verbose ? LOG_DEBUG : LOG_INFO;
-        loop_repace(d);
-        if (tick && arm_timer(d))
-            log_msg(&d->log, LOG_ERR, "reload: timerfd: %s", strerror(errno));
-        loop_sync(d);
-        status_decimation(d);
-        status_params(d, "reload", "", -1);
+        conf_reload(&d->conf, &c, hooks, d, kept, sizeof kept);
+        if (kept[0])
+            log_msg(&d->log, LOG_WARNING, "reload: %s changes take effect at the next restart",
+                    kept);
+        pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
+                       d->sim.tau);
+        report_change(d, REPORT_RATE, "reload", "", -1);
         log_msg(&d->log, LOG_NOTICE, "reloaded %s: mode %s, rate %g",
                 d->conf.path[0] ? d->conf.path : "(no config file)",
                 conf_mode_name(d->conf.mode), d->conf.rate);
     }
     char line[400];
-    status_line(d, line, sizeof line);
+    report_line(d, line, sizeof line);
     sdn_ready(&d->sd, line);
 }
 
@@ -203,12 +197,12 @@ int loop_init(wgd *d)
     d->tfd = -1;
     d->loop = ev_loop_new(EVFLAG_AUTO);
     if (!d->loop) {
-        snprintf(d->why, sizeof d->why, "libev: cannot create the event loop");
+        snprintf(d->init_why, sizeof d->init_why, "libev: cannot create the event loop");
         return WG_EIO;
     }
     d->tfd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
     if (d->tfd < 0 || arm_timer(d)) {
-        snprintf(d->why, sizeof d->why, "timerfd: %s", strerror(errno));
+        snprintf(d->init_why, sizeof d->init_why, "timerfd: %s", strerror(errno));
         return WG_EIO;
     }
     ev_io_init(&d->tick_w, on_tick, d->tfd, EV_READ);
@@ -221,8 +215,9 @@ int loop_init(wgd *d)
     start_signal(d, &d->sig_int, SIGINT);
     start_signal(d, &d->sig_term, SIGTERM);
     start_signal(d, &d->sig_hup, SIGHUP);
-    loop_repace(d);
-    loop_sync(d);
+    pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
+                   d->sim.tau);
+    sync_fast(d);
     return WG_OK;
 }
 

@@ -4,13 +4,15 @@
  * The timerfd (CLOCK_MONOTONIC, TFD_TIMER_ABSTIME, period tick_us) drives
  * pacing and housekeeping; the steps due come from pace_steps_due on the
  * monotonic clock, never from counting expirations. Signal callbacks only
- * set flags and break or wake the loop; the tick does the work (reload). */
+ * set flags and break or wake the loop; the tick does the work (reload).
+ * After each handler the fast-mode idle watcher is started or stopped to
+ * match mode and run state, so commands never reach into the loop. */
 #ifndef WGD_LOOP_H
 #define WGD_LOOP_H
 
 struct wgd;
 
-/* Create the loop, the timerfd and the watchers. WG_OK or WG_EIO with why. */
+/* Create the loop, the timerfd and the watchers. WG_OK or WG_EIO with d->init_why. */
 int loop_init(struct wgd *d);
 
 /* Stop the watchers, close the timerfd, destroy the loop. */
@@ -18,12 +20,5 @@ void loop_fini(struct wgd *d);
 
 /* Run until SIGINT/SIGTERM. */
 void loop_run(struct wgd *d);
-
-/* Start or stop the fast-mode idle watcher to match mode and run state;
- * call after mode, pause, resume commands. Safe without a loop (tests). */
-void loop_sync(struct wgd *d);
-
-/* Apply a new realtime rate / mode to pacing (re-anchors at now). */
-void loop_repace(struct wgd *d);
 
 #endif

@@ -4,8 +4,8 @@
 #include "cmd.h"
 #include "engine.h"
 #include "loop.h"
+#include "report.h"
 #include "sdn.h"
-#include "status.h"
 #include "wgd.h"
 #include "wormgear/wg_status.h"
 
@@ -26,7 +26,7 @@ static int m_lcm(wgd *d)
 {
     if (d->conf.mlock && mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
         log_msg(&d->log, LOG_WARNING, "mlockall: %s (raise LimitMEMLOCK=)", strerror(errno));
-    if (lcmio_init(&d->io, d->conf.url, d->conf.prefix, d->why, sizeof d->why))
+    if (lcmio_init(&d->io, d->conf.url, d->conf.prefix, d->init_why, sizeof d->init_why))
         return 1;
     d->io_ok = 1;
     return 0;
@@ -35,13 +35,13 @@ static int m_lcm(wgd *d)
 static int m_stream(wgd *d)
 {
     int on = d->conf.state_rate_hz > 0 || d->conf.state_decimation > 0;
-    stream_init(&d->st, d->sim.nstate, d->scene.scale.omega_n_rad_s, on);
+    stream_init(&d->st, d->sim.nstate, &d->scene.scale, on);
     return 0;
 }
 
 static int m_cmd(wgd *d) { return cmd_init(d) ? 1 : 0; }
 static int m_loop(wgd *d) { return loop_init(d) ? 1 : 0; }
-static int m_status(wgd *d) { return status_init(d), 0; }
+static int m_report(wgd *d) { return report_init(d), 0; }
 static int m_sdn(wgd *d) { return sdn_init(&d->sd), 0; }
 static void f_lcm(wgd *d) { lcmio_fini(&d->io); }
 static void f_stream(wgd *d) { stream_fini(&d->st); }
@@ -53,8 +53,12 @@ static const struct module {
     int (*init)(wgd *d); /* 0, 1 runtime failure, 2 config error */
     void (*fini)(wgd *d);
 } modules[] = {
-    {"engine", m_engine, engine_fini}, {"lcm", m_lcm, f_lcm},          {"stream", m_stream, f_stream},
-    {"cmd", m_cmd, cmd_fini},          {"loop", m_loop, loop_fini},    {"status", m_status, status_fini},
+    {"engine", m_engine, engine_fini},
+    {"lcm", m_lcm, f_lcm},
+    {"stream", m_stream, f_stream},
+    {"cmd", m_cmd, cmd_fini},
+    {"loop", m_loop, loop_fini},
+    {"report", m_report, report_fini},
     {"sdn", m_sdn, f_sdn},
 };
 enum { NMOD = sizeof modules / sizeof modules[0] };
@@ -74,7 +78,7 @@ static void started(wgd *d)
             wg_sim_kernel_name(&d->sim, kn, sizeof kn), wg_stepper_name(d->sim.cfg.stepper),
             d->sim.cfg.steps_per_period, conf_mode_name(d->conf.mode), d->conf.rate,
             d->conf.url, d->conf.prefix, d->conf.state_dir);
-    status_params(d, "start", "", -1);
+    report_params(d, "start", "", -1);
 }
 
 static int run(wgd *d)
@@ -82,7 +86,7 @@ static int run(wgd *d)
     int i, rc = 0;
     for (i = 0; i < NMOD && !rc; i++)
         if ((rc = modules[i].init(d)))
-            log_msg(&d->log, LOG_ERR, "%s: %s", modules[i].name, d->why);
+            log_msg(&d->log, LOG_ERR, "%s: %s", modules[i].name, d->init_why);
     if (rc) {
         finish(d, i - 1);
         return rc;
@@ -99,7 +103,7 @@ static int run(wgd *d)
     loop_run(d);
     log_msg(&d->log, LOG_INFO, "stopping on %s", strsignal(d->stop));
     stream_flush(d);
-    status_publish(d);
+    report_status(d);
     finish(d, NMOD);
     sdn_stopping();
     return 0;
@@ -115,11 +119,11 @@ int main(int argc, char **argv)
     d->argc = argc;
     d->argv = argv;
     d->tfd = -1;
-    d->start_ns = wgd_now_ns();
+    d->start_ns = log_now_ns();
     log_init(&d->log, 0);
-    int rc = conf_load(&d->conf, argc, argv, d->why, sizeof d->why);
+    int rc = conf_load(&d->conf, argc, argv, d->init_why, sizeof d->init_why);
     if (rc == 2)
-        fprintf(stderr, "wormgeard: %s\n(try wormgeard --help)\n", d->why);
+        fprintf(stderr, "wormgeard: %s\n(try wormgeard --help)\n", d->init_why);
     if (rc == 0) {
         d->log.max_prio = d->conf.verbose ? LOG_DEBUG : LOG_INFO;
         rc = run(d);

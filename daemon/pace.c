@@ -11,6 +11,17 @@ void pace_init(pace *p, const pace_cfg *cfg, int64_t now_ns, double tau)
     pace_anchor(p, now_ns, tau);
 }
 
+void pace_configure(pace *p, const conf *c, double omega_n_rad_s, int64_t now_ns, double tau)
+{
+    p->cfg = (pace_cfg){.tau_per_ns = c->rate * omega_n_rad_s * 1e-9,
+                        .tick_ns = (int64_t)c->tick_us * 1000,
+                        .catchup_ticks = c->catchup_ticks,
+                        .policy = c->overrun_policy,
+                        .stop_after = c->overrun_stop_after,
+                        .grace_ns = (int64_t)(c->startup_grace_s * 1e9)};
+    pace_anchor(p, now_ns, tau);
+}
+
 void pace_anchor(pace *p, int64_t now_ns, double tau)
 {
     p->t0_ns = now_ns;

@@ -16,6 +16,8 @@
 
 #include <stdint.h>
 
+struct conf;
+
 typedef struct pace_cfg {
     double tau_per_ns;     /* simulated tau per wall nanosecond (rate * omega_n / 1e9) */
     int64_t tick_ns;       /* tick period */
@@ -43,6 +45,13 @@ typedef struct pace_due {
 
 /* Configure and anchor at (now_ns, tau); counters cleared. */
 void pace_init(pace *p, const pace_cfg *cfg, int64_t now_ns, double tau);
+
+/* Configure from the daemon's configuration (mode keys: rate, tick_us,
+ * catchup_ticks, overrun_policy, overrun_stop_after, startup_grace_s) for a
+ * scene whose unit of tau is 1/omega_n_rad_s, and anchor at (now_ns, tau);
+ * the overrun counters are kept (start, mode command, reload). */
+void pace_configure(pace *p, const struct conf *c, double omega_n_rad_s, int64_t now_ns,
+                    double tau);
 
 /* Move the anchor to (now_ns, tau) and restart the grace (resume, reset,
  * restore, rate change); counters kept. */

@@ -16,13 +16,13 @@ void sdn_init(sdn *s)
 
 void sdn_fini(sdn *s) { (void)s; }
 
-void sdn_ready(sdn *s, const char *status)
+void sdn_ready(sdn *s, const char *line)
 {
-    sd_notifyf(0, "READY=1\nSTATUS=%s", status);
+    sd_notifyf(0, "READY=1\nSTATUS=%s", line);
     s->ready = 1;
 }
 
-void sdn_status(const char *status) { sd_notifyf(0, "STATUS=%s", status); }
+void sdn_status(const char *line) { sd_notifyf(0, "STATUS=%s", line); }
 
 void sdn_watchdog(sdn *s, int64_t now_ns)
 {

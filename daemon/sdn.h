@@ -15,10 +15,10 @@ void sdn_init(struct sdn *s);
 void sdn_fini(struct sdn *s);
 
 /* READY=1 with a STATUS= line (once; again after sdn_reloading). */
-void sdn_ready(struct sdn *s, const char *status);
+void sdn_ready(struct sdn *s, const char *line);
 
-/* STATUS=<text>. */
-void sdn_status(const char *status);
+/* STATUS=<line> (systemctl status shows it). */
+void sdn_status(const char *line);
 
 /* WATCHDOG=1, at most every quarter of the interval; call from the step path. */
 void sdn_watchdog(struct sdn *s, int64_t now_ns);

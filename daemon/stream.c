@@ -9,11 +9,11 @@
 /* Poincare points this close (max norm) repeat: an orbit of period n. */
 #define REGIME_TOL 1e-6
 
-void stream_init(stream *s, int nstate, double omega_n, int state_on)
+void stream_init(stream *s, int nstate, const wg_scale *scale, int state_on)
 {
     memset(s, 0, sizeof *s);
     s->nstate = nstate;
-    s->omega_n = omega_n;
+    s->scale = *scale;
     s->st_on = state_on;
     s->decimation = 1;
     s->countdown = 0;
@@ -106,7 +106,7 @@ static void on_step(void *ctx, const wg_sim *sim)
     int i = s->st_n++;
     double(*c)[ST_MAX] = s->st;
     c[0][i] = sim->tau;
-    c[1][i] = sim->tau / s->omega_n;
+    c[1][i] = wg_scale_seconds(&s->scale, sim->tau);
     c[2][i] = sim->p.v[WG_P_OMEGA];
     c[3][i] = o.xn;
     c[4][i] = o.dxn;
@@ -125,7 +125,7 @@ static void on_section(void *ctx, const wg_section *sec)
     double(*c)[PC_MAX] = s->pc;
     s->pc_period[i] = (int64_t)sec->stats.period;
     c[0][i] = sec->tau;
-    c[1][i] = sec->tau / s->omega_n;
+    c[1][i] = wg_scale_seconds(&s->scale, sec->tau);
     c[2][i] = sec->omega;
     c[3][i] = sec->out.xn;
     c[4][i] = sec->out.dxn;
@@ -150,7 +150,7 @@ static void on_event(void *ctx, const wg_event *ev)
     stream *s = &d->st;
     int i = s->ct_n++;
     s->ct_tau[i] = ev->tau;
-    s->ct_ts[i] = ev->tau / s->omega_n;
+    s->ct_ts[i] = wg_scale_seconds(&s->scale, ev->tau);
     s->ct_vel[i] = ev->velocity;
     s->ct_period[i] = (int64_t)ev->period;
     s->ct_contact[i] = (int8_t)ev->contact;

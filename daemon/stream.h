@@ -12,6 +12,7 @@
 #include <stdint.h>
 
 #include "wormgear/wg_regime.h"
+#include "wormgear/wg_scene.h"
 #include "wormgear/wg_sim.h"
 
 enum { ST_MAX = 400, PC_MAX = 200, CT_MAX = 1024, ST_NCOL = 12 };
@@ -19,7 +20,7 @@ enum { ST_MAX = 400, PC_MAX = 200, CT_MAX = 1024, ST_NCOL = 12 };
 struct wgd;
 
 typedef struct stream {
-    double omega_n;                 /* tau -> seconds */
+    wg_scale scale;                 /* tau -> seconds (wg_scale_seconds) */
     /* STATE */
     int st_on;                      /* 0: no STATE at all (state_rate_hz = 0) */
     int st_n, decimation;
@@ -46,8 +47,9 @@ typedef struct stream {
     wg_tracker trk;                 /* last Poincare points, for the regime on STATUS */
 } stream;
 
-/* Empty batches for a sim with nstate values; omega_n converts tau to s. */
-void stream_init(stream *s, int nstate, double omega_n, int state_on);
+/* Empty batches for a sim with nstate values; the scene's scale converts
+ * tau to seconds. */
+void stream_init(stream *s, int nstate, const wg_scale *scale, int state_on);
 
 /* Nothing to free; present for the init/fini pairing. */
 void stream_fini(stream *s);

@@ -42,7 +42,7 @@ typedef struct syncjob {
     int64_t seq;
 } syncjob;
 
-/* Accumulators and derived figures for STATUS (status.c). */
+/* Accumulators and derived figures for STATUS (report.c). */
 typedef struct stats {
     int64_t t_ns;              /* start of the current STATUS interval */
     double tau;                /* simulated time then */
@@ -96,10 +96,7 @@ typedef struct wgd {
     int tfd;
     int stop, reload;          /* set by the signal callbacks */
     int64_t start_ns;
-    char why[640];             /* scratch for messages */
+    char init_why[640];        /* why a module's init failed (main logs it) */
 } wgd;
-
-/* CLOCK_MONOTONIC in nanoseconds. */
-int64_t wgd_now_ns(void);
 
 #endif

@@ -152,6 +152,30 @@ static void test_rate_change_reanchors(void)
     ASSERT_NEAR(pace_target(&p, 5 * MS), 11.5, 1e-12);
 }
 
+/* pace_configure takes the pacing keys of the configuration and keeps the
+ * overrun counters across a reconfiguration (mode command, reload); the
+ * anchor moves to (now, tau) and the run of overruns restarts. */
+static void test_configure_from_conf(void)
+{
+    conf k;
+    conf_defaults(&k);
+    k.rate = 0.5, k.tick_us = 2000, k.catchup_ticks = 4, k.overrun_policy = POLICY_STOP;
+    k.overrun_stop_after = 7, k.startup_grace_s = 0.25;
+    pace p = {.overruns = 3, .grace_overruns = 2, .consecutive = 5, .lag_tau = 1};
+    pace_configure(&p, &k, 31901.0, 7 * SEC, 12.5);
+    ASSERT_NEAR(p.cfg.tau_per_ns, 0.5 * 31901.0 * 1e-9, 0);
+    ASSERT_EQ_INT(p.cfg.tick_ns, 2 * MS);
+    ASSERT_NEAR(p.cfg.catchup_ticks, 4, 0);
+    ASSERT_EQ_INT(p.cfg.policy, POLICY_STOP);
+    ASSERT_EQ_INT(p.cfg.stop_after, 7);
+    ASSERT_EQ_INT(p.cfg.grace_ns, 250 * MS);
+    ASSERT_EQ_INT(p.overruns, 3);
+    ASSERT_EQ_INT(p.grace_overruns, 2);
+    ASSERT_EQ_INT(p.consecutive, 0);
+    ASSERT_NEAR(pace_lag_s(&p), 0, 0);
+    ASSERT_NEAR(pace_target(&p, 7 * SEC), 12.5, 0);
+}
+
 static void test_fast_chunk(void)
 {
     ASSERT_EQ_INT(pace_fast_chunk(0, MS), 64);
@@ -163,4 +187,4 @@ static void test_fast_chunk(void)
 TEST_MAIN(TEST(test_due_follows_clock), TEST(test_long_run_no_drift),
           TEST(test_cap_and_overrun_continue), TEST(test_freeze_drops_backlog),
           TEST(test_stop_after_n_with_grace), TEST(test_rate_change_reanchors),
-          TEST(test_fast_chunk))
+          TEST(test_configure_from_conf), TEST(test_fast_chunk))

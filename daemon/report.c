@@ -1,7 +1,6 @@
-/* status.c - STATUS, PARAMS, foreground line and periodic bookkeeping. */
-#include "status.h"
+/* report.c - STATUS, PARAMS, foreground line and periodic bookkeeping. */
+#include "report.h"
 
-#include "engine.h"
 #include "sdn.h"
 #include "wgd.h"
 
@@ -19,12 +18,12 @@ static double cpu_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-const char *status_health_name(int h)
+const char *report_health_name(int h)
 {
     return h == HEALTH_FAULT ? "fault" : h == HEALTH_LAGGING ? "lagging" : "ok";
 }
 
-const char *status_run_name(const wgd *d)
+const char *report_run_name(const wgd *d)
 {
     return d->step.active ? "stepping" : d->run == RUN_RUNNING ? "running" : "paused";
 }
@@ -41,9 +40,9 @@ static void interval_start(wgd *d, int64_t now)
     d->st.sections = d->st.impacts = 0;
 }
 
-void status_init(wgd *d)
+void report_init(wgd *d)
 {
-    int64_t now = wgd_now_ns();
+    int64_t now = log_now_ns();
     memset(&d->stat, 0, sizeof d->stat);
     d->stat.tick_seq_next = -1;
     interval_start(d, now);
@@ -51,12 +50,12 @@ void status_init(wgd *d)
     d->stat.next_params_ns = now + SEC_NS;
     d->stat.next_fg_ns = now + SEC_NS;
     d->stat.next_flush_ns = now + FLUSH_NS;
-    status_decimation(d);
+    report_decimation(d);
 }
 
-void status_fini(wgd *d) { (void)d; }
+void report_fini(wgd *d) { (void)d; }
 
-void status_loop(wgd *d, int64_t dur_ns)
+void report_loop(wgd *d, int64_t dur_ns)
 {
     stats *s = &d->stat;
     s->loop_sum_ns += (double)dur_ns;
@@ -68,11 +67,11 @@ void status_loop(wgd *d, int64_t dur_ns)
 static double step_rate(const wgd *d)
 {
     if (d->conf.mode == MODE_REALTIME)
-        return d->pace.cfg.tau_per_ns * 1e9 / engine_h(d);
+        return d->pace.cfg.tau_per_ns * 1e9 / wg_sim_step_tau(&d->sim);
     return d->stat.ns_per_step > 0 ? 1e9 / d->stat.ns_per_step : 0.0;
 }
 
-void status_decimation(wgd *d)
+void report_decimation(wgd *d)
 {
     int dec = d->conf.state_decimation;
     if (dec <= 0) {
@@ -89,7 +88,7 @@ static void compute(wgd *d, int64_t now)
     double wall = (double)(now - s->t_ns) * 1e-9;
     if (wall <= 0)
         return;
-    s->rtf = engine_seconds(d, d->sim.tau - s->tau) / wall;
+    s->rtf = wg_scale_seconds(&d->scene.scale, d->sim.tau - s->tau) / wall;
     s->steps_per_s = (double)(d->sim.steps - s->steps) / wall;
     s->cpu_share = (cpu_seconds() - s->cpu_s) / wall;
     s->loop_mean_us = s->loops ? s->loop_sum_ns / (double)s->loops * 1e-3 : 0.0;
@@ -107,9 +106,9 @@ static void fill_status(const wgd *d, wormgear_status_t *m, char *regime, unsign
     const stats *s = &d->stat;
     *m = (wormgear_status_t){
         .scene = (char *)d->scene.name, .mode = (char *)conf_mode_name(d->conf.mode),
-        .rate = d->conf.rate, .run = (char *)status_run_name(d),
-        .health = (char *)status_health_name(s->health), .fault = (char *)d->fault_msg,
-        .tau = d->sim.tau, .t_s = engine_seconds(d, d->sim.tau),
+        .rate = d->conf.rate, .run = (char *)report_run_name(d),
+        .health = (char *)report_health_name(s->health), .fault = (char *)d->fault_msg,
+        .tau = d->sim.tau, .t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau),
         .omega = d->sim.p.v[WG_P_OMEGA], .steps = (int64_t)d->sim.steps,
         .period = (int64_t)d->sim.period, .steps_per_period = d->sim.cfg.steps_per_period,
         .rtf = s->rtf, .lag_s = d->conf.mode == MODE_REALTIME ? pace_lag_s(&d->pace) : 0.0,
@@ -122,12 +121,12 @@ static void fill_status(const wgd *d, wormgear_status_t *m, char *regime, unsign
         .impacts_per_period = s->impacts_per_period, .regime = d->sim.ramp.active ? (char *)"ramping"
                                                       : (char *)stream_regime(&d->st, regime, rlen),
         .ramp_active = (int8_t)d->sim.ramp.active,
-        .uptime_s = (double)(wgd_now_ns() - d->start_ns) * 1e-9};
+        .uptime_s = (double)(log_now_ns() - d->start_ns) * 1e-9};
 }
 
-void status_publish(wgd *d)
+void report_status(wgd *d)
 {
-    int64_t now = wgd_now_ns();
+    int64_t now = log_now_ns();
     compute(d, now);
     wormgear_status_t m;
     char regime[24];
@@ -135,21 +134,27 @@ void status_publish(wgd *d)
     lcmio_pub_status(&d->io, &m);
 }
 
-void status_line(const wgd *d, char *buf, unsigned len)
+void report_fault(wgd *d)
+{
+    stream_flush(d);
+    report_status(d);
+}
+
+void report_line(const wgd *d, char *buf, unsigned len)
 {
     const stats *s = &d->stat;
     snprintf(buf, len,
              "%s %s %s | t %.4f s tau %.6g | omega %.4g | rtf %.3f lag %.1f ms | %.3g steps/s "
              "cpu %.0f%% | %s %.2f imp/period | overruns %llu | cmds %llu/%llu refused",
-             conf_mode_name(d->conf.mode), status_run_name(d), status_health_name(s->health),
-             engine_seconds(d, d->sim.tau), d->sim.tau, d->sim.p.v[WG_P_OMEGA], s->rtf,
-             pace_lag_s(&d->pace) * 1e3, s->steps_per_s, s->cpu_share * 100.0,
+             conf_mode_name(d->conf.mode), report_run_name(d), report_health_name(s->health),
+             wg_scale_seconds(&d->scene.scale, d->sim.tau), d->sim.tau, d->sim.p.v[WG_P_OMEGA],
+             s->rtf, pace_lag_s(&d->pace) * 1e3, s->steps_per_s, s->cpu_share * 100.0,
              d->sim.period ? wg_motion_name(d->st.motion) : "-", s->impacts_per_period,
              (unsigned long long)d->pace.overruns, (unsigned long long)s->cmds_accepted,
              (unsigned long long)s->cmds_refused);
 }
 
-void status_params(wgd *d, const char *reason, const char *client, int64_t cmd_seq)
+void report_params(wgd *d, const char *reason, const char *client, int64_t cmd_seq)
 {
     char *name[WG_NPARAM], *unit[WG_NPARAM];
     double val[WG_NPARAM], lo[WG_NPARAM], hi[WG_NPARAM], def[WG_NPARAM];
@@ -180,20 +185,29 @@ void status_params(wgd *d, const char *reason, const char *client, int64_t cmd_s
     lcmio_pub_params(&d->io, &m);
 }
 
+void report_change(wgd *d, int what, const char *reason, const char *client, int64_t cmd_seq)
+{
+    if (what & REPORT_ORBIT)
+        stream_regime_reset(&d->st);
+    if (what & REPORT_RATE)
+        report_decimation(d);
+    report_params(d, reason, client, cmd_seq);
+}
+
 static void foreground(wgd *d)
 {
     char line[400];
-    status_line(d, line, sizeof line);
+    report_line(d, line, sizeof line);
     printf("%s\n", line);
     fflush(stdout);
 }
 
-void status_tick(wgd *d, int64_t now)
+void report_tick(wgd *d, int64_t now)
 {
     stats *s = &d->stat;
     if (now >= s->next_flush_ns) {
         stream_flush(d);
-        status_decimation(d);
+        report_decimation(d);
         s->next_flush_ns = now + FLUSH_NS;
     }
     if (now >= s->next_status_ns) {
@@ -206,10 +220,10 @@ void status_tick(wgd *d, int64_t now)
         s->next_status_ns = now + (int64_t)(SEC_NS / d->conf.status_hz);
     }
     if (now >= s->next_params_ns) {
-        status_params(d, "periodic", "", -1);
+        report_params(d, "periodic", "", -1);
         s->next_params_ns = now + SEC_NS;
         char line[400];
-        status_line(d, line, sizeof line);
+        report_line(d, line, sizeof line);
         sdn_status(line);
     }
     if (d->conf.foreground && now >= s->next_fg_ns) {

@@ -1,0 +1,192 @@
+/* test_cmd.c - the command channel in-process: set validated whole and
+ * applied atomically (every refusal class with its code and range, RK4
+ * stability), set at the next Poincare section, accept_commands, step,
+ * pause, resume, reset and mode. */
+#include "fixture.h"
+
+static void test_set_atomic(void)
+{
+    wgd *d = setup(128);
+    char *n[2] = {"omega", "xi_p"};
+    double v[2] = {1.5, 0.1};
+    wormgear_cmd_t c = {.op = "set", .nparams = 2, .names = n, .values = v};
+    ASSERT_EQ_INT(send(d, &c), WG_OK);
+    ASSERT_TRUE(F.accepted);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.5, 0);
+    ASSERT_NEAR(d->sim.p.v[WG_P_XI_P], 0.1, 0);
+    ASSERT_STR(F.params_reason, "set");
+    ASSERT_EQ_INT(F.params_cmd_seq, F.myseq);
+    /* one bad value: nothing applied */
+    wg_params before = d->sim.p;
+    double bad[2] = {2.0, 5.0};
+    c.values = bad;
+    ASSERT_EQ_INT(send(d, &c), WG_ERANGE);
+    ASSERT_STR(F.code, "ERANGE");
+    ASSERT_CONTAINS(F.message, "xi_p");
+    ASSERT_CONTAINS(F.message, "[");
+    ASSERT_TRUE(memcmp(&before, &d->sim.p, sizeof before) == 0);
+    ASSERT_EQ_INT(d->stat.cmds_refused, 1);
+    teardown(d);
+}
+
+static void test_set_bad_inputs(void)
+{
+    wgd *d = setup(128);
+    wg_params before = d->sim.p;
+    ASSERT_EQ_INT(set1(d, "omeg", 1.0), WG_EUNKNOWN);
+    ASSERT_CONTAINS(F.message, "omeg");
+    ASSERT_EQ_INT(set1(d, "omega", NAN), WG_ERANGE);
+    ASSERT_EQ_INT(set1(d, "omega", INFINITY), WG_ERANGE);
+    ASSERT_EQ_INT(set1(d, "b", -1.0), WG_ERANGE);
+    char *dup[2] = {"omega", "omega"};
+    double v[2] = {1, 2};
+    wormgear_cmd_t c = {.op = "set", .nparams = 2, .names = dup, .values = v};
+    ASSERT_EQ_INT(send(d, &c), WG_EINVAL);
+    wormgear_cmd_t none = {.op = "set"};
+    ASSERT_EQ_INT(send(d, &none), WG_EINVAL);
+    ASSERT_EQ_INT(simple(d, "explode", ""), WG_EINVAL);
+    ASSERT_CONTAINS(F.message, "unknown op");
+    ASSERT_EQ_INT(set1(d, "a1", 0.9), WG_ERANGE); /* a1^2 + a2^2 + a3^2 = 1 broken */
+    ASSERT_TRUE(memcmp(&before, &d->sim.p, sizeof before) == 0);
+    /* still healthy: a good command goes through and the sim steps */
+    ASSERT_EQ_INT(set1(d, "omega", 1.2), WG_OK);
+    run(d, 1000);
+    ASSERT_TRUE(!d->fault);
+    teardown(d);
+}
+
+/* N = 16 is too coarse for a slow omega: ESTABILITY, nothing changed. */
+static void test_set_stability(void)
+{
+    wgd *d = setup(16);
+    wg_params before = d->sim.p;
+    int rc = set1(d, "omega", 0.05);
+    ASSERT_EQ_INT(rc, WG_ESTABILITY);
+    ASSERT_CONTAINS(F.message, "need N >=");
+    ASSERT_TRUE(memcmp(&before, &d->sim.p, sizeof before) == 0);
+    teardown(d);
+}
+
+static void test_accept_commands_off(void)
+{
+    wgd *d = setup(128);
+    d->conf.accept_commands = 0;
+    ASSERT_EQ_INT(set1(d, "omega", 1.3), WG_ESTATE);
+    ASSERT_CONTAINS(F.message, "accept_commands");
+    ASSERT_EQ_INT(simple(d, "get", ""), WG_OK);
+    ASSERT_STR(F.params_reason, "get");
+    teardown(d);
+}
+
+/* set with at_section: validated at once, applied and ACKed on the next
+ * Poincare section's step boundary, never mid-period. */
+static void test_set_at_section(void)
+{
+    wgd *d = setup(128);
+    run(d, 128 * 10 + 37); /* mid-period: k = 37 */
+    ASSERT_EQ_INT(d->sim.k, 37);
+    char *n[1] = {(char *)"omega"};
+    double v = 1.3, bad = 99;
+    wormgear_cmd_t c = {.op = "set", .nparams = 1, .names = n, .values = &v, .at_section = 1};
+    send_pending(d, &c);
+    ASSERT_TRUE(d->sync.active);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.0, 0); /* not yet */
+    /* a second one waits its turn: refused; an out-of-range one at once */
+    wormgear_cmd_t c2 = {.op = "set", .nparams = 1, .names = n, .values = &v, .at_section = 1};
+    ASSERT_EQ_INT(send(d, &c2), WG_ESTATE);
+    ASSERT_CONTAINS(F.message, "already pending");
+    ASSERT_EQ_INT(cmd_run(d, 128 - 37 - 1), 128 - 37 - 1); /* one step short */
+    drain(d);
+    ASSERT_TRUE(d->sync.active);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.0, 0);
+    int before = F.nack;
+    double tau_section = d->sim.tau + d->sim.h; /* the next step ends the period */
+    ASSERT_EQ_INT(cmd_run(d, 5), 5);
+    drain(d);
+    ASSERT_EQ_INT(F.nack, before + 1);
+    ASSERT_EQ_INT(F.cmd_seq, c.seq);
+    ASSERT_EQ_INT(F.rc, WG_OK);
+    ASSERT_NEAR(F.ack_tau, tau_section, 1e-9); /* took effect at the section */
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.3, 0);
+    ASSERT_EQ_INT(d->sim.k, 4);
+    ASSERT_TRUE(!d->sync.active);
+    /* refused on arrival when invalid, immediate at a section, reset cancels */
+    c2.values = &bad;
+    ASSERT_EQ_INT(send(d, &c2), WG_ERANGE);
+    run(d, 124); /* k = 0 */
+    v = 1.25;
+    ASSERT_EQ_INT(send(d, &c2), WG_ERANGE);
+    c2.values = &v;
+    ASSERT_EQ_INT(send(d, &c2), WG_OK);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.25, 0);
+    run(d, 3);
+    send_pending(d, &c);
+    wormgear_cmd_t rs = {.op = "reset", .client = "tester", .unit = "", .name = "",
+                         .seq = ++F.myseq};
+    before = F.nack;
+    wormgear_cmd_t_publish(d->io.lcm, "T_CMD", &rs);
+    drain(d);
+    ASSERT_EQ_INT(F.nack, before + 2); /* the pending set refused (ESTATE), then the reset */
+    ASSERT_EQ_INT(F.cmd_seq, rs.seq);
+    ASSERT_EQ_INT(F.rc, WG_OK);
+    ASSERT_TRUE(!d->sync.active);
+    wormgear_cmd_t r = {.op = "ramp", .nparams = 1, .names = n, .values = &v, .duration = 10,
+                        .unit = "tau", .at_section = 1};
+    ASSERT_EQ_INT(send(d, &r), WG_EINVAL);
+    teardown(d);
+}
+
+static void test_step_and_modes(void)
+{
+    wgd *d = setup(128);
+    uint64_t s0 = d->sim.steps;
+    wormgear_cmd_t c = {.op = "step", .nsteps = 500};
+    ASSERT_EQ_INT(send(d, &c), WG_OK); /* lockstep: ACK once the steps are done */
+    ASSERT_EQ_INT(d->sim.steps, s0 + 500);
+    ASSERT_CONTAINS(F.message, "500");
+    c.nsteps = 0;
+    ASSERT_EQ_INT(send(d, &c), WG_ERANGE);
+    /* a long step completes from the loop: the ACK waits for it */
+    c.nsteps = 300000;
+    int n0 = F.nack;
+    wormgear_cmd_t_publish(d->io.lcm, "T_CMD", &(wormgear_cmd_t){.seq = ++F.myseq,
+        .client = "tester", .op = "step", .nsteps = 300000, .unit = "", .name = ""});
+    drain(d);
+    ASSERT_EQ_INT(F.nack, n0);
+    ASSERT_TRUE(d->step.active);
+    c.nsteps = 10;
+    ASSERT_EQ_INT(send(d, &c), WG_ESTATE); /* one at a time */
+    while (d->step.active)
+        cmd_step_progress(d, 50000);
+    drain(d);
+    ASSERT_EQ_INT(F.nack, n0 + 2);
+    ASSERT_EQ_INT(F.cmd_seq, F.myseq - 1);
+    ASSERT_EQ_INT(F.rc, WG_OK);
+    ASSERT_EQ_INT(d->sim.steps, s0 + 500 + 300000);
+    /* realtime and running: step refused; paused: allowed */
+    wormgear_cmd_t m = {.op = "mode", .name = "realtime", .rate = 0.5};
+    ASSERT_EQ_INT(send(d, &m), WG_OK);
+    ASSERT_NEAR(d->conf.rate, 0.5, 0);
+    m.rate = 1e9;
+    ASSERT_EQ_INT(send(d, &m), WG_ERANGE);
+    ASSERT_STR(F.message, "rate: '1000000000' must be a number in [1e-06, 1000]");
+    m.name = "warp";
+    ASSERT_EQ_INT(send(d, &m), WG_EINVAL);
+    ASSERT_EQ_INT(send(d, &c), WG_ESTATE);
+    ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK);
+    ASSERT_EQ_INT(send(d, &c), WG_OK);
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_OK);
+    ASSERT_EQ_INT(d->run, RUN_RUNNING);
+    /* reset: tau back to 0; with "params" also the scene's parameters */
+    ASSERT_EQ_INT(set1(d, "omega", 1.7), WG_OK);
+    ASSERT_EQ_INT(simple(d, "reset", ""), WG_OK);
+    ASSERT_NEAR(d->sim.tau, 0, 0);
+    ASSERT_EQ_INT(d->sim.steps, 0);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.7, 0);
+    ASSERT_EQ_INT(simple(d, "reset", "params"), WG_OK);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], d->scene_params.v[WG_P_OMEGA], 0);
+    ASSERT_EQ_INT(simple(d, "reset", "everything"), WG_EINVAL);
+    teardown(d);
+}
+
+TEST_MAIN(TEST(test_set_atomic), TEST(test_set_bad_inputs), TEST(test_set_stability), TEST(test_accept_commands_off), TEST(test_set_at_section), TEST(test_step_and_modes))

@@ -1,0 +1,189 @@
+/* test_conf.c - the configuration key table in-process: a reload applies
+ * live keys (calling their apply hooks) and keeps restart-only ones, named;
+ * the mode command's number check uses the table's range and wording. */
+#include "conf.h"
+#include "wormgear/wg_sim.h"
+
+#include <unistd.h>
+
+static char cfgpath[] = "/tmp/wgd-conf-XXXXXX";
+
+/* Each test removes the config file it wrote. */
+#define TEST_TEARDOWN_CHECK() ASSERT_TRUE(access(cfgpath, F_OK) != 0)
+#include "test.h"
+
+typedef struct calls {
+    int mode, tick, verbose, was_mode, now_tick;
+    conf *run;
+} calls;
+
+static void on_mode(void *ctx, const conf *was)
+{
+    calls *k = ctx;
+    k->mode++;
+    k->was_mode = was->mode;
+}
+
+static void on_tick(void *ctx, const conf *was)
+{
+    calls *k = ctx;
+    (void)was;
+    k->tick++;
+    k->now_tick = k->run->tick_us; /* the new value is in place */
+}
+
+static void on_verbose(void *ctx, const conf *was)
+{
+    (void)was;
+    ((calls *)ctx)->verbose++;
+}
+
+static const conf_apply_fn hooks[CONF_NAPPLY] = {
+    [CONF_APPLY_MODE] = on_mode, [CONF_APPLY_TICK] = on_tick, [CONF_APPLY_VERBOSE] = on_verbose};
+
+/* Live keys are copied and their hooks run; restart-only keys and the
+ * [params] overrides keep their running values and are named. */
+static void test_reload_live_and_restart(void)
+{
+    conf run, next;
+    char kept[200];
+    conf_defaults(&run);
+    run.mode = MODE_LOCKSTEP;
+    calls k = {.run = &run};
+    next = run;
+    next.mode = MODE_FAST, next.rate = 0.25, next.tick_us = 2000, next.verbose = 1;
+    next.accept_commands = 0;
+    snprintf(next.scene, sizeof next.scene, "lowfreq");
+    next.steps_per_period = 256;
+    next.nsets = 1;
+    snprintf(next.sets[0], sizeof next.sets[0], "omega=1.1");
+    conf_reload(&run, &next, hooks, &k, kept, sizeof kept);
+    ASSERT_EQ_INT(run.mode, MODE_FAST);
+    ASSERT_NEAR(run.rate, 0.25, 0);
+    ASSERT_EQ_INT(run.tick_us, 2000);
+    ASSERT_EQ_INT(run.verbose, 1);
+    ASSERT_EQ_INT(run.accept_commands, 0);
+    ASSERT_STR(run.scene, "table3");
+    ASSERT_EQ_INT(run.steps_per_period, 128);
+    ASSERT_EQ_INT(run.nsets, 0);
+    ASSERT_STR(kept, "scene, steps_per_period and [params]");
+    ASSERT_EQ_INT(k.mode, 1);
+    ASSERT_EQ_INT(k.was_mode, MODE_LOCKSTEP);
+    ASSERT_EQ_INT(k.tick, 1);
+    ASSERT_EQ_INT(k.now_tick, 2000);
+    ASSERT_EQ_INT(k.verbose, 1);
+    /* nothing changed: no hook, nothing named */
+    k = (calls){.run = &run};
+    next = run;
+    conf_reload(&run, &next, hooks, &k, kept, sizeof kept);
+    ASSERT_STR(kept, "");
+    ASSERT_EQ_INT(k.mode + k.tick + k.verbose, 0);
+    /* a changed [params] value (same count) is named too */
+    snprintf(next.sets[0], sizeof next.sets[0], "omega=1.2");
+    next.nsets = 1;
+    run.nsets = 1;
+    snprintf(run.sets[0], sizeof run.sets[0], "omega=1.1");
+    conf_reload(&run, &next, hooks, &k, kept, sizeof kept);
+    ASSERT_STR(kept, "[params]");
+    ASSERT_STR(run.sets[0], "omega=1.1");
+}
+
+/* Every restart-only key changed: the message names them all, in table
+ * order (as the reload warning always listed them). */
+static void test_reload_names_every_restart_key(void)
+{
+    conf run, next;
+    char kept[200];
+    conf_defaults(&run);
+    next = run;
+    snprintf(next.scene, sizeof next.scene, "lowfreq");
+    snprintf(next.url, sizeof next.url, "memq://");
+    snprintf(next.prefix, sizeof next.prefix, "X_");
+    next.steps_per_period = 64, next.stepper = WG_STEPPER_RK4, next.mlock = 1, next.nsets = 1;
+    snprintf(next.sets[0], sizeof next.sets[0], "omega=1.1");
+    calls k = {.run = &run};
+    conf_reload(&run, &next, hooks, &k, kept, sizeof kept);
+    ASSERT_STR(kept, "scene, url, prefix, steps_per_period, stepper, mlock and [params]");
+    ASSERT_EQ_INT(k.mode + k.tick + k.verbose, 0);
+    ASSERT_STR(run.url, "udpm://239.255.76.67:7667?ttl=0");
+    ASSERT_STR(run.prefix, "WORMGEAR_");
+}
+
+static void write_conf(const char *text)
+{
+    FILE *f = fopen(cfgpath, "w");
+    ASSERT_TRUE(f != NULL);
+    if (f) {
+        fputs(text, f);
+        fclose(f);
+    }
+}
+
+/* The SIGHUP path: load the file again, reload into the running one. */
+static void test_reload_from_file(void)
+{
+    char a0[] = "wormgeard", a1[] = "-c", a2[sizeof cfgpath], why[400], kept[200];
+    memcpy(a2, cfgpath, sizeof cfgpath);
+    char *argv[] = {a0, a1, a2, NULL};
+    conf run, next;
+    write_conf("[wormgeard]\nmode = lockstep\nrate = 0.5\n[params]\nomega = 1.0\n");
+    ASSERT_EQ_INT(conf_load(&run, 3, argv, why, sizeof why), 0);
+    write_conf("[wormgeard]\nmode = fast\nscene = lowfreq\n[params]\nomega = 1.1\n");
+    ASSERT_EQ_INT(conf_load(&next, 3, argv, why, sizeof why), 0);
+    calls k = {.run = &run};
+    conf_reload(&run, &next, hooks, &k, kept, sizeof kept);
+    ASSERT_STR(kept, "scene and [params]");
+    ASSERT_EQ_INT(run.mode, MODE_FAST);
+    ASSERT_NEAR(run.rate, 1, 0); /* no longer in the file: the default */
+    ASSERT_STR(run.path, cfgpath);
+    ASSERT_STR(run.sets[0], "omega=1.0");
+    ASSERT_EQ_INT(k.mode, 1);
+    unlink(cfgpath);
+}
+
+/* A number from a command is checked against the table without a trip
+ * through text, with the words conf_set uses for the same value. */
+static void test_check_number(void)
+{
+    char why[200], why_text[200];
+    conf c;
+    conf_defaults(&c);
+    ASSERT_EQ_INT(conf_check_number("rate", 0.5, why, sizeof why), 0);
+    ASSERT_EQ_INT(conf_check_number("rate", 1000, why, sizeof why), 0);
+    ASSERT_EQ_INT(conf_check_number("rate", 1e9, why, sizeof why), 2);
+    ASSERT_STR(why, "rate: '1000000000' must be a number in [1e-06, 1000]");
+    ASSERT_EQ_INT(conf_set(&c, "rate", "1000000000", why_text, sizeof why_text), 2);
+    ASSERT_STR(why, why_text);
+    ASSERT_EQ_INT(conf_check_number("rate", NAN, why, sizeof why), 2);
+    ASSERT_STR(why, "rate: 'nan' must be a number in [1e-06, 1000]");
+    ASSERT_EQ_INT(conf_check_number("rate", INFINITY, why, sizeof why), 2);
+    ASSERT_EQ_INT(conf_check_number("tick_us", 150.5, why, sizeof why), 2);
+    ASSERT_CONTAINS(why, "an integer in [100, 100000]");
+    ASSERT_EQ_INT(conf_check_number("scene", 1, why, sizeof why), 2);
+    ASSERT_CONTAINS(why, "unknown");
+    ASSERT_EQ_INT(conf_check_number("no_such_key", 1, why, sizeof why), 2);
+    ASSERT_NEAR(c.rate, 1, 0); /* the failed conf_set changed nothing */
+}
+
+static int make_path(void)
+{
+    int fd = mkstemp(cfgpath);
+    if (fd < 0)
+        return -1;
+    close(fd);
+    return unlink(cfgpath); /* the name only: each test writes and removes it */
+}
+
+#define main tests_main
+TEST_MAIN(TEST(test_reload_live_and_restart), TEST(test_reload_names_every_restart_key),
+          TEST(test_reload_from_file), TEST(test_check_number))
+#undef main
+
+int main(int argc, char **argv)
+{
+    if (make_path()) {
+        perror("mkstemp");
+        return 1;
+    }
+    return tests_main(argc, argv);
+}

@@ -1,0 +1,71 @@
+/* test_report.c - what the daemon publishes about itself and the run:
+ * STATE, POINCARE and CONTACT with consecutive seq, the regime and motion
+ * on STATUS, impacts per period of the new orbit after a change. */
+#include "fixture.h"
+
+/* STATE, POINCARE and CONTACT arrive with consecutive seq and nothing lost. */
+static void test_stream_seq(void)
+{
+    wgd *d = setup(128);
+    ASSERT_EQ_INT(set1(d, "omega", 1.35), WG_OK);
+    stream_set_decimation(&d->st, 3);
+    run(d, 128 * 1500);
+    stream_flush(d);
+    drain(d);
+    ASSERT_EQ_INT(F.seq_gaps, 0);
+    ASSERT_EQ_INT(F.pc_gaps, 0);
+    ASSERT_EQ_INT(F.npc, 1500);
+    ASSERT_EQ_INT(F.nsamples, 128 * 1500 / 3);
+    uint64_t events = 0;
+    for (int c = 0; c < WG_NCONTACT; c++)
+        for (int k = 0; k < WG_NEVKIND; k++)
+            events += d->sim.nevents[c][k];
+    ASSERT_EQ_INT(F.nct, events);
+    ASSERT_TRUE(F.nct > 0);
+    ASSERT_TRUE(F.seq_next[0] > 100 && F.seq_next[1] > 5);
+    ASSERT_EQ_INT(d->io.dropped, 0);
+    teardown(d);
+}
+
+/* STATUS reports the regime from the tracked Poincare points. */
+static void test_status_regime(void)
+{
+    wgd *d = setup(64);
+    ASSERT_EQ_INT(set1(d, "omega", 0.3), WG_OK);
+    report_status(d);
+    drain(d);
+    ASSERT_STR(F.regime, "unknown");
+    run(d, 64 * 400);
+    report_status(d);
+    drain(d);
+    ASSERT_STR(F.regime, "period-1");
+    ASSERT_STR(F.motion, "no_impact");
+    ASSERT_EQ_INT(ramp(d, "omega", 0, 0, 0.35, 500, "tau"), WG_OK);
+    run(d, 64);
+    report_status(d);
+    drain(d);
+    ASSERT_STR(F.regime, "ramping");
+    teardown(d);
+}
+
+/* After a change, STATUS describes the new orbit only: impacts per period
+ * do not average in the periods before it. */
+static void test_status_after_set(void)
+{
+    wgd *d = setup(128);
+    ASSERT_EQ_INT(set1(d, "omega", 1.2), WG_OK); /* impacting, 0.5 per period */
+    run(d, 128 * 400);
+    report_status(d);
+    drain(d);
+    ASSERT_NEAR(F.impacts_per_period, 0.5, 0.05);
+    run(d, 128 * 200); /* the same STATUS interval continues ... */
+    ASSERT_EQ_INT(set1(d, "omega", 0.3), WG_OK); /* ... into a quiet orbit */
+    run(d, 128 * 400);
+    report_status(d);
+    drain(d);
+    ASSERT_STR(F.motion, "no_impact");
+    ASSERT_NEAR(F.impacts_per_period, 0.0, 0);
+    teardown(d);
+}
+
+TEST_MAIN(TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set))
