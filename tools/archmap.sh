@@ -4,38 +4,19 @@
 # Without options it prints the file list per folder, function-length
 # statistics and the longest functions (needs universal-ctags), the arrows
 # (#includes and calls) between the layers, and who calls whom among the
-# daemon's modules. With --check it verifies the architecture rules and
-# exits 1 naming every broken one (ctest `tree.layers` runs this):
+# daemon's modules (from tests/daemon/test_layers.sh, which owns the
+# daemon's own layering rule: ctest daemon.layers). With --check it
+# verifies the rules between folders and exits 1 naming every broken one
+# (ctest `tree.layers` runs this):
 #   - lib/ and include/wormgear/ include nothing of daemon/, clients/ or
 #     lcmtypes/; only lib/ (and white-box tests) include lib/internal.h;
 #   - daemon/ and clients/ are peers: neither includes the other's files;
-#   - among the daemon's modules calls go one way only, down the levels in
-#     LEVELS below: a module calls modules of lower levels, never its own
-#     level or above (main -> loop -> cmd -> engine/report -> ...);
 #   - no source file in lib/, daemon/ or clients/ reaches 800 lines.
 set -uo pipefail
 export LC_ALL=C
 cd "$(dirname "$0")/.."
 
-# Daemon modules by level, top first. A module may call only modules on
-# later lines.
-LEVELS=(
-  "main"
-  "loop"
-  "cmd"
-  "engine report"
-  "stream snap"
-  "lcmio pace wire sdn"
-  "conf log"
-)
 MAX_LINES=800
-
-level_of() { # module -> its line in LEVELS, or -1
-  for i in "${!LEVELS[@]}"; do
-    for m in ${LEVELS[$i]}; do [ "$m" = "$1" ] && { echo "$i"; return; }; done
-  done
-  echo -1
-}
 
 # Resolve #include "x" of file f to a tracked file (or print nothing).
 includes_of() {
@@ -49,28 +30,6 @@ includes_of() {
     done
     case $inc in lcmtypes/*) echo "lcmtypes/(generated)";; esac
   done
-}
-
-# Exported functions of a daemon module: the prototypes in its header.
-api_of() {
-  [ -f "daemon/$1.h" ] || return 0
-  gcc -fpreprocessed -dD -E -P "daemon/$1.h" 2>/dev/null | tr '\n' ' ' | tr ';' '\n' |
-    grep -vE '^\s*(typedef|struct [a-z_]+ \{|enum)' |
-    grep -oE '\b[a-z_][a-z0-9_]*\s*\(' | head -1000 | sed -E 's/\s*\($//' |
-    grep -E "^$1_|^wgd_" | sort -u
-}
-
-# Calls from daemon module a to other daemon modules: "a b fn" lines.
-daemon_calls() {
-  local mods m
-  mods=$(ls daemon/*.c | xargs -n1 basename | sed 's/\.c$//')
-  for m in $mods; do api_of "$m" | sed "s/^/$m /"; done > /tmp/archmap.api.$$
-  for a in $mods; do
-    gcc -fpreprocessed -dD -E -P "daemon/$a.c" 2>/dev/null | grep -oE '\b[a-z_][a-z0-9_]*\b' | sort -u |
-      join -1 1 -2 2 - <(sort -k2,2 /tmp/archmap.api.$$) 2>/dev/null |
-      awk -v a="$a" '$2 != a {print a, $2, $1}'
-  done
-  rm -f /tmp/archmap.api.$$
 }
 
 check() {
@@ -95,25 +54,13 @@ check() {
       esac
     done
   done
-  for f in daemon/*.c; do
-    m=$(basename "$f" .c)
-    if [ "$(level_of "$m")" -lt 0 ]; then
-      echo "layers: daemon module $m has no level in tools/archmap.sh LEVELS"; bad=1
-    fi
-  done
-  while read -r a b fn; do
-    la=$(level_of "$a") lb=$(level_of "$b")
-    if [ "$la" -ge 0 ] && [ "$lb" -ge 0 ] && [ "$lb" -le "$la" ]; then
-      echo "layers: daemon/$a.c calls $fn of daemon/$b.c (level $lb, not below $a's $la)"; bad=1
-    fi
-  done < <(daemon_calls)
   for f in $(git ls-files 'lib/*.[ch]' 'daemon/*.[ch]' 'clients/*.[ch]'); do
     lines=$(wc -l < "$f")
     if [ "$lines" -ge "$MAX_LINES" ]; then
       echo "layers: $f has $lines lines (split it: files stay under $MAX_LINES)"; bad=1
     fi
   done
-  [ $bad = 0 ] && echo "layers: ok (library, daemon and clients layered; daemon calls go down: ${LEVELS[*]})"
+  [ $bad = 0 ] && echo "layers: ok (the library below daemon/ and clients/, which are peers; files under $MAX_LINES lines)"
   return $bad
 }
 
@@ -146,8 +93,8 @@ report() {
     done
   done | awk '$1 != $3' |
     sort | uniq -c | sed 's/^/  /'
-  echo "== daemon modules: who calls whom"
-  daemon_calls | awk '{e[$1" -> "$2]=e[$1" -> "$2]" "$3} END{for(k in e) print "  "k":"e[k]}' | sort
+  echo "== daemon modules: who calls whom (tests/daemon/test_layers.sh)"
+  sh tests/daemon/test_layers.sh daemon | sed 's/^/  /'
 }
 
 case ${1:-} in
