@@ -193,7 +193,7 @@ static void json_point(FILE *f, const wg_point *p)
 static void json_chain(FILE *f, const char *name, const wg_chain *c)
 {
     fprintf(f, ",\"%s\":{\"status\":\"%s\",\"points\":[", name,
-            c->status ? c->why : "ok");
+            c->rc ? c->why : "ok");
     for (int i = 0; i < c->ndone; i++) {
         fputs(i ? ",\n" : "\n", f);
         json_point(f, &c->pts[i]);

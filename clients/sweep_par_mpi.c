@@ -21,13 +21,13 @@ int par_init(int *argc, char ***argv, int *rank, int *size)
 
 /* Header of a chain's result on the wire. */
 typedef struct wire {
-    int ndone, rc;            /* rc: the chain's return code (wg_chain.status) */
+    int ndone, rc;            /* rc: the chain's return code (wg_chain.rc) */
     char why[160];
 } wire;
 
 static void send_chain(const wg_chain *c, int tag)
 {
-    wire w = {c->ndone, c->status, {0}};
+    wire w = {c->ndone, c->rc, {0}};
     memcpy(w.why, c->why, sizeof w.why);
     MPI_Send(&w, (int)sizeof w, MPI_BYTE, 0, tag, MPI_COMM_WORLD);
     if (c->ndone)
@@ -40,7 +40,7 @@ static void recv_chain(wg_chain *c, int from, int tag)
     wire w;
     MPI_Recv(&w, (int)sizeof w, MPI_BYTE, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     c->ndone = w.ndone;
-    c->status = w.rc;
+    c->rc = w.rc;
     memcpy(c->why, w.why, sizeof c->why);
     if (w.ndone)
         MPI_Recv(c->pts, (int)(sizeof(wg_point) * (size_t)w.ndone), MPI_BYTE, from, tag,
@@ -79,8 +79,8 @@ int par_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
             recv_chain(&cs[i], owner, i);
     }
     for (int i = 0; i < n; i++)
-        if (cs[i].status)
-            return cs[i].status;
+        if (cs[i].rc)
+            return cs[i].rc;
     return WG_OK;
 }
 

@@ -377,7 +377,7 @@ static int do_map(const opts *o, const wg_scene *sc, int rank, int size)
     int partial = par_any(g_stop);
     if (rank == 0 && rows) {
         for (int r = 0; r < o->mrows; r++)
-            if (rows[r].status)
+            if (rows[r].rc)
                 fprintf(stderr, "wgsweep: row %d: %s\n", r, rows[r].why);
         rc = write_map(o, rows, o->mrows, partial) || rc;
         if (!o->quiet)
@@ -426,7 +426,7 @@ static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank
     st.partial = par_any(g_stop);
     if (rank == 0 && cs) {
         for (int i = 0; i < n; i++)
-            if (cs[i].status)
+            if (cs[i].rc)
                 fprintf(stderr, "wgsweep: chain %d stopped: %s\n", i, cs[i].why);
         rc = write_study(o, &st) || rc;
         if (!o->quiet)

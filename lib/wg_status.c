@@ -18,18 +18,18 @@ static const struct {
     {WG_EUNSUPPORTED, "EUNSUPPORTED", "unsupported combination"},
 };
 
-const char *wg_status_name(int status)
+const char *wg_status_name(int code)
 {
     for (unsigned i = 0; i < sizeof codes / sizeof codes[0]; i++)
-        if (codes[i].code == status)
+        if (codes[i].code == code)
             return codes[i].name;
     return "EUNKNOWNCODE";
 }
 
-const char *wg_status_str(int status)
+const char *wg_status_str(int code)
 {
     for (unsigned i = 0; i < sizeof codes / sizeof codes[0]; i++)
-        if (codes[i].code == status)
+        if (codes[i].code == code)
             return codes[i].str;
     return "unknown status code";
 }

@@ -348,12 +348,12 @@ int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *sto
     ov.verify = ov.floquet = 0;
     c->ndone = 0;
     c->why[0] = 0;
-    if ((c->status = work_init(&w, o, stop)) == WG_OK && o->verify &&
-        (c->status = work_init(&v, &ov, stop)) != WG_OK)
+    if ((c->rc = work_init(&w, o, stop)) == WG_OK && o->verify &&
+        (c->rc = work_init(&v, &ov, stop)) != WG_OK)
         work_fini(&w);
-    if (c->status) {
+    if (c->rc) {
         snprintf(c->why, sizeof c->why, "out of memory for the record buffer");
-        return c->status;
+        return c->rc;
     }
     double y[WG_NSTATE_MAX] = {0};
     wg_params p = c->base;
@@ -373,7 +373,7 @@ int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *sto
         pt->value = p.v[c->param];
         pt->value2 = c->param2 >= 0 ? p.v[c->param2] : NAN;
         if (rc && rc != WG_ENONFINITE) {
-            c->status = rc;
+            c->rc = rc;
             break;
         }
         if (rc) /* diverged: keep the point, restart from equilibrium */
@@ -385,7 +385,7 @@ int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *sto
     work_fini(&w);
     if (o->verify)
         work_fini(&v);
-    return c->status;
+    return c->rc;
 }
 
 /* ---- threads ------------------------------------------------------------- */
@@ -447,7 +447,7 @@ int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
         pthread_join(tid[t], NULL);
     pthread_mutex_destroy(&pl.lock);
     for (int i = 0; i < n; i++)
-        if (cs[i].status)
-            return cs[i].status;
+        if (cs[i].rc)
+            return cs[i].rc;
     return WG_OK;
 }

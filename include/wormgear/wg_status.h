@@ -22,9 +22,9 @@ enum wg_status {
 
 /* Stable name of a status code ("WG_OK" -> "OK", WG_ERANGE -> "ERANGE");
  * "EUNKNOWNCODE" for a value that is not a status. */
-const char *wg_status_name(int status);
+const char *wg_status_name(int code);
 
 /* One-line English description of a status code. */
-const char *wg_status_str(int status);
+const char *wg_status_str(int code);
 
 #endif

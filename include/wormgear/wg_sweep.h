@@ -65,7 +65,7 @@ typedef struct wg_chain {
     double y0[WG_NSTATE_MAX];
     wg_point *pts;        /* npts results, in run order; caller-owned */
     int ndone;            /* points completed */
-    int status;           /* WG_OK or the error that stopped the chain */
+    int rc;               /* WG_OK or the error that stopped the chain */
     char why[160];
 } wg_chain;
 

@@ -199,7 +199,7 @@ static void test_stop_flag(void)
     volatile sig_atomic_t stop = 1;
     ASSERT_EQ_INT(wg_chains_run(&c, 1, &o, 1, &stop, NULL, NULL), WG_OK);
     ASSERT_EQ_INT(c.ndone, 0); /* nothing started after the request */
-    ASSERT_EQ_INT(c.status, WG_OK);
+    ASSERT_EQ_INT(c.rc, WG_OK);
 }
 
 TEST_MAIN(TEST(test_period_doubling_sweep_and_floquet), TEST(test_lle_sign_on_the_model),
