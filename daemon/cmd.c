@@ -62,7 +62,7 @@ static void ack(wgd *d, const char *client, int64_t seq, const char *op, int rc,
 /* ---- parameters ------------------------------------------------------------ */
 
 /* Ids of the named parameters: EINVAL (count, duplicates) or EUNKNOWN. */
-static int lookup_all(const wormgear_cmd_t *c, int *ids, char *why, size_t len)
+static int lookup_all(const wormgear_cmd_t *c, int ids[WG_NPARAM], char *why, size_t len)
 {
     char nm[48];
     if (c->nparams < 1 || c->nparams > WG_NPARAM) {
@@ -218,13 +218,14 @@ static int ramp_duration(const wgd *d, const wormgear_cmd_t *c, double *dur, cha
 static int ramp_check(wgd *d, const wormgear_cmd_t *c, int *id, double *dur, char *why,
                       size_t len)
 {
-    int rc = lookup_all(c, id, why, len);
-    if (!rc && c->nparams != 1) {
+    int ids[WG_NPARAM], rc;
+    if (c->nparams != 1) { /* the count first: nothing is looked up for a wrong one */
         snprintf(why, len, "ramp takes exactly one parameter, got %d", c->nparams);
-        rc = WG_EINVAL;
+        return WG_EINVAL;
     }
-    if (rc || (rc = ramp_duration(d, c, dur, why, len)))
+    if ((rc = lookup_all(c, ids, why, len)) || (rc = ramp_duration(d, c, dur, why, len)))
         return rc;
+    *id = ids[0];
     if (!(wg_param_info_get(*id)->flags & WG_PF_RAMP)) {
         snprintf(why, len, "%s cannot be ramped (geometry); use set", c->names[0]);
         return WG_EINVAL;

@@ -71,4 +71,29 @@ static void test_ramp_refused_atomic(void)
     teardown(d);
 }
 
-TEST_MAIN(TEST(test_ramp_continuity), TEST(test_ramp_refused_atomic))
+/* Issue 10, defect 1: a ramp naming two or more parameters once wrote
+ * every id into a single int on the stack (ASan: stack-buffer-overflow).
+ * It is refused, names what is allowed, and changes nothing. */
+static void test_ramp_many_names(void)
+{
+    wgd *d = setup(128);
+    static char *names[WG_NPARAM + 2];
+    static double values[WG_NPARAM + 2];
+    for (int i = 0; i < WG_NPARAM + 2; i++) {
+        names[i] = (char *)wg_param_info_get(i % WG_NPARAM)->name;
+        values[i] = wg_param_info_get(i % WG_NPARAM)->def;
+    }
+    wg_params p0 = d->sim.p;
+    int counts[] = {2, 3, WG_NPARAM, WG_NPARAM + 1, 0};
+    for (unsigned k = 0; k < sizeof counts / sizeof counts[0]; k++) {
+        wormgear_cmd_t c = {.op = "ramp", .nparams = counts[k], .names = names,
+                            .values = values, .duration = 5, .unit = "tau"};
+        ASSERT_EQ_INT(send(d, &c), WG_EINVAL);
+        ASSERT_CONTAINS(F.message, "ramp takes exactly one parameter");
+        ASSERT_TRUE(memcmp(&p0, &d->sim.p, sizeof p0) == 0);
+        ASSERT_EQ_INT(d->sim.ramp.active, 0);
+    }
+    teardown(d);
+}
+
+TEST_MAIN(TEST(test_ramp_continuity), TEST(test_ramp_refused_atomic), TEST(test_ramp_many_names))
