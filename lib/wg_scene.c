@@ -2,18 +2,20 @@
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_status.h"
 
+#include <dirent.h>
 #include <ini.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
-#ifndef WG_SOURCE_SCENES
-#define WG_SOURCE_SCENES ""
-#endif
-#ifndef WG_INSTALL_SCENES
-#define WG_INSTALL_SCENES "/usr/local/share/wormgear/scenes"
+/* The scene directory relative to the directory of the running program
+ * (bin/ or sbin/ of the install prefix, or a build tree's daemon/, clients/,
+ * where CMake copies scenes/ to share/wormgear/scenes). */
+#ifndef WG_SCENES_FROM_BIN
+#define WG_SCENES_FROM_BIN "../share/wormgear/scenes"
 #endif
 
 #define TWO_PI 6.283185307179586
@@ -400,6 +402,52 @@ int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen)
 
 static int exists(const char *p) { return access(p, R_OK) == 0; }
 
+void wg_scene_data_dir(char *dir, size_t len)
+{
+    char exe[1024];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    dir[0] = 0;
+    if (n <= 0)
+        return;
+    exe[n] = 0;
+    char *slash = strrchr(exe, '/');
+    if (slash)
+        *slash = 0;
+    snprintf(dir, len, "%s/%s", exe, WG_SCENES_FROM_BIN);
+    char real[1024];
+    if (realpath(dir, real))
+        snprintf(dir, len, "%s", real);
+}
+
+static int only_ini(const struct dirent *e)
+{
+    size_t n = strlen(e->d_name);
+    return n > 4 && !strcmp(e->d_name + n - 4, ".ini");
+}
+
+/* Order of scene names: "table3" before "table3-physical". */
+static int by_stem(const struct dirent **a, const struct dirent **b)
+{
+    size_t na = strlen((*a)->d_name) - 4, nb = strlen((*b)->d_name) - 4;
+    int c = strncmp((*a)->d_name, (*b)->d_name, na < nb ? na : nb);
+    return c ? c : (na > nb) - (na < nb);
+}
+
+/* Append ", "-separated names of the NAME.ini files in dir, sorted. */
+static void list_scenes(const char *dir, char *out, size_t len)
+{
+    struct dirent **e;
+    int n = *dir ? scandir(dir, &e, only_ini, by_stem) : -1;
+    for (int i = 0; i < n; i++) {
+        size_t k = strlen(out);
+        snprintf(out + k, len - k, "%s%.*s", k ? ", " : "", (int)(strlen(e[i]->d_name) - 4),
+                 e[i]->d_name);
+        free(e[i]);
+    }
+    if (n >= 0)
+        free(e);
+}
+
 int wg_scene_find(const char *name, char *path, size_t pathlen, char *why, size_t whylen)
 {
     size_t n = strlen(name);
@@ -407,19 +455,21 @@ int wg_scene_find(const char *name, char *path, size_t pathlen, char *why, size_
         snprintf(path, pathlen, "%s", name);
         return WG_OK;
     }
-    char dirs[2048];
+    char dirs[2048], data[1024], found[512] = "";
     const char *env = getenv("WG_SCENE_PATH");
-    snprintf(dirs, sizeof dirs, "%s%s%s:%s", env ? env : "", env ? ":" : "", WG_SOURCE_SCENES,
-             WG_INSTALL_SCENES);
+    wg_scene_data_dir(data, sizeof data);
+    snprintf(dirs, sizeof dirs, "%s:%s", env ? env : "", data);
     for (char *save = NULL, *d = strtok_r(dirs, ":", &save); d; d = strtok_r(NULL, ":", &save)) {
         if (!*d)
             continue;
         snprintf(path, pathlen, "%s/%s.ini", d, name);
         if (exists(path))
             return WG_OK;
+        list_scenes(d, found, sizeof found);
     }
-    snprintf(why, whylen, "scene '%s' not found (looked for %s.ini in $WG_SCENE_PATH, %s, %s)",
-             name, name, WG_SOURCE_SCENES, WG_INSTALL_SCENES);
+    snprintf(why, whylen, "scene '%s' not found: looked for %s.ini in $WG_SCENE_PATH (%s) and "
+             "%s; scenes there: %s", name, name, env && *env ? env : "unset",
+             *data ? data : "(no data directory)", *found ? found : "none");
     return WG_EIO;
 }
 

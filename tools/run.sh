@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build/release -j"$(nproc)" --target wormgeard wgctl wgmon wgsim wgsweep wgrig wglog >/dev/null
-export WG_SCENE_PATH=$PWD/scenes
+# everything a user reaches for next: the clients, the lcm-spy jar, the tests
+cmake --build build/release -j"$(nproc)" >/dev/null
 mkdir -p "${WG_STATE_DIR:=/var/lib/wormgeard}"
 exec build/release/daemon/wormgeard --foreground --state-dir "$WG_STATE_DIR" "$@"

@@ -4,7 +4,7 @@
 # only what is missing. Run as root.
 set -euo pipefail
 pkgs=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config dpkg-dev
   libinih-dev
   liblcm-dev liblcm-bin libglib2.0-dev
   libev-dev

@@ -43,9 +43,15 @@ int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen);
 
 /* Resolve NAME or FILE: a path containing '/' or ending in ".ini" is used as
  * given; otherwise NAME.ini is looked up in $WG_SCENE_PATH (colon-separated),
- * the source tree's scenes/ and the installed data directory. */
+ * then in the data directory next to the program (wg_scene_data_dir). The
+ * error lists the scenes those directories hold. */
 int wg_scene_find(const char *name_or_file, char *path, size_t pathlen,
                   char *why, size_t whylen);
+
+/* The scene directory of this installation, found from the running
+ * program: <prefix>/share/wormgear/scenes for <prefix>/bin or sbin (so an
+ * install can move), or a build tree's copy of scenes/; "" if unknown. */
+void wg_scene_data_dir(char *dir, size_t len);
 
 /* wg_scene_find then wg_scene_load. */
 int wg_scene_open(wg_scene *sc, const char *name_or_file, char *why, size_t whylen);

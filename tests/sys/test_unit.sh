@@ -1,6 +1,8 @@
 #!/bin/sh
-# test_unit.sh UNIT WORMGEARD - the systemd unit: `systemd-analyze verify`
-# and `systemd-analyze security --offline=yes` (exposure must stay <= 2.0).
+# test_unit.sh UNIT.in WORMGEARD - the systemd unit template, with Debian's
+# paths filled in as the .deb does (and ExecStart pointing at the binary
+# under test): `systemd-analyze verify` and `systemd-analyze security
+# --offline=yes` (exposure must stay <= 2.0).
 # Exit 77 (ctest: skipped) when systemd-analyze is not installed.
 unit=$1 bin=$2
 if ! command -v systemd-analyze >/dev/null 2>&1; then
@@ -10,7 +12,13 @@ fi
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
 # verify checks that ExecStart exists: point it at the binary under test
-sed "s|/usr/sbin/wormgeard|$bin|" "$unit" >"$tmp/wormgeard.service"
+sed -e "s|@WG_SBINDIR@/wormgeard|$bin|" -e "s|@WG_CONFDIR@|/etc/wormgear|g" \
+    -e "s|@WG_DOCDIR@|/usr/share/doc/wormgear|g" -e "s|@WG_UNITDIR@|/usr/lib/systemd/system|g" \
+    -e "s|@WG_CONFIGURATION_DIRECTORY@|ConfigurationDirectory=wormgear|" "$unit" >"$tmp/wormgeard.service"
+if grep -n '@WG_' "$tmp/wormgeard.service"; then
+    echo "FAIL: placeholders left in the unit"
+    exit 1
+fi
 cd "$tmp" || exit 1
 if ! systemd-analyze verify "$tmp/wormgeard.service"; then
     echo "FAIL: systemd-analyze verify"

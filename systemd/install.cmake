@@ -1,0 +1,21 @@
+# Install-time script (systemd/CMakeLists.txt): the config and the unit for
+# the prefix being installed to. In: WG_SRC (this folder), WG_SBIN, WG_DOC
+# (relative to the prefix).
+set(p ${CMAKE_INSTALL_PREFIX})
+if(p STREQUAL "/usr")
+  set(conf /etc/wormgear)
+  set(confdir "ConfigurationDirectory=wormgear")
+else()
+  set(conf ${p}/etc/wormgear)
+  set(confdir "# (no ConfigurationDirectory=: the config is ${conf}, not under /etc)")
+endif()
+file(INSTALL ${WG_SRC}/wormgeard.conf DESTINATION "${conf}") # (file(INSTALL) adds $DESTDIR)
+set(unitdir ${p}/lib/systemd/system)
+file(READ ${WG_SRC}/wormgeard.service.in unit)
+string(REPLACE "@WG_UNITDIR@" "${unitdir}" unit "${unit}")
+string(REPLACE "@WG_CONFDIR@" "${conf}" unit "${unit}")
+string(REPLACE "@WG_DOCDIR@" "${p}/${WG_DOC}" unit "${unit}")
+string(REPLACE "@WG_SBINDIR@" "${p}/${WG_SBIN}" unit "${unit}")
+string(REPLACE "@WG_CONFIGURATION_DIRECTORY@" "${confdir}" unit "${unit}")
+file(WRITE "$ENV{DESTDIR}${unitdir}/wormgeard.service" "${unit}")
+message(STATUS "Installing: $ENV{DESTDIR}${unitdir}/wormgeard.service (for ${p})")
