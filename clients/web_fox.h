@@ -68,7 +68,7 @@ typedef struct fox_pending {
     char id[64];       /* the request's id ("" none) */
     double deadline_s;
     int n;             /* setParameters: the names and values asked for */
-    char name[FOX_MAX_PARAMS][32];
+    char name[FOX_MAX_PARAMS][48];
     double value[FOX_MAX_PARAMS];
 } fox_pending;
 

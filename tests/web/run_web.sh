@@ -25,7 +25,9 @@ trap cleanup EXIT
 export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0" WORMGEAR_PREFIX=WEBT_
 "$D" --state-dir "$tmp" >"$tmp/d.log" 2>&1 &
 dpid=$!
-"$W" --port 0 --allow-commands >"$tmp/w.out" 2>"$tmp/w.err" &
+extra=
+[ "$T" = slowclient ] && extra="--queue 256 --scope-hz 2000 --poincare-hz 5000"
+"$W" --port 0 --allow-commands $extra >"$tmp/w.out" 2>"$tmp/w.err" &
 wpid=$!
 "$W" --port 0 >"$tmp/r.out" 2>"$tmp/r.err" &
 rpid=$!

@@ -1,4 +1,4 @@
-// browser.mjs URL SCREENSHOT.png - headless Chromium (Debian's, through
+// browser.mjs URL [SCREENSHOT.png] - headless Chromium (Debian's, through
 // playwright-core) opens the dashboard served by a live wgweb: waits for
 // data, checks every plot holds samples (data-samples), ramps omega with the
 // ramp control and then sets omega = 1.2 with the set control, checks the
@@ -7,7 +7,8 @@
 import { chromium } from "playwright-core";
 import assert from "node:assert/strict";
 
-const [url, shot] = process.argv.slice(2);
+const url = process.argv[2].replace(/^ws/, "http");
+const shot = process.argv[3] ?? `${process.env.WG_OUT ?? "."}/dashboard.png`;
 const exe = process.env.CHROMIUM ?? "/usr/bin/chromium";
 const browser = await chromium.launch({
   executablePath: exe,
