@@ -26,6 +26,7 @@ static const char *const status_fields[] = {
     "n:uptime_s:daemon uptime [s]", NULL};
 static const char *const scope_fields[] = {
     "n:t_s:simulated time [s]", "n:tau:simulation time (dimensionless)", "i:step:RK4 step index",
+    "i:utime:daemon publish time of the STATE batch [us since the epoch]",
     "n:omega:meshing frequency / omega_n", "n:x_n:relative mesh displacement / b_c",
     "n:dx_n:x_n rate (dimensionless)", "n:F:dynamic mesh force / (K_m b_c)",
     "n:fb_x1:worm bearing force x / (K_m b_c)", "n:fb_y1:worm bearing force y / (K_m b_c)",
@@ -217,6 +218,7 @@ void msg_scope(jbuf *b, const wormgear_state_t *m, int i)
     kn(b, "t_s", m->t_s[i]);
     kn(b, "tau", m->tau[i]);
     ki(b, "step", m->step0 + (int64_t)i * m->decimation);
+    ki(b, "utime", m->utime);
     kf(b, "omega", m->omega[i]);
     kf(b, "x_n", m->xn[i]);
     kf(b, "dx_n", m->dxn[i]);
