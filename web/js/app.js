@@ -22,7 +22,7 @@ const S = {
   impacts: [], newScope: false, newestUtime: 0, myIds: new Set(), reqSeq: 0,
 };
 const T = (window.wgTest = { scope: 0, poincare: 0, contacts: 0, acks: [], frameIntervals: [],
-  latencies: [], frames: 0, status: null, params: null, errors: [] });
+  latencies: [], work: [], frames: 0, status: null, params: null, errors: [] });
 
 // ---- incoming messages
 function pushScope(m) {
@@ -210,8 +210,8 @@ function makeTimePlots() {
 
 function makePlots() {
   plots.phase = new Scatter($("plot-phase"), { max: 6000, size: 2 });
-  plots.poincare = new Scatter($("plot-poincare"), { max: 20000, size: 2 });
-  plots.bif = new Scatter($("plot-bif"), { max: 200000, size: 1.5 });
+  plots.poincare = new Scatter($("plot-poincare"), { max: 20000, size: 2, grow: 0.25 });
+  plots.bif = new Scatter($("plot-bif"), { max: 200000, size: 1.5, grow: 0.25 });
   makeTimePlots();
   const legend = $("legend");
   const key = (text, colour) => {
@@ -244,7 +244,7 @@ function drawScope() {
   plots.xn.setData([xs, idx.map((i) => s.x[i] * fx)]);
   plots.f.setData([xs, idx.map((i) => s.F[i] * fF)]);
   plots.phase.set(idx.map((i) => [s.x[i], s.dx[i], "rgba(31,119,180,0.6)"]));
-  $("plot-xn").dataset.samples = $("plot-f").dataset.samples = $("plot-phase").dataset.samples = idx.length;
+  for (const id of ["plot-xn", "plot-f", "plot-phase"]) setSamples(id, idx.length);
   const N = S.params?.steps_per_period ?? 128;
   const periods = idx.length > 1 ? (s.step[idx[idx.length - 1]] - s.step[idx[0]]) / N : 0;
   $("cap-phase").textContent = `last ${idx.length} scope samples, over ${periods.toFixed(periods < 10 ? 2 : 0)} mesh periods`;
@@ -301,6 +301,9 @@ function updateCaption() {
 }
 
 // ---- the frame loop
+// data-samples on each plot (the tests read it), written only when it changes.
+function setSamples(id, n) { const el = $(id); if (el.dataset.samples !== String(n)) el.dataset.samples = n; }
+
 let lastFrame = 0, lastStatus = 0;
 function frame(now) {
   if (lastFrame) { T.frameIntervals.push(now - lastFrame); if (T.frameIntervals.length > 4000) T.frameIntervals.splice(0, 2000); }
@@ -312,9 +315,10 @@ function frame(now) {
     T.latencies.push(lat); if (T.latencies.length > 4000) T.latencies.splice(0, 2000);
   }
   plots.phase.draw(); plots.poincare.draw(); plots.bif.draw();
-  $("plot-poincare").dataset.samples = plots.poincare.count;
-  $("plot-bif").dataset.samples = plots.bif.count;
+  setSamples("plot-poincare", plots.poincare.count);
+  setSamples("plot-bif", plots.bif.count);
   if (now - lastStatus > 250) { updateStatus(); lastStatus = now; }
+  T.work.push(performance.now() - now); if (T.work.length > 4000) T.work.splice(0, 2000);
   requestAnimationFrame(frame);
 }
 

@@ -65,8 +65,9 @@ export class Scatter {
   grow(x, y) {
     const r = this.range ?? { x0: x, x1: x, y0: y, y1: y };
     for (const g of this.guides) { r.y0 = Math.min(r.y0, g.y); r.y1 = Math.max(r.y1, g.y); }
-    const mx = (Math.max(r.x1, x) - Math.min(r.x0, x)) * 0.1 || Math.abs(x) * 0.05 || 0.1;
-    const my = (Math.max(r.y1, y) - Math.min(r.y0, y)) * 0.1 || Math.abs(y) * 0.05 || 0.1;
+    const g = this.opts.grow ?? 0.1; // margin added when the range grows (fewer full redraws)
+    const mx = (Math.max(r.x1, x) - Math.min(r.x0, x)) * g || Math.abs(x) * 0.05 || 0.1;
+    const my = (Math.max(r.y1, y) - Math.min(r.y0, y)) * g || Math.abs(y) * 0.05 || 0.1;
     this.range = {
       x0: x < r.x0 ? x - mx : r.x0, x1: x > r.x1 ? x + mx : r.x1,
       y0: y < r.y0 ? y - my : r.y0, y1: y > r.y1 ? y + my : r.y1,
@@ -111,11 +112,13 @@ export class Scatter {
     const c = this.ctx, s = this.opts.size;
     c.save();
     c.beginPath(); c.rect(PAD.l, PAD.t, this.w - PAD.l - PAD.r, this.h - PAD.t - PAD.b); c.clip();
-    let n = 0;
+    let n = 0, cur = null;
+    const r = this.range, ax = (this.w - PAD.l - PAD.r) / (r.x1 - r.x0 || 1), ay = (this.h - PAD.t - PAD.b) / (r.y1 - r.y0 || 1);
+    const bx = PAD.l - r.x0 * ax - s / 2, by = this.h - PAD.b + r.y0 * ay - s / 2;
     for (let i = this.drawn; i < this.pts.length; i++, n++) {
-      const [x, y, col] = this.pts[i];
-      c.fillStyle = col;
-      c.fillRect(this.px(x) - s / 2, this.py(y) - s / 2, s, s);
+      const p = this.pts[i];
+      if (p[2] !== cur) c.fillStyle = cur = p[2];
+      c.fillRect(bx + p[0] * ax, by - p[1] * ay, s, s);
     }
     c.restore();
     this.drawn = this.pts.length;
