@@ -75,7 +75,11 @@ static int set_from_json(web_cmd *c, const cJSON *j, char *why, size_t whylen)
         snprintf(why, whylen, "set: 'params' must be an object {name: value, ...}");
         return -1;
     }
-    cJSON_ArrayForEach(e, p) if (add_param(c, e->string, e, why, whylen) != 0) return -1;
+    cJSON_ArrayForEach(e, p)
+    {
+        if (add_param(c, e->string, e, why, whylen) != 0)
+            return -1;
+    }
     const cJSON *at = cJSON_GetObjectItemCaseSensitive(j, "at_section");
     if (at && !cJSON_IsBool(at)) {
         snprintf(why, whylen, "set: 'at_section' must be true or false");
