@@ -68,10 +68,18 @@ export class Scatter {
     const g = this.opts.grow ?? 0.1; // margin added when the range grows (fewer full redraws)
     const mx = (Math.max(r.x1, x) - Math.min(r.x0, x)) * g || Math.abs(x) * 0.05 || 0.1;
     const my = (Math.max(r.y1, y) - Math.min(r.y0, y)) * g || Math.abs(y) * 0.05 || 0.1;
-    this.range = {
+    const n = {
       x0: x < r.x0 ? x - mx : r.x0, x1: x > r.x1 ? x + mx : r.x1,
       y0: y < r.y0 ? y - my : r.y0, y1: y > r.y1 ? y + my : r.y1,
     };
+    // Never a zero-width axis (e.g. every section at one omega): +-2 % around it.
+    for (const [a, b] of [["x0", "x1"], ["y0", "y1"]]) {
+      if (n[b] - n[a] < 1e-9 * Math.abs(n[a]) + 1e-12) {
+        const d = Math.max(Math.abs(n[a]) * 0.02, 0.01);
+        n[a] -= d; n[b] += d;
+      }
+    }
+    this.range = n;
     this.dirty = true;
   }
   px(x) { const r = this.range; return PAD.l + ((x - r.x0) / (r.x1 - r.x0 || 1)) * (this.w - PAD.l - PAD.r); }
