@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Install wormgear's build and test dependencies from Debian 12 packages
-# (README.md, "Dependencies", says why each is there). Idempotent: installs
-# only what is missing. Run as root.
+# (README.md, "Dependencies", says why each is there), and the dashboard's
+# npm packages (web/package-lock.json: uPlot, and the test clients) with
+# `npm ci`. Idempotent: installs only what is missing. Run as root.
 set -euo pipefail
 pkgs=(
   build-essential cmake pkg-config dpkg-dev
@@ -15,6 +16,7 @@ pkgs=(
   xvfb x11-utils tmux
   fonts-dejavu-core
   libopenmpi-dev openmpi-bin
+  libwebsockets-dev libcjson-dev chromium
 )
 missing=()
 for p in "${pkgs[@]}"; do
@@ -25,4 +27,20 @@ if [ ${#missing[@]} -gt 0 ]; then
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq
   apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# Node and npm (the dashboard's packages and its tests): Debian's when the
+# machine has none.
+if ! command -v npm >/dev/null 2>&1; then
+  echo "setup: installing nodejs npm"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends nodejs npm >/dev/null
+fi
+# web/node_modules from the lock file, unless it is already up to date.
+web=$(cd "$(dirname "$0")/../web" && pwd)
+if [ ! -f "$web/node_modules/.package-lock.json" ] ||
+   [ "$web/package-lock.json" -nt "$web/node_modules/.package-lock.json" ]; then
+  echo "setup: npm ci in $web"
+  (cd "$web" && npm ci --no-audit --no-fund --loglevel=error)
 fi

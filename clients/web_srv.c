@@ -1,0 +1,189 @@
+/* web_srv.c - libwebsockets glue: HTTP mount and the Foxglove subprotocol. */
+#include "web_srv.h"
+
+#include <stdio.h>
+#include <string.h>
+
+/* Per-connection data (zeroed by lws). */
+typedef struct srv_conn {
+    struct lws *wsi;
+    int ci;      /* fox client index when open */
+    int open;    /* fox_open succeeded */
+    int kicked;  /* close at the next writable callback */
+    int rx_over; /* the frame being received is over max_frame */
+    jbuf rx;     /* the frame being received */
+} srv_conn;
+
+static srv *srv_of(struct lws *wsi) { return lws_context_user(lws_get_context(wsi)); }
+
+static int on_established(srv *s, srv_conn *c, struct lws *wsi)
+{
+    c->wsi = wsi;
+    jb_init(&c->rx);
+    c->ci = fox_open(s->fox, c);
+    if (c->ci < 0) {
+        static const char msg[] = "too many clients";
+        lws_close_reason(wsi, LWS_CLOSE_STATUS_POLICY_VIOLATION, (unsigned char *)msg,
+                         sizeof msg - 1);
+        return -1;
+    }
+    c->open = 1;
+    return 0;
+}
+
+static void on_receive(srv *s, srv_conn *c, struct lws *wsi, const void *in, size_t len)
+{
+    if (lws_is_first_fragment(wsi)) {
+        jb_reset(&c->rx);
+        c->rx_over = 0;
+    }
+    if (!c->rx_over && jb_len(&c->rx) + len > s->conf.max_frame) {
+        c->rx_over = 1;
+        s->oversized++;
+        s->fox->bad_frames++;
+        fox_status(s->fox, c->ci, 2, "frame over %zu bytes discarded", s->conf.max_frame);
+        jb_free(&c->rx);
+    }
+    if (!c->rx_over)
+        jb_mem(&c->rx, in, len);
+    if (!lws_is_final_fragment(wsi) || lws_remaining_packet_payload(wsi) > 0)
+        return;
+    if (!c->rx_over && !c->rx.oom)
+        fox_rx(s->fox, c->ci, (const unsigned char *)jb_text(&c->rx), jb_len(&c->rx),
+               lws_frame_is_binary(wsi));
+    jb_reset(&c->rx);
+    c->rx_over = 0;
+}
+
+static int on_writeable(srv *s, srv_conn *c, struct lws *wsi)
+{
+    int binary;
+    if (c->kicked)
+        return -1;
+    for (int n = 0; n < 64 && !lws_send_pipe_choked(wsi); n++) {
+        if (!fox_frame(s->fox, c->ci, &s->out, &binary))
+            return 0;
+        size_t len = jb_len(&s->out);
+        unsigned char *p = (unsigned char *)s->out.s + LWS_PRE;
+        if (lws_write(wsi, p, len, binary ? LWS_WRITE_BINARY : LWS_WRITE_TEXT) < (int)len)
+            return -1;
+    }
+    if (fox_has_frames(s->fox, c->ci))
+        lws_callback_on_writable(wsi);
+    return 0;
+}
+
+static int cb_fox(struct lws *wsi, enum lws_callback_reasons reason, void *user, void *in,
+                  size_t len)
+{
+    srv *s = srv_of(wsi);
+    srv_conn *c = user;
+    switch (reason) {
+    case LWS_CALLBACK_ESTABLISHED:
+        return on_established(s, c, wsi);
+    case LWS_CALLBACK_RECEIVE:
+        if (c->open)
+            on_receive(s, c, wsi, in, len);
+        return 0;
+    case LWS_CALLBACK_SERVER_WRITEABLE:
+        return c->open ? on_writeable(s, c, wsi) : -1;
+    case LWS_CALLBACK_CLOSED:
+        if (c->open)
+            fox_close(s->fox, c->ci);
+        c->open = 0;
+        jb_free(&c->rx);
+        return 0;
+    default:
+        return 0;
+    }
+}
+
+/* protocols[0]: HTTP (static files); a WebSocket that asked for no
+ * subprotocol lands here and is refused. */
+static int cb_http(struct lws *wsi, enum lws_callback_reasons reason, void *user, void *in,
+                   size_t len)
+{
+    if (reason == LWS_CALLBACK_ESTABLISHED)
+        return -1;
+    return lws_callback_http_dummy(wsi, reason, user, in, len);
+}
+
+static void lws_log(int level, const char *line)
+{
+    fprintf(stderr, "wgweb: lws%s: %s", level == LLL_ERR ? " error" : "", line);
+}
+
+static void fill_info(srv *s, struct lws_context_creation_info *info, struct ev_loop *loop)
+{
+    s->protos[0] = (struct lws_protocols){"http", cb_http, 0, 0, 0, NULL, 0};
+    s->protos[1] = (struct lws_protocols){"foxglove.websocket.v1", cb_fox, sizeof(srv_conn),
+                                          4096, 0, NULL, 0};
+    memset(&s->mount, 0, sizeof s->mount);
+    s->mount.mountpoint = "/";
+    s->mount.mountpoint_len = 1;
+    s->mount.origin = s->root;
+    s->mount.def = "index.html";
+    s->mount.origin_protocol = LWSMPRO_FILE;
+    s->loops[0] = loop;
+    memset(info, 0, sizeof *info);
+    info->port = s->conf.port;
+    info->iface = s->conf.iface;
+    info->protocols = s->protos;
+    info->mounts = &s->mount;
+    info->options = LWS_SERVER_OPTION_LIBEV |
+                    LWS_SERVER_OPTION_HTTP_HEADERS_SECURITY_BEST_PRACTICES_ENFORCE;
+    if (!strchr(s->conf.iface, ':'))
+        info->options |= LWS_SERVER_OPTION_DISABLE_IPV6;
+    info->foreign_loops = s->loops;
+    info->user = s;
+    info->vhost_name = "wgweb";
+}
+
+int srv_init(srv *s, struct ev_loop *loop, const srv_conf *conf, fox *f, char *why,
+             size_t whylen)
+{
+    struct lws_context_creation_info info;
+    memset(s, 0, sizeof *s);
+    s->conf = *conf;
+    s->fox = f;
+    snprintf(s->root, sizeof s->root, "%s", conf->web_root);
+    jb_init_pre(&s->out, LWS_PRE);
+    lws_set_log_level(LLL_ERR | LLL_WARN, lws_log);
+    fill_info(s, &info, loop);
+    s->ctx = lws_create_context(&info);
+    if (!s->ctx) {
+        snprintf(why, whylen, "cannot listen on %s port %d (in use, or not an address here)",
+                 conf->iface, conf->port);
+        jb_free(&s->out);
+        return -1;
+    }
+    struct lws_vhost *vh = lws_get_vhost_by_name(s->ctx, "wgweb");
+    s->port = vh ? lws_get_vhost_listen_port(vh) : conf->port;
+    return 0;
+}
+
+void srv_fini(srv *s)
+{
+    if (s->ctx)
+        lws_context_destroy(s->ctx);
+    s->ctx = NULL;
+    jb_free(&s->out);
+}
+
+void srv_wake(srv *s, void *conn)
+{
+    (void)s;
+    srv_conn *c = conn;
+    if (c && c->wsi)
+        lws_callback_on_writable(c->wsi);
+}
+
+void srv_kick(srv *s, void *conn)
+{
+    srv_conn *c = conn;
+    (void)s;
+    if (c && c->wsi) {
+        c->kicked = 1;
+        lws_callback_on_writable(c->wsi);
+    }
+}

@@ -1,0 +1,337 @@
+/* test_webcore.c - wgweb's transport-independent core: the JSON buffer,
+ * drop-oldest queues, scope decimation and rate caps, JSON commands, and
+ * the Foxglove protocol engine against a fake transport: every class of
+ * bad client input gets a status error on that client only. */
+#include <cjson/cJSON.h>
+
+#include "test.h"
+#include "web_cmd.h"
+#include "web_fox.h"
+#include "web_json.h"
+#include "web_queue.h"
+#include "web_thin.h"
+
+/* ---- a fake transport and daemon */
+typedef struct fake {
+    int wakes, kicks, cmds;
+    wormgear_cmd_t last; /* shallow: valid during the hook only */
+    char last_op[16], last_name0[48];
+    double last_v0;
+    int last_n, last_at_section;
+} fake;
+
+static void f_wake(void *ctx, void *conn) { (void)conn, ((fake *)ctx)->wakes++; }
+static void f_kick(void *ctx, void *conn) { (void)conn, ((fake *)ctx)->kicks++; }
+static int64_t f_cmd(void *ctx, wormgear_cmd_t *c)
+{
+    fake *k = ctx;
+    snprintf(k->last_op, sizeof k->last_op, "%s", c->op);
+    k->last_n = c->nparams;
+    k->last_at_section = c->at_section;
+    snprintf(k->last_name0, sizeof k->last_name0, "%s", c->nparams ? c->names[0] : "");
+    k->last_v0 = c->nparams ? c->values[0] : 0;
+    return ++k->cmds;
+}
+
+static msg_schemas schemas;
+static fox F;
+static fake K;
+
+static void setup(int allow)
+{
+    memset(&K, 0, sizeof K);
+    ASSERT_EQ_INT(msg_schemas_init(&schemas), 0);
+    fox_conf c = {.name = "test", .prefix = "T_", .url = "memq://", .allow_commands = allow,
+                  .max_clients = 2, .queue_len = 8, .queue_bytes = 1 << 20, .ack_timeout_s = 1,
+                  .schemas = &schemas};
+    fox_hooks h = {.ctx = &K, .wake = f_wake, .kick = f_kick, .command = f_cmd};
+    ASSERT_EQ_INT(fox_init(&F, &c, &h), 0);
+}
+
+static void teardown(void)
+{
+    fox_fini(&F);
+    msg_schemas_fini(&schemas);
+}
+
+/* Drain client ci's frames; returns the concatenated text frames (static). */
+static const char *drain(int ci, int *nbinary)
+{
+    static jbuf all;
+    jbuf out;
+    int bin, nb = 0;
+    jb_free(&all);
+    jb_init_pre(&out, 16);
+    while (fox_frame(&F, ci, &out, &bin)) {
+        if (bin)
+            nb++;
+        else
+            jb_raw(&all, jb_text(&out)), jb_raw(&all, "\n");
+    }
+    jb_free(&out);
+    if (nbinary)
+        *nbinary = nb;
+    return jb_text(&all);
+}
+
+static void rx(int ci, const char *text) { fox_rx(&F, ci, (const unsigned char *)text, strlen(text), 0); }
+
+/* ---- tests */
+
+static void test_jbuf(void)
+{
+    jbuf b;
+    jb_init_pre(&b, 8);
+    jb_raw(&b, "{");
+    jb_key(&b, "a"), jb_num(&b, 0.1);
+    jb_key(&b, "s"), jb_str(&b, "q\"\\\n");
+    jb_key(&b, "n"), jb_num(&b, NAN);
+    jb_key(&b, "l"), jb_raw(&b, "[");
+    jb_item(&b), jb_int(&b, 1);
+    jb_item(&b), jb_bool(&b, 0);
+    jb_raw(&b, "]}");
+    ASSERT_STR(jb_text(&b), "{\"a\":0.10000000000000001,\"s\":\"q\\\"\\\\\\u000a\",\"n\":null,\"l\":[1,false]}");
+    cJSON *j = cJSON_Parse(jb_text(&b));
+    ASSERT_TRUE(j != NULL);
+    cJSON_Delete(j);
+    jb_free(&b);
+}
+
+static void test_queue_drops_oldest(void)
+{
+    wq q;
+    ASSERT_EQ_INT(wq_init(&q, 4, 1000), 0);
+    size_t dropped = 0;
+    for (int i = 0; i < 10; i++) {
+        char t[8];
+        snprintf(t, sizeof t, "%d", i);
+        wq_msg *m = wq_msg_new(t, strlen(t));
+        dropped += wq_push(&q, (wq_item){.m = m, .kind = WQ_DATA});
+        wq_msg_unref(m);
+    }
+    ASSERT_EQ_INT(dropped, 6);
+    ASSERT_EQ_INT(q.dropped, 6);
+    wq_item it;
+    ASSERT_TRUE(wq_pop(&q, &it));
+    ASSERT_STR((const char *)it.m->data, "6"); /* the newest four kept */
+    wq_msg_unref(it.m);
+    wq_fini(&q);
+    ASSERT_EQ_INT(wq_init(&q, 100, 10), 0); /* the byte bound */
+    wq_msg *big = wq_msg_new("0123456789ab", 12);
+    ASSERT_EQ_INT(wq_push(&q, (wq_item){.m = big, .kind = WQ_DATA}), 1);
+    ASSERT_EQ_INT(q.count, 0);
+    wq_msg_unref(big);
+    wq_fini(&q);
+}
+
+static void test_thin_scope_stride(void)
+{
+    thin_scope t;
+    thin_scope_init(&t, 300);
+    int kept = 0;
+    for (int i = 0; i < 2000; i++) /* one second at 2000 samples/s, decimation 800 */
+        kept += thin_scope_keep(&t, 800LL * i, 800);
+    ASSERT_EQ_INT(kept, 2000); /* no rate known yet: everything */
+    thin_scope_second(&t, 1.0);
+    ASSERT_EQ_INT(t.stride_steps, 7 * 800);
+    kept = 0;
+    for (int i = 2000; i < 4000; i++)
+        kept += thin_scope_keep(&t, 800LL * i, 800);
+    ASSERT_TRUE(kept <= 300 && kept >= 280);
+    ASSERT_EQ_INT(thin_scope_keep(&t, 0, 800), 1); /* step going back: restart */
+}
+
+static void test_thin_rate_cap(void)
+{
+    thin_rate t;
+    thin_rate_init(&t, 500, 1);
+    for (int s = 0; s < 3; s++) {
+        for (int i = 0; i < 5000; i++)
+            thin_rate_keep(&t, s + i / 5000.0);
+        thin_rate_second(&t, 1.0);
+    }
+    ASSERT_TRUE(t.kept > 1000 && t.kept < 1700); /* ~500/s after the first second */
+    ASSERT_EQ_INT(t.kept + t.thinned, 15000);
+}
+
+static void test_cmd_json(void)
+{
+    web_cmd c;
+    char why[256];
+    cJSON *j = cJSON_Parse("{\"op\":\"ramp\",\"param\":\"omega\",\"to\":1.5,\"duration\":2,\"from\":0.5}");
+    ASSERT_EQ_INT(web_cmd_from_json(&c, j, why, sizeof why), 0);
+    ASSERT_STR(c.cmd.op, "ramp");
+    ASSERT_STR(c.cmd.names[0], "omega");
+    ASSERT_NEAR(c.cmd.values[0], 1.5, 0);
+    ASSERT_EQ_INT(c.cmd.has_from, 1);
+    ASSERT_STR(c.cmd.unit, "s");
+    cJSON_Delete(j);
+    const char *bad[] = {"[]", "{}", "{\"op\":7}", "{\"op\":\"fly\"}", "{\"op\":\"set\"}",
+                         "{\"op\":\"set\",\"params\":{\"omega\":\"x\"}}",
+                         "{\"op\":\"ramp\",\"param\":\"omega\"}", "{\"op\":\"step\",\"nsteps\":0}",
+                         "{\"op\":\"save\"}", "{\"op\":\"set\",\"params\":{\"omega\":1},\"at_section\":3}"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        j = cJSON_Parse(bad[i]);
+        why[0] = '\0';
+        ASSERT_EQ_INT(web_cmd_from_json(&c, j, why, sizeof why), -1);
+        ASSERT_TRUE(why[0] != '\0');
+        cJSON_Delete(j);
+    }
+}
+
+static void test_open_info_advertise(void)
+{
+    setup(0);
+    int ci = fox_open(&F, (void *)1);
+    ASSERT_EQ_INT(ci, 0);
+    const char *t = drain(ci, NULL);
+    ASSERT_CONTAINS(t, "\"op\":\"serverInfo\"");
+    ASSERT_CONTAINS(t, "\"capabilities\":[\"parameters\",\"parametersSubscribe\",\"time\"]");
+    ASSERT_CONTAINS(t, "\"topic\":\"/scope\"");
+    ASSERT_CONTAINS(t, "\"schemaEncoding\":\"jsonschema\"");
+    ASSERT_TRUE(fox_open(&F, (void *)2) == 1);
+    ASSERT_TRUE(fox_open(&F, (void *)3) == -1); /* max_clients 2 */
+    teardown();
+}
+
+/* Each bad input: a status error on that client, the other one untouched. */
+static void test_bad_inputs(void)
+{
+    static const char *const bad[] = {
+        "not json at all", "[1,2]", "{\"op\":3}", "{\"nop\":\"x\"}", "{\"op\":\"dance\"}",
+        "{\"op\":\"subscribe\",\"subscriptions\":[{\"id\":1,\"channelId\":99}]}",
+        "{\"op\":\"subscribe\",\"subscriptions\":[{\"id\":-1,\"channelId\":3}]}",
+        "{\"op\":\"subscribe\",\"subscriptions\":\"x\"}",
+        "{\"op\":\"unsubscribe\",\"subscriptionIds\":[42]}",
+        "{\"op\":\"setParameters\",\"parameters\":[{\"name\":\"omega\",\"value\":1.3}]}",
+        "{\"op\":\"advertise\",\"channels\":[{\"id\":1,\"topic\":\"/cmd\",\"encoding\":\"json\"}]}",
+        "{\"op\":\"getParameters\",\"parameterNames\":7}"};
+    setup(0);
+    int a = fox_open(&F, (void *)1), b = fox_open(&F, (void *)2);
+    drain(a, NULL), drain(b, NULL);
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        rx(a, bad[i]);
+        const char *t = drain(a, NULL);
+        if (!strstr(t, "\"level\":2"))
+            TEST_FAIL_("no status error for %s: %s", bad[i], t);
+    }
+    const unsigned char garbage[] = {0x01, 0, 0, 0, 9, '{', '}'}, svc[] = {0x02, 1, 2}, odd[] = {0x7f};
+    fox_rx(&F, a, garbage, sizeof garbage, 1);
+    fox_rx(&F, a, svc, sizeof svc, 1);
+    fox_rx(&F, a, odd, sizeof odd, 1);
+    fox_rx(&F, a, odd, 0, 1);
+    const char *t = drain(a, NULL);
+    ASSERT_CONTAINS(t, "clientPublish needs wgweb --allow-commands");
+    ASSERT_CONTAINS(t, "services are not supported");
+    ASSERT_CONTAINS(t, "unknown opcode");
+    ASSERT_CONTAINS(t, "empty");
+    ASSERT_EQ_INT(K.cmds, 0); /* nothing reached the daemon */
+    ASSERT_STR(drain(b, NULL), ""); /* the other client saw nothing */
+    teardown();
+}
+
+static void test_subscribe_publish_drop(void)
+{
+    int nb;
+    setup(0);
+    int a = fox_open(&F, (void *)1), b = fox_open(&F, (void *)2);
+    drain(a, NULL), drain(b, NULL);
+    rx(a, "{\"op\":\"subscribe\",\"subscriptions\":[{\"id\":7,\"channelId\":3}]}");
+    rx(a, "{\"op\":\"subscribe\",\"subscriptions\":[{\"id\":7,\"channelId\":4}]}"); /* id reused */
+    ASSERT_CONTAINS(drain(a, NULL), "already in use");
+    ASSERT_TRUE(fox_wanted(&F, MSG_SCOPE) && !fox_wanted(&F, MSG_POINCARE));
+    for (int i = 0; i < 20; i++)
+        fox_publish(&F, MSG_SCOPE, "{\"x_n\":1}", 9, 1000 + i);
+    ASSERT_EQ_INT(F.queue_drops, 12); /* queue_len 8: a stalled reader keeps the newest 8 */
+    jbuf out;
+    int bin;
+    jb_init_pre(&out, 16);
+    ASSERT_TRUE(fox_frame(&F, a, &out, &bin) && bin);
+    const unsigned char *p = (const unsigned char *)jb_text(&out);
+    ASSERT_EQ_INT(p[0], 1);
+    ASSERT_EQ_INT(p[1], 7);          /* subscription id, little-endian */
+    ASSERT_EQ_INT(p[5] | p[6] << 8, 1000 + 12); /* timestamp of the oldest kept */
+    ASSERT_EQ_INT(jb_len(&out), 13 + 9);
+    jb_free(&out);
+    drain(a, &nb);
+    ASSERT_EQ_INT(nb, 7);
+    ASSERT_STR(drain(b, &nb), ""); /* b never subscribed */
+    ASSERT_EQ_INT(nb, 0);
+    rx(a, "{\"op\":\"unsubscribe\",\"subscriptionIds\":[7]}");
+    ASSERT_TRUE(!fox_wanted(&F, MSG_SCOPE));
+    teardown();
+}
+
+static wormgear_params_t *params_msg(double omega)
+{
+    static char *names[] = {"omega", "xi_p"}, *units[] = {"1", "1"};
+    static double value[2], mn[] = {0.01, 0}, mx[] = {10, 2}, def[] = {1, 0.08};
+    static int8_t ramp[] = {1, 0};
+    static wormgear_params_t m;
+    value[0] = omega, value[1] = 0.08;
+    m.n = 2, m.name = names, m.unit = units, m.value = value, m.min = mn, m.max = mx;
+    m.def = def, m.rampable = ramp;
+    return &m;
+}
+
+static void test_parameters(void)
+{
+    setup(1);
+    int a = fox_open(&F, (void *)1);
+    ASSERT_CONTAINS(drain(a, NULL), "\"clientPublish\"],\"supportedEncodings\":[\"json\"]");
+    fox_params(&F, params_msg(1.0));
+    rx(a, "{\"op\":\"getParameters\",\"parameterNames\":[],\"id\":\"g\"}");
+    ASSERT_CONTAINS(drain(a, NULL), "{\"name\":\"omega\",\"value\":1,\"type\":\"float64\"}");
+    rx(a, "{\"op\":\"subscribeParameterUpdates\",\"parameterNames\":[\"omega\"]}");
+    rx(a, "{\"op\":\"setParameters\",\"parameters\":[{\"name\":\"omega\",\"value\":12}],\"id\":\"s\"}");
+    ASSERT_STR(K.last_op, "set");
+    ASSERT_STR(K.last_name0, "omega");
+    wormgear_ack_t ack = {.client = "me", .cmd_seq = K.cmds, .op = "set", .accepted = 0,
+                          .code = "ERANGE", .message = "omega = 12 out of range [0.01, 10]"};
+    char id[64];
+    ASSERT_EQ_INT(fox_ack_owner(&F, &ack, "me", id, sizeof id), F.cl[a].id);
+    ASSERT_STR(id, "s");
+    fox_ack(&F, &ack, "me");
+    const char *t = drain(a, NULL);
+    ASSERT_CONTAINS(t, "ERANGE omega = 12 out of range [0.01, 10]");
+    ASSERT_CONTAINS(t, "\"value\":1,\"type\":\"float64\"}],\"id\":\"s\"");
+    fox_params(&F, params_msg(1.3)); /* pushed to the subscriber */
+    ASSERT_CONTAINS(drain(a, NULL), "{\"name\":\"omega\",\"value\":1.3");
+    fox_params(&F, params_msg(1.3)); /* unchanged: nothing */
+    ASSERT_STR(drain(a, NULL), "");
+    rx(a, "{\"op\":\"setParameters\",\"parameters\":[{\"name\":\"omega\",\"value\":2}],\"id\":\"t\"}");
+    fox_tick(&F, 5.0); /* no ACK: a status error and the current value */
+    ASSERT_CONTAINS(drain(a, NULL), "no ACK from the daemon");
+    teardown();
+}
+
+static void test_client_publish(void)
+{
+    setup(1);
+    int a = fox_open(&F, (void *)1);
+    drain(a, NULL);
+    rx(a, "{\"op\":\"advertise\",\"channels\":[{\"id\":5,\"topic\":\"/cmd\",\"encoding\":\"json\",\"schemaName\":\"c\"}]}");
+    rx(a, "{\"op\":\"advertise\",\"channels\":[{\"id\":6,\"topic\":\"/other\",\"encoding\":\"json\"}]}");
+    ASSERT_CONTAINS(drain(a, NULL), "only topic '/cmd'");
+    unsigned char fr[128] = {0x01, 5, 0, 0, 0};
+    const char *body = "{\"op\":\"set\",\"params\":{\"omega\":1.2},\"at_section\":true,\"id\":\"x\"}";
+    memcpy(fr + 5, body, strlen(body));
+    fox_rx(&F, a, fr, 5 + strlen(body), 1);
+    ASSERT_STR(K.last_op, "set");
+    ASSERT_EQ_INT(K.last_at_section, 1);
+    ASSERT_NEAR(K.last_v0, 1.2, 0);
+    memcpy(fr + 5, "{oops", 5);
+    fox_rx(&F, a, fr, 10, 1);
+    fr[1] = 9; /* unknown client channel */
+    fox_rx(&F, a, fr, 10, 1);
+    const char *t = drain(a, NULL);
+    ASSERT_CONTAINS(t, "the payload is not JSON");
+    ASSERT_CONTAINS(t, "unknown client channel id");
+    ASSERT_EQ_INT(K.cmds, 1);
+    teardown();
+}
+
+TEST_MAIN(TEST(test_jbuf), TEST(test_queue_drops_oldest), TEST(test_thin_scope_stride),
+          TEST(test_thin_rate_cap), TEST(test_cmd_json), TEST(test_open_info_advertise),
+          TEST(test_bad_inputs), TEST(test_subscribe_publish_drop), TEST(test_parameters),
+          TEST(test_client_publish))

@@ -1,0 +1,64 @@
+// browser.mjs URL [SCREENSHOT.png] - headless Chromium (Debian's, through
+// playwright-core) opens the dashboard served by a live wgweb: waits for
+// data, checks every plot holds samples (data-samples), ramps omega with the
+// ramp control and then sets omega = 1.2 with the set control, checks the
+// daemon's PARAMS (as the page received it) show 1.2, and keeps a
+// screenshot. Prints "ok ..." lines; exit 0 on success, 1 on a failure.
+import { chromium } from "playwright-core";
+import assert from "node:assert/strict";
+
+const url = process.argv[2].replace(/^ws/, "http");
+const shot = process.argv[3] ?? `${process.env.WG_OUT ?? "."}/dashboard.png`;
+const exe = process.env.CHROMIUM ?? "/usr/bin/chromium";
+const browser = await chromium.launch({
+  executablePath: exe,
+  args: ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync"],
+});
+let status = 0;
+try {
+  const page = await browser.newPage({ viewport: { width: 1400, height: 1250 } });
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(String(e)));
+  page.on("console", (m) => m.type() === "error" && errors.push(m.text()));
+  await page.goto(url);
+  const samples = (id) => page.$eval(id, (el) => +el.dataset.samples);
+  await page.waitForFunction(() => window.wgTest?.params && window.wgTest.scope > 50 && window.wgTest.poincare > 20,
+    null, { timeout: 15000 });
+  for (const id of ["#plot-xn", "#plot-f", "#plot-phase", "#plot-poincare"])
+    await page.waitForFunction((s) => +document.querySelector(s).dataset.samples > 0, id, { timeout: 5000 });
+  console.log(`ok data: x_n ${await samples("#plot-xn")} samples, poincare ${await samples("#plot-poincare")} points`);
+
+  // Ramp omega 0.5 -> 1.6 with the ramp control (first jump to 0.5 with set).
+  await page.selectOption("#set-name", "omega");
+  await page.fill("#set-value", "0.5");
+  await page.click("#set-btn");
+  await page.waitForFunction(() => window.wgTest.params.values.omega === 0.5, null, { timeout: 5000 });
+  await page.selectOption("#ramp-name", "omega");
+  await page.fill("#ramp-to", "1.6");
+  await page.fill("#ramp-dur", process.env.RAMP_S ?? "3");
+  await page.click("#ramp-btn");
+  await page.waitForFunction(() => window.wgTest.acks.some((a) => a.op === "ramp" && a.accepted), null, { timeout: 5000 });
+  await page.waitForFunction(() => window.wgTest.params.reason === "ramp-end" || window.wgTest.params.values.omega >= 1.6,
+    null, { timeout: 30000 });
+  const bif = await samples("#plot-bif");
+  assert.ok(bif > 200, `bifurcation diagram holds ${bif} points`);
+  console.log(`ok ramp: bifurcation diagram ${bif} points`);
+
+  // Set omega = 1.2 with the control; the daemon's PARAMS must show it.
+  await page.fill("#set-value", "1.2");
+  await page.click("#set-btn");
+  await page.waitForFunction(() => window.wgTest.params.values.omega === 1.2, null, { timeout: 5000 });
+  await page.waitForFunction(() => /omega.*OK|set: OK/.test(document.querySelector("#cmd-result").textContent), null, { timeout: 5000 });
+  console.log(`ok set: daemon PARAMS omega = 1.2, result line "${await page.textContent("#cmd-result")}"`);
+  await page.waitForTimeout(+(process.env.SETTLE_MS ?? 2500));
+  await page.screenshot({ path: shot, fullPage: true });
+  console.log(`ok screenshot ${shot}`);
+  assert.deepEqual(errors, [], "no page errors");
+} catch (e) {
+  console.log("FAIL", e.message);
+  status = 1;
+} finally {
+  await browser.close();
+}
+process.exit(status);
