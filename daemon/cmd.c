@@ -14,7 +14,8 @@
 #include <stdio.h>
 #include <string.h>
 
-enum { CMD_PENDING = 1, ACK_TEXT = 640 }; /* ACK_TEXT: room for an ACK's message */
+enum { CMD_PENDING = 1, ACK_TEXT = 640, /* ACK_TEXT: room for an ACK's message */
+       CMD_QUEUE = 16384 };                 /* CMD/TICK messages LCM may hold for us */
 #define STEP_MAX 1e12
 
 typedef int (*op_fn)(wgd *d, const wormgear_cmd_t *c, char *why, size_t len);
@@ -33,12 +34,19 @@ static const char *clean(const char *s, char *out, size_t n)
 
 /* ---- ACK ------------------------------------------------------------------ */
 
+/* At most n - 1 bytes of s, byte for byte (what an ACK echoes). */
+static const char *echo(const char *s, char *out, size_t n)
+{
+    snprintf(out, n, "%s", s ? s : "");
+    return out;
+}
+
 static void ack(wgd *d, const char *client, int64_t seq, const char *op, int rc,
                 const char *msg)
 {
-    char cl[72], o[24];
-    wormgear_ack_t a = {.client = (char *)clean(client, cl, sizeof cl), .cmd_seq = seq,
-                        .op = (char *)clean(op, o, sizeof o), .accepted = rc == WG_OK,
+    char cl[WIRE_MAX_CLIENT + 1], o[33];
+    wormgear_ack_t a = {.client = (char *)echo(client, cl, sizeof cl), .cmd_seq = seq,
+                        .op = (char *)echo(op, o, sizeof o), .accepted = rc == WG_OK,
                         .status = rc, .code = (char *)wg_status_name(rc),
                         .message = (char *)msg, .tau = d->sim.tau,
                         .t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau),
@@ -197,24 +205,34 @@ uint64_t cmd_run(wgd *d, uint64_t n)
 }
 
 /* Ramp duration in tau from the command's duration and unit. */
+/* Ramp duration in tau from the command's duration and unit, inside the
+ * library's [WG_RAMP_TAU_MIN, WG_RAMP_TAU_MAX], the limits said in the
+ * command's own unit. */
 static int ramp_duration(const wgd *d, const wormgear_cmd_t *c, double *dur, char *why,
                          size_t len)
 {
-    char u[16];
-    if (strcmp(c->unit, "s") && strcmp(c->unit, "tau")) {
+    char u[16], v[32], lo[32], hi[32];
+    int secs = !strcmp(c->unit, "s");
+    if (!secs && strcmp(c->unit, "tau")) {
         snprintf(why, len, "ramp unit '%s' must be s (simulated seconds) or tau",
                  clean(c->unit, u, sizeof u));
         return WG_EINVAL;
     }
-    *dur = c->unit[0] == 's' ? c->duration * d->scene.scale.omega_n_rad_s : c->duration;
-    if (!(*dur > 0) || !isfinite(*dur) || *dur > 1e15) {
-        snprintf(why, len, "ramp duration %g %s must be finite and > 0", c->duration, c->unit);
+    double per = secs ? d->scene.scale.omega_n_rad_s : 1.0; /* tau per unit */
+    *dur = c->duration * per;
+    if (!(*dur >= WG_RAMP_TAU_MIN && *dur <= WG_RAMP_TAU_MAX)) {
+        snprintf(why, len, "ramp duration %s %s out of range [%s, %s] %s%s",
+                 wg_num_format(c->duration, v, sizeof v), c->unit,
+                 wg_num_format(WG_RAMP_TAU_MIN / per, lo, sizeof lo),
+                 wg_num_format(WG_RAMP_TAU_MAX / per, hi, sizeof hi), c->unit,
+                 secs ? " (1e-06 to 1e+15 tau)" : "");
         return WG_ERANGE;
     }
     return WG_OK;
 }
 
-/* Validate everything the sim does not: count, name, unit, values. */
+/* Validate what is the command's own: count, name, unit and duration; the
+ * values (both ends, the stability limit) are wg_sim_ramp's. */
 static int ramp_check(wgd *d, const wormgear_cmd_t *c, int *id, double *dur, char *why,
                       size_t len)
 {
@@ -226,13 +244,7 @@ static int ramp_check(wgd *d, const wormgear_cmd_t *c, int *id, double *dur, cha
     if ((rc = lookup_all(c, ids, why, len)) || (rc = ramp_duration(d, c, dur, why, len)))
         return rc;
     *id = ids[0];
-    if (!(wg_param_info_get(*id)->flags & WG_PF_RAMP)) {
-        snprintf(why, len, "%s cannot be ramped (geometry); use set", c->names[0]);
-        return WG_EINVAL;
-    }
-    if ((rc = wg_param_check(*id, c->values[0], why, len)))
-        return rc;
-    return c->has_from ? wg_param_check(*id, c->from, why, len) : WG_OK;
+    return WG_OK;
 }
 
 static int op_ramp(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
@@ -314,7 +326,7 @@ static int op_step(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
                    .seq = c->seq};
     snprintf(j->client, sizeof j->client, "%s", c->client);
     snprintf(j->op, sizeof j->op, "%s", c->op);
-    cmd_step_progress(d, 200000); /* small steps answer at once; the rest from the loop */
+    cmd_step_progress(d, 1000); /* small steps answer at once; the rest from the loop */
     return CMD_PENDING;
 }
 
@@ -448,7 +460,7 @@ static void dispatch(wgd *d, const wormgear_cmd_t *c)
  * header survived. */
 static void undecodable(wgd *d, const void *buf, size_t len, const char *reason)
 {
-    char client[65], msg[400];
+    char client[WIRE_MAX_CLIENT + 1], msg[400];
     int64_t seq;
     wire_cmd_header(buf, len, client, sizeof client, &seq);
     snprintf(msg, sizeof msg, "undecodable CMD message (%zu bytes): %s%s", len, reason,
@@ -464,7 +476,7 @@ void cmd_handle(wgd *d, const void *buf, size_t len)
         undecodable(d, buf, len, "too large");
         return;
     }
-    if (wire_cmd_check(buf, len, why, sizeof why)) { /* decode only what decodes whole */
+    if (wire_cmd_check(buf, len, NULL, why, sizeof why)) { /* decode only what decodes whole */
         undecodable(d, buf, len, why);
         return;
     }
@@ -476,13 +488,63 @@ void cmd_handle(wgd *d, const void *buf, size_t len)
     wormgear_cmd_t_decode_cleanup(&c);
 }
 
+/* Copy the message into the inbox and give LCM its buffer back at once;
+ * cmd_process handles it. Too large to queue: answered now (cheap). */
 static void on_cmd(const lcm_recv_buf_t *rb, const char *channel, void *user)
 {
     (void)channel;
-    cmd_handle(user, rb->data, rb->data_size);
+    wgd *d = user;
+    if (rb->data_size > INBOX_MSG_MAX) {
+        char why[96];
+        snprintf(why, sizeof why, "message of %u bytes, the limit is %d", rb->data_size,
+                 INBOX_MSG_MAX);
+        undecodable(d, rb->data, rb->data_size, why);
+    } else if (inbox_push(&d->in, rb->data, rb->data_size)) {
+        log_msg(&d->log, LOG_WARNING, "CMD message dropped: the inbox is full (%d bytes); "
+                "counted in STATUS cmds_dropped", INBOX_BYTES);
+    }
 }
 
-/* External lockstep tick: advance nsteps, no ACK. */
+int cmd_process(wgd *d, int64_t budget_ns)
+{
+    int64_t end = log_now_ns() + budget_ns;
+    int n = 0;
+    size_t len;
+    while (inbox_pop(&d->in, d->cmdbuf, &len)) {
+        cmd_handle(d, d->cmdbuf, len);
+        n++;
+        if (log_now_ns() >= end)
+            break;
+    }
+    return n;
+}
+
+/* TICK seq: a gap up to TICK_GAP_MAX is messages lost; a larger jump, or
+ * one backwards, is a new or restarted sender (counted apart, never added
+ * to drops). Wrap-safe: seq is any int64, INT64_MAX included. */
+enum { TICK_GAP_MAX = 100000 };
+#define TICK_OWED_MAX 1e9 /* steps owed to TICKs beyond this are refused */
+
+static void tick_seq(wgd *d, int64_t seq)
+{
+    stats *s = &d->stat;
+    uint64_t gap = (uint64_t)seq - s->tick_seq_next;
+    if (s->tick_seen && gap != 0) {
+        if (gap <= TICK_GAP_MAX) {
+            s->drops += gap;
+        } else {
+            s->tick_senders++;
+            log_msg(&d->log, LOG_NOTICE, "TICK seq jumped to %" PRId64 " (expected %" PRId64
+                    "): counted as a new sender, not as lost ticks", seq,
+                    (int64_t)s->tick_seq_next);
+        }
+    }
+    s->tick_seq_next = (uint64_t)seq + 1;
+    s->tick_seen = 1;
+}
+
+/* External lockstep tick: owe nsteps, run by the loop in bounded chunks
+ * (cmd_tick_progress); no ACK. */
 static void on_tick(const lcm_recv_buf_t *rb, const char *channel, void *user)
 {
     (void)channel;
@@ -495,9 +557,7 @@ static void on_tick(const lcm_recv_buf_t *rb, const char *channel, void *user)
         return;
     }
     wormgear_tick_t_decode_cleanup(&t); /* no dynamic members */
-    if (d->stat.tick_seq_next >= 0 && t.seq > d->stat.tick_seq_next)
-        d->stat.drops += (uint64_t)(t.seq - d->stat.tick_seq_next);
-    d->stat.tick_seq_next = t.seq + 1;
+    tick_seq(d, t.seq);
     if (d->conf.mode != MODE_LOCKSTEP || d->run != RUN_RUNNING || d->step.active)
         return;
     if (t.nsteps < 1 || t.nsteps > 10000000) {
@@ -505,18 +565,43 @@ static void on_tick(const lcm_recv_buf_t *rb, const char *channel, void *user)
                 t.nsteps);
         return;
     }
-    cmd_run(d, (uint64_t)t.nsteps);
+    if ((double)d->owed.ticks + (double)t.nsteps > TICK_OWED_MAX) {
+        d->stat.drops++;
+        log_msg(&d->log, LOG_WARNING, "TICK of %" PRId64 " steps ignored: %" PRIu64 " steps "
+                "from earlier ticks still to run (limit %g)", t.nsteps, d->owed.ticks,
+                TICK_OWED_MAX);
+        return;
+    }
+    d->owed.ticks += (uint64_t)t.nsteps;
+}
+
+uint64_t cmd_tick_progress(wgd *d, uint64_t max)
+{
+    if (d->conf.mode != MODE_LOCKSTEP || d->run != RUN_RUNNING || d->step.active) {
+        d->owed.ticks = 0; /* the run stopped or changed mode: owed ticks lapse */
+        return 0;
+    }
+    uint64_t n = d->owed.ticks < max ? d->owed.ticks : max, done = cmd_run(d, n);
+    d->owed.ticks = done < n ? 0 : d->owed.ticks - done;
+    return done;
 }
 
 int cmd_init(wgd *d)
 {
+    if (inbox_init(&d->in, INBOX_BYTES)) {
+        snprintf(d->init_why, sizeof d->init_why, "out of memory for the command inbox");
+        return WG_ENOMEM;
+    }
     lcm_subscription_t *a = lcm_subscribe(d->io.lcm, d->io.ch[CH_CMD], on_cmd, d);
     lcm_subscription_t *b = lcm_subscribe(d->io.lcm, d->io.ch[CH_TICK], on_tick, d);
     if (!a || !b) {
         snprintf(d->init_why, sizeof d->init_why, "LCM: cannot subscribe %s", d->io.ch[CH_CMD]);
         return WG_EIO;
     }
-    lcm_subscription_set_queue_capacity(a, 256);
+    /* room for a burst (PROTOCOL.md: 2,000 commands at once are all
+     * answered); what the kernel still drops is counted (rx_dropped) */
+    lcm_subscription_set_queue_capacity(a, CMD_QUEUE);
+    lcm_subscription_set_queue_capacity(b, CMD_QUEUE);
     return WG_OK;
 }
 
@@ -524,4 +609,5 @@ void cmd_fini(wgd *d)
 {
     cmd_step_cancel(d, WG_ESTATE, "cancelled: the daemon is stopping");
     sync_cancel(d, WG_ESTATE, "set at the next section cancelled: the daemon is stopping");
+    inbox_fini(&d->in);
 }

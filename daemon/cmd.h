@@ -21,7 +21,11 @@ int cmd_init(struct wgd *d);
 /* Nothing to release (subscriptions end with the lcm instance). */
 void cmd_fini(struct wgd *d);
 
-/* Handle one raw CMD payload (the subscription calls this; tests may too). */
+/* Handle the commands waiting in the inbox, oldest first, until it is
+ * empty or budget_ns has passed; returns how many were handled. */
+int cmd_process(struct wgd *d, int64_t budget_ns);
+
+/* Handle one raw CMD payload (cmd_process calls this; tests may too). */
 void cmd_handle(struct wgd *d, const void *buf, size_t len);
 
 /* The daemon's step path: run n steps, cut at the Poincare section when a
@@ -34,6 +38,10 @@ uint64_t cmd_run(struct wgd *d, uint64_t n);
 /* Advance a pending `step` command by at most max steps; ACKs it when done
  * (or refuses it on a blow-up). Returns the steps run. */
 uint64_t cmd_step_progress(struct wgd *d, uint64_t max);
+
+/* Run at most max of the steps TICK messages asked for (lockstep and
+ * running; otherwise they lapse); returns the steps run. */
+uint64_t cmd_tick_progress(struct wgd *d, uint64_t max);
 
 /* Refuse a pending `step` (pause, reset, mode change) with return code
  * code (WG_E*) and why. */

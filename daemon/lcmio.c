@@ -3,10 +3,12 @@
 
 #include "wormgear/wg_status.h"
 
+#include <dirent.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/select.h>
 #include <sys/time.h>
+#include <unistd.h>
 
 static const char *const suffix[CH_COUNT] = {"CMD",      "ACK",     "PARAMS", "STATE",
                                              "POINCARE", "CONTACT", "STATUS", "TICK"};
@@ -18,7 +20,15 @@ int lcmio_init(lcmio *io, const char *url, const char *prefix, char *why, size_t
     memset(io, 0, sizeof *io);
     for (int i = 0; i < CH_COUNT; i++)
         snprintf(io->ch[i], sizeof io->ch[i], "%s%s", prefix, suffix[i]);
-    io->lcm = lcm_create(url);
+    char full[400];
+    /* a receive buffer for bursts of commands, unless the URL sets one (the
+     * kernel caps it at net.core.rmem_max) */
+    if (!strncmp(url, "udpm://", 7) && !strstr(url, "recv_buf_size"))
+        snprintf(full, sizeof full, "%s%crecv_buf_size=%d", url, strchr(url, '?') ? '&' : '?',
+                 LCMIO_RECV_BUF);
+    else
+        snprintf(full, sizeof full, "%s", url);
+    io->lcm = lcm_create(full);
     if (!io->lcm) {
         snprintf(why, whylen, "LCM: cannot open '%s' (bad URL, or no route for multicast: "
                               "see docs/daemon.md)", url);
@@ -51,6 +61,44 @@ int lcmio_drain(lcmio *io, int max)
     while (n < max && readable(fd) && lcm_handle(io->lcm) == 0)
         n++;
     return n;
+}
+
+/* The socket inodes among this process's file descriptors (at most max). */
+static int socket_inodes(unsigned long *ino, int max)
+{
+    DIR *dir = opendir("/proc/self/fd");
+    struct dirent *e;
+    int n = 0;
+    while (dir && n < max && (e = readdir(dir))) {
+        char path[300], link[64];
+        snprintf(path, sizeof path, "/proc/self/fd/%s", e->d_name);
+        ssize_t k = readlink(path, link, sizeof link - 1);
+        if (k > 0 && (link[k] = 0, sscanf(link, "socket:[%lu]", &ino[n]) == 1))
+            n++;
+    }
+    if (dir)
+        closedir(dir);
+    return n;
+}
+
+uint64_t lcmio_rx_dropped(void)
+{
+    unsigned long ino[64], line_ino;
+    unsigned long long drops, total = 0;
+    int n = socket_inodes(ino, 64);
+    FILE *f = n ? fopen("/proc/net/udp", "r") : NULL;
+    char line[512];
+    while (f && fgets(line, sizeof line, f)) {
+        /* sl local rem st tx:rx tr:when retrnsmt uid timeout inode ref pointer drops */
+        if (sscanf(line, "%*s %*s %*s %*s %*s %*s %*s %*s %*s %lu %*s %*s %llu", &line_ino,
+                   &drops) != 2)
+            continue;
+        for (int i = 0; i < n; i++)
+            total += ino[i] == line_ino ? drops : 0;
+    }
+    if (f)
+        fclose(f);
+    return total;
 }
 
 int64_t lcmio_now_us(void)

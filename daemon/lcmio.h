@@ -23,7 +23,8 @@
 
 enum lcmio_channel { CH_CMD, CH_ACK, CH_PARAMS, CH_STATE, CH_POINCARE, CH_CONTACT, CH_STATUS,
                      CH_TICK, CH_COUNT };
-enum { LCMIO_BUF = 61440 }; /* every message stays below 60 KB */
+enum { LCMIO_BUF = 61440,          /* every message stays below 60 KB */
+       LCMIO_RECV_BUF = 4194304 };  /* udpm receive buffer asked for (recv_buf_size) */
 
 typedef struct lcmio {
     lcm_t *lcm;
@@ -48,6 +49,10 @@ int lcmio_fileno(const lcmio *io);
 
 /* Handle every message already waiting, at most max; returns the count. */
 int lcmio_drain(lcmio *io, int max);
+
+/* Datagrams the kernel dropped on this process's UDP sockets (LCM's), read
+ * from /proc/net/udp's drops column; 0 where that cannot be read. */
+uint64_t lcmio_rx_dropped(void);
 
 /* Microseconds since the epoch (utime of outgoing messages). */
 int64_t lcmio_now_us(void);

@@ -15,6 +15,20 @@ int64_t log_now_ns(void)
     return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
 }
 
+const char *log_escape(const char *s, char *out, size_t n)
+{
+    size_t k = 0;
+    for (; *s && k + 5 < n; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c < 0x20 || c == 0x7f)
+            k += (size_t)snprintf(out + k, n - k, "\\x%02x", c);
+        else
+            out[k++] = (char)c;
+    }
+    out[k] = 0;
+    return out;
+}
+
 static const char *prio_word(int prio)
 {
     static const char *const w[] = {"emergency", "alert", "critical", "error",
@@ -88,10 +102,10 @@ void log_msg(log_ctx *l, int prio, const char *fmt, ...)
         l->suppressed++;
         return;
     }
-    char text[1024];
+    char text[1024], safe[4 * sizeof text];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(text, sizeof text, fmt, ap);
     va_end(ap);
-    emit(l, prio, text);
+    emit(l, prio, log_escape(text, safe, sizeof safe));
 }

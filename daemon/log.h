@@ -9,6 +9,7 @@
 #ifndef WGD_LOG_H
 #define WGD_LOG_H
 
+#include <stddef.h>
 #include <stdint.h>
 #include <syslog.h>
 
@@ -39,6 +40,11 @@ void log_fini(log_ctx *l);
 /* CLOCK_MONOTONIC in nanoseconds: the daemon's one clock (the rate limit
  * here, pacing, step costs, STATUS intervals). */
 int64_t log_now_ns(void);
+
+/* s with every control byte (newline, tab, escape, DEL ...) written as
+ * \xNN into out (n bytes, 4x the input suffices), so text from the bus can
+ * never make a line of its own or drive a terminal. log_msg applies it. */
+const char *log_escape(const char *s, char *out, size_t n);
 
 /* Log one line at syslog priority prio (LOG_ERR ... LOG_DEBUG), rate-limited
  * per format string. */

@@ -14,7 +14,9 @@
 #include <sys/timerfd.h>
 #include <unistd.h>
 
-enum { FAST_CHUNK_NS = 1000000, STEP_CHUNK_NS = 2000000 };
+/* The most stepping one handler does before the loop polls again: a
+ * command waits at most about this long behind the integrator. */
+enum { WORK_CHUNK_NS = 1000000 };
 
 static int arm_timer(wgd *d)
 {
@@ -29,17 +31,56 @@ static int arm_timer(wgd *d)
     return timerfd_settime(d->tfd, TFD_TIMER_ABSTIME, &its, NULL);
 }
 
-/* Start or stop the fast-mode idle watcher to match mode and run state.
- * Called at the end of each handler, as redis runs its before-sleep hook:
- * whatever a command, a reload or a fault changed is matched before the
- * loop polls again, and no module below the loop knows the watcher. */
-static void sync_fast(wgd *d)
+/* Steps one chunk of work may run, from the measured cost of a step. */
+static uint64_t chunk(const wgd *d)
 {
-    int want = d->conf.mode == MODE_FAST && d->run == RUN_RUNNING;
-    if (want && !ev_is_active(&d->fast_w))
-        ev_idle_start(d->loop, &d->fast_w);
-    else if (!want && ev_is_active(&d->fast_w))
-        ev_idle_stop(d->loop, &d->fast_w);
+    return pace_fast_chunk(d->stat.ns_per_step, WORK_CHUNK_NS);
+}
+
+static int running_in(const wgd *d, int mode)
+{
+    return d->run == RUN_RUNNING && d->conf.mode == mode;
+}
+
+/* Is there stepping to do: a step job, owed ticks or realtime steps, or
+ * fast mode? */
+static int work_pending(const wgd *d)
+{
+    return inbox_waiting(&d->in) || d->step.active || (d->owed.ticks && running_in(d, MODE_LOCKSTEP)) ||
+           (d->owed.realtime && running_in(d, MODE_REALTIME)) || running_in(d, MODE_FAST);
+}
+
+/* Start or stop the work watcher to match what is pending. Called at the
+ * end of each handler, as redis runs its before-sleep hook: whatever a
+ * command, a reload or a fault changed is matched before the loop polls
+ * again, and no module below the loop knows the watcher. */
+static void sync_work(wgd *d)
+{
+    int want = work_pending(d);
+    if (want && !ev_is_active(&d->work_w))
+        ev_idle_start(d->loop, &d->work_w);
+    else if (!want && ev_is_active(&d->work_w))
+        ev_idle_stop(d->loop, &d->work_w);
+}
+
+/* One chunk of the most urgent work: commands waiting, a step job, owed
+ * ticks, realtime steps due, fast mode. */
+static void work_chunk(wgd *d)
+{
+    uint64_t n = chunk(d);
+    if (inbox_waiting(&d->in)) {
+        cmd_process(d, WORK_CHUNK_NS);
+    } else if (d->step.active) {
+        cmd_step_progress(d, n);
+    } else if (d->owed.ticks && running_in(d, MODE_LOCKSTEP)) {
+        cmd_tick_progress(d, n);
+    } else if (d->owed.realtime && running_in(d, MODE_REALTIME)) {
+        n = n < d->owed.realtime ? n : d->owed.realtime;
+        uint64_t done = cmd_run(d, n);
+        d->owed.realtime = done < n ? 0 : d->owed.realtime - done;
+    } else if (running_in(d, MODE_FAST)) {
+        cmd_run(d, n);
+    }
 }
 
 /* Realtime: run the steps due now; apply the overrun policy. */
@@ -50,7 +91,8 @@ static void realtime(wgd *d, int64_t now)
         log_msg(&d->log, LOG_WARNING, "overrun: more than %g ticks behind (lag %.3f ms, "
                 "policy %s)", d->conf.catchup_ticks, pace_lag_s(&d->pace) * 1e3,
                 conf_policy_name(d->conf.overrun_policy));
-    cmd_run(d, due.steps);
+    d->owed.realtime = due.steps; /* recomputed from tau each tick: never counted twice */
+    work_chunk(d);
     if (due.stop && !d->fault) {
         char msg[160];
         snprintf(msg, sizeof msg, "stopped after %d consecutive overruns (overrun_policy = "
@@ -86,28 +128,26 @@ static void on_tick(struct ev_loop *loop, ev_io *w, int revents)
     int64_t t0 = log_now_ns();
     if (d->reload)
         reload(d);
-    if (d->run == RUN_RUNNING && d->conf.mode == MODE_REALTIME)
+    if (running_in(d, MODE_REALTIME))
         realtime(d, t0);
-    if (d->step.active)
-        cmd_step_progress(d, d->stat.ns_per_step > 0
-                                 ? (uint64_t)(STEP_CHUNK_NS / d->stat.ns_per_step) + 1
-                                 : 10000);
     report_tick(d, t0);
     sdn_watchdog(&d->sd, t0); /* only a loop that steps reaches this */
     first_ready(d);
     report_loop(d, log_now_ns() - t0);
-    sync_fast(d);
+    sync_work(d);
 }
 
-static void on_fast(struct ev_loop *loop, ev_idle *w, int revents)
+/* Idle (no I/O pending): one chunk of work. Commands, which arrive on the
+ * higher-priority LCM watcher, are handled between chunks. */
+static void on_work(struct ev_loop *loop, ev_idle *w, int revents)
 {
     (void)loop;
     (void)revents;
     wgd *d = w->data;
     int64_t t0 = log_now_ns();
-    cmd_run(d, pace_fast_chunk(d->stat.ns_per_step, FAST_CHUNK_NS));
+    work_chunk(d);
     report_loop(d, log_now_ns() - t0);
-    sync_fast(d);
+    sync_work(d);
 }
 
 static void on_lcm(struct ev_loop *loop, ev_io *w, int revents)
@@ -115,8 +155,9 @@ static void on_lcm(struct ev_loop *loop, ev_io *w, int revents)
     (void)loop;
     (void)revents;
     wgd *d = w->data;
-    lcmio_drain(&d->io, 64); /* the CMD and TICK handlers of cmd.c */
-    sync_fast(d);
+    lcmio_drain(&d->io, 256); /* cmd.c's CMD and TICK handlers: quick, CMD only queues */
+    cmd_process(d, WORK_CHUNK_NS);
+    sync_work(d);
 }
 
 static void on_signal(struct ev_loop *loop, ev_signal *w, int revents)
@@ -207,8 +248,8 @@ int loop_init(wgd *d)
     }
     ev_io_init(&d->tick_w, on_tick, d->tfd, EV_READ);
     ev_io_init(&d->lcm_w, on_lcm, lcmio_fileno(&d->io), EV_READ);
-    ev_idle_init(&d->fast_w, on_fast);
-    d->tick_w.data = d->lcm_w.data = d->fast_w.data = d;
+    ev_idle_init(&d->work_w, on_work);
+    d->tick_w.data = d->lcm_w.data = d->work_w.data = d;
     ev_set_priority(&d->lcm_w, EV_MAXPRI); /* commands before stepping */
     ev_io_start(d->loop, &d->tick_w);
     ev_io_start(d->loop, &d->lcm_w);
@@ -217,7 +258,7 @@ int loop_init(wgd *d)
     start_signal(d, &d->sig_hup, SIGHUP);
     pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
                    d->sim.tau);
-    sync_fast(d);
+    sync_work(d);
     return WG_OK;
 }
 
@@ -226,7 +267,7 @@ void loop_fini(wgd *d)
     if (d->loop) {
         ev_io_stop(d->loop, &d->tick_w);
         ev_io_stop(d->loop, &d->lcm_w);
-        ev_idle_stop(d->loop, &d->fast_w);
+        ev_idle_stop(d->loop, &d->work_w);
         ev_signal_stop(d->loop, &d->sig_int);
         ev_signal_stop(d->loop, &d->sig_term);
         ev_signal_stop(d->loop, &d->sig_hup);

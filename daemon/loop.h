@@ -1,12 +1,16 @@
 /* loop.h - the libev loop: LCM fd and timerfd in ev_io watchers, an
- * ev_idle for fast mode, ev_signal for SIGINT/SIGTERM/SIGHUP.
+ * ev_idle for the stepping work, ev_signal for SIGINT/SIGTERM/SIGHUP.
  *
  * The timerfd (CLOCK_MONOTONIC, TFD_TIMER_ABSTIME, period tick_us) drives
  * pacing and housekeeping; the steps due come from pace_steps_due on the
- * monotonic clock, never from counting expirations. Signal callbacks only
- * set flags and break or wake the loop; the tick does the work (reload).
- * After each handler the fast-mode idle watcher is started or stopped to
- * match mode and run state, so commands never reach into the loop. */
+ * monotonic clock, never from counting expirations. All stepping (a step
+ * job, steps owed to TICKs, realtime steps due, fast mode) runs in chunks
+ * of about a millisecond, and the LCM watcher has the higher priority, so
+ * a command is answered between two chunks whatever the mode, rate or
+ * backlog. Signal callbacks only set flags and break or wake the loop; the
+ * tick does the work (reload). After each handler the work watcher is
+ * started or stopped to match what is pending, so commands never reach
+ * into the loop. */
 #ifndef WGD_LOOP_H
 #define WGD_LOOP_H
 

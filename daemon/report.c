@@ -44,7 +44,6 @@ void report_init(wgd *d)
 {
     int64_t now = log_now_ns();
     memset(&d->stat, 0, sizeof d->stat);
-    d->stat.tick_seq_next = -1;
     interval_start(d, now);
     d->stat.next_status_ns = now + (int64_t)(SEC_NS / d->conf.status_hz);
     d->stat.next_params_ns = now + SEC_NS;
@@ -115,6 +114,7 @@ static void fill_status(const wgd *d, wormgear_status_t *m, char *regime, unsign
         .overruns = (int64_t)d->pace.overruns, .loop_mean_us = s->loop_mean_us,
         .loop_max_us = s->loop_max_us, .steps_per_s = s->steps_per_s,
         .cpu_share = s->cpu_share, .msgs_dropped = (int64_t)(d->io.dropped + s->drops),
+        .cmds_dropped = (int64_t)d->in.dropped, .rx_dropped = (int64_t)lcmio_rx_dropped(),
         .cmds_accepted = (int64_t)s->cmds_accepted, .cmds_refused = (int64_t)s->cmds_refused,
         .motion = d->st.trk.n ? (char *)wg_motion_name(d->st.trk.motion) /* over the orbit */
                   : d->sim.period ? (char *)wg_motion_name(d->st.motion) : (char *)"unknown",

@@ -13,10 +13,12 @@
 #include <stdint.h>
 
 #include "conf.h"
+#include "inbox.h"
 #include "lcmio.h"
 #include "log.h"
 #include "pace.h"
 #include "stream.h"
+#include "wire.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_sim.h"
 
@@ -27,7 +29,7 @@ enum { HEALTH_OK, HEALTH_LAGGING, HEALTH_FAULT };
 typedef struct stepjob {
     int active;
     uint64_t left, total;
-    char client[64];
+    char client[WIRE_MAX_CLIENT + 1]; /* echoed byte for byte in its ACK */
     char op[16];
     int64_t seq;
 } stepjob;
@@ -38,7 +40,7 @@ typedef struct syncjob {
     int active;
     int n, ids[WG_NPARAM];
     double values[WG_NPARAM];
-    char client[64];
+    char client[WIRE_MAX_CLIENT + 1]; /* echoed byte for byte in its ACK */
     int64_t seq;
 } syncjob;
 
@@ -56,8 +58,17 @@ typedef struct stats {
     int health;
     int64_t next_status_ns, next_params_ns, next_fg_ns, next_flush_ns;
     uint64_t cmds_accepted, cmds_refused, drops; /* drops: tick gaps and the like */
-    int64_t tick_seq_next;     /* expected TICK seq (-1: none seen) */
+    uint64_t tick_seq_next;    /* expected TICK seq (wraps; valid once tick_seen) */
+    int tick_seen;
+    uint64_t tick_senders;     /* TICK seq discontinuities: a new or restarted sender */
 } stats;
+
+/* Steps owed and not yet run: the loop runs them in bounded chunks between
+ * I/O, so a command is answered while they run (loop.c). */
+typedef struct backlog {
+    uint64_t ticks;            /* from TICK messages (lockstep) */
+    uint64_t realtime;         /* due by the pace at the last tick */
+} backlog;
 
 /* systemd notification state (sdn.c). */
 typedef struct sdn {
@@ -81,7 +92,10 @@ typedef struct wgd {
     char fault_msg[320];
     stepjob step;
     syncjob sync;
+    backlog owed;
     /* transport and outputs */
+    inbox in;                  /* CMD messages received, not yet handled (cmd.c) */
+    unsigned char cmdbuf[INBOX_MSG_MAX]; /* the one being handled */
     lcmio io;
     int io_ok;
     stream st;
@@ -91,7 +105,7 @@ typedef struct wgd {
     /* loop (loop.c) */
     struct ev_loop *loop;
     ev_io lcm_w, tick_w;
-    ev_idle fast_w;
+    ev_idle work_w;            /* runs owed steps, fast mode, a step job: chunk by chunk */
     ev_signal sig_int, sig_term, sig_hup;
     int tfd;
     int stop, reload;          /* set by the signal callbacks */

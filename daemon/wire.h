@@ -5,23 +5,42 @@
  * and a decode that fails half-way leaks what it allocated. The command
  * channel is open to anyone on the bus, so wormgeard walks the cmd_t layout
  * with bounds checks first (no allocation) and decodes only messages that
- * will decode completely. The layout below mirrors lcmtypes/cmd_t.lcm; a
- * unit test encodes a full cmd_t and checks the walk lands on its end. */
+ * will decode completely and exactly: no byte after the message, no NUL
+ * inside a string. The layout below mirrors lcmtypes/cmd_t.lcm; a unit test
+ * encodes a full cmd_t and checks the walk lands on its end. */
 #ifndef WGD_WIRE_H
 #define WGD_WIRE_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-enum { WIRE_MAX_PARAMS = 64, WIRE_MAX_STRING = 4096 };
+enum {
+    WIRE_MAX_PARAMS = 64,   /* names[] / values[] on the wire (the table has 29) */
+    WIRE_MAX_STRING = 4096, /* bytes of any string, without its NUL */
+    WIRE_MAX_CLIENT = 256,  /* bytes of a client id (echoed in its ACK) */
+    WIRE_MAC_BYTES = 32     /* a signed command's MAC (crypto_auth) */
+};
 
-/* WG_OK if buf holds a complete, well-formed wormgear.cmd_t (fingerprint,
- * lengths, NUL-terminated strings, at most WIRE_MAX_PARAMS names); else
- * WG_EDECODE with the reason in why ("truncated at byte 50 of 50", ...). */
-int wire_cmd_check(const void *buf, size_t len, char *why, size_t whylen);
+/* Where the signature sits in a checked message: the MAC covers bytes
+ * [0, signed_len); mac_len is 0 (unsigned) or WIRE_MAC_BYTES at mac_at. */
+typedef struct wire_sig {
+    size_t signed_len, mac_at;
+    int32_t mac_len;
+} wire_sig;
 
-/* Best effort for an answer to a bad message: the client id and seq from an
- * intact header (fingerprint, utime, seq, client), else "" and -1. */
+/* WG_OK if buf holds exactly one complete, well-formed wormgear.cmd_t
+ * (fingerprint, lengths in range: a client id of at most WIRE_MAX_CLIENT
+ * bytes, other strings WIRE_MAX_STRING; strings NUL-terminated with no NUL
+ * inside, at most WIRE_MAX_PARAMS names, mac_len 0 or WIRE_MAC_BYTES, no
+ * trailing bytes), with *sig (may be NULL) filled in; else WG_EDECODE and
+ * why names the field, what was wrong and the limit ("field names[0]: a
+ * string of 5000 bytes, the limit is 4096 (at byte 58 of 5104)"). */
+int wire_cmd_check(const void *buf, size_t len, wire_sig *sig, char *why, size_t whylen);
+
+/* What an answer to a bad message can be addressed to: the seq (-1 if the
+ * fingerprint or the first 24 bytes are not there) and the client id's
+ * first bytes, up to clen - 1 and the first NUL ("" if unreadable), even
+ * when the id is longer than any limit. */
 void wire_cmd_header(const void *buf, size_t len, char *client, size_t clen, int64_t *seq);
 
 #endif

@@ -35,7 +35,7 @@ typedef struct fx {
     int nack;
     int accepted, rc;
     int64_t cmd_seq;
-    char client[96], code[32], message[700];
+    char client[300], code[32], message[700];
     int nparams_msgs;
     char params_reason[32];
     int64_t params_cmd_seq;
@@ -95,7 +95,7 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
     F.rc = m->status;
     F.cmd_seq = m->cmd_seq;
     F.ack_tau = m->tau;
-    snprintf(F.client, sizeof F.client, "%s", m->client);
+    snprintf(F.client, sizeof F.client, "%s", m->client); /* up to 299 bytes */
     snprintf(F.code, sizeof F.code, "%s", m->code);
     snprintf(F.message, sizeof F.message, "%s", m->message);
 }
@@ -209,9 +209,10 @@ static inline void teardown(wgd *d)
     F.d = NULL;
 }
 
+/* Everything published so far received, and every command handled. */
 static inline void drain(wgd *d)
 {
-    while (lcmio_drain(&d->io, 1000) > 0)
+    while (lcmio_drain(&d->io, 1000) > 0 || cmd_process(d, INT64_MAX) > 0)
         ;
 }
 

@@ -189,4 +189,46 @@ static void test_step_and_modes(void)
     teardown(d);
 }
 
-TEST_MAIN(TEST(test_set_atomic), TEST(test_set_bad_inputs), TEST(test_set_stability), TEST(test_accept_commands_off), TEST(test_set_at_section), TEST(test_step_and_modes))
+static void tick(wgd *d, int64_t seq, int64_t nsteps)
+{
+    wormgear_tick_t t = {.utime = 1, .seq = seq, .nsteps = nsteps};
+    wormgear_tick_t_publish(d->io.lcm, "T_TICK", &t);
+    drain(d);
+}
+
+/* Issue 10, defects 3 and 6: TICK seq is wrap-safe (INT64_MAX, jumps, going
+ * back), one gap counts at most a bound and a larger jump is a new sender;
+ * a TICK only owes steps, which run in bounded chunks (the loop's job), so
+ * a command is answered while a 1e7-step tick is still being worked off. */
+static void test_ticks(void)
+{
+    wgd *d = setup(128);
+    static const int64_t seqs[] = {0, INT64_MAX, INT64_MIN, 5, 1000000000005LL, -7, 6, 10};
+    for (unsigned i = 0; i < sizeof seqs / sizeof seqs[0]; i++)
+        tick(d, seqs[i], 1);
+    /* 0 -> MAX: new sender; MAX -> MIN: in order (wraps); MIN -> 5: new; 5 -> 1e12+5:
+     * new; -> -7: new (backwards); -7 -> 6: 12 lost; 6 -> 10: 3 lost */
+    ASSERT_EQ_INT(d->stat.drops, 15);
+    ASSERT_EQ_INT(d->stat.tick_senders, 4);
+    ASSERT_EQ_INT(d->owed.ticks, 8);
+    tick(d, 11, 10000000);
+    ASSERT_EQ_INT(d->owed.ticks, 10000008);
+    ASSERT_EQ_INT(d->sim.steps, 0); /* nothing ran in the LCM callback */
+    ASSERT_EQ_INT(simple(d, "get", ""), WG_OK); /* answered with 1e7 steps owed */
+    uint64_t done = cmd_tick_progress(d, 1000);
+    ASSERT_EQ_INT(done, 1000);
+    ASSERT_EQ_INT(d->owed.ticks, 10000008 - 1000);
+    tick(d, 12, 0); /* out of range: ignored */
+    ASSERT_EQ_INT(d->owed.ticks, 10000008 - 1000);
+    for (int i = 0; i < 120; i++) /* up to the limit of owed steps */
+        tick(d, 13 + i, 10000000);
+    ASSERT_TRUE(d->owed.ticks <= 1000000000);
+    ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK); /* a stopped run: owed ticks lapse */
+    ASSERT_EQ_INT(cmd_tick_progress(d, 1000), 0);
+    ASSERT_EQ_INT(d->owed.ticks, 0);
+    teardown(d);
+}
+
+TEST_MAIN(TEST(test_set_atomic), TEST(test_set_bad_inputs), TEST(test_set_stability),
+          TEST(test_accept_commands_off), TEST(test_set_at_section), TEST(test_step_and_modes),
+          TEST(test_ticks))
