@@ -1,0 +1,951 @@
+/* wgfuzz.c - an attacker on the multicast group: a structured, seeded fuzzer
+ * of the real wormgeard's inputs (CMD and TICK messages, snapshot files).
+ *
+ *   wgfuzz WORMGEARD commands [SEED|- [N]]  directed cases for every defect
+ *            class, N random hostile cmd_t, every truncation of valid
+ *            messages, bit flips, trailing bytes, a burst, hostile ticks
+ *   wgfuzz WORMGEARD snapshots [SEED]      every truncation and single-byte
+ *            flip of a valid snapshot; FIFO, symlink, directory, oversized
+ *   wgfuzz WORMGEARD kill [SEED]           SIGKILL at random moments of
+ *            repeated saves: the file is always the old or the new one
+ *
+ * Invariants, checked for every message: exactly one ACK, matched on client
+ * and seq (an undecodable one: one ACK before the next command's); a refused
+ * command changes nothing (the daemon is paused and a full save after it is
+ * byte-identical to the one before); every ACK within ACK_LIMIT_MS; no
+ * sanitizer report in the daemon's log; SIGTERM -> exit 0. Prints the seed,
+ * then the figures (commands, unanswered, state changes by refused
+ * commands, slowest and p99 ACK). Run through tests/netns.sh. */
+#include "lcmtypes/wormgear_ack_t.h"
+#include "lcmtypes/wormgear_cmd_t.h"
+#include "lcmtypes/wormgear_status_t.h"
+#include "lcmtypes/wormgear_tick_t.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <lcm/lcm.h>
+#include <math.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+enum { ACK_LIMIT_MS = 1000, MAXMSG = 60000, LOGACK = 8, CLIENT_LIMIT = 256 };
+
+/* ---- the fuzzer's state --------------------------------------------------- */
+
+typedef struct ackrec {
+    char client[CLIENT_LIMIT + 64];
+    size_t client_len;
+    int64_t cmd_seq;
+    int accepted, code;
+    char codename[24], message[1024];
+    double at_ms;
+} ackrec;
+
+typedef struct fz {
+    const char *bin;
+    char url[128], dir[96], log[128];
+    pid_t pid;
+    lcm_t *lcm;
+    uint64_t rng;
+    int64_t seq;                 /* our own commands' seq */
+    ackrec win[LOGACK];          /* ACKs since the last mark (the window) */
+    int nwin, nwin_total;
+    long acks_total;
+    long long st_dropped;        /* the last STATUS's msgs_dropped */
+    long long st_rx_dropped;     /* ... rx_dropped and cmds_dropped */
+    long long st_cmds_dropped, st_handled; /* handled: accepted + refused */
+    int have_status;
+    double lat[200000];
+    long nlat;
+    long commands, unanswered, extra, changed, failures, accepted, refused;
+    double slowest;
+    char slowest_what[160];
+} fz;
+
+static fz F;
+static int g_failed;
+
+static void fail(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+static void fail(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "FAIL: ");
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+    F.failures++;
+    g_failed = 1;
+}
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+static uint64_t rnd(void) /* xorshift64*, seeded */
+{
+    F.rng ^= F.rng >> 12, F.rng ^= F.rng << 25, F.rng ^= F.rng >> 27;
+    return F.rng * 2685821657736338717ull;
+}
+
+static int rndi(int n) { return (int)(rnd() % (uint64_t)n); }
+
+/* ---- wire encoding of our own, byte by byte (so it can lie) ---------------- */
+
+typedef struct enc {
+    unsigned char b[MAXMSG];
+    size_t n;
+} enc;
+
+static void put_be(enc *e, uint64_t v, int bytes)
+{
+    for (int i = bytes - 1; i >= 0 && e->n < MAXMSG; i--)
+        e->b[e->n++] = (unsigned char)(v >> (8 * i));
+}
+
+static void put_i64(enc *e, int64_t v) { put_be(e, (uint64_t)v, 8); }
+static void put_i32(enc *e, int32_t v) { put_be(e, (uint32_t)v, 4); }
+static void put_i8(enc *e, int8_t v) { put_be(e, (uint8_t)v, 1); }
+
+static void put_f64(enc *e, double d)
+{
+    uint64_t v;
+    memcpy(&v, &d, 8);
+    put_be(e, v, 8);
+}
+
+/* An LCM string: length (with the NUL), bytes, NUL. `len` bytes of s may
+ * hold NULs of their own. */
+static void put_strn(enc *e, const char *s, size_t len)
+{
+    put_i32(e, (int32_t)(len + 1));
+    for (size_t i = 0; i < len && e->n < MAXMSG; i++)
+        e->b[e->n++] = (unsigned char)s[i];
+    put_i8(e, 0);
+}
+
+static void put_str(enc *e, const char *s) { put_strn(e, s, strlen(s)); }
+
+/* A cmd_t, every field given (strings as byte runs). */
+typedef struct cmdspec {
+    int64_t utime, seq;
+    const char *client;
+    size_t client_len;           /* 0: strlen */
+    const char *op;
+    size_t op_len;               /* 0: strlen */
+    int32_t nparams;
+    const char *names[80];
+    double values[80];
+    int8_t has_from;
+    double from, duration;
+    const char *unit;
+    int64_t nsteps;
+    const char *name;
+    double rate;
+    int8_t at_section;
+} cmdspec;
+
+static void encode_cmd(enc *e, const cmdspec *c)
+{
+    e->n = 0;
+    put_i64(e, __wormgear_cmd_t_get_hash());
+    put_i64(e, c->utime);
+    put_i64(e, c->seq);
+    put_strn(e, c->client, c->client_len ? c->client_len : strlen(c->client));
+    put_strn(e, c->op, c->op_len ? c->op_len : strlen(c->op));
+    put_i32(e, c->nparams);
+    for (int i = 0; i < c->nparams; i++)
+        put_str(e, c->names[i] ? c->names[i] : "");
+    for (int i = 0; i < c->nparams; i++)
+        put_f64(e, c->values[i]);
+    put_i8(e, c->has_from);
+    put_f64(e, c->from);
+    put_f64(e, c->duration);
+    put_str(e, c->unit ? c->unit : "");
+    put_i64(e, c->nsteps);
+    put_str(e, c->name ? c->name : "");
+    put_f64(e, c->rate);
+    put_i8(e, c->at_section);
+    put_i32(e, 0); /* mac_len: unsigned */
+}
+
+/* Our encoder must agree with lcm-gen's on a plain message. */
+static void encoder_self_check(void)
+{
+    char *names[2] = {"omega", "xi_p"};
+    double vals[2] = {1.25, 0.1};
+    wormgear_cmd_t m = {.utime = 7, .seq = 9, .client = "me", .op = "set", .nparams = 2,
+                        .names = names, .values = vals, .has_from = 1, .from = 0.5,
+                        .duration = 2, .unit = "s", .nsteps = 3, .name = "n", .rate = 4,
+                        .at_section = 1};
+    static unsigned char ref[4096];
+    int n = wormgear_cmd_t_encode(ref, 0, sizeof ref, &m);
+    cmdspec c = {.utime = 7, .seq = 9, .client = "me", .op = "set", .nparams = 2,
+                 .names = {"omega", "xi_p"}, .values = {1.25, 0.1}, .has_from = 1, .from = 0.5,
+                 .duration = 2, .unit = "s", .nsteps = 3, .name = "n", .rate = 4,
+                 .at_section = 1};
+    static enc e;
+    encode_cmd(&e, &c);
+    if (n < 0 || (size_t)n != e.n || memcmp(ref, e.b, e.n) != 0) {
+        fprintf(stderr, "wgfuzz: our cmd_t encoder disagrees with lcm-gen's\n");
+        exit(2);
+    }
+}
+
+/* ---- LCM ------------------------------------------------------------------- */
+
+static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_t *m, void *u)
+{
+    (void)rb, (void)ch, (void)u;
+    F.acks_total++;
+    F.nwin_total++;
+    if (F.nwin == LOGACK)
+        return;
+    ackrec *a = &F.win[F.nwin++];
+    a->client_len = strlen(m->client);
+    snprintf(a->client, sizeof a->client, "%s", m->client);
+    a->cmd_seq = m->cmd_seq;
+    a->accepted = m->accepted;
+    a->code = m->status;
+    snprintf(a->codename, sizeof a->codename, "%s", m->code);
+    snprintf(a->message, sizeof a->message, "%s", m->message);
+    a->at_ms = now_ms();
+}
+
+static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_status_t *m,
+                      void *u)
+{
+    (void)rb, (void)ch, (void)u;
+    F.st_dropped = (long long)m->msgs_dropped;
+    F.st_rx_dropped = (long long)m->rx_dropped;
+    F.st_cmds_dropped = (long long)m->cmds_dropped;
+    F.st_handled = (long long)(m->cmds_accepted + m->cmds_refused);
+    F.have_status = 1;
+}
+
+static void pump(double ms)
+{
+    double end = now_ms() + ms;
+    int fd = lcm_get_fileno(F.lcm);
+    while (now_ms() < end) {
+        fd_set s;
+        FD_ZERO(&s);
+        FD_SET(fd, &s);
+        struct timeval tv = {0, 2000};
+        if (select(fd + 1, &s, NULL, NULL, &tv) > 0)
+            lcm_handle(F.lcm);
+    }
+}
+
+static void publish(const char *suffix, const void *b, size_t n)
+{
+    char ch[64];
+    snprintf(ch, sizeof ch, "FZ_%s", suffix);
+    if (lcm_publish(F.lcm, ch, b, (unsigned)n) != 0)
+        fail("lcm_publish on %s (%zu bytes) failed", ch, n);
+}
+
+static void mark(void) { F.nwin = F.nwin_total = 0; }
+
+/* Wait until an ACK for (our client, seq) is in the window; its index or -1. */
+static int wait_for(int64_t seq, double ms)
+{
+    double end = now_ms() + ms;
+    for (;;) {
+        for (int i = 0; i < F.nwin; i++)
+            if (F.win[i].cmd_seq == seq && !strcmp(F.win[i].client, "fz-self"))
+                return i;
+        if (now_ms() > end)
+            return -1;
+        pump(1);
+    }
+}
+
+/* One command of ours (save/restore/pause/get...) and its ACK; 0 if accepted. */
+static int own(const char *op, const char *name, double wait_ms)
+{
+    cmdspec c = {.seq = ++F.seq, .client = "fz-self", .op = op, .name = name, .unit = ""};
+    static enc e;
+    encode_cmd(&e, &c);
+    publish("CMD", e.b, e.n);
+    int i = wait_for(c.seq, wait_ms);
+    if (i < 0) {
+        fail("no ACK to our own %s %s", op, name ? name : "");
+        return -1;
+    }
+    return F.win[i].accepted ? 0 : F.win[i].code ? F.win[i].code : -1;
+}
+
+/* ---- the daemon ------------------------------------------------------------- */
+
+static void start_daemon(const char *extra)
+{
+    F.pid = fork();
+    if (F.pid == 0) {
+        int fd = open(F.log, O_WRONLY | O_CREAT | O_APPEND, 0644);
+        if (fd >= 0)
+            dup2(fd, 2);
+        execl(F.bin, F.bin, "--url", F.url, "--prefix", "FZ_", "--state-dir", F.dir,
+              "--start-paused", "--status-hz", "10", "--state-rate-hz", "0", extra,
+              (char *)NULL);
+        _exit(127);
+    }
+    for (int i = 0; i < 200; i++) { /* up when it answers a get */
+        mark();
+        cmdspec c = {.seq = ++F.seq, .client = "fz-self", .op = "get", .unit = "", .name = ""};
+        static enc e;
+        encode_cmd(&e, &c);
+        publish("CMD", e.b, e.n);
+        if (wait_for(c.seq, 50) >= 0)
+            return;
+    }
+    fail("the daemon did not answer within 10 s");
+    exit(1);
+}
+
+/* SIGTERM, exit 0, and no sanitizer report in its log. */
+static void stop_daemon(void)
+{
+    int st = 0;
+    kill(F.pid, SIGTERM);
+    for (int i = 0; i < 500 && waitpid(F.pid, &st, WNOHANG) == 0; i++)
+        usleep(10000);
+    if (waitpid(F.pid, &st, WNOHANG) == 0) {
+        fail("the daemon did not stop on SIGTERM within 5 s");
+        kill(F.pid, SIGKILL);
+        waitpid(F.pid, &st, 0);
+    } else if (!WIFEXITED(st) || WEXITSTATUS(st) != 0) {
+        fail("the daemon ended with %s %d, not exit 0", WIFEXITED(st) ? "exit" : "signal",
+             WIFEXITED(st) ? WEXITSTATUS(st) : WTERMSIG(st));
+    }
+    F.pid = 0;
+    FILE *f = fopen(F.log, "r");
+    char line[2048];
+    while (f && fgets(line, sizeof line, f))
+        if (strstr(line, "AddressSanitizer") || strstr(line, "runtime error:") ||
+            strstr(line, "LeakSanitizer"))
+            fail("sanitizer report in the daemon's log: %s", line);
+    if (f)
+        fclose(f);
+}
+
+/* Bytes of a file in the state directory (NULL if absent); *n its size. */
+static unsigned char *slurp(const char *name, size_t *n)
+{
+    char path[256];
+    snprintf(path, sizeof path, "%s/%s", F.dir, name);
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    unsigned char *b = malloc(1 << 21);
+    *n = b ? fread(b, 1, 1 << 21, f) : 0;
+    fclose(f);
+    return b;
+}
+
+static int same_file(const char *a, const char *b)
+{
+    size_t na = 0, nb = 0;
+    unsigned char *x = slurp(a, &na), *y = slurp(b, &nb);
+    int same = x && y && na == nb && memcmp(x, y, na) == 0;
+    free(x);
+    free(y);
+    return same;
+}
+
+/* Back to the base state: paused, the base snapshot, pre = base again. */
+static void rebase(void)
+{
+    mark();
+    own("pause", "", 3000);
+    own("reset", "", 3000); /* cancels a pending step or set */
+    own("restore", "fzbase", 3000);
+    own("save", "fzpre", 3000);
+}
+
+/* ---- one hostile message ------------------------------------------------------ */
+
+typedef struct expect {
+    int code;             /* expected status code; 1 = any refusal; 2 = anything */
+    const char *has;      /* the message must contain this (NULL: no check) */
+    const char *lacks;    /* ... and must not contain this */
+    const char *client;   /* expected echo of the client (NULL: don't check) */
+    size_t client_len;
+} expect;
+
+static void record_latency(double ms, const char *what)
+{
+    if (F.nlat < (long)(sizeof F.lat / sizeof F.lat[0]))
+        F.lat[F.nlat++] = ms;
+    if (ms > F.slowest) {
+        F.slowest = ms;
+        snprintf(F.slowest_what, sizeof F.slowest_what, "%s", what);
+    }
+    if (ms > ACK_LIMIT_MS)
+        fail("%s: ACK after %.0f ms (limit %d ms)", what, ms, ACK_LIMIT_MS);
+}
+
+/* Send bytes on CMD, then our own save: exactly one ACK must come before
+ * that save's; if refused, the saved state equals the one before. */
+static void hostile(const char *what, const void *b, size_t n, const expect *x)
+{
+    F.commands++;
+    mark();
+    double t0 = now_ms();
+    publish("CMD", b, n);
+    int64_t sync = F.seq + 1;
+    if (own("save", "fzpost", 5000) != 0 && F.nwin == 0) {
+        F.unanswered++;
+        fail("%s: no ACK at all, and none to the save after it: the daemon stopped answering",
+             what);
+        return;
+    }
+    int k = wait_for(sync, 0);
+    if (k < 0)
+        return;
+    if (k == 0) {
+        F.unanswered++;
+        fail("%s: no ACK (exactly one expected)", what);
+        return;
+    }
+    if (k > 1) {
+        F.extra += k - 1;
+        fail("%s: %d ACKs (exactly one expected)", what, k);
+    }
+    ackrec *a = &F.win[0];
+    record_latency(a->at_ms - t0, what);
+    a->accepted ? F.accepted++ : F.refused++;
+    if (x && x->code != 2 && ((x->code == 1 && a->accepted) || (x->code <= 0 && a->code != x->code)))
+        fail("%s: %s (%d) '%s', expected code %d", what, a->codename, a->code, a->message,
+             x->code);
+    if (x && x->has && !strstr(a->message, x->has))
+        fail("%s: message '%s' lacks '%s'", what, a->message, x->has);
+    if (x && x->lacks && strstr(a->message, x->lacks))
+        fail("%s: message '%s' contains '%s'", what, a->message, x->lacks);
+    if (x && x->client) {
+        size_t want = x->client_len ? x->client_len : strlen(x->client);
+        if (a->client_len != want || memcmp(a->client, x->client, want) != 0)
+            fail("%s: ACK client (%zu bytes) is not the %zu bytes expected: '%.80s'", what,
+                 a->client_len, want, a->client);
+    }
+    if (!a->accepted && !same_file("fzpre.wgstate", "fzpost.wgstate")) {
+        F.changed++;
+        fail("%s: refused (%s: %s) but the state changed", what, a->codename, a->message);
+        rebase();
+    } else if (a->accepted) {
+        rebase();
+    }
+}
+
+static void hostile_cmd(const char *what, cmdspec *c, const expect *x)
+{
+    static enc e;
+    c->seq = c->seq ? c->seq : 1000000 + F.commands;
+    if (!c->client)
+        c->client = "fz-attacker";
+    c->unit = c->unit ? c->unit : "";
+    c->name = c->name ? c->name : "";
+    encode_cmd(&e, c);
+    hostile(what, e.b, e.n, x);
+}
+
+/* ---- the classes ------------------------------------------------------------- */
+
+static const expect ANY = {2, NULL, NULL, NULL, 0}, REFUSED = {1, NULL, NULL, NULL, 0};
+
+/* defect 9 first, before the log's rate limit engages: names outside the
+ * alphabet, a newline that would forge a log line. */
+static void directed_names(void)
+{
+    /* defect 9: names outside the alphabet, a newline forging a log line */
+    static const char *names[] = {"a\n<3>FORGED log line", "../etc/x", ".hidden", "a/b", "",
+                                  "m\xc3\xbc", "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"};
+    for (unsigned i = 0; i < sizeof names / sizeof names[0]; i++) {
+        cmdspec s = {.op = i % 2 ? "restore" : "save", .name = names[i]};
+        expect x = {-1, "[A-Za-z0-9_.-]", NULL, NULL, 0};
+        hostile_cmd("save/restore name outside the alphabet", &s, &x);
+    }
+}
+
+static void directed_ramps(void)
+{
+    /* defect 1: a ramp naming two or more parameters */
+    for (int n = 2; n <= 40; n += 19) {
+        cmdspec c = {.op = "ramp", .nparams = n, .duration = 5, .unit = "tau"};
+        for (int i = 0; i < n; i++)
+            c.names[i] = i % 2 ? "xi_p" : "omega", c.values[i] = 1.1;
+        expect x = {-1, "exactly one", NULL, NULL, 0};
+        hostile_cmd("ramp with several names", &c, &x);
+    }
+    /* defect 2: denormal, zero, huge, non-finite durations; the limits named */
+    static const double dur[] = {4.94e-324, 1e-310, 0, -1, 1e300, INFINITY, NAN, 2e15};
+    for (unsigned i = 0; i < sizeof dur / sizeof dur[0]; i++) {
+        cmdspec c = {.op = "ramp", .nparams = 1, .names = {"xi_p"}, .values = {0.1},
+                     .duration = dur[i], .unit = "tau"};
+        expect x = {1, "1e+15", NULL, NULL, 0};
+        char w[64];
+        snprintf(w, sizeof w, "ramp duration %g tau", dur[i]);
+        hostile_cmd(w, &c, &x);
+        c.unit = "s";
+        snprintf(w, sizeof w, "ramp duration %g s", dur[i]);
+        hostile_cmd(w, &c, &REFUSED);
+    }
+    /* a bad `from` is reported as the from */
+    cmdspec c = {.op = "ramp", .nparams = 1, .names = {"omega"}, .values = {1.2},
+                 .has_from = 1, .from = 99, .duration = 5, .unit = "tau"};
+    expect x = {-2, "from", NULL, NULL, 0};
+    hostile_cmd("ramp from out of range", &c, &x);
+    /* bounds printed so that a value just outside looks outside */
+    cmdspec d = {.op = "set", .nparams = 1, .names = {"phi1"}, .values = {6.2831853071795871}};
+    expect y = {-2, "6.283185307179586", NULL, NULL, 0};
+    hostile_cmd("set phi1 = 2 pi + 1 ulp", &d, &y);
+    cmdspec e = {.op = "ramp", .nparams = 0, .duration = 5, .unit = "tau"};
+    expect z = {-1, "exactly one", NULL, NULL, 0};
+    hostile_cmd("ramp with no name", &e, &z);
+}
+
+static void directed_clients(void)
+{
+    static char big[5001];
+    memset(big, 'c', sizeof big - 1);
+    static const size_t lens[] = {71, 72, 255, 256};
+    for (unsigned i = 0; i < sizeof lens / sizeof lens[0]; i++) {
+        cmdspec c = {.op = "get", .client = big, .client_len = lens[i]};
+        expect x = {0, NULL, NULL, big, lens[i]};
+        hostile_cmd("get with a long client id", &c, &x);
+        cmdspec s = {.op = "step", .nsteps = 3, .client = big, .client_len = lens[i]};
+        hostile_cmd("step with a long client id", &s, &x);
+    }
+    static const size_t over[] = {257, 4095, 4096, 5000};
+    for (unsigned i = 0; i < sizeof over / sizeof over[0]; i++) {
+        cmdspec c = {.op = "get", .client = big, .client_len = over[i]};
+        expect x = {1, "256", NULL, big, CLIENT_LIMIT};
+        hostile_cmd("get with a client id over the limit", &c, &x);
+    }
+    static const char *odd[] = {"rig@m\xc3\xbcller", "tab\there", "ctl\x01\x02\x7f", "\xff\xfe"};
+    for (unsigned i = 0; i < sizeof odd / sizeof odd[0]; i++) {
+        cmdspec c = {.op = "get", .client = odd[i]};
+        expect x = {0, NULL, NULL, odd[i], 0};
+        hostile_cmd("get with a UTF-8/control client id", &c, &x);
+        cmdspec s = {.op = "set", .nparams = 1, .names = {"omega"}, .values = {1.1},
+                     .at_section = 1, .client = odd[i]};
+        hostile_cmd("set at section with an odd client id", &s, &x);
+    }
+}
+
+static void directed_misc(void)
+{
+    cmdspec get = {.op = "get"};
+    static enc e;
+    encode_cmd(&e, &(cmdspec){.seq = 777, .client = "fz-attacker", .op = "get", .unit = "",
+                              .name = ""});
+    /* defect 11: trailing bytes; an op with a NUL inside */
+    memcpy(e.b + e.n, "junkjunk", 8);
+    expect td = {-9, "bytes after the end", NULL, "fz-attacker", 0};
+    hostile("get with trailing bytes", e.b, e.n + 8, &td);
+    get.op = "get\0junk";
+    get.op_len = 8;
+    hostile_cmd("op 'get\\0junk'", &get, &REFUSED);
+    /* steps and modes at their edges */
+    static const int64_t ns[] = {0, -1, INT64_MIN, INT64_MAX, 1000000000001LL};
+    for (unsigned i = 0; i < sizeof ns / sizeof ns[0]; i++) {
+        cmdspec s = {.op = "step", .nsteps = ns[i]};
+        hostile_cmd("step out of range", &s, &REFUSED);
+    }
+    static const double rates[] = {NAN, -1, 1e-300, 4.94e-324, 1e9, INFINITY};
+    for (unsigned i = 0; i < sizeof rates / sizeof rates[0]; i++) {
+        cmdspec s = {.op = "mode", .name = "realtime", .rate = rates[i]};
+        expect x = {1, "[1e-06, 1000]", NULL, NULL, 0};
+        hostile_cmd("mode with a bad rate", &s, &x);
+    }
+}
+
+/* Values an attacker tries. */
+static double hostile_value(void)
+{
+    static const double v[] = {NAN, INFINITY, -INFINITY, 4.94e-324, -4.94e-324, 1e-310, 0.0,
+                               -0.0, 1e308, -1e308, 1e15, 0.01, 10, 2.5, 0.08, 1.0, 6.2831853071795871,
+                               -6.2831853071795871, 1e-9, 0.95, 100, 1000};
+    return v[rndi(sizeof v / sizeof v[0])];
+}
+
+static const char *hostile_name(void)
+{
+    static const char *n[] = {"omega", "xi_p", "k_a", "phi1", "a1", "mu1", "k1x", "b", "b_j",
+                              "f_m", "nope", "", "OMEGA", "omega ", "xi_p\x01", "e_m", "phi"};
+    return n[rndi(sizeof n / sizeof n[0])];
+}
+
+static void random_cmds(long n)
+{
+    static const char *ops[] = {"set", "ramp", "pause", "reset", "step", "save", "restore",
+                                "get", "mode", "", "SET", "resume", "\xc3\xa9", "set "};
+    static const char *units[] = {"s", "tau", "", "ms", "S", "tau\n"};
+    static const char *modes[] = {"realtime", "fast", "lockstep", "", "warp", "params"};
+    for (long i = 0; i < n; i++) {
+        cmdspec c = {.op = ops[rndi(sizeof ops / sizeof ops[0])], .seq = (int64_t)rnd()};
+        c.nparams = rndi(4) == 0 ? rndi(70) - 2 : 1 + rndi(3);
+        int np = c.nparams < 0 ? 0 : c.nparams > 64 ? 64 : c.nparams;
+        for (int j = 0; j < np; j++)
+            c.names[j] = hostile_name(), c.values[j] = hostile_value();
+        if (c.nparams > 64)
+            c.nparams = 64 + rndi(2); /* 65: over the wire limit, still well-formed */
+        c.has_from = (int8_t)rndi(3);
+        c.from = hostile_value(), c.duration = hostile_value();
+        c.unit = units[rndi(sizeof units / sizeof units[0])];
+        c.nsteps = rndi(3) ? 1 + rndi(1000) : (int64_t)rnd();
+        c.name = rndi(2) ? modes[rndi(sizeof modes / sizeof modes[0])] : "fzpre";
+        c.rate = hostile_value();
+        c.at_section = (int8_t)(rndi(4) == 0 ? rnd() : (uint64_t)rndi(2));
+        hostile_cmd(c.op, &c, &ANY);
+    }
+}
+
+/* Every truncation of a few valid messages, bit flips, a wrong fingerprint. */
+static void raw_mutations(long flips)
+{
+    cmdspec base[3] = {
+        {.seq = 42, .client = "fz-raw", .op = "set", .nparams = 2, .names = {"omega", "xi_p"},
+         .values = {1.3, 0.1}, .unit = "", .name = ""},
+        {.seq = 43, .client = "fz-raw", .op = "ramp", .nparams = 1, .names = {"omega"},
+         .values = {1.4}, .duration = 10, .unit = "tau", .name = ""},
+        {.seq = 44, .client = "fz-raw", .op = "save", .unit = "", .name = "fzpre"}};
+    static enc e;
+    for (int m = 0; m < 3; m++) {
+        encode_cmd(&e, &base[m]);
+        for (size_t len = 0; len < e.n; len++)
+            hostile("truncated message", e.b, len, &REFUSED);
+    }
+    for (long i = 0; i < flips; i++) {
+        encode_cmd(&e, &base[rndi(3)]);
+        size_t at = (size_t)rndi((int)e.n);
+        e.b[at] ^= (unsigned char)(1u << rndi(8));
+        hostile("bit flip", e.b, e.n, &ANY);
+    }
+    encode_cmd(&e, &base[0]);
+    e.b[3] ^= 0x10;
+    expect fp = {-9, "fingerprint", NULL, NULL, 0};
+    hostile("wrong fingerprint", e.b, e.n, &fp);
+}
+
+/* defect 5: a burst of gets, n in ms milliseconds, all answered (or what
+ * the kernel dropped counted on STATUS). */
+static void burst(int n, double ms)
+{
+    static enc e;
+    mark();
+    pump(300); /* a STATUS before */
+    long before = F.acks_total;
+    long long handled0 = F.st_handled;
+    double t0 = now_ms();
+    for (int i = 0; i < n; i++) {
+        encode_cmd(&e, &(cmdspec){.seq = 5000000 + i, .client = "fz-burst", .op = "get",
+                                  .unit = "", .name = ""});
+        publish("CMD", e.b, e.n);
+        if (i % 50 == 49) { /* batches of 50, sleeping (not spinning) to keep the pace */
+            double wait = t0 + ms * (i + 1) / n - now_ms();
+            if (wait > 0)
+                usleep((useconds_t)(wait * 1e3));
+        }
+    }
+    double end = now_ms() + 10000;
+    while (F.acks_total - before < n && now_ms() < end)
+        pump(5);
+    pump(600); /* a STATUS after it */
+    long got = F.acks_total - before;
+    long long handled = F.st_handled - handled0;
+    printf("burst: %d get in %.0f ms: the daemon answered %lld, %ld ACKs reached us; STATUS "
+           "cmds_dropped %lld, rx_dropped %lld\n", n, ms, handled, got, F.st_cmds_dropped,
+           F.st_rx_dropped);
+    if (handled != n)
+        fail("burst: the daemon answered %lld of %d commands", handled, n);
+}
+
+/* defects 3 and 6: hostile ticks; a get answered while a big tick runs. */
+static void ticks(void)
+{
+    mark();
+    own("mode", "lockstep", 3000);
+    own("resume", "", 3000);
+    static const int64_t seqs[] = {0, INT64_MAX, INT64_MIN, 5, 1000000000005LL, -7, 6};
+    for (unsigned i = 0; i < sizeof seqs / sizeof seqs[0]; i++) {
+        wormgear_tick_t t = {.utime = 1, .seq = seqs[i], .nsteps = 1 + (int64_t)i};
+        unsigned char b[64];
+        int n = wormgear_tick_t_encode(b, 0, sizeof b, &t);
+        publish("TICK", b, (size_t)n);
+    }
+    pump(700);
+    long long dropped = F.have_status ? F.st_dropped : -1;
+    printf("ticks: STATUS msgs_dropped %lld after hostile tick seqs\n", dropped);
+    if (dropped < 0 || dropped > 1000)
+        fail("hostile tick seqs: msgs_dropped %lld (one gap must count at most a bound)",
+             dropped);
+    wormgear_tick_t t = {.utime = 1, .seq = 7, .nsteps = 10000000};
+    unsigned char b[64];
+    int n = wormgear_tick_t_encode(b, 0, sizeof b, &t);
+    publish("TICK", b, (size_t)n);
+    double worst = 0;
+    for (int i = 0; i < 20; i++) { /* rigs poll while the daemon steps */
+        mark();
+        double t0 = now_ms();
+        if (own("get", "", 5000) == 0)
+            worst = fmax(worst, F.win[F.nwin - 1].at_ms - t0);
+        pump(20);
+    }
+    printf("ticks: slowest get while a 1e7-step tick runs: %.1f ms\n", worst);
+    record_latency(worst, "get during a 1e7-step tick");
+    own("pause", "", 3000);
+    own("mode", "realtime", 3000);
+    rebase();
+}
+
+/* ---- snapshot files ------------------------------------------------------------- */
+
+static void put_file(const char *name, const unsigned char *b, size_t n)
+{
+    char path[256];
+    snprintf(path, sizeof path, "%s/%s", F.dir, name);
+    FILE *f = fopen(path, "wb");
+    if (!f || fwrite(b, 1, n, f) != n)
+        fail("cannot write %s", path);
+    if (f)
+        fclose(f);
+}
+
+static void restore_expect_refusal(const char *what, const expect *x)
+{
+    cmdspec c = {.op = "restore", .name = "fzbad"};
+    hostile_cmd(what, &c, x);
+}
+
+static void snapshots(void)
+{
+    size_t n = 0;
+    unsigned char *good = slurp("fzbase.wgstate", &n), *b = malloc(n + 16);
+    if (!good || !b) {
+        fail("no base snapshot");
+        return;
+    }
+    long before = F.failures;
+    for (size_t len = 0; len < n; len++) {
+        put_file("fzbad.wgstate", good, len);
+        restore_expect_refusal("restore of a truncated snapshot", &REFUSED);
+    }
+    printf("snapshots: %zu truncations, %ld failures\n", n, F.failures - before);
+    before = F.failures;
+    for (size_t at = 0; at < n; at++) {
+        memcpy(b, good, n);
+        b[at] ^= (unsigned char)(1u << rndi(8));
+        put_file("fzbad.wgstate", b, n);
+        restore_expect_refusal("restore of a snapshot with one byte flipped", &REFUSED);
+    }
+    printf("snapshots: %zu single-byte flips, %ld failures\n", n, F.failures - before);
+    put_file("fzbad.wgstate", good, n); /* control: the intact file restores */
+    cmdspec c = {.op = "restore", .name = "fzbad"};
+    expect ok = {0, NULL, NULL, NULL, 0};
+    hostile_cmd("restore of the intact snapshot", &c, &ok);
+    free(good);
+    free(b);
+}
+
+static void special_files(void)
+{
+    char path[256];
+    snprintf(path, sizeof path, "%s/fzbad.wgstate", F.dir);
+    unlink(path);
+    if (mkfifo(path, 0600) == 0) {
+        expect x = {1, "regular file", NULL, NULL, 0};
+        restore_expect_refusal("restore of a FIFO", &x);
+    }
+    unlink(path);
+    if (symlink("/etc/passwd", path) == 0) {
+        expect x = {1, NULL, "root:", NULL, 0};
+        restore_expect_refusal("restore of a symlink to /etc/passwd", &x);
+    }
+    unlink(path);
+    if (mkdir(path, 0700) == 0) {
+        expect x = {1, "regular file", "missing parameter", NULL, 0};
+        restore_expect_refusal("restore of a directory", &x);
+    }
+    rmdir(path);
+    unsigned char *big = calloc(1, 2 << 20);
+    if (big) {
+        memset(big, '#', 2 << 20);
+        put_file("fzbad.wgstate", big, 2 << 20);
+        expect x = {1, "too large", NULL, NULL, 0};
+        restore_expect_refusal("restore of a 2 MB file", &x);
+        free(big);
+    }
+    unlink(path);
+}
+
+/* defect 9: nothing the attacker wrote became a line of its own in the log. */
+static void log_not_forged(void)
+{
+    FILE *f = fopen(F.log, "r");
+    char line[4096];
+    while (f && fgets(line, sizeof line, f))
+        if (!strncmp(line, "<3>FORGED", 9) || !strncmp(line, "FORGED", 6))
+            fail("a forged line reached the daemon's log: %s", line);
+    if (f)
+        fclose(f);
+}
+
+/* ---- SIGKILL during saves ------------------------------------------------------ */
+
+/* Our own one-parameter set (not a hostile command: no rebase after it). */
+static void own_set(const char *name, double v)
+{
+    cmdspec c = {.seq = ++F.seq, .client = "fz-self", .op = "set", .nparams = 1,
+                 .names = {name}, .values = {v}, .unit = "", .name = ""};
+    static enc e;
+    encode_cmd(&e, &c);
+    publish("CMD", e.b, e.n);
+    if (wait_for(c.seq, 3000) < 0)
+        fail("no ACK to our own set %s", name);
+}
+
+static int stale_tmp_files(void)
+{
+    char cmd[300];
+    snprintf(cmd, sizeof cmd, "ls %s | grep -c '\\.tmp\\.' > %s/tmpcount", F.dir, F.dir);
+    if (system(cmd) < 0)
+        return 0;
+    size_t nt = 0;
+    unsigned char *t = slurp("tmpcount", &nt);
+    int n = t ? atoi((char *)t) : 0;
+    free(t);
+    return n;
+}
+
+/* Each round: the state changes, its snapshot is taken as the reference
+ * "new", then a save over the old file is killed at a random moment: the
+ * file must be the old one or the new one, whole; a restart leaves no
+ * temporary file behind and restores it. */
+static void kill_during_saves(int rounds)
+{
+    int olds = 0, news = 0, absent = 0;
+    for (int r = 0; r < rounds; r++) {
+        mark();
+        own_set("xi_p", 0.05 + 0.001 * r);
+        own("save", "fzN", 3000);
+        size_t no = 0, nn = 0, nk = 0;
+        unsigned char *o = slurp("fzK.wgstate", &no), *nw = slurp("fzN.wgstate", &nn);
+        static enc e;
+        encode_cmd(&e, &(cmdspec){.seq = 9000000 + r, .client = "fz-kill", .op = "save",
+                                  .name = "fzK", .unit = ""});
+        publish("CMD", e.b, e.n);
+        usleep((useconds_t)rndi(4000));
+        kill(F.pid, SIGKILL);
+        waitpid(F.pid, NULL, 0);
+        unsigned char *k = slurp("fzK.wgstate", &nk);
+        if (!k && !o)
+            absent++;
+        else if (k && o && nk == no && !memcmp(k, o, no))
+            olds++;
+        else if (k && nw && nk == nn && !memcmp(k, nw, nn))
+            news++;
+        else
+            fail("round %d: after a killed save the file is neither the old nor the new one "
+                 "(%zu bytes)", r, nk);
+        free(o), free(nw), free(k);
+        start_daemon("--verbose=no");
+        if (stale_tmp_files())
+            fail("round %d: stale *.tmp.* files in the state directory after a restart", r);
+        mark();
+        if (nk && own("restore", "fzK", 3000) != 0)
+            fail("round %d: the file a killed save left does not restore", r);
+    }
+    printf("kill: %d rounds: file old %d, new %d, absent %d\n", rounds, olds, news, absent);
+}
+
+/* ---- main ---------------------------------------------------------------------- */
+
+static int cmp_d(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static void figures(void)
+{
+    qsort(F.lat, (size_t)F.nlat, sizeof F.lat[0], cmp_d);
+    double p50 = F.nlat ? F.lat[F.nlat / 2] : 0, p99 = F.nlat ? F.lat[F.nlat * 99 / 100] : 0;
+    printf("wgfuzz: %ld hostile messages, %ld accepted, %ld refused, %ld unanswered, %ld extra "
+           "ACKs, %ld state changes by refused commands; ACK p50 %.2f ms, p99 %.2f ms, slowest "
+           "%.1f ms (%s); %ld failures\n",
+           F.commands, F.accepted, F.refused, F.unanswered, F.extra, F.changed, p50, p99,
+           F.slowest, F.slowest_what, F.failures);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 3) {
+        fprintf(stderr, "usage: wgfuzz WORMGEARD commands|snapshots|kill [SEED [N]]\n");
+        return 2;
+    }
+    F.bin = argv[1];
+    uint64_t seed = argc > 3 && strcmp(argv[3], "-") ? strtoull(argv[3], NULL, 0)
+                                                    : (uint64_t)time(NULL) ^ (uint64_t)getpid();
+    long n = argc > 4 ? atol(argv[4]) : 1500;
+    F.rng = seed ? seed : 1;
+    printf("wgfuzz %s: seed %llu (rerun: wgfuzz WORMGEARD %s %llu %ld)\n", argv[2],
+           (unsigned long long)seed, argv[2], (unsigned long long)seed, n);
+    encoder_self_check();
+    snprintf(F.url, sizeof F.url, "udpm://239.255.76.67:%d?ttl=0", 20000 + getpid() % 20000);
+    snprintf(F.dir, sizeof F.dir, "/tmp/wgfuzz-XXXXXX");
+    if (!mkdtemp(F.dir))
+        return 1;
+    snprintf(F.log, sizeof F.log, "%s/daemon.log", F.dir);
+    char lurl[160]; /* our receive buffer sized for the burst's ACKs and PARAMS */
+    snprintf(lurl, sizeof lurl, "%s&recv_buf_size=8388608", F.url);
+    F.lcm = lcm_create(lurl);
+    if (!F.lcm)
+        return 1;
+    wormgear_ack_t_subscription_t *as = wormgear_ack_t_subscribe(F.lcm, "FZ_ACK", on_ack, NULL);
+    wormgear_ack_t_subscription_set_queue_capacity(as, 20000); /* a burst's ACKs */
+    wormgear_status_t_subscription_t *ss =
+        wormgear_status_t_subscribe(F.lcm, "FZ_STATUS", on_status, NULL);
+    start_daemon("--verbose=no");
+    own("save", "fzbase", 3000);
+    own("save", "fzpre", 3000);
+    if (!strcmp(argv[2], "commands")) {
+        directed_names();
+        directed_ramps();
+        directed_clients();
+        directed_misc();
+        raw_mutations(n / 3);
+        random_cmds(n);
+        burst(2000, 60);
+        ticks();
+        log_not_forged();
+    } else if (!strcmp(argv[2], "snapshots")) {
+        snapshots();
+        special_files();
+    } else if (!strcmp(argv[2], "kill")) {
+        kill_during_saves((int)(n > 40 ? 40 : n));
+    }
+    stop_daemon();
+    figures();
+    char cmd[160];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", F.dir);
+    if (!g_failed && system(cmd) != 0)
+        fprintf(stderr, "cannot remove %s\n", F.dir);
+    else if (g_failed)
+        fprintf(stderr, "daemon log and files kept in %s\n", F.dir);
+    wormgear_ack_t_unsubscribe(F.lcm, as);
+    wormgear_status_t_unsubscribe(F.lcm, ss);
+    lcm_destroy(F.lcm);
+    return g_failed;
+}
