@@ -4,6 +4,7 @@
  * multipliers. No allocation: matrices live on the stack (n <= 16). */
 #include "wormgear/wg_regime.h"
 #include "wormgear/wg_status.h"
+#include "internal.h"
 
 #include <math.h>
 #include <string.h>
@@ -307,9 +308,7 @@ int wg_eig(int n, double *a, double *wr, double *wi)
     return WG_OK;
 }
 
-/* Solve B z = r in place (B destroyed, z returned in r) by LU with partial
- * pivoting. WG_ERANGE if B is singular to working precision. */
-static int solve(int n, double *a, double *r)
+int la_solve(int n, double *a, double *r)
 {
     for (int k = 1; k <= n; k++) {
         int piv = k;
@@ -369,7 +368,7 @@ int wg_fixed_point(const wg_map *m, double *x, double eps, double tol, int maxit
             return rc ? rc : WG_ERANGE;
         for (int i = 1; i <= n; i++)
             A(i, i) -= 1.0;
-        if ((rc = solve(n, a, px)))
+        if ((rc = la_solve(n, a, px)))
             return rc;
         for (int i = 0; i < n; i++)
             x[i] += px[i];
