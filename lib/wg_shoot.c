@@ -20,6 +20,7 @@ enum { NS = 14 }; /* consistent-form state */
 typedef struct vctx {
     const wg_kcoef *K;
     int mb, bj, ka; /* which dead zones are kinked, and whether k_p varies */
+    int bear;       /* bearings move (else only s, as the torsional kernels) */
     int d;          /* active columns */
 } vctx;
 
@@ -41,15 +42,17 @@ static void jac_col(const vctx *V, double kp, const double *w, const double *z, 
 {
     const wg_kcoef *K = V->K;
     double X = z[6], Vn = z[13];
-    for (int i = 0; i < 6; i++) {
+    for (int i = 0; i < 6 && V->bear; i++) {
         X += K->c[i] * z[i];
         Vn += K->c[i] * z[7 + i];
     }
     double F = K->dp * Vn + (V->ka ? kp : 1.0) * (V->mb ? w[0] : 1.0) * X;
-    for (int i = 0; i < 7; i++)
+    memset(out, 0, sizeof(double) * NS);
+    for (int i = 0; i < 6 && V->bear; i++) {
         out[i] = z[7 + i];
-    for (int i = 0; i < 6; i++)
         out[7 + i] = -K->d[i] * z[7 + i] - K->k[i] * (V->bj ? w[1 + i] : 1.0) * z[i] - K->m[i] * F;
+    }
+    out[6] = z[13];
     out[13] = -K->d[6] * z[13] - F;
 }
 
@@ -59,18 +62,19 @@ static void rhs_locked(const vctx *V, const wg_exc *e, const double *w, const do
 {
     const wg_kcoef *K = V->K;
     double xn = y[6] - e->te, dxn = y[13] + e->dte;
-    for (int i = 0; i < 6; i++) {
+    for (int i = 0; i < 6 && V->bear; i++) {
         xn += K->c[i] * y[i];
         dxn += K->c[i] * y[7 + i];
     }
     double g = V->mb ? w[0] * xn - zc[0] : xn;
     double F = K->dp * dxn + (V->ka ? e->kp : 1.0) * g;
-    for (int i = 0; i < 7; i++)
-        f[i] = y[7 + i];
-    for (int i = 0; i < 6; i++) {
+    memset(f, 0, sizeof(double) * NS);
+    for (int i = 0; i < 6 && V->bear; i++) {
         double gb = V->bj ? w[1 + i] * y[i] - zc[1 + i] : y[i];
+        f[i] = y[7 + i];
         f[7 + i] = -K->d[i] * y[7 + i] - K->k[i] * gb - K->m[i] * F;
     }
+    f[6] = y[13];
     f[13] = (e->fx - F) - K->d[6] * y[13];
 }
 
@@ -101,7 +105,7 @@ static void contact_normal(const vctx *V, int j, double *n)
 {
     memset(n, 0, sizeof(double) * NS);
     if (j == WG_C_MESH) {
-        for (int i = 0; i < 6; i++)
+        for (int i = 0; i < 6 && V->bear; i++)
             n[i] = V->K->c[i];
         n[6] = 1.0;
     } else {
@@ -181,7 +185,7 @@ static double contact_q(const wg_sim *s, const vctx *V, const phase *ph, int j, 
     wg_exc e;
     ct_exc_at(s, ph, t, &e);
     double x = y[6] - e.te;
-    for (int i = 0; i < 6; i++)
+    for (int i = 0; i < 6 && V->bear; i++)
         x += V->K->c[i] * y[i];
     return x;
 }
@@ -330,7 +334,8 @@ int wg_orbit_map(wg_sim *s, int n, int kind, const double *x, wg_orbit *o)
     o->crossings = 0;
     o->salt_ode = o->salt_map = 0.0;
     memset(o->ncross, 0, sizeof o->ncross);
-    vctx V = {&s->core->kc, (kf & KF_MB) != 0, (kf & KF_BJ) != 0, (kf & KF_KA) != 0, o->dim};
+    vctx V = {&s->core->kc, (kf & KF_MB) != 0, (kf & KF_BJ) != 0, (kf & KF_KA) != 0,
+              (kf & KF_BEAR) != 0, o->dim};
     double Y[NS * NS];
     memset(Y, 0, sizeof Y);
     for (int j = 0; j < o->dim; j++)

@@ -13,8 +13,7 @@
 #include "wormgear/wg_regime.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_shoot.h"
-
-#include <complex.h>
+#include "test_linear.h"
 
 enum { NS = 14 };
 
@@ -46,81 +45,6 @@ static void refine(wg_sim *s, int n, double *x, wg_orbit *o)
     memcpy(x, s->y, sizeof(double) * NS);
     ASSERT_EQ_INT(wg_orbit_refine(s, n, x, 1e-12, 12, &res, o), WG_OK);
     ASSERT_TRUE(res <= 1e-12);
-}
-
-/* ---- the linear system ------------------------------------------------------ */
-
-/* y' = A y + b0 + Re(B e^{i psi}): A column by column from the reference
- * RHS (exact: the system is linear), the forcing from two phases. */
-static void linear_system(const wg_params *p, double *A, double *b0, double complex *B)
-{
-    double z[NS] = {0}, f0[NS], f[NS], g[NS];
-    wg_exc e0 = {1.0, 0.0, 0.0, 0.0}, e;
-    wg_rhs(WG_MODEL_CONSISTENT, p, &e0, z, f0);
-    for (int j = 0; j < NS; j++) {
-        z[j] = 1.0;
-        wg_rhs(WG_MODEL_CONSISTENT, p, &e0, z, f);
-        z[j] = 0.0;
-        for (int i = 0; i < NS; i++)
-            A[i * NS + j] = f[i] - f0[i];
-    }
-    double om = p->v[WG_P_OMEGA];
-    wg_exc_eval(p, 0.0, om, &e);
-    wg_rhs(WG_MODEL_CONSISTENT, p, &e, z, f);
-    wg_exc_eval(p, M_PI / 2, om, &e);
-    wg_rhs(WG_MODEL_CONSISTENT, p, &e, z, g);
-    for (int i = 0; i < NS; i++) {
-        b0[i] = i == 13 ? p->v[WG_P_F_M] : 0.0;
-        B[i] = (f[i] - b0[i]) - I * (g[i] - b0[i]); /* Re(B e^{i psi}) at 0 and pi/2 */
-    }
-}
-
-/* Solve M z = r (complex, n x n, destroyed) by Gaussian elimination. */
-static void csolve(int n, double complex *M, double complex *r)
-{
-    for (int k = 0; k < n; k++) {
-        int pv = k;
-        for (int i = k + 1; i < n; i++)
-            if (cabs(M[i * n + k]) > cabs(M[pv * n + k]))
-                pv = i;
-        for (int j = 0; j < n; j++) {
-            double complex t = M[k * n + j];
-            M[k * n + j] = M[pv * n + j];
-            M[pv * n + j] = t;
-        }
-        double complex t = r[k];
-        r[k] = r[pv];
-        r[pv] = t;
-        for (int i = k + 1; i < n; i++) {
-            double complex f = M[i * n + k] / M[k * n + k];
-            for (int j = k; j < n; j++)
-                M[i * n + j] -= f * M[k * n + j];
-            r[i] -= f * r[k];
-        }
-    }
-    for (int k = n - 1; k >= 0; k--) {
-        for (int j = k + 1; j < n; j++)
-            r[k] -= M[k * n + j] * r[j];
-        r[k] /= M[k * n + k];
-    }
-}
-
-/* The exact periodic response at psi = 0: y_s + Re(Y), (i omega - A) Y = B. */
-static void exact_response(const wg_params *p, double *y)
-{
-    double A[NS * NS], b0[NS];
-    double complex B[NS], M[NS * NS], ys[NS];
-    linear_system(p, A, b0, B);
-    for (int i = 0; i < NS * NS; i++)
-        M[i] = -A[i];
-    for (int i = 0; i < NS; i++)
-        ys[i] = b0[i];
-    csolve(NS, M, ys); /* -A ys = b0 */
-    for (int i = 0; i < NS * NS; i++)
-        M[i] = (i % (NS + 1) == 0 ? I * p->v[WG_P_OMEGA] : 0.0) - A[i];
-    csolve(NS, M, B);
-    for (int i = 0; i < NS; i++)
-        y[i] = creal(ys[i]) + creal(B[i]);
 }
 
 /* Largest distance from an exact multiplier exp(lambda T) to the nearest
