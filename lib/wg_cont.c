@@ -26,7 +26,7 @@ void wg_cont_opts_default(wg_cont_opts *o)
 {
     *o = (wg_cont_opts){.model = WG_MODEL_CONSISTENT, .param = WG_P_OMEGA, .from = 0.1,
                         .to = 2.5, .start = 0.1, .period = 1, .steps = WG_STEPS_DEFAULT * 2,
-                        .transient = 500, .ds0 = 1e-3, .ds_min = 1e-7, .ds_max = 0.02,
+                        .transient = 500, .ds0 = 1e-3, .ds_min = 1e-7, .ds_max = 0.01,
                         .tol = 1e-10, .loc_tol = 1e-9, .max_points = 5000, .depth = 1};
 }
 

@@ -20,7 +20,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define REAL_TOL 1e-7 /* |Im mu| below this (relative): a real multiplier */
+#define REAL_TOL 1e-5 /* |Im mu| below this (relative): a real multiplier (a double
+                         real pair may come out of the QR as a pair this close) */
 #define CROSS_TOL 1e-4 /* a located multiplier test must end this close to 0 */
 #define MAX_EV 64
 
@@ -121,19 +122,17 @@ static int at_sigma(cont *c, const sol *A, double sg, sol *T)
 }
 
 /* A period-2m branch passing through the period-m orbit within one step,
- * without its fold in the same step (a long step): the crossing is the
- * doubling of the period-m branch, located there when it was queued; else
- * the end of the step nearer to it stands, with the step as bracket.
- * WG_ERANGE when the half-period gap only turned (it must be of the order
- * of the step at both ends). */
+ * without its fold in the same step (a long step): the crossing is a
+ * doubling of the period-m branch located earlier (queued) inside the
+ * step; else the end of the step nearer to it stands, with the step as
+ * bracket, if the half-period gap there is within a quarter of the step.
+ * WG_ERANGE when the gap only turned. */
 static int through_parent(cont *c, const sol *A, const sol *B, double sb, event *e)
 {
     double ga[WG_NSTATE_MAX], step = 0.0, va = A->u[c->d], vb = B->u[c->d];
     double na = cont_half_gap(c, A, ga), nb = cont_half_gap(c, B, ga);
     for (int j = 0; j < c->d; j++)
         step = fmax(step, fabs(B->u[j] - A->u[j]));
-    if (fmax(na, nb) > 10.0 * step)
-        return WG_ERANGE;
     *e->X = na < nb ? *A : *B;
     e->sigma = na < nb ? 0.0 : sb;
     e->bracket = fabs(vb - va);
@@ -143,9 +142,10 @@ static int through_parent(cont *c, const sol *A, const sol *B, double sb, event 
         if (2 * q->n == A->n && v >= fmin(va, vb) - 1e-6 && v <= fmax(va, vb) + 1e-6) {
             memcpy(e->X->u, q->u, sizeof q->u);
             e->bracket = q->bracket;
+            return WG_OK;
         }
     }
-    return WG_OK;
+    return fmin(na, nb) <= 0.25 * step ? WG_OK : WG_ERANGE;
 }
 
 /* Secant (Illinois) on the test value over the arclength [0, sb]; e->X
@@ -256,8 +256,8 @@ static void fill(const cont *c, const event *e, int id, wg_bif *b)
     int i = e->kind == WG_BIF_PD ? t.ineg : e->kind == WG_BIF_TORUS ? t.icx
           : e->kind == WG_BIF_GRAZING ? 0 : t.ipos;
     memset(b, 0, sizeof *b);
-    *b = (wg_bif){e->kind, id, X->n, X->u[c->d], {0}, X->wr[i], X->wi[i], -1, 0, 0,
-                  e->bracket, e->evals};
+    *b = (wg_bif){e->kind, id, X->n, X->u[c->d], {0}, X->wr[i], X->wi[i], X->orb.xnsec[0],
+                  X->orb.qmin[WG_C_MESH], X->orb.qmax[WG_C_MESH], -1, 0, 0, e->bracket, e->evals};
     memcpy(b->y, c->base, sizeof b->y);
     for (int k = 0; k < c->d; k++)
         b->y[c->idx[k]] = X->u[k];

@@ -67,6 +67,7 @@ typedef struct wg_bif {
     double value;
     double y[WG_NSTATE_MAX];
     double mu_re, mu_im;              /* the multiplier that crossed (grazing: the largest) */
+    double xn, min_xn, max_xn;        /* x_n at the section, its extremes over the orbit */
     int contact;                      /* grazing: enum wg_contact, else -1 */
     int side;                         /* grazing: the threshold +c (+1) or -c (-1) */
     int extreme;                      /* grazing: of the minimum (-1) or maximum (+1) */
@@ -94,7 +95,8 @@ typedef struct wg_cont_sink {
 const char *wg_bif_name(int kind);
 
 /* Defaults: omega, period 1, N 256, transient 500, ds 1e-3 (min 1e-7,
- * max 0.02), tol 1e-10, loc_tol 1e-9, 5000 points, depth 1. */
+ * max 0.01), tol 1e-10, loc_tol 1e-9, 5000 points, depth 1, monodromy of
+ * the map. */
 void wg_cont_opts_default(wg_cont_opts *o);
 
 /* Steps per period a run of o over its range uses for parameters p. */
