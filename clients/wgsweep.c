@@ -461,6 +461,7 @@ static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank
     st.ranks = size;
     int per = o->up + o->down, n = st.ngroups * per, rc = 0;
     cont_bifs ex[STUDY_MAX_GROUPS];
+    memset(ex, 0, sizeof ex);
     if ((rc = load_exact(o, &st, ex))) {
         free_exact(o, ex);
         return rc;
@@ -512,6 +513,7 @@ static int do_table(const opts *o, const wg_scene *sc, const char *cmd)
     st.b = sc->p.v[WG_P_B];
     st.o = &o->so;
     cont_bifs ex[STUDY_MAX_GROUPS];
+    memset(ex, 0, sizeof ex);
     int rc = load_points_csv(o->table_from, &st, why, sizeof why), xrc = 0;
     if (!rc && (xrc = load_exact(o, &st, ex)) == 0) {
         snprintf(path, sizeof path, "%s.md", o->out);
