@@ -33,6 +33,7 @@ typedef struct opts {
     const char *sets[64];
     int nsets;
     int start_set, sweep_points, quiet, threads;
+    wg_params scene_p;  /* the scene's own values, before --set */
     wg_cont_opts co;
 } opts;
 
@@ -58,6 +59,7 @@ static void usage(FILE *f)
         "                          the state by its RMS)\n"
         "  --depth K               period-doubling branch switches (default 1, 0: none)\n"
         "  --tol X                 Newton residual |P^n(x) - x| (default 1e-10)\n"
+        "  --loc-tol X             location: arclength bracket (default 1e-9)\n"
         "  --transient T           periods run before the first Newton (default 500)\n"
         "  --monodromy map|flow    derivative used (default map: of the Poincare map itself)\n"
         "  --sweep-points K        background sweep, up and down, K points (default 101;\n"
@@ -106,6 +108,7 @@ static int parse_numbers(int c, const char *a, opts *o)
     case 'm': return num(a, &co->ds_max) || !(co->ds_max > 0) ? bad("--max-step: need > 0, got", a) : 0;
     case 'd': return inum(a, 0, 8, &co->depth) ? bad("--depth: need 0..8, got", a) : 0;
     case 't': return num(a, &co->tol) || !(co->tol > 0) ? bad("--tol: need > 0, got", a) : 0;
+    case 'l': return num(a, &co->loc_tol) || !(co->loc_tol > 0) ? bad("--loc-tol: need > 0, got", a) : 0;
     case 'T': return inum(a, 0, 100000000, &co->transient) ? bad("--transient: need 0..1e8, got", a) : 0;
     case 'k': return inum(a, 0, 100000, &o->sweep_points) || o->sweep_points == 1 ? bad("--sweep-points: need 0 or 2..1e5, got", a) : 0;
     case 'j': return inum(a, 1, 256, &o->threads) ? bad("--threads: need 1..256, got", a) : 0;
@@ -144,7 +147,8 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"scene", 1, 0, 's'}, {"set", 1, 0, 'e'}, {"param", 1, 0, 'p'}, {"from", 1, 0, 'a'},
         {"to", 1, 0, 'b'}, {"start", 1, 0, 'S'}, {"period", 1, 0, 'n'},
         {"steps-per-period", 1, 0, 'N'}, {"max-step", 1, 0, 'm'}, {"depth", 1, 0, 'd'},
-        {"tol", 1, 0, 't'}, {"transient", 1, 0, 'T'}, {"monodromy", 1, 0, 'M'},
+        {"tol", 1, 0, 't'}, {"loc-tol", 1, 0, 'l'}, {"transient", 1, 0, 'T'},
+        {"monodromy", 1, 0, 'M'},
         {"sweep-points", 1, 0, 'k'}, {"threads", 1, 0, 'j'}, {"format", 1, 0, 'F'},
         {"out", 1, 0, 'o'}, {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     memset(o, 0, sizeof *o);
@@ -281,11 +285,14 @@ static void captions(const opts *o, const wg_scene *sc, const ctx *c, char cap[3
     snprintf(cap[0], 400, "scene %s, %s, N = %d steps per mesh period; period-%d orbit from %s "
              "= %g, continued over [%g, %g]", sc->name, xi, co->steps, co->period, c->pname,
              co->start, fmin(co->from, co->to), fmax(co->from, co->to));
-    int n = snprintf(cap[1], 400, "set away from the scene: ");
-    for (int i = 0; i < o->nsets && n < 380; i++)
-        n += snprintf(cap[1] + n, (size_t)(400 - n), "%s%s", i ? ", " : "", o->sets[i]);
-    if (!o->nsets)
-        snprintf(cap[1], 400, "scene parameters unchanged");
+    int n = snprintf(cap[1], 400, "set away from the scene:"), shown = 0;
+    for (int id = 0; id < WG_NPARAM && n < 340; id++)
+        if (sc->p.v[id] != o->scene_p.v[id] && id != co->param)
+            n += snprintf(cap[1] + n, (size_t)(400 - n), "%s %s = %g (scene: %g)",
+                          shown++ ? "," : "", wg_param_info_get(id)->name, sc->p.v[id],
+                          o->scene_p.v[id]);
+    if (!shown)
+        snprintf(cap[1], 400, "every other parameter as in the scene");
     snprintf(cap[2], 400, "%d branch points, %d bifurcations, %d Newton failures (step "
              "halved)%s%s", c->r.npt, c->r.nbif, c->r.newton_fails,
              o->sweep_points ? "; dots: sweep with continuation, up and down" : "",
@@ -329,13 +336,14 @@ static void install_signals(void)
     sigaction(SIGTERM, &sa, NULL);
 }
 
-static int load_scene(const opts *o, wg_scene *sc)
+static int load_scene(opts *o, wg_scene *sc)
 {
     char why[640];
     if (wg_scene_open(sc, o->scene, why, sizeof why)) {
         fprintf(stderr, "wgcont: %s\n", why);
         return 2;
     }
+    o->scene_p = sc->p;
     if (wg_scene_apply_sets(sc, o->sets, o->nsets, why, sizeof why)) {
         fprintf(stderr, "wgcont: --set %s\n", why);
         return 2;
