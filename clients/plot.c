@@ -1,5 +1,6 @@
 /* plot.c - cairo figures for sweeps and orbits (see plot.h). */
 #include "plot.h"
+#include "plot_draw.h"
 
 #include <cairo.h>
 #include <fontconfig/fontconfig.h>
@@ -9,16 +10,8 @@
 
 #define FONT "DejaVu Sans"
 
-/* A plotting area: pixel box and data ranges. */
-typedef struct frame {
-    double x0, y0, w, h;
-    double xmin, xmax, ymin, ymax;
-} frame;
-
-static double px(const frame *f, double x) { return f->x0 + (x - f->xmin) / (f->xmax - f->xmin) * f->w; }
-static double py(const frame *f, double y) { return f->y0 + f->h - (y - f->ymin) / (f->ymax - f->ymin) * f->h; }
-
 static const double C_UP[3] = {0.12, 0.40, 0.80}, C_DOWN[3] = {0.85, 0.25, 0.10};
+const double PD_UP[3] = {0.12, 0.40, 0.80}, PD_DOWN[3] = {0.85, 0.25, 0.10};
 
 void plot_regime_colour(const wg_point *p, int strong, double rgb[3])
 {
@@ -450,4 +443,36 @@ int plot_xy_png(const char *path, const plot_xy *p, char *why, size_t whylen)
     }
     axes(cr, &f, p->xlabel, p->ylabel, 1);
     return finish(s, cr, path, why, whylen);
+}
+
+/* ---- the helpers for other figures (plot_draw.h) ----------------------------- */
+
+void pd_text(cairo_t *cr, double x, double y, double size, double align, const char *s)
+{
+    text(cr, x, y, size, align, s);
+}
+
+void pd_axes(cairo_t *cr, const frame *f, const char *xlabel, const char *ylabel, int xnumbers)
+{
+    axes(cr, f, xlabel, ylabel, xnumbers);
+}
+
+void pd_hguide(cairo_t *cr, const frame *f, double y, const char *label)
+{
+    hguide(cr, f, y, label);
+}
+
+void pd_legend_box(cairo_t *cr, double x, double y, const double rgb[3], const char *label)
+{
+    legend_box(cr, x, y, rgb, label);
+}
+
+void pd_dots(cairo_t *cr, const frame *f, const wg_point *pts, int n, const double c[3])
+{
+    dots(cr, f, pts, n, c);
+}
+
+void pd_min_curve(cairo_t *cr, const frame *f, const wg_point *pts, int n, const double c[3])
+{
+    min_curve(cr, f, pts, n, c);
 }

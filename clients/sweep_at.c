@@ -2,6 +2,7 @@
 #include "sweep_at.h"
 #include "plot.h"
 #include "sweep_out.h"
+#include "wormgear/wg_shoot.h"
 #include "wormgear/wg_status.h"
 
 #include <math.h>
@@ -126,19 +127,19 @@ static void print_floquet(FILE *out, const wg_params *p, const double *y, const 
     wg_sim_config cfg = {o->model, o->stepper, N};
     if (wg_sim_init(&sim, p, &cfg, why, sizeof why))
         return;
-    wg_simmap sm = {&sim, n};
-    wg_map m = wg_simmap_map(&sm);
-    double x[WG_NSTATE_MAX], res, wr[WG_NSTATE_MAX], wi[WG_NSTATE_MAX];
+    wg_orbit *orb = malloc(sizeof *orb);
+    double x[WG_NSTATE_MAX], res = INFINITY, wr[WG_NSTATE_MAX], wi[WG_NSTATE_MAX];
     memcpy(x, y, sizeof x);
-    int rc = wg_fixed_point(&m, x, o->fd_eps, 1e-10, 8, &res);
+    int rc = orb ? wg_orbit_refine(&sim, n, x, 1e-10, 8, &res, orb) : WG_ENOMEM;
     fprintf(out, "orbit       Newton refinement: %s, residual %.2e\n",
             rc ? wg_status_name(rc) : "ok", res);
-    if (wg_floquet(&m, x, o->fd_eps, wr, wi) == WG_OK) {
+    if (rc != WG_ENOMEM && rc != WG_EUNSUPPORTED && wg_orbit_floquet(orb, wr, wi) == WG_OK) {
         fprintf(out, "floquet     multipliers of the period-%d map (largest |mu| first):\n", n);
-        for (int i = 0; i < m.dim; i++)
+        for (int i = 0; i < orb->dim; i++)
             fprintf(out, "            %+.6f %+.6fi   |mu| = %.6f\n", wr[i], wi[i],
                     hypot(wr[i], wi[i]));
     }
+    free(orb);
     wg_sim_fini(&sim);
 }
 

@@ -1,7 +1,8 @@
 /* sweep_md.c - the Markdown transitions table of a study (see sweep_md.h):
  * the up and down sweeps' transitions matched by kind, periods and
- * proximity. */
+ * proximity, and the continuation's exact points beside them (--exact). */
 #include "sweep_md.h"
+#include "sweep_exact.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -84,15 +85,28 @@ static int same(const wg_transition *a, const wg_transition *b, double win)
     return a->from == b->from && a->to == b->to && fabs(a->at - b->at) <= win;
 }
 
-static void jump_row(FILE *f, const wg_transition *t)
+/* The "exact (continuation)" cell, when the group has wgcont's results. */
+static void exact_col(FILE *f, const cont_bifs *ex, const wg_transition *up,
+                      const wg_transition *dn, double win)
 {
-    fprintf(f, "| jump (hysteresis) | %.4f (%.4f-%.4f) | %.4f (%.4f-%.4f) | up and down "
-               "attractors differ over [%.4f, %.4f]; up: %s -> %s |\n",
-            0.5 * (t->lo + t->hi), t->lo, t->hi, 0.5 * (t->lo2 + t->hi2), t->lo2, t->hi2, t->hi2,
-            t->lo, t->from ? "periodic" : "aperiodic", t->to ? "periodic" : "aperiodic");
+    char buf[256];
+    if (!ex)
+        return;
+    exact_cell(ex, up, dn, win / 4.0, win, buf, sizeof buf); /* win: 4 grid steps at most */
+    fprintf(f, " %s |", buf);
 }
 
-static void rows(FILE *f, wg_transition *t, int n, double win)
+static void jump_row(FILE *f, const wg_transition *t, const cont_bifs *ex, double win)
+{
+    fprintf(f, "| jump (hysteresis) | %.4f (%.4f-%.4f) | %.4f (%.4f-%.4f) | up and down "
+               "attractors differ over [%.4f, %.4f]; up: %s -> %s |",
+            0.5 * (t->lo + t->hi), t->lo, t->hi, 0.5 * (t->lo2 + t->hi2), t->lo2, t->hi2, t->hi2,
+            t->lo, t->from ? "periodic" : "aperiodic", t->to ? "periodic" : "aperiodic");
+    exact_col(f, ex, t, NULL, win);
+    fputc('\n', f);
+}
+
+static void rows(FILE *f, wg_transition *t, int n, double win, const cont_bifs *ex)
 {
     char *used = calloc((size_t)n + 1, 1);
     if (!used)
@@ -102,7 +116,7 @@ static void rows(FILE *f, wg_transition *t, int n, double win)
             continue;
         used[i] = 1;
         if (t[i].kind == WG_TR_JUMP) {
-            jump_row(f, &t[i]);
+            jump_row(f, &t[i], ex, win);
             continue;
         }
         const wg_transition *up = t[i].dir > 0 ? &t[i] : NULL, *dn = up ? NULL : &t[i];
@@ -123,7 +137,9 @@ static void rows(FILE *f, wg_transition *t, int n, double win)
         cell(up, cu, sizeof cu);
         cell(dn, cd, sizeof cd);
         detail(&t[i], de, sizeof de);
-        fprintf(f, "| %s | %s | %s | %s |\n", row_name(&t[i]), cu, cd, de);
+        fprintf(f, "| %s | %s | %s | %s |", row_name(&t[i]), cu, cd, de);
+        exact_col(f, ex, up, dn, win);
+        fputc('\n', f);
     }
     free(used);
 }
@@ -225,14 +241,16 @@ static void group_table(FILE *f, const sweep_study *st, const sweep_group *g)
     const wg_chain *c = g->up ? g->up : g->down;
     double h = grid_step(c);
     const char *p = out_pname(st->param);
-    fprintf(f, "| transition | up sweep: %s | down sweep: %s | detail |\n|---|---|---|---|\n", p,
-            p);
-    rows(f, t, n, fmax(4.0 * h, 0.01 * (c ? fabs(c->v1 - c->v0) : 0.0)));
+    const cont_bifs *ex = st->exact[g - st->g];
+    fprintf(f, "| transition | up sweep: %s | down sweep: %s | detail |%s\n|---|---|---|---|%s\n",
+            p, p, ex ? " exact (continuation) |" : "", ex ? "---|" : "");
+    rows(f, t, n, fmax(4.0 * h, 0.01 * (c ? fabs(c->v1 - c->v0) : 0.0)), ex);
     if (!n)
-        fputs("| (none found) | - | - | - |\n", f);
+        fprintf(f, "| (none found) | - | - | - |%s\n", ex ? " - |" : "");
     fprintf(f, "\nLocations are brackets between neighbouring grid points (step %.4g); grazing "
-               "is interpolated on min x_n = b.\n\n",
-            h);
+               "is interpolated on min x_n = b.%s\n\n",
+            h, ex ? " The exact column: the same events located on the orbits' branches by "
+                    "wgcont (docs/analysis.md, \"From a sweep to exact points\")." : "");
     fputs("Routes into chaos (doublings since the last period-1):\n\n", f);
     cascades(f, t, n, +1);
     cascades(f, t, n, -1);

@@ -16,6 +16,8 @@ typedef struct sweep_group {
     wg_chain *up, *down;
 } sweep_group;
 
+struct cont_bifs;
+
 /* A 1-D study: sweeps of `param` for each group value of `gparam`. */
 typedef struct sweep_study {
     const char *scene;
@@ -24,6 +26,8 @@ typedef struct sweep_study {
     int param, gparam;       /* gparam -1: a single group */
     int ngroups;
     sweep_group g[STUDY_MAX_GROUPS];
+    const struct cont_bifs *exact[STUDY_MAX_GROUPS]; /* wgcont's bifurcations per group
+                                (NULL: none): the table's "exact (continuation)" column */
     double b;                /* backlash of the scene */
     const wg_sweep_opts *o;
     int partial;             /* interrupted: some chains incomplete */

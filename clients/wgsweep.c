@@ -4,6 +4,7 @@
  * Exit 0 ok, 1 runtime error, 2 usage error, 130 interrupted (partial
  * results written). */
 #include "cli.h"
+#include "cont_out.h"
 #include "plot.h"
 #include "sweep_at.h"
 #include "sweep_load.h"
@@ -43,6 +44,8 @@ typedef struct opts {
     int threads, png, json, quiet;
     int at_set, at_periods;
     const char *table_from;
+    const char *exact[STUDY_MAX_GROUPS]; /* --exact: wgcont's bifurcations per group */
+    int nexact;
     double at;
     wg_sweep_opts so;
 } opts;
@@ -84,6 +87,9 @@ static void usage(FILE *f)
         "  --at-periods P          Poincare periods for --at (default 2000)\n"
         "  --table-from CSV        recompute the transitions table (PREFIX.md) from a\n"
         "                          points CSV of an earlier run, without integrating\n"
+        "  --exact CSV             wgcont's PREFIX-bifurcations.csv: the table gains an\n"
+        "                          \"exact (continuation)\" column (repeat once per --values\n"
+        "                          group, in order)\n"
         "  --quiet                 no progress bar\n"
         "  -h, --help              this text\n\n"
         "Ctrl-C stops after the current points and writes what is done (exit 130).\n"
@@ -216,6 +222,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"steps-per-period", 1, 0, 'N'}, {"stepper", 1, 0, 'k'}, {"floquet", 0, 0, 'Q'}, {"verify-steps", 0, 0, 'W'},
         {"threads", 1, 0, 'j'}, {"out", 1, 0, 'o'}, {"no-png", 0, 0, 'G'}, {"no-json", 0, 0, 'J'},
         {"at", 1, 0, 'A'}, {"at-periods", 1, 0, 'P'}, {"quiet", 0, 0, 'q'}, {"table-from", 1, 0, 'Y'},
+        {"exact", 1, 0, 'X'},
         {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     opts_default(o);
     int c, rc;
@@ -235,6 +242,11 @@ static int parse_opts(int argc, char **argv, opts *o)
         case 'J': o->json = 0; break;
         case 'q': o->quiet = 1; break;
         case 'Y': o->table_from = optarg; break;
+        case 'X':
+            if (o->nexact == STUDY_MAX_GROUPS)
+                return cli_usage_error(PROG, "too many --exact files, at most %d", STUDY_MAX_GROUPS);
+            o->exact[o->nexact++] = optarg;
+            break;
         case 'h': usage(stdout); exit(0);
         case '?':
             return cli_usage_error(PROG, "unknown option or missing argument: '%s'",
@@ -407,6 +419,37 @@ static int study_chains(sweep_study *st, wg_chain *cs, const opts *o, const wg_s
     return rc;
 }
 
+/* Attach --exact files to the study's groups (one per group, in order).
+ * 0, or 2 with a message (usage: count or parameter mismatch, bad file). */
+static int load_exact(const opts *o, sweep_study *st, cont_bifs *ex)
+{
+    char why[512];
+    if (o->nexact && o->nexact != st->ngroups) {
+        fprintf(stderr, "wgsweep: --exact: %d file(s) for %d group(s): give one per group\n",
+                o->nexact, st->ngroups);
+        return 2;
+    }
+    for (int k = 0; k < o->nexact; k++) {
+        if (cont_read_bifs(o->exact[k], &ex[k], why, sizeof why)) {
+            fprintf(stderr, "wgsweep: --exact: %s\n", why);
+            return 2;
+        }
+        if (strcmp(ex[k].param, wg_param_info_get(st->param)->name) != 0) {
+            fprintf(stderr, "wgsweep: --exact %s: continued in %s, the sweep is in %s\n",
+                    o->exact[k], ex[k].param, wg_param_info_get(st->param)->name);
+            return 2;
+        }
+        st->exact[k] = &ex[k];
+    }
+    return 0;
+}
+
+static void free_exact(const opts *o, cont_bifs *ex)
+{
+    for (int k = 0; k < o->nexact; k++)
+        cont_bifs_free(&ex[k]);
+}
+
 /* 1-D study: up/down chains per group value. */
 static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank, int size)
 {
@@ -414,6 +457,12 @@ static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank
                       .ngroups = o->gparam >= 0 ? o->ngvals : 1, .b = sc->p.v[WG_P_B],
                       .o = &o->so, .threads = o->threads, .ranks = size};
     int n = st.ngroups * (o->up + o->down), rc = 0;
+    cont_bifs ex[STUDY_MAX_GROUPS];
+    memset(ex, 0, sizeof ex);
+    if ((rc = load_exact(o, &st, ex))) {
+        free_exact(o, ex);
+        return rc;
+    }
     wg_chain *cs = calloc((size_t)n, sizeof *cs);
     if (cs)
         rc = study_chains(&st, cs, o, sc);
@@ -437,6 +486,7 @@ static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank
     for (int i = 0; cs && i < n; i++)
         free(cs[i].pts);
     free(cs);
+    free_exact(o, ex);
     return st.partial ? 130 : rc ? 1 : 0;
 }
 
@@ -451,14 +501,18 @@ static int do_table(const opts *o, const wg_scene *sc, const char *cmd)
     st.source = o->table_from;
     st.b = sc->p.v[WG_P_B];
     st.o = &o->so;
-    int rc = load_points_csv(o->table_from, &st, why, sizeof why);
-    snprintf(path, sizeof path, "%s.md", o->out);
-    if (!rc)
+    cont_bifs ex[STUDY_MAX_GROUPS];
+    memset(ex, 0, sizeof ex);
+    int rc = load_points_csv(o->table_from, &st, why, sizeof why), xrc = 0;
+    if (!rc && (xrc = load_exact(o, &st, ex)) == 0) {
+        snprintf(path, sizeof path, "%s.md", o->out);
         rc = md_write(path, &st, why, sizeof why);
+    }
     if (rc)
         fprintf(stderr, "wgsweep: %s\n", why);
+    free_exact(o, ex);
     load_free(&st);
-    return rc ? 1 : 0;
+    return xrc ? xrc : rc ? 1 : 0;
 }
 
 static int do_at(const opts *o, const wg_scene *sc)

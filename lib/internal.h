@@ -21,6 +21,28 @@ typedef struct wg_kcoef {
     double rot[3][2];   /* cos, sin of phi1, phi2, phi: excitation by rotation */
 } wg_kcoef;
 
+/* ---- a trace of the rk4-event splits (read by wg_shoot.c) ------------------ */
+
+enum { CT_MAX_SPLITS = 8 }; /* located crossings per step (rk4-event) */
+
+/* One located crossing inside a step: the state integrated up to t_state,
+ * the contacts that switched there (from zone to zone), the contact rates at
+ * that state; the rest of the step starts again at t_next (= t_state unless
+ * the crossing's Newton refinement ran out of iterations). */
+typedef struct ct_split {
+    double t_state, t_next;
+    double yc[WG_NSTATE_MAX];
+    double vc[WG_NCONTACT];
+    int n;
+    int contact[WG_NCONTACT], zone_from[WG_NCONTACT], zone_to[WG_NCONTACT];
+} ct_split;
+
+/* The splits of one step, in time order. */
+typedef struct ct_trace {
+    int n;
+    ct_split sp[CT_MAX_SPLITS];
+} ct_trace;
+
 /* The private part of a wg_sim (allocated by wg_sim_init with the table). */
 typedef struct wg_sim_core {
     wg_kcoef kc;
@@ -34,6 +56,7 @@ typedef struct wg_sim_core {
     double q[WG_NCONTACT], v[WG_NCONTACT];
     wg_period cur;        /* statistics of the period in progress */
     wg_period last;       /* statistics of the last completed period */
+    ct_trace *trace;      /* non-NULL: ct_split_step records its splits here */
 } wg_sim_core;
 
 /* Mesh direction c (x_n = c . q) and force weights m (mass ratio times c). */
@@ -57,6 +80,11 @@ wg_kernel_fn kernel_select(unsigned kflags);
  * wg_params. */
 void kernel_printed(const double *restrict y0, double *restrict y1, const void *restrict kc,
                     const wg_exc *restrict e, double h);
+
+/* Solve B z = r in place (B, n x n row-major, destroyed; z returned in r) by
+ * LU with partial pivoting (wg_floquet.c). WG_OK, or WG_ERANGE if B is
+ * singular to working precision. */
+int la_solve(int n, double *a, double *r);
 
 /* min/max without libm's NaN rules (strict C11 keeps fmin/fmax out of line;
  * the values here are finite). */

@@ -7,7 +7,7 @@
 #include <math.h>
 #include <string.h>
 
-#define MAX_SPLITS 8 /* located crossings per step (rk4-event) */
+#define MAX_SPLITS CT_MAX_SPLITS
 
 void ct_phase_at(const phase *ph, double t, double *psi, double *om)
 {
@@ -174,6 +174,30 @@ static void contacts_at(const wg_sim *s, const phase *ph, const double *y, doubl
     ct_contacts(s, y, &e, q, v);
 }
 
+/* Record a located crossing in the trace (NULL: not recording). */
+static ct_split *trace_open(ct_trace *tr, double tstate, double tnext, const double *yc,
+                            const double *vc)
+{
+    if (!tr || tr->n == CT_MAX_SPLITS)
+        return NULL;
+    ct_split *sp = &tr->sp[tr->n++];
+    sp->t_state = tstate;
+    sp->t_next = tnext;
+    memcpy(sp->yc, yc, sizeof sp->yc);
+    memcpy(sp->vc, vc, sizeof sp->vc);
+    sp->n = 0;
+    return sp;
+}
+
+static void trace_switch(ct_split *sp, int contact, int from, int to)
+{
+    if (!sp)
+        return;
+    sp->contact[sp->n] = contact;
+    sp->zone_from[sp->n] = from;
+    sp->zone_to[sp->n++] = to;
+}
+
 /* Integrate [0, h] from y0 into y1 with the zones of the kinked contacts
  * (c > 0) locked between located crossings; y1 holds the unsplit trial
  * step on entry. Crossings of smooth contacts (c = 0) are interpolated.
@@ -210,9 +234,10 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
         if (first < 0 || splits == MAX_SPLITS)
             break;
         /* step to the crossing, then refine it by Newton on the coordinate */
-        double tc = t + tfirst * (h - t), qc[WG_NCONTACT], vc[WG_NCONTACT];
+        double tc = t + tfirst * (h - t), qc[WG_NCONTACT], vc[WG_NCONTACT], tstate = tc;
         for (int it = 0; it < 3; it++) {
             substep(s, ph, ya, yc, t, tc);
+            tstate = tc;
             contacts_at(s, ph, yc, tc, qc, vc);
             double r = qc[first] - thr;
             if (fabs(r) <= 1e-13 * (1.0 + fabs(thr)) || vc[first] == 0.0)
@@ -224,6 +249,8 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
         }
         int kind = transition(s->core->zone[first], dir, thr >= 0 ? thr : -thr, &thr);
         ev_push(b, s, s->tau + tc, first, kind, vc[first]);
+        ct_split *rec = trace_open(s->core->trace, tstate, tc, yc, vc);
+        trace_switch(rec, first, s->core->zone[first], s->core->zone[first] + dir);
         s->core->zone[first] += dir;
         ct_set_lock(s, first, s->core->zone[first]);
         s->nsplit++;
@@ -239,6 +266,7 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
             if (fabs(qc[j] - th) > 1e-9 * (1.0 + fabs(th)))
                 continue;
             ev_push(b, s, s->tau + tc, j, kj, vc[j]);
+            trace_switch(rec, j, s->core->zone[j], s->core->zone[j] + d);
             s->core->zone[j] += d;
             ct_set_lock(s, j, s->core->zone[j]);
         }

@@ -1,9 +1,10 @@
-/* wg_floquet.c - finite-difference Jacobians of a map, eigenvalues of a
- * small real matrix (balance + Hessenberg + Francis double-shift QR, after
- * EISPACK balanc/elmhes/hqr), Newton refinement of fixed points, Floquet
- * multipliers. No allocation: matrices live on the stack (n <= 16). */
+/* wg_floquet.c - eigenvalues of a small real matrix (balance + Hessenberg +
+ * Francis double-shift QR, after EISPACK balanc/elmhes/hqr) and a small LU
+ * solve, for the Floquet multipliers and the Newton steps of wg_shoot.c and
+ * wg_cont.c. No allocation: matrices live on the caller's stack (n <= 16). */
 #include "wormgear/wg_regime.h"
 #include "wormgear/wg_status.h"
+#include "internal.h"
 
 #include <math.h>
 #include <string.h>
@@ -12,29 +13,6 @@ enum { NMAX = 16 };
 
 /* 1-based access into a row-major n x n matrix, as in the classic texts. */
 #define A(i, j) a[((i) - 1) * n + ((j) - 1)]
-
-int wg_jacobian(const wg_map *m, const double *x, double eps, double *M)
-{
-    int dim = m->dim;
-    double xp[NMAX], xm[NMAX];
-    if (dim > NMAX || !(eps > 0.0))
-        return WG_EINVAL;
-    for (int j = 0; j < dim; j++) {
-        double hj = eps * fmax(1.0, fabs(x[j]));
-        memcpy(xp, x, sizeof(double) * (size_t)dim);
-        memcpy(xm, x, sizeof(double) * (size_t)dim);
-        xp[j] += hj;
-        xm[j] -= hj;
-        int rc = m->fn(m->ctx, xp);
-        if (!rc)
-            rc = m->fn(m->ctx, xm);
-        if (rc)
-            return rc;
-        for (int i = 0; i < dim; i++)
-            M[i * dim + j] = (xp[i] - xm[i]) / (2.0 * hj);
-    }
-    return WG_OK;
-}
 
 /* Scale rows and columns by powers of 2 so their norms are comparable. */
 static void balance(int n, double *a)
@@ -307,9 +285,7 @@ int wg_eig(int n, double *a, double *wr, double *wi)
     return WG_OK;
 }
 
-/* Solve B z = r in place (B destroyed, z returned in r) by LU with partial
- * pivoting. WG_ERANGE if B is singular to working precision. */
-static int solve(int n, double *a, double *r)
+int la_solve(int n, double *a, double *r)
 {
     for (int k = 1; k <= n; k++) {
         int piv = k;
@@ -342,44 +318,4 @@ static int solve(int n, double *a, double *r)
         r[k - 1] = s / A(k, k);
     }
     return WG_OK;
-}
-
-int wg_fixed_point(const wg_map *m, double *x, double eps, double tol, int maxit,
-                   double *resid)
-{
-    int n = m->dim;
-    double a[NMAX * NMAX], px[NMAX];
-    if (n > NMAX)
-        return WG_EINVAL;
-    *resid = INFINITY;
-    for (int it = 0; it <= maxit; it++) {
-        memcpy(px, x, sizeof(double) * (size_t)n);
-        int rc = m->fn(m->ctx, px);
-        if (rc)
-            return rc;
-        double res = 0.0;
-        for (int i = 0; i < n; i++) {
-            px[i] = x[i] - px[i]; /* -(P(x) - x) */
-            res = fmax(res, fabs(px[i]));
-        }
-        *resid = res;
-        if (res <= tol)
-            return WG_OK;
-        if (it == maxit || (rc = wg_jacobian(m, x, eps, a)))
-            return rc ? rc : WG_ERANGE;
-        for (int i = 1; i <= n; i++)
-            A(i, i) -= 1.0;
-        if ((rc = solve(n, a, px)))
-            return rc;
-        for (int i = 0; i < n; i++)
-            x[i] += px[i];
-    }
-    return WG_ERANGE;
-}
-
-int wg_floquet(const wg_map *m, const double *x, double eps, double *wr, double *wi)
-{
-    double a[NMAX * NMAX];
-    int rc = wg_jacobian(m, x, eps, a);
-    return rc ? rc : wg_eig(m->dim, a, wr, wi);
 }

@@ -2,6 +2,7 @@
  * on POSIX threads. Memory is allocated per chain (sims, record buffer),
  * never per step or per point. */
 #include "wormgear/wg_sweep.h"
+#include "wormgear/wg_shoot.h"
 #include "wormgear/wg_status.h"
 
 #include <math.h>
@@ -33,8 +34,7 @@ void wg_sweep_opts_default(wg_sweep_opts *o)
     *o = (wg_sweep_opts){.model = WG_MODEL_CONSISTENT, .stepper = WG_STEPPER_DEFAULT,
                          .steps = 256, .transient = 300, .record = 128, .extend = 3,
                          .lle_periods = 300, .lle_d0 = 1e-7, .lle_tol = 0.01,
-                         .tol_factor = 10.0, .tol_floor = 1e-9, .floquet = 0,
-                         .fd_eps = 1e-6};
+                         .tol_factor = 10.0, .tol_floor = 1e-9, .floquet = 0};
 }
 
 double wg_chain_value(const wg_chain *c, int i)
@@ -260,14 +260,21 @@ static int classify_aperiodic(work *w, const wg_params *p, wg_point *pt, char *w
     return WG_OK;
 }
 
-/* Floquet multipliers of the period-n orbit through the current state. */
+/* Floquet multipliers of the period-n orbit through the current state:
+ * the variational monodromy of P^n there (wg_shoot.h; rk4-event only). */
 static int point_floquet(work *w, wg_point *pt)
 {
-    wg_simmap sm = {&w->sim, pt->period};
-    wg_map m = wg_simmap_map(&sm);
-    int rc = wg_floquet(&m, w->sim.y, w->o->fd_eps, pt->floq_re, pt->floq_im);
+    wg_orbit *o = malloc(sizeof *o);
+    double x[WG_NSTATE_MAX];
+    if (!o)
+        return WG_ENOMEM;
+    memcpy(x, w->sim.y, sizeof x);
+    int rc = wg_orbit_map(&w->sim, pt->period, WG_MONODROMY_MAP, x, o);
     if (rc == WG_OK)
-        pt->nfloq = w->nstate;
+        rc = wg_orbit_floquet(o, pt->floq_re, pt->floq_im);
+    if (rc == WG_OK)
+        pt->nfloq = o->dim;
+    free(o);
     return rc;
 }
 

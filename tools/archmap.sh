@@ -9,7 +9,8 @@
 # verifies the rules between folders and exits 1 naming every broken one
 # (ctest `tree.layers` runs this):
 #   - lib/ and include/wormgear/ include nothing of daemon/, clients/ or
-#     lcmtypes/; only lib/ (and white-box tests) include lib/internal.h;
+#     lcmtypes/; only lib/ (and white-box tests) include lib/'s private
+#     headers (internal.h, cont.h);
 #   - daemon/ and clients/ are peers: neither includes the other's files;
 #   - no source file in lib/, daemon/ or clients/ reaches 800 lines.
 set -uo pipefail
@@ -37,11 +38,11 @@ check() {
   for f in $(git ls-files 'lib/*.[ch]' 'include/*.h'); do
     for inc in $(includes_of "$f"); do
       case $inc in
-        include/wormgear/*|lib/internal.h) ;;
-        *) echo "layers: $f includes $inc (the library includes only include/wormgear/ and lib/internal.h)"; bad=1;;
+        include/wormgear/*|lib/*.h) ;;
+        *) echo "layers: $f includes $inc (the library includes only include/wormgear/ and its own lib/*.h)"; bad=1;;
       esac
-      case $f:$inc in include/*:lib/internal.h)
-        echo "layers: public header $f includes lib/internal.h"; bad=1;; esac
+      case $f:$inc in include/*:lib/*)
+        echo "layers: public header $f includes the private $inc"; bad=1;; esac
     done
   done
   for f in $(git ls-files 'daemon/*.[ch]' 'clients/*.[ch]'); do
@@ -49,8 +50,8 @@ check() {
       case $f:$inc in
         daemon/*:clients/*|clients/*:daemon/*)
           echo "layers: $f includes $inc (daemon/ and clients/ are peers)"; bad=1;;
-        *:lib/internal.h)
-          echo "layers: $f includes lib/internal.h (the library's own files only)"; bad=1;;
+        *:lib/*)
+          echo "layers: $f includes $inc (the library's private headers are its own)"; bad=1;;
       esac
     done
   done

@@ -1,10 +1,12 @@
 /* wg_regime.h - regime of an orbit: period from Poincare points, largest
- * Lyapunov exponent, Floquet multipliers (MODEL.md s5).
+ * Lyapunov exponent, eigenvalues for Floquet multipliers (MODEL.md s5).
  *
  * Everything here works on a *map*: a function that advances a state by one
  * mesh period (the Poincare map psi = 0 -> psi = 2 pi). wg_simmap adapts a
  * wg_sim to that interface, so the daemon's STATUS, wgsweep and wgrig share
  * one implementation; tests plug in textbook maps (logistic, Henon, linear).
+ * Periodic orbits of the model and their Floquet multipliers (from the
+ * variational equations) are in wg_shoot.h.
  * Nothing allocates: callers own every buffer. */
 #ifndef WG_REGIME_H
 #define WG_REGIME_H
@@ -86,28 +88,10 @@ int wg_simmap_step(void *ctx, double *x);
 int wg_lle_twin(const wg_map *base, const wg_map *twin, double *x, int steps, double d0,
                 double *lle);
 
-/* Jacobian of the map at x by central differences with step eps scaled by
- * max(1, |x_j|): M (dim x dim, row-major) with M[i*dim+j] = dP_i/dx_j. The
- * map is applied 2 dim times; x is unchanged. WG_OK or a map error. */
-int wg_jacobian(const wg_map *m, const double *x, double eps, double *M);
-
 /* Eigenvalues of a real n x n matrix A (row-major, destroyed), n <= 16:
  * balancing, Hessenberg reduction and Francis double-shift QR. wr, wi get
  * the real and imaginary parts, sorted by decreasing modulus. WG_OK, or
  * WG_ENONFINITE if QR did not converge. */
 int wg_eig(int n, double *A, double *wr, double *wi);
-
-/* Refine a fixed point of the map by Newton's method (finite-difference
- * Jacobians): x <- x - (M - I)^-1 (P(x) - x) until the max-norm residual is
- * below tol, at most maxit iterations. Finds unstable orbits too. *resid
- * receives the final residual. WG_OK, WG_ERANGE if it did not converge or
- * (M - I) is singular, or a map error. */
-int wg_fixed_point(const wg_map *m, double *x, double eps, double tol, int maxit,
-                   double *resid);
-
-/* Floquet multipliers of the periodic orbit through x: eigenvalues of the
- * map's finite-difference Jacobian (the monodromy matrix when the map is n
- * periods of an period-n orbit), sorted by decreasing modulus. */
-int wg_floquet(const wg_map *m, const double *x, double eps, double *wr, double *wi);
 
 #endif

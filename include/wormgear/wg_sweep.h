@@ -26,8 +26,8 @@ typedef struct wg_sweep_opts {
     double lle_tol;      /* |LLE| per period below this: quasi-periodic */
     double tol_factor;   /* period tolerance = max(tol_floor, factor * err) */
     double tol_floor;
-    int floquet;         /* compute Floquet multipliers of periodic points */
-    double fd_eps;       /* finite-difference step for Jacobians */
+    int floquet;         /* Floquet multipliers of periodic points (wg_shoot.h:
+                            variational monodromy, rk4-event stepper only) */
     int verify;          /* re-analyse each point's attractor with 2N steps */
 } wg_sweep_opts;
 

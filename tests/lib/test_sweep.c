@@ -6,6 +6,7 @@
 #include "test.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_status.h"
+#include "wormgear/wg_shoot.h"
 #include "wormgear/wg_sweep.h"
 
 #include <string.h>
@@ -46,18 +47,19 @@ static const wg_transition *find_pd(const wg_transition *t, int n, int from)
 
 /* Real part of the dominant multiplier (largest modulus, real) of the
  * period-n orbit refined by Newton from y at omega (y becomes the orbit).
- * Near the doublings the dominant multipliers come as a near-equal real
- * pair, so the QR may return them with a tiny imaginary part. */
+ * Near the P2 -> P4 doubling the dominant multiplier is an exact double
+ * pair (the two bearing directions of a body normal to the line of action
+ * are symmetric), so the QR may return it with a tiny imaginary part. */
 static double neg_multiplier(wg_sim *sim, wg_params p, double omega, int n, double *y)
 {
     char why[256];
     p.v[WG_P_OMEGA] = omega;
     ASSERT_EQ_INT(wg_sim_set_params(sim, &p, why, sizeof why), WG_OK);
-    wg_simmap sm = {sim, n};
-    wg_map m = wg_simmap_map(&sm);
     double res, wr[WG_NSTATE_MAX], wi[WG_NSTATE_MAX];
-    ASSERT_EQ_INT(wg_fixed_point(&m, y, 1e-6, 1e-10, 10, &res), WG_OK);
-    ASSERT_EQ_INT(wg_floquet(&m, y, 1e-6, wr, wi), WG_OK);
+    wg_orbit *o = malloc(sizeof *o);
+    ASSERT_EQ_INT(wg_orbit_refine(sim, n, y, 1e-10, 10, &res, o), WG_OK);
+    ASSERT_EQ_INT(wg_orbit_floquet(o, wr, wi), WG_OK);
+    free(o);
     ASSERT_TRUE(fabs(wi[0]) < 1e-3);
     return wr[0];
 }

@@ -1,0 +1,278 @@
+/* plot_cont.c - the continuation figure (see plot_cont.h). */
+#include "plot_cont.h"
+#include "plot_draw.h"
+
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { W = 1400, H = 1040 };
+
+/* Colour of a branch by its period. */
+static void period_rgb(int n, double rgb[3])
+{
+    static const double c[4][3] = {{0.05, 0.05, 0.05}, {0.00, 0.50, 0.20}, {0.50, 0.15, 0.60},
+                                   {0.85, 0.45, 0.00}};
+    int k = n == 1 ? 0 : n == 2 ? 1 : n == 4 ? 2 : 3;
+    memcpy(rgb, c[k], sizeof c[k]);
+}
+
+static cairo_surface_t *surface(const char *path, const char *format)
+{
+    if (strcmp(format, "svg") == 0)
+        return cairo_svg_surface_create(path, W, H);
+    if (strcmp(format, "pdf") == 0)
+        return cairo_pdf_surface_create(path, W, H);
+    return cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, H);
+}
+
+static int finish(cairo_surface_t *s, cairo_t *cr, const char *path, const char *format,
+                  char *why, size_t whylen)
+{
+    cairo_destroy(cr);
+    cairo_status_t st = strcmp(format, "png") == 0 ? cairo_surface_write_to_png(s, path)
+                                                    : CAIRO_STATUS_SUCCESS;
+    cairo_surface_finish(s);
+    if (st == CAIRO_STATUS_SUCCESS)
+        st = cairo_surface_status(s);
+    cairo_surface_destroy(s);
+    if (st != CAIRO_STATUS_SUCCESS) {
+        snprintf(why, whylen, "cannot write %s: %s", path, cairo_status_to_string(st));
+        return -1;
+    }
+    return 0;
+}
+
+/* The value plotted for point p in panel `bot`: section k's x_n, or min x_n. */
+static double yval(const wg_cont_point *p, int k, int bot)
+{
+    return bot ? p->qmin[WG_C_MESH] : p->xnsec[k];
+}
+
+/* Data range of a panel: branches and sweep. */
+static void yrange(const plot_cont *pc, int bot, double *lo, double *hi)
+{
+    *lo = *hi = pc->b; /* +b always, -b once the data go below zero */
+    for (int i = 0; i < pc->r->npt; i++)
+        for (int k = 0; k < (bot ? 1 : pc->r->pt[i].period); k++) {
+            double v = yval(&pc->r->pt[i], k, bot);
+            if (isfinite(v))
+                *lo = fmin(*lo, v), *hi = fmax(*hi, v);
+        }
+    const wg_point *sets[2] = {pc->up, pc->down};
+    int ns[2] = {pc->nup, pc->ndown};
+    for (int s = 0; s < 2; s++)
+        for (int i = 0; i < ns[s]; i++) {
+            const wg_point *p = &sets[s][i];
+            for (int k = 0; k < (bot ? 1 : p->nsec); k++) {
+                double v = bot ? p->min_xn : p->xn[k];
+                if (isfinite(v))
+                    *lo = fmin(*lo, v), *hi = fmax(*hi, v);
+            }
+        }
+    if (*lo < 0.0)
+        *lo = fmin(*lo, -pc->b);
+    double pad = 0.05 * (*hi - *lo + 1e-9);
+    *lo -= pad, *hi += pad;
+}
+
+/* Stroke one run of segments [i0, i1] of section k: solid or dashed. */
+static void run_stroke(cairo_t *cr, const frame *f, const cont_result *r, int i0, int i1, int k,
+                       int bot, int stable)
+{
+    static const double dash[] = {7.0, 5.0};
+    double rgb[3];
+    period_rgb(r->pt[i1].period, rgb);
+    cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
+    cairo_set_dash(cr, dash, stable ? 0 : 2, 0);
+    cairo_move_to(cr, px(f, r->pt[i0].value), py(f, yval(&r->pt[i0], k, bot)));
+    for (int i = i0 + 1; i <= i1; i++)
+        cairo_line_to(cr, px(f, r->pt[i].value), py(f, yval(&r->pt[i], k, bot)));
+    cairo_stroke(cr);
+}
+
+/* The branches: per section, runs of consecutive points of one branch
+ * with the same stability (a segment is stable when both ends are), each
+ * stroked as one path so the dashes run on across short segments. */
+static void branches(cairo_t *cr, const frame *f, const cont_result *r, int bot)
+{
+    cairo_save(cr);
+    cairo_rectangle(cr, f->x0, f->y0, f->w, f->h);
+    cairo_clip(cr);
+    cairo_set_line_width(cr, 2.0);
+    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+    for (int i0 = 0; i0 + 1 < r->npt;) {
+        const wg_cont_point *a = &r->pt[i0];
+        int stable = a->stable && r->pt[i0 + 1].stable, i1 = i0;
+        while (i1 + 1 < r->npt && r->pt[i1 + 1].branch == a->branch &&
+               r->pt[i1 + 1].period == a->period &&
+               (r->pt[i1].stable && r->pt[i1 + 1].stable) == stable)
+            i1++;
+        for (int k = 0; k < (bot ? 1 : a->period) && i1 > i0; k++)
+            run_stroke(cr, f, r, i0, i1, k, bot, stable);
+        i0 = i1 > i0 ? i1 : i0 + 1;
+    }
+    cairo_restore(cr);
+}
+
+static const char *code(int kind)
+{
+    static const char *const c[WG_NBIF] = {"F", "PD", "NS", "G", "BP"};
+    return kind >= 0 && kind < WG_NBIF ? c[kind] : "?";
+}
+
+/* A marker of a bifurcation kind centred at (x, y). */
+static void marker(cairo_t *cr, int kind, double x, double y)
+{
+    double r = 6.0;
+    cairo_new_path(cr);
+    switch (kind) {
+    case WG_BIF_FOLD: cairo_rectangle(cr, x - r, y - r, 2 * r, 2 * r); break;
+    case WG_BIF_PD:
+        cairo_move_to(cr, x, y - r - 1);
+        cairo_line_to(cr, x + r + 1, y + r);
+        cairo_line_to(cr, x - r - 1, y + r);
+        cairo_close_path(cr);
+        break;
+    case WG_BIF_TORUS:
+        cairo_move_to(cr, x, y - r - 2);
+        cairo_line_to(cr, x + r + 1, y);
+        cairo_line_to(cr, x, y + r + 2);
+        cairo_line_to(cr, x - r - 1, y);
+        cairo_close_path(cr);
+        break;
+    case WG_BIF_GRAZING: cairo_arc(cr, x, y, r, 0, 2 * M_PI); break;
+    default:
+        cairo_move_to(cr, x - r, y - r);
+        cairo_line_to(cr, x + r, y + r);
+        cairo_move_to(cr, x + r, y - r);
+        cairo_line_to(cr, x - r, y + r);
+    }
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    if (kind != WG_BIF_BP)
+        cairo_fill_preserve(cr);
+    cairo_set_source_rgb(cr, 0.75, 0.0, 0.0);
+    cairo_set_line_width(cr, 2.0);
+    cairo_stroke(cr);
+}
+
+/* Labels placed so far (device boxes), to keep new ones off them. */
+typedef struct boxes {
+    double x[256][4];
+    int n;
+} boxes;
+
+static int overlaps(const boxes *bx, double x0, double y0, double x1, double y1)
+{
+    for (int i = 0; i < bx->n; i++)
+        if (x0 < bx->x[i][2] && bx->x[i][0] < x1 && y0 < bx->x[i][3] && bx->x[i][1] < y1)
+            return 1;
+    return 0;
+}
+
+/* A label near (x, y): the first of a few heights that overlaps no earlier
+ * label; none if all do (the marker stays, the CSV has every value). */
+static void place_label(cairo_t *cr, const frame *f, boxes *bx, double x, double y,
+                        const char *lab)
+{
+    static const double dy[6] = {-10, 6, -24, 20, -38, 34};
+    cairo_text_extents_t e;
+    cairo_set_font_size(cr, 10.5);
+    cairo_text_extents(cr, lab, &e);
+    for (int k = 0; k < 6 && bx->n < 256; k++) {
+        double ly = fmin(fmax(y + dy[k], f->y0 + 12), f->y0 + f->h - 4);
+        double x0 = x + 9, y0 = ly - 10, x1 = x0 + e.x_advance, y1 = ly + 2;
+        if (overlaps(bx, x0, y0, x1, y1))
+            continue;
+        double *b = bx->x[bx->n++];
+        b[0] = x0, b[1] = y0, b[2] = x1, b[3] = y1;
+        cairo_set_source_rgb(cr, 0.55, 0.0, 0.0);
+        pd_text(cr, x0, ly, 10.5, 0.0, lab);
+        return;
+    }
+}
+
+/* Markers in both panels; labels in the top one, one per event (a body's
+ * bearing axes grazing together share a label). */
+static void bifurcations(cairo_t *cr, const frame *top, const frame *bot, const cont_result *r)
+{
+    char lab[48];
+    boxes *bx = calloc(1, sizeof *bx);
+    for (int i = 0; i < r->nbif && bx; i++) {
+        const wg_bif *b = &r->bif[i];
+        if (b->value < top->xmin || b->value > top->xmax)
+            continue;
+        double x = px(top, b->value);
+        marker(cr, b->kind, x, py(top, b->xn));
+        marker(cr, b->kind, x, py(bot, fmax(bot->ymin, b->min_xn)));
+        if (i > 0 && r->bif[i - 1].kind == b->kind && fabs(r->bif[i - 1].value - b->value) < 1e-6)
+            continue;
+        if (b->kind == WG_BIF_GRAZING)
+            snprintf(lab, sizeof lab, "G %s %.5f", wg_contact_name(b->contact), b->value);
+        else
+            snprintf(lab, sizeof lab, "%s P%d %.5f", code(b->kind), b->period, b->value);
+        place_label(cr, top, bx, x, py(top, b->xn), lab);
+    }
+    free(bx);
+}
+
+static void legend(cairo_t *cr, const plot_cont *pc, double y)
+{
+    static const int per[4] = {1, 2, 4, 8};
+    static const char *const pl[4] = {"period 1", "period 2", "period 4", "period 8+"};
+    double x = 90;
+    if (pc->nup || pc->ndown) {
+        pd_legend_box(cr, x, y, PD_UP, "sweep up");
+        pd_legend_box(cr, x + 105, y, PD_DOWN, "sweep down");
+        x += 225;
+    }
+    for (int k = 0; k < 4; k++) {
+        double rgb[3];
+        period_rgb(per[k], rgb);
+        pd_legend_box(cr, x + 95.0 * k, y, rgb, pl[k]);
+    }
+    x += 390;
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    pd_text(cr, x, y, 12, 0.0, "solid: stable, dashed: unstable");
+    x += 205;
+    for (int k = 0; k < WG_NBIF; k++) {
+        marker(cr, k, x + 6 + 92.0 * k, y - 4);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        pd_text(cr, x + 16 + 92.0 * k, y, 11, 0.0, wg_bif_name(k) + (k == WG_BIF_PD ? 7 : 0));
+    }
+}
+
+int plot_continuation(const char *path, const plot_cont *pc, char *why, size_t whylen)
+{
+    cairo_surface_t *s = surface(path, pc->format);
+    cairo_t *cr = cairo_create(s);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    pd_text(cr, W / 2.0, 30, 20, 0.5, pc->title);
+    for (int i = 0; i < 3 && pc->caption[i]; i++)
+        pd_text(cr, W / 2.0, 54 + 17.0 * i, 12.5, 0.5, pc->caption[i]);
+    legend(cr, pc, 118);
+    double lo, hi;
+    yrange(pc, 0, &lo, &hi);
+    frame top = {90, 140, 1210, 540, pc->xlo, pc->xhi, lo, hi};
+    yrange(pc, 1, &lo, &hi);
+    frame bot = {90, 730, 1210, 230, pc->xlo, pc->xhi, lo, hi};
+    pd_dots(cr, &top, pc->down, pc->ndown, PD_DOWN);
+    pd_dots(cr, &top, pc->up, pc->nup, PD_UP);
+    pd_min_curve(cr, &bot, pc->down, pc->ndown, PD_DOWN);
+    pd_min_curve(cr, &bot, pc->up, pc->nup, PD_UP);
+    branches(cr, &top, pc->r, 0);
+    branches(cr, &bot, pc->r, 1);
+    pd_hguide(cr, &top, pc->b, "+b");
+    pd_hguide(cr, &top, -pc->b, "-b");
+    pd_hguide(cr, &bot, pc->b, "+b");
+    pd_hguide(cr, &bot, -pc->b, "-b");
+    bifurcations(cr, &top, &bot, pc->r);
+    pd_axes(cr, &top, pc->xlabel, "x_n at the section ψ = 0  (units of b_c)", 0);
+    pd_axes(cr, &bot, pc->xlabel, "min x_n over the orbit  (b_c)", 1);
+    return finish(s, cr, path, pc->format, why, whylen);
+}

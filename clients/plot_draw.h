@@ -1,0 +1,47 @@
+/* plot_draw.h - plot.c's drawing helpers for the clients' other figures
+ * (plot_cont.c): a data frame and its coordinates, text, axes with ticks,
+ * dashed guides, legend boxes, and a sweep's Poincare dots and min x_n
+ * curve. All draw on a cairo context in device units. */
+#ifndef WG_PLOT_DRAW_H
+#define WG_PLOT_DRAW_H
+
+#include <cairo.h>
+#include "wormgear/wg_sweep.h"
+
+/* A plotting area: pixel box and data ranges. */
+typedef struct frame {
+    double x0, y0, w, h;
+    double xmin, xmax, ymin, ymax;
+} frame;
+
+static inline double px(const frame *f, double x)
+{
+    return f->x0 + (x - f->xmin) / (f->xmax - f->xmin) * f->w;
+}
+
+static inline double py(const frame *f, double y)
+{
+    return f->y0 + f->h - (y - f->ymin) / (f->ymax - f->ymin) * f->h;
+}
+
+/* Text at (x, y), size in points, align 0 left .. 1 right (UTF-8). */
+void pd_text(cairo_t *cr, double x, double y, double size, double align, const char *s);
+
+/* The frame's box, ticks and numbers (x numbers and label only if
+ * xnumbers), axis labels. */
+void pd_axes(cairo_t *cr, const frame *f, const char *xlabel, const char *ylabel, int xnumbers);
+
+/* Dashed horizontal guide at data y, labelled at the right. */
+void pd_hguide(cairo_t *cr, const frame *f, double y, const char *label);
+
+/* A filled legend box with its label. */
+void pd_legend_box(cairo_t *cr, double x, double y, const double rgb[3], const char *label);
+
+/* A sweep's Poincare x_n as dots, and its min x_n as a curve. */
+void pd_dots(cairo_t *cr, const frame *f, const wg_point *pts, int n, const double c[3]);
+void pd_min_curve(cairo_t *cr, const frame *f, const wg_point *pts, int n, const double c[3]);
+
+/* The colours of the up and down sweeps. */
+extern const double PD_UP[3], PD_DOWN[3];
+
+#endif

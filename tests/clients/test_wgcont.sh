@@ -1,0 +1,63 @@
+#!/bin/bash
+# wgcont end to end: the branch and bifurcation CSVs (header type,PARAM),
+# the period doubling of table3 located and switched onto, a figure in each
+# format, another parameter than omega, Ctrl-C writing what is done, usage
+# errors, and wgsweep --exact adding its "exact (continuation)" column.
+# usage: test_wgcont.sh WGCONT WGSWEEP
+set -u
+cont=$1
+sweep=$2
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+fail=0
+check() { if eval "$2"; then echo "$1 ok"; else echo "$1 FAIL"; fail=1; fi; }
+magic() { head -c "$2" "$1" | od -An -c | tr -d ' \n'; }
+
+"$cont" --from 1.18 --to 1.22 --sweep-points 5 --out "$dir/pd" 2>"$dir/pd.err"
+check "run exits 0 and writes csv/csv/png" \
+  '[ -s "$dir/pd-branch.csv" ] && [ -s "$dir/pd-bifurcations.csv" ] && [ "$(magic "$dir/pd.png" 4)" = "211PNG" ]'
+check "bifurcations header begins type,omega, then the state and the multiplier" \
+  'head -1 "$dir/pd-bifurcations.csv" | grep -q "^type,omega,x1,y1,z1,x2,y2,z2,s,dx1,.*,ds,mu_re,mu_im,mu_abs,mu_arg,"'
+check "period doubling located at 1.19765" \
+  'awk -F, "\$1==\"period_doubling\" && \$2>1.19765 && \$2<1.19766" "$dir/pd-bifurcations.csv" | grep -q .'
+check "branch csv: period-1 and switched period-2 points, stable and unstable" \
+  'cut -d, -f4 "$dir/pd-branch.csv" | sort -u | tr "\n" " " | grep -q "^1 2 period" && cut -d, -f5 "$dir/pd-branch.csv" | sort -u | tr "\n" " " | grep -q "^0 1 "'
+check "progress on stderr names the doubling" 'grep -q "period_doubling at omega = 1.1976546" "$dir/pd.err"'
+
+"$cont" --from 1.18 --to 1.22 --sweep-points 0 --format svg --quiet --out "$dir/f" &&
+"$cont" --from 1.18 --to 1.22 --sweep-points 0 --format pdf --quiet --out "$dir/f"
+check "--format svg and pdf" 'grep -q "<svg" "$dir/f.svg" && [ "$(magic "$dir/f.pdf" 4)" = "%PDF" ]'
+
+"$cont" --set omega=1.2 --param xi_p --from 0.1 --to 0.07 --sweep-points 0 --quiet --out "$dir/xi"
+check "--param xi_p: header and a period doubling in xi_p" \
+  'head -1 "$dir/xi-bifurcations.csv" | grep -q "^type,xi_p," && grep -q "^period_doubling,0.0" "$dir/xi-bifurcations.csv"'
+
+# Ctrl-C: a long run interrupted after a second writes what it has
+"$cont" --from 0.1 --to 2.5 --sweep-points 241 --quiet --out "$dir/int" &
+pid=$!
+sleep 1.5
+kill -INT $pid
+wait $pid
+rc=$?
+check "Ctrl-C: exit 130 and partial csv + figure" \
+  '[ $rc -eq 130 ] && [ $(wc -l < "$dir/int-branch.csv") -gt 2 ] && [ -s "$dir/int.png" ]'
+
+"$cont" >/dev/null 2>&1; r1=$?
+"$cont" --from 0.5 >/dev/null 2>&1; r2=$?
+"$cont" --from 0.5 --to 0.6 --format gif >/dev/null 2>&1; r3=$?
+"$cont" --from 0.5 --to 0.6 --param nope >/dev/null 2>&1; r4=$?
+"$cont" --from 0.5 --to 0.6 --period 3 --sweep-points 0 --quiet --out "$dir/p3" 2>"$dir/p3.err"; r5=$?
+check "usage errors exit 2" '[ $r1 -eq 2 ] && [ $r2 -eq 2 ] && [ $r3 -eq 2 ] && [ $r4 -eq 2 ]'
+check "a period-3 start on a period-1 attractor: exit 1, the period named" \
+  '[ $r5 -eq 1 ] && grep -q "has period 1, not 3" "$dir/p3.err"'
+
+"$sweep" --from 1.17 --to 1.22 --points 6 --transient 200 --quiet --no-png --no-json \
+    --exact "$dir/pd-bifurcations.csv" --out "$dir/sw" >/dev/null
+check "wgsweep --exact: the column and the located doubling" \
+  'grep -q "| exact (continuation) |" "$dir/sw.md" && grep "period doubling | 1.1950" "$dir/sw.md" | grep -q "1.1976546 (period_doubling P1)"'
+"$sweep" --from 1.17 --to 1.22 --points 6 --quiet --no-png --values xi_p=0.08,0.1 \
+    --exact "$dir/pd-bifurcations.csv" --out "$dir/sw2" >/dev/null 2>&1; r6=$?
+"$sweep" --from 1.17 --to 1.22 --points 6 --quiet --no-png --param xi_p \
+    --exact "$dir/pd-bifurcations.csv" --out "$dir/sw3" >/dev/null 2>&1; r7=$?
+check "wgsweep --exact: one file per group, same parameter" '[ $r6 -eq 2 ] && [ $r7 -eq 2 ]'
+exit $fail
