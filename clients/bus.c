@@ -74,6 +74,18 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
     }
     c->ack_sub = wormgear_ack_t_subscribe(c->lcm, bus_channel(c, "ACK", ch, sizeof ch),
                                           on_ack, c);
+    const char *key = getenv("WORMGEAR_KEY_FILE");
+    return key && *key ? bus_set_key(c, key, why, whylen) : 0;
+}
+
+int bus_set_key(bus *c, const char *path, char *why, size_t whylen)
+{
+    c->signing = 0;
+    if (!path || !*path)
+        return 0;
+    if (wg_key_load(path, c->key, why, whylen))
+        return -1;
+    c->signing = 1;
     return 0;
 }
 
@@ -99,7 +111,16 @@ int64_t bus_send(bus *c, wormgear_cmd_t *cmd)
     cmd->seq = ++c->seq;
     cmd->client = c->client;
     c->ack.got = 0;
-    if (wormgear_cmd_t_publish(c->lcm, bus_channel(c, "CMD", ch, sizeof ch), cmd) != 0)
+    unsigned char buf[65536], mac[WG_MAC_BYTES] = {0};
+    cmd->mac_len = c->signing ? WG_MAC_BYTES : 0;
+    cmd->mac = mac;
+    int n = wormgear_cmd_t_encode(buf, 0, sizeof buf, cmd);
+    cmd->mac = NULL, cmd->mac_len = 0;
+    if (n < 0)
+        return -1;
+    if (c->signing) /* mac is the message's last field: it covers what precedes mac_len */
+        wg_mac(c->key, buf, (size_t)n - WG_MAC_BYTES - 4, buf + n - WG_MAC_BYTES);
+    if (lcm_publish(c->lcm, bus_channel(c, "CMD", ch, sizeof ch), buf, (unsigned)n) != 0)
         return -1;
     return cmd->seq;
 }

@@ -14,6 +14,7 @@
 
 #include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_cmd_t.h"
+#include "wormgear/wg_key.h"
 
 #define BUS_DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
 #define BUS_DEFAULT_PREFIX "WORMGEAR_"
@@ -32,6 +33,8 @@ typedef struct bus_ack {
 
 typedef struct bus {
     lcm_t *lcm;
+    int signing;              /* commands carry a MAC (bus_set_key) */
+    unsigned char key[WG_KEY_BYTES];
     char prefix[64];
     char client[96];          /* "<name>-<pid>@<host>" */
     int64_t seq;              /* last command seq sent */
@@ -57,9 +60,16 @@ const char *bus_default_url(void);
 const char *bus_default_prefix(void);
 
 /* Open LCM on url (NULL: default) with prefix (NULL: default); name is the
- * program name used in the client id. 0, or -1 with a message in why. */
+ * program name used in the client id. Commands are signed with the key in
+ * $WORMGEAR_KEY_FILE when that is set (bus_set_key). 0, or -1 with a
+ * message in why. */
 int bus_open(bus *c, const char *url, const char *prefix, const char *name, char *why,
              size_t whylen);
+
+/* Sign every command from now on with the key in path (wormgear/wg_key.h;
+ * the daemon's command_key_file); NULL or "" turns signing off. 0, or -1
+ * with why. */
+int bus_set_key(bus *c, const char *path, char *why, size_t whylen);
 
 /* Close LCM. Safe on a failed open. */
 void bus_close(bus *c);
@@ -70,8 +80,9 @@ const char *bus_channel(const bus *c, const char *suffix, char *buf, size_t len)
 /* A command op with every string field "" and every number 0, to fill in. */
 wormgear_cmd_t bus_cmd(const char *op);
 
-/* Stamp cmd (utime, seq = ++c->seq, client) and publish it on CMD.
- * Returns the seq, or -1 if publishing failed. */
+/* Stamp cmd (utime, seq = ++c->seq, client), sign it when a key is set
+ * (mac over every byte before mac_len, PROTOCOL.md) and publish it on CMD.
+ * Returns the seq, or -1 if encoding or publishing failed. */
 int64_t bus_send(bus *c, wormgear_cmd_t *cmd);
 
 /* Handle LCM messages until done(ctx) is true or timeout_ms passes.

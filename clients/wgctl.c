@@ -5,6 +5,7 @@
 
 #include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_status_t.h"
+#include "wormgear/wg_key.h"
 #include "wormgear/wg_param.h"
 
 #include <float.h>
@@ -13,7 +14,7 @@
 #include <string.h>
 
 typedef struct opts {
-    const char *url, *prefix;
+    const char *url, *prefix, *key_file;
     double timeout_s;
     int json;
     double over;         /* ramp duration */
@@ -49,7 +50,9 @@ static void usage(FILE *f)
             "  save NAME | restore NAME   full state to/from NAME.wgstate in the state dir\n"
             "  get                        the current parameters, with units\n"
             "  params                     every parameter: name, unit, range, default, help\n"
-            "  status                     one STATUS message, readable\n\n"
+            "  status                     one STATUS message, readable\n"
+            "  keygen FILE                a new key for signed commands (mode 0600; the\n"
+            "                             daemon's command_key_file, clients' --key-file)\n\n"
             "Options:\n"
             "  --url URL        LCM URL (default $WORMGEAR_URL or %s)\n"
             "  --prefix P       channel prefix (default $WORMGEAR_PREFIX or %s)\n"
@@ -59,6 +62,8 @@ static void usage(FILE *f)
             "  --at-section     set: apply at the next Poincare section (psi = 0), not\n"
             "                   mid-period; the answer comes then, with that section's tau\n"
             "  --json           machine-readable output on stdout\n"
+            "  --key-file FILE  sign commands with this key (default $WORMGEAR_KEY_FILE;\n"
+            "                   needed when the daemon has command_key_file)\n"
             "  -h, --help       this text\n\n"
             "Exit status: 0 accepted, 1 refused or no answer, 2 usage error.\n",
             BUS_DEFAULT_URL, BUS_DEFAULT_PREFIX);
@@ -70,15 +75,16 @@ static void usage(FILE *f)
  * positional and collected into pos. */
 static int option(opts *o, const char *name, const char *val, int *used)
 {
-    static const char *const withval[] = {"url", "prefix", "timeout", "over"};
+    static const char *const withval[] = {"url", "prefix", "timeout", "over", "key-file"};
     *used = 0;
-    for (unsigned i = 0; i < 4; i++)
+    for (unsigned i = 0; i < sizeof withval / sizeof withval[0]; i++)
         if (strcmp(name, withval[i]) == 0) {
             if (!val)
                 return cli_usage_error(PROG, "option --%s needs a value", name);
             *used = 1;
         }
     if (!strcmp(name, "url")) o->url = val;
+    else if (!strcmp(name, "key-file")) o->key_file = val;
     else if (!strcmp(name, "prefix")) o->prefix = val;
     else if (!strcmp(name, "timeout")) {
         if (cli_num(val, DBL_TRUE_MIN, 86400, &o->timeout_s))
@@ -404,6 +410,19 @@ static int do_params(const ctl *t)
     return 0;
 }
 
+/* A new random key in a new file (never over an existing one). */
+static int do_keygen(const char *path)
+{
+    char why[600];
+    if (wg_key_create(path, why, sizeof why)) {
+        fprintf(stderr, "wgctl: %s\n", why);
+        return 1;
+    }
+    printf("wrote a new key to %s (mode 0600): give it to wormgeard (command_key_file) and to "
+           "each client that sends commands (--key-file or $WORMGEAR_KEY_FILE)\n", path);
+    return 0;
+}
+
 static int dispatch(ctl *t, const char *cmd, int n, char **args)
 {
     if (t->o.at_section && strcmp(cmd, "set"))
@@ -437,6 +456,8 @@ int main(int argc, char **argv)
         return cli_usage_error(PROG, "no command given");
     if (!strcmp(pos[0], "params"))
         return npos > 1 ? cli_usage_error(PROG, "params takes no arguments") : do_params(&t);
+    if (!strcmp(pos[0], "keygen"))
+        return npos != 2 ? cli_usage_error(PROG, "keygen: expected one FILE") : do_keygen(pos[1]);
     static const char *const known[] = {"set", "ramp", "step", "save", "restore", "mode",
                                         "pause", "resume", "reset", "get", "status"};
     unsigned k = 0;
@@ -444,8 +465,10 @@ int main(int argc, char **argv)
         k++;
     if (k == sizeof known / sizeof known[0])
         return cli_usage_error(PROG, "unknown command '%s'", pos[0]);
-    if (bus_open(&t.c, t.o.url, t.o.prefix, "wgctl", why, sizeof why)) {
+    if (bus_open(&t.c, t.o.url, t.o.prefix, "wgctl", why, sizeof why) ||
+        (t.o.key_file && bus_set_key(&t.c, t.o.key_file, why, sizeof why))) {
         fprintf(stderr, "wgctl: %s\n", why);
+        bus_close(&t.c);
         return 1;
     }
     rc = dispatch(&t, pos[0], npos - 1, pos + 1);

@@ -476,7 +476,8 @@ void cmd_handle(wgd *d, const void *buf, size_t len)
         undecodable(d, buf, len, "too large");
         return;
     }
-    if (wire_cmd_check(buf, len, NULL, why, sizeof why)) { /* decode only what decodes whole */
+    wire_sig sig;
+    if (wire_cmd_check(buf, len, &sig, why, sizeof why)) { /* decode only what decodes whole */
         undecodable(d, buf, len, why);
         return;
     }
@@ -484,7 +485,12 @@ void cmd_handle(wgd *d, const void *buf, size_t len)
         undecodable(d, buf, len, "rejected by the decoder");
         return;
     }
-    dispatch(d, &c);
+    char awhy[ACK_TEXT];
+    if (auth_check(&d->auth, buf, &sig, c.client, c.seq, c.utime, lcmio_now_us(), awhy,
+                   sizeof awhy))
+        ack(d, c.client, c.seq, c.op, WG_EAUTH, awhy);
+    else
+        dispatch(d, &c);
     wormgear_cmd_t_decode_cleanup(&c);
 }
 
@@ -592,6 +598,11 @@ int cmd_init(wgd *d)
         snprintf(d->init_why, sizeof d->init_why, "out of memory for the command inbox");
         return WG_ENOMEM;
     }
+    int rc = auth_load(&d->auth, d->conf.command_key_file, d->init_why, sizeof d->init_why);
+    if (rc)
+        return rc;
+    if (d->auth.on)
+        log_msg(&d->log, LOG_INFO, "signed commands only (key %s)", d->auth.path);
     lcm_subscription_t *a = lcm_subscribe(d->io.lcm, d->io.ch[CH_CMD], on_cmd, d);
     lcm_subscription_t *b = lcm_subscribe(d->io.lcm, d->io.ch[CH_TICK], on_tick, d);
     if (!a || !b) {
@@ -610,4 +621,5 @@ void cmd_fini(wgd *d)
     cmd_step_cancel(d, WG_ESTATE, "cancelled: the daemon is stopping");
     sync_cancel(d, WG_ESTATE, "set at the next section cancelled: the daemon is stopping");
     inbox_fini(&d->in);
+    auth_fini(&d->auth);
 }

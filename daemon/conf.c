@@ -68,6 +68,9 @@ static const key keys[] = {
     {"status_hz", LIVE, K_DBL, S(status_hz), 1, 10, NULL, "2", "STATUS heartbeat rate, Hz"},
     {"state_dir", LIVE, K_STR, S(state_dir), 0, 0, NULL, NULL,
      "directory of save/restore files ($STATE_DIRECTORY, else /var/lib/wormgeard)"},
+    {"command_key_file", APPLY(CONF_APPLY_KEY), K_STR, S(command_key_file), 0, 0, NULL, NULL,
+     "signed commands only, with this key (64 hex digits; `wgctl keygen FILE`; a relative "
+     "name is in $CREDENTIALS_DIRECTORY); empty: unsigned commands accepted"},
     {"accept_commands", LIVE, K_BOOL, S(accept_commands), 0, 1, NULL, "yes",
      "no: refuse every command but get (monitor-only rig)"},
     {"start_paused", LIVE, K_BOOL, S(start_paused), 0, 1, NULL, "no", "start paused"},
@@ -172,7 +175,7 @@ static int set_number(const key *k, void *dst, const char *v, char *why, size_t 
 
 static int set_string(const key *k, char *dst, const char *v, char *why, size_t len)
 {
-    if (!*v && strcmp(k->name, "prefix") != 0) {
+    if (!*v && strcmp(k->name, "prefix") != 0 && strcmp(k->name, "command_key_file") != 0) {
         snprintf(why, len, "%s: must not be empty", k->name);
         return 2;
     }

@@ -21,7 +21,8 @@ enum { CONF_RESTART = 1 }; /* key flag: takes effect at the next restart only */
 
 /* The apply hooks of live keys, by slot; the caller of conf_reload supplies
  * them (conf.c calls nothing above it). */
-enum { CONF_APPLY_NONE, CONF_APPLY_MODE, CONF_APPLY_TICK, CONF_APPLY_VERBOSE, CONF_NAPPLY };
+enum { CONF_APPLY_NONE, CONF_APPLY_MODE, CONF_APPLY_TICK, CONF_APPLY_VERBOSE, CONF_APPLY_KEY,
+       CONF_NAPPLY };
 
 typedef struct conf {
     char path[512];           /* config file read ("" = none) */
@@ -42,6 +43,7 @@ typedef struct conf {
     double lag_warn_ms;       /* health = lagging above this lag */
     double status_hz;         /* STATUS rate, 1..10 */
     char state_dir[512];      /* save/restore directory */
+    char command_key_file[512]; /* signed commands: the key ("" = off) */
     int accept_commands;      /* 0: refuse every command except get */
     int start_paused;
     int mlock;                /* mlockall at start */

@@ -195,9 +195,23 @@ static void apply_verbose(void *ctx, const conf *was)
     d->log.max_prio = d->conf.verbose ? LOG_DEBUG : LOG_INFO;
 }
 
+static void apply_key(void *ctx, const conf *was)
+{
+    wgd *d = ctx;
+    char why[640];
+    if (auth_load(&d->auth, d->conf.command_key_file, why, sizeof why)) {
+        log_msg(&d->log, LOG_ERR, "reload: %s; keeping the previous key", why);
+        snprintf(d->conf.command_key_file, sizeof d->conf.command_key_file, "%s",
+                 was->command_key_file);
+    } else {
+        log_msg(&d->log, LOG_NOTICE, "reload: %s", d->auth.on ? "signed commands only, new key"
+                                                               : "unsigned commands accepted");
+    }
+}
+
 static const conf_apply_fn hooks[CONF_NAPPLY] = {
     [CONF_APPLY_MODE] = apply_mode, [CONF_APPLY_TICK] = apply_tick,
-    [CONF_APPLY_VERBOSE] = apply_verbose};
+    [CONF_APPLY_VERBOSE] = apply_verbose, [CONF_APPLY_KEY] = apply_key};
 
 /* SIGHUP: re-read the configuration; live keys now, restart-only ones
  * logged. Pacing re-anchors and PARAMS goes out as after any reload. */

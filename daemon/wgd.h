@@ -12,6 +12,7 @@
 #include <ev.h>
 #include <stdint.h>
 
+#include "auth.h"
 #include "conf.h"
 #include "inbox.h"
 #include "lcmio.h"
@@ -95,6 +96,7 @@ typedef struct wgd {
     backlog owed;
     /* transport and outputs */
     inbox in;                  /* CMD messages received, not yet handled (cmd.c) */
+    auth auth;                 /* signed commands: the key and per-client counters */
     unsigned char cmdbuf[INBOX_MSG_MAX]; /* the one being handled */
     lcmio io;
     int io_ok;

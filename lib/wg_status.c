@@ -16,6 +16,7 @@ static const struct {
     {WG_ESTATE, "ESTATE", "not allowed in the current state"},
     {WG_EDECODE, "EDECODE", "message could not be decoded"},
     {WG_EUNSUPPORTED, "EUNSUPPORTED", "unsupported combination"},
+    {WG_EAUTH, "EAUTH", "command not authenticated"},
 };
 
 const char *wg_status_name(int code)

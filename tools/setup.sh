@@ -6,7 +6,7 @@
 set -euo pipefail
 pkgs=(
   build-essential cmake pkg-config dpkg-dev
-  libinih-dev
+  libinih-dev libsodium-dev
   liblcm-dev liblcm-bin libglib2.0-dev
   libev-dev
   libsystemd-dev systemd

@@ -17,7 +17,8 @@ enum wg_status {
     WG_EIO = -7,         /* file could not be read or written */
     WG_ESTATE = -8,      /* operation not allowed in the current state */
     WG_EDECODE = -9,     /* a message could not be decoded */
-    WG_EUNSUPPORTED = -10 /* combination of options not supported */
+    WG_EUNSUPPORTED = -10, /* combination of options not supported */
+    WG_EAUTH = -11         /* a command not signed, signed with another key, stale or replayed */
 };
 
 /* Stable name of a status code ("WG_OK" -> "OK", WG_ERANGE -> "ERANGE");

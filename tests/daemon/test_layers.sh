@@ -4,7 +4,7 @@
 #
 # One module is one .c/.h pair whose public functions carry its name as a
 # prefix (cmd.c: cmd_*). The layers, top first:
-#   main > loop > cmd > engine, report > stream, pace > lcmio, inbox, snap, wire, sdn, conf, log
+#   main > loop > cmd > engine, report > stream, pace, auth > lcmio, inbox, snap, wire, sdn, conf, log
 # A module may call functions of, or include the header of, modules in lower
 # layers only: never its own layer (engine and report are peers) nor above.
 # What a lower module must tell an upper one, it returns or reports through
@@ -19,7 +19,7 @@
 set -u
 dir=${1:?usage: test_layers.sh DAEMON_DIR [CC]}
 cc=${2:-cc}
-layers="main:6 loop:5 cmd:4 engine:3 report:3 stream:2 pace:2 lcmio:1 inbox:1 snap:1 wire:1 sdn:1 conf:1 log:1"
+layers="main:6 loop:5 cmd:4 engine:3 report:3 stream:2 pace:2 auth:2 lcmio:1 inbox:1 snap:1 wire:1 sdn:1 conf:1 log:1"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 

@@ -115,5 +115,39 @@ rc=$?
 pid=
 [ $rc -eq 0 ] || fail "SIGTERM: exit $rc: $(tail -5 "$tmp/log")"
 grep -q "refused set" "$tmp/log" || fail "refusals not logged"
+
+# ---- signed commands: a daemon with command_key_file accepts only commands
+# signed with its key (wgctl keygen writes one; --key-file or
+# $WORMGEAR_KEY_FILE signs), and refuses the rest with EAUTH
+expect 0 "$C" keygen "$tmp/key"
+has out "wrote a new key"
+[ "$(stat -c %a "$tmp/key")" = 600 ] || fail "key mode $(stat -c %a "$tmp/key")"
+expect 1 "$C" keygen "$tmp/key"
+has err "cannot create key file"
+expect 0 "$C" keygen "$tmp/other"
+"$D" --rate 0.05 --state-dir "$tmp/state" --command-key-file "$tmp/key" 2>"$tmp/log2" &
+pid=$!
+i=0
+until "$C" --timeout 0.5 --key-file "$tmp/key" get >/dev/null 2>&1; do
+    i=$((i + 1))
+    [ $i -lt 20 ] || { fail "signing daemon did not come up: $(cat "$tmp/log2")"; exit 1; }
+done
+expect 0 "$C" --key-file "$tmp/key" set omega=1.2
+has out "ok: set omega=1.2"
+expect 1 "$C" set omega=1.3
+has err "EAUTH"
+has err "unsigned command"
+expect 1 "$C" --key-file "$tmp/other" set omega=1.3
+has err "bad signature"
+WORMGEAR_KEY_FILE=$tmp/key expect 0 "$C" get
+has out "omega = 1.2"
+chmod 644 "$tmp/other"
+expect 1 "$C" --key-file "$tmp/other" get
+has err "chmod 600"
+kill -TERM "$pid"
+wait "$pid"
+rc=$?
+pid=
+[ $rc -eq 0 ] || fail "SIGTERM (signing daemon): exit $rc"
 [ $code -eq 0 ] && echo "ok: wgctl against wormgeard"
 exit $code

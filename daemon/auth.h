@@ -1,0 +1,56 @@
+/* auth.h - signed commands: with a key, every CMD must carry a MAC.
+ *
+ * LCM has no authentication: anything that reaches the multicast group can
+ * send commands. With `command_key_file` set, a command is accepted only if
+ * (1) it carries a MAC (cmd_t.mac_len = 32): libsodium's crypto_auth
+ * (HMAC-SHA-512-256) with the shared 32-byte key over every byte of the
+ * message before mac_len; (2) its utime is within AUTH_WINDOW_S of the
+ * daemon's clock; (3) its seq is above the last one accepted from the same
+ * client id (a per-client counter: a replayed or reordered message is
+ * refused). Anything else gets EAUTH and changes nothing. The key file holds
+ * the key as 64 hexadecimal digits (wgctl keygen FILE writes one;
+ * wormgear/wg_key.h); a relative name is looked up in
+ * $CREDENTIALS_DIRECTORY (systemd LoadCredential=). Without a key, commands are accepted unsigned (a MAC, if
+ * present, is ignored), as before. Lower module: no calls up. */
+#ifndef WGD_AUTH_H
+#define WGD_AUTH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "wire.h"
+#include "wormgear/wg_key.h"
+
+enum { AUTH_CLIENTS = 256 };
+#define AUTH_WINDOW_S 30.0 /* |utime - now| allowed, seconds */
+
+typedef struct auth_client {
+    char id[WIRE_MAX_CLIENT + 1];
+    int64_t last_seq;          /* highest seq accepted from this id */
+    int64_t last_us;           /* wall time of that acceptance */
+} auth_client;
+
+typedef struct auth {
+    int on;                    /* a key is loaded */
+    unsigned char key[WG_KEY_BYTES];
+    char path[600];            /* where it was read from */
+    auth_client seen[AUTH_CLIENTS];
+    uint64_t refused;          /* commands refused with EAUTH */
+} auth;
+
+/* Read the key from path ("" = signing off; the format is wg_key_load's).
+ * A relative path is taken in $CREDENTIALS_DIRECTORY when that is set.
+ * WG_OK, or WG_EIO / WG_EINVAL with why; on error the previous key stays. */
+int auth_load(auth *a, const char *path, char *why, size_t whylen);
+
+/* Forget the key (memory wiped). */
+void auth_fini(auth *a);
+
+/* Check the signed message buf of len bytes (already through
+ * wire_cmd_check, sig its layout) from client with seq and utime, at wall
+ * time now_us: WG_OK (and the client's counter advanced), or WG_EAUTH with
+ * why. Always WG_OK when signing is off. */
+int auth_check(auth *a, const void *buf, const wire_sig *sig, const char *client,
+               int64_t seq, int64_t utime, int64_t now_us, char *why, size_t whylen);
+
+#endif

@@ -1,0 +1,32 @@
+/* wg_key.h - the shared key of signed commands, and the MAC.
+ *
+ * One rule in one place for the daemon and every client that sends
+ * commands: a key file holds a 32-byte key as 64 hexadecimal digits (and
+ * an optional newline), in a regular file that group and others cannot
+ * read; a command's MAC is libsodium's crypto_auth (HMAC-SHA-512-256) of
+ * the message bytes it covers (lcmtypes/PROTOCOL.md, "Signed commands"). */
+#ifndef WG_KEY_H
+#define WG_KEY_H
+
+#include <stddef.h>
+
+enum { WG_KEY_BYTES = 32, WG_MAC_BYTES = 32 };
+
+/* Read a key file into key. WG_OK, or WG_EIO (cannot read, not a regular
+ * file, readable by group or others) / WG_EINVAL (not 64 hex digits) with
+ * why naming the file. */
+int wg_key_load(const char *path, unsigned char key[WG_KEY_BYTES], char *why, size_t whylen);
+
+/* Write a new random key to path (created with mode 0600; an existing file
+ * is never overwritten). WG_OK, or WG_EIO with why. */
+int wg_key_create(const char *path, char *why, size_t whylen);
+
+/* The MAC of len bytes of msg under key, into mac. */
+void wg_mac(const unsigned char key[WG_KEY_BYTES], const void *msg, size_t len,
+            unsigned char mac[WG_MAC_BYTES]);
+
+/* 1 if mac is the MAC of msg under key (constant time), else 0. */
+int wg_mac_ok(const unsigned char key[WG_KEY_BYTES], const void *msg, size_t len,
+              const unsigned char mac[WG_MAC_BYTES]);
+
+#endif

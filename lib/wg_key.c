@@ -1,0 +1,92 @@
+/* wg_key.c - key files and MACs of signed commands (libsodium). */
+#include "wormgear/wg_key.h"
+
+#include "wormgear/wg_status.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <sodium.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* libsodium must be initialised once before use; sodium_init is safe to
+ * call again and from several threads. */
+static int sodium_ready(void) { return sodium_init() >= 0; }
+
+int wg_key_load(const char *path, unsigned char key[WG_KEY_BYTES], char *why, size_t whylen)
+{
+    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    char text[2 * WG_KEY_BYTES + 3];
+    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        snprintf(why, whylen, "key file %s: %s", path,
+                 fd < 0 ? strerror(errno) : "not a regular file");
+        if (fd >= 0)
+            close(fd);
+        return WG_EIO;
+    }
+    if (st.st_mode & 077) {
+        close(fd);
+        snprintf(why, whylen, "key file %s is readable by group or others (mode %03o): "
+                              "chmod 600 it", path, (unsigned)(st.st_mode & 0777));
+        return WG_EIO;
+    }
+    ssize_t n = read(fd, text, sizeof text - 1);
+    close(fd);
+    text[n > 0 ? n : 0] = 0;
+    size_t len = strcspn(text, "\r\n"), got = 0;
+    if (len != 2 * WG_KEY_BYTES || (size_t)n > len + 2 ||
+        sodium_hex2bin(key, WG_KEY_BYTES, text, len, NULL, &got, NULL) != 0 ||
+        got != WG_KEY_BYTES) {
+        sodium_memzero(text, sizeof text);
+        snprintf(why, whylen, "key file %s: not a key (64 hexadecimal digits; wgctl keygen "
+                              "FILE writes one)", path);
+        return WG_EINVAL;
+    }
+    sodium_memzero(text, sizeof text);
+    return WG_OK;
+}
+
+int wg_key_create(const char *path, char *why, size_t whylen)
+{
+    unsigned char key[WG_KEY_BYTES];
+    char hex[2 * WG_KEY_BYTES + 1];
+    if (!sodium_ready()) {
+        snprintf(why, whylen, "libsodium could not be initialised");
+        return WG_EIO;
+    }
+    int fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+    if (fd < 0) {
+        snprintf(why, whylen, "cannot create key file %s: %s", path, strerror(errno));
+        return WG_EIO;
+    }
+    crypto_auth_keygen(key);
+    sodium_bin2hex(hex, sizeof hex, key, sizeof key);
+    hex[2 * WG_KEY_BYTES] = '\n';
+    int bad = write(fd, hex, sizeof hex) != (ssize_t)sizeof hex || fsync(fd) != 0;
+    bad |= close(fd) != 0;
+    sodium_memzero(key, sizeof key);
+    sodium_memzero(hex, sizeof hex);
+    if (bad) {
+        snprintf(why, whylen, "cannot write key file %s: %s", path, strerror(errno));
+        unlink(path);
+        return WG_EIO;
+    }
+    return WG_OK;
+}
+
+void wg_mac(const unsigned char key[WG_KEY_BYTES], const void *msg, size_t len,
+            unsigned char mac[WG_MAC_BYTES])
+{
+    sodium_ready();
+    crypto_auth(mac, msg, len, key);
+}
+
+int wg_mac_ok(const unsigned char key[WG_KEY_BYTES], const void *msg, size_t len,
+              const unsigned char mac[WG_MAC_BYTES])
+{
+    sodium_ready();
+    return crypto_auth_verify(mac, msg, len, key) == 0;
+}
