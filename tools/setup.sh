@@ -9,6 +9,7 @@ pkgs=(
   libinih-dev
   liblcm-dev liblcm-bin libglib2.0-dev
   libev-dev
+  libsodium-dev
   libsystemd-dev systemd
   libcairo2-dev
   iproute2 util-linux procps
