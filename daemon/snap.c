@@ -1,13 +1,15 @@
 /* snap.c - snapshot files for save/restore: names, the state directory,
  * reading only regular files of a bounded size, atomic writes, and the
- * removal of the temporary files a killed save left. The text inside is the
- * library's (wg_snapshot.h). */
+ * removal at start of the temporary files a killed save left. The text
+ * inside is the library's (wg_snapshot.h). */
 #include "snap.h"
 
 #include "wormgear/wg_status.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -239,6 +241,45 @@ int snap_read(snap *s, const char *dir, const char *name, char *why, size_t whyl
     if (rc)
         snprintf(why, whylen, "%s: %s", path, msg);
     return rc;
+}
+
+/* ---- start-up: temporary files of killed saves ----------------------------------- */
+
+/* NAME.wgstate.tmp.PID, a regular file, whose writer is gone (or is this
+ * process, which has saved nothing yet): another daemon sharing the
+ * directory may be writing its own right now. */
+static int stale_tmp(int dfd, const char *name)
+{
+    const char *t = strstr(name, ".wgstate.tmp.");
+    struct stat st;
+    char *end;
+    if (!t)
+        return 0;
+    t += strlen(".wgstate.tmp.");
+    long pid = strtol(t, &end, 10);
+    if (end == t || *end || *t < '1' || *t > '9' || pid <= 0)
+        return 0;
+    if (fstatat(dfd, name, &st, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISREG(st.st_mode))
+        return 0;
+    return pid == (long)getpid() || (kill((pid_t)pid, 0) != 0 && errno == ESRCH);
+}
+
+int snap_init(const char *dir, int *removed, char *why, size_t whylen)
+{
+    *removed = 0;
+    DIR *dp = opendir(dir);
+    if (!dp) {
+        if (errno == ENOENT) /* made by the first save */
+            return WG_OK;
+        snprintf(why, whylen, "cannot read state directory %s: %s", dir, strerror(errno));
+        return WG_EIO;
+    }
+    struct dirent *e;
+    while ((e = readdir(dp)))
+        if (stale_tmp(dirfd(dp), e->d_name) && unlinkat(dirfd(dp), e->d_name, 0) == 0)
+            (*removed)++;
+    closedir(dp);
+    return WG_OK;
 }
 
 int snap_apply(const snap *s, wg_sim *sim, char *why, size_t whylen)

@@ -43,6 +43,12 @@ int snap_write(const snap *s, const char *dir, const char *name, char *path, siz
  * blocks; why never quotes the file. The values are checked by snap_apply. */
 int snap_read(snap *s, const char *dir, const char *name, char *why, size_t whylen);
 
+/* At start: remove the temporary files (NAME.wgstate.tmp.PID, regular
+ * files only) that saves killed mid-write left in dir, those of a process
+ * that no longer exists or of this one; *removed counts them. WG_OK (also
+ * when dir does not exist yet), or WG_EIO with why if dir cannot be read. */
+int snap_init(const char *dir, int *removed, char *why, size_t whylen);
+
 /* Apply s to sim, atomically, every value checked as the live path would
  * (wg_sim_restore): WG_ESTATE if the model, stepper or N differ from the
  * running sim, WG_ERANGE/WG_ESTABILITY for the parameters or the ramp,

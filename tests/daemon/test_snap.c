@@ -2,12 +2,15 @@
  * continuation (also mid-ramp), snapshot-name, N-mismatch and corrupted-file
  * refusals that change nothing; every truncation and single-byte flip of a
  * saved file refused; FIFOs, symbolic links, directories and oversized
- * files refused at once, their content never quoted. */
+ * files refused at once, their content never quoted; a save killed at any
+ * moment leaves the old file or the new one, and its temporary file is
+ * removed at the next start. */
 #include "fixture.h"
 #include "snap.h"
 
 #include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <time.h>
 
 typedef struct shot {
@@ -210,6 +213,99 @@ static void test_special_files_refused(void)
     teardown(d);
 }
 
+/* ---- killed saves and their temporary files ---------------------------------------- */
+
+static const char *tmp_path(const char *name, long pid, char *buf, size_t len)
+{
+    snprintf(buf, len, "%s/%s.wgstate.tmp.%ld", fx_statedir(), name, pid);
+    return buf;
+}
+
+static void touch(const char *path)
+{
+    FILE *f = fopen(path, "w");
+    ASSERT_TRUE(f != NULL);
+    if (f)
+        fclose(f);
+}
+
+static long dead_pid(void)
+{
+    pid_t c = fork();
+    if (c == 0)
+        _exit(0);
+    waitpid(c, NULL, 0);
+    return (long)c;
+}
+
+static void test_stale_temp_files_removed(void)
+{
+    char p[700], why[400];
+    long dead = dead_pid();
+    touch(tmp_path("a", dead, p, sizeof p));             /* its writer is gone */
+    touch(tmp_path("b", (long)getpid(), p, sizeof p));   /* ours, before any save */
+    touch(tmp_path("c", 1, p, sizeof p));                /* a live process's: kept */
+    ASSERT_EQ_INT(mkdir(tmp_path("d", dead, p, sizeof p), 0700), 0); /* not a file */
+    snprintf(p, sizeof p, "%s/e.wgstate.tmp.x%ld", fx_statedir(), dead); /* not a pid */
+    touch(p);
+    int n = -1;
+    ASSERT_EQ_INT(snap_init(fx_statedir(), &n, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(n, 2);
+    ASSERT_TRUE(access(tmp_path("a", dead, p, sizeof p), F_OK) != 0);
+    ASSERT_TRUE(access(tmp_path("b", (long)getpid(), p, sizeof p), F_OK) != 0);
+    ASSERT_EQ_INT(unlink(tmp_path("c", 1, p, sizeof p)), 0);
+    ASSERT_EQ_INT(rmdir(tmp_path("d", dead, p, sizeof p)), 0);
+    snprintf(p, sizeof p, "%s/e.wgstate.tmp.x%ld", fx_statedir(), dead);
+    ASSERT_EQ_INT(unlink(p), 0);
+    snprintf(p, sizeof p, "%s/not-there", fx_statedir());
+    ASSERT_EQ_INT(snap_init(p, &n, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(n, 0);
+}
+
+/* A child saves two states in turn, forever; it is killed at a random
+ * moment, again and again. The file is always one of the two, whole. */
+static void test_kill_during_save(void)
+{
+    wgd *d = setup(128);
+    run(d, 1000);
+    static snap s[2];
+    static char text[2][WG_SNAPSHOT_MAX], got[WG_SNAPSHOT_MAX + 1];
+    char path[700], why[400];
+    int len[2];
+    for (int i = 0; i < 2; i++) {
+        snap_take(&s[i], &d->sim, "table3");
+        len[i] = wg_snapshot_format(&s[i].w, "table3", text[i], WG_SNAPSHOT_MAX, why, sizeof why);
+        run(d, 1);
+    }
+    ASSERT_EQ_INT(snap_write(&s[0], fx_statedir(), "k", path, sizeof path, why, sizeof why), 0);
+    unsigned seed = (unsigned)time(NULL);
+    srand(seed);
+    int kills = 100, found[3] = {0, 0, 0}, left = 0, n = 0;
+    for (int i = 0; i < kills; i++) {
+        pid_t c = fork();
+        for (unsigned j = 1; c == 0; j++)
+            snap_write(&s[j & 1], fx_statedir(), "k", path, sizeof path, why, sizeof why);
+        usleep((useconds_t)(rand() % 8000));
+        kill(c, SIGKILL);
+        waitpid(c, NULL, 0);
+        size_t m = slurp(path, got, sizeof got);
+        int which = m == (size_t)len[0] && !memcmp(got, text[0], m)   ? 0
+                    : m == (size_t)len[1] && !memcmp(got, text[1], m) ? 1 : 2;
+        found[which]++;
+    }
+    left = fx_temp_files();
+    ASSERT_EQ_INT(snap_init(fx_statedir(), &n, why, sizeof why), WG_OK);
+    printf("  %d kills mid-save (seed %u): the file was one state %d times, the other %d, "
+           "neither %d; %d temporary files left, %d removed at start\n", kills, seed,
+           found[0], found[1], found[2], left, n);
+    ASSERT_EQ_INT(found[2], 0);
+    ASSERT_EQ_INT(n, left);
+    ASSERT_EQ_INT(fx_temp_files(), 0);
+    unlink(path);
+    teardown(d);
+}
+
 TEST_MAIN(TEST(test_save_restore_bitexact), TEST(test_save_restore_bitexact_ramp),
           TEST(test_save_restore_refusals), TEST(test_corrupt_files_refused),
-          TEST(test_special_files_refused))
+          TEST(test_special_files_refused), TEST(test_stale_temp_files_removed),
+          TEST(test_kill_during_save))
