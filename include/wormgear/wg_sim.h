@@ -102,7 +102,8 @@ typedef struct wg_sim {
 
 /* Everything that defines the future of a run: configuration, parameters
  * (a ramped one at its current value), state, phase, time, counters, the
- * ramp and the period statistics. Plain data: save it any way you like. */
+ * ramp and the period statistics. Plain data; wg_snapshot.h writes it as
+ * text and reads it back, and wg_sim_restore decides whether it makes a run. */
 typedef struct wg_snapshot {
     int model, stepper, steps_per_period;
     wg_params p;
