@@ -96,7 +96,10 @@ static int write_atomic(const char *dir, const char *path, const char *text, siz
     }
     int bad = write_all(fd, text, n) != 0 || fsync(fd) != 0;
     int e = errno;
-    bad |= close(fd) != 0;
+    if (close(fd) != 0 && !bad) {
+        bad = 1;
+        e = errno;
+    }
     if (bad || rename(tmp, path) != 0) {
         snprintf(why, whylen, "cannot write %s: %s", path, strerror(bad ? e : errno));
         unlink(tmp);

@@ -310,7 +310,9 @@ int wg_snapshot_parse(const char *text, size_t len, wg_snapshot *snap, char *sce
     memset(&w, 0, sizeof w);
     const char *first = memchr(text, '\n', len) + 1; /* check_head saw it */
     reader r = {{read_field}, first, text + body, 1, why, whylen};
-    if (first > r.end || walk(&r.v, &w, sc))
+    if (first > r.end)
+        return say(why, whylen, WG_EINVAL, "no fields between the first and the last line");
+    if (walk(&r.v, &w, sc))
         return WG_EINVAL;
     if (r.p != r.end) {
         r.line++;
