@@ -6,6 +6,7 @@
 #include "loop.h"
 #include "report.h"
 #include "sdn.h"
+#include "snap.h"
 #include "wgd.h"
 #include "wormgear/wg_status.h"
 
@@ -39,6 +40,23 @@ static int m_stream(wgd *d)
     return 0;
 }
 
+/* Temporary files of saves killed mid-write; --check-config changes nothing.
+ * An unreadable state directory is not fatal: the simulation runs, and
+ * each save or restore says why it fails. */
+static int m_snap(wgd *d)
+{
+    int n = 0;
+    char why[sizeof d->init_why];
+    if (d->conf.check_only)
+        return 0;
+    if (snap_init(d->conf.state_dir, &n, why, sizeof why))
+        log_msg(&d->log, LOG_WARNING, "%s: save and restore will fail", why);
+    else if (n > 0)
+        log_msg(&d->log, LOG_INFO, "state dir %s: removed %d temporary file%s of interrupted "
+                "saves", d->conf.state_dir, n, n == 1 ? "" : "s");
+    return 0;
+}
+
 static int m_cmd(wgd *d) { return cmd_init(d) ? 1 : 0; }
 static int m_loop(wgd *d) { return loop_init(d) ? 1 : 0; }
 static int m_report(wgd *d) { return report_init(d), 0; }
@@ -46,6 +64,7 @@ static int m_sdn(wgd *d) { return sdn_init(&d->sd), 0; }
 static void f_lcm(wgd *d) { lcmio_fini(&d->io); }
 static void f_stream(wgd *d) { stream_fini(&d->st); }
 static void f_sdn(wgd *d) { sdn_fini(&d->sd); }
+static void f_snap(wgd *d) { (void)d; }
 
 /* In dependency order; finalised in reverse. */
 static const struct module {
@@ -53,6 +72,7 @@ static const struct module {
     int (*init)(wgd *d); /* 0, 1 runtime failure, 2 config error */
     void (*fini)(wgd *d);
 } modules[] = {
+    {"snap", m_snap, f_snap},
     {"engine", m_engine, engine_fini},
     {"lcm", m_lcm, f_lcm},
     {"stream", m_stream, f_stream},

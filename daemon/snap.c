@@ -1,18 +1,20 @@
-/* snap.c - snapshot files for save/restore. */
+/* snap.c - snapshot files for save/restore: names, the state directory,
+ * reading only regular files of a bounded size, atomic writes, and the
+ * removal at start of the temporary files a killed save left. The text
+ * inside is the library's (wg_snapshot.h). */
 #include "snap.h"
 
 #include "wormgear/wg_status.h"
 
+#include <dirent.h>
 #include <errno.h>
-#include <inttypes.h>
-#include <math.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
-
-#define SNAP_MAGIC "# wormgeard snapshot, format 1"
 
 int snap_name_ok(const char *name, char *why, size_t whylen)
 {
@@ -36,29 +38,6 @@ void snap_take(snap *s, const wg_sim *sim, const char *scene)
     wg_sim_snapshot(sim, &s->w);
 }
 
-static void put_period(FILE *f, const char *key, const wg_period *w)
-{
-    fprintf(f, "%s = %" PRIu64 " %a %a %d %d\n", key, w->period, w->min_xn, w->max_xn, w->motion,
-            w->impacts);
-}
-
-static void put_all(FILE *f, const snap *s)
-{
-    fprintf(f, "%s\nscene = %s\nmodel = %d\nstepper = %d\nsteps_per_period = %d\n", SNAP_MAGIC,
-            s->scene, s->w.model, s->w.stepper, s->w.steps_per_period);
-    for (int i = 0; i < WG_NPARAM; i++)
-        fprintf(f, "param %s = %a\n", wg_param_info_get(i)->name, s->w.p.v[i]);
-    for (int i = 0; i < WG_NSTATE_MAX; i++)
-        fprintf(f, "y %d = %a\n", i, s->w.y[i]);
-    fprintf(f, "k = %" PRIu32 "\ntau = %a\ntau_c = %a\nperiod = %" PRIu64 "\nsteps = %" PRIu64 "\n",
-            s->w.k, s->w.tau, s->w.tau_c, s->w.period, s->w.steps);
-    const wg_ramp *r = &s->w.ramp;
-    fprintf(f, "ramp = %d %s %a %a %a %a\n", r->active,
-            r->active ? wg_param_info_get(r->id)->name : "-", r->v0, r->v1, r->tau0, r->dur);
-    put_period(f, "cur", &s->w.cur);
-    put_period(f, "last", &s->w.last);
-}
-
 static int file_path(char *path, size_t len, const char *dir, const char *name, char *why,
                      size_t whylen)
 {
@@ -72,196 +51,238 @@ static int file_path(char *path, size_t len, const char *dir, const char *name, 
     return WG_OK;
 }
 
+/* ---- writing ---------------------------------------------------------------- */
+
+static int write_all(int fd, const char *buf, size_t n)
+{
+    while (n > 0) {
+        ssize_t k = write(fd, buf, n);
+        if (k < 0 && errno == EINTR)
+            continue;
+        if (k <= 0)
+            return -1;
+        buf += k;
+        n -= (size_t)k;
+    }
+    return 0;
+}
+
+/* fsync the directory, so that a rename in it survives a crash. */
+static int sync_dir(const char *dir)
+{
+    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0)
+        return -1;
+    int rc = fsync(fd);
+    int e = errno;
+    close(fd);
+    errno = e;
+    return rc;
+}
+
+/* text to a fresh temporary file beside path (never one that was there:
+ * removed first, then created exclusively, links not followed), synced,
+ * renamed over path: a reader sees the old file or the new one, whole. */
+static int write_atomic(const char *dir, const char *path, const char *text, size_t n,
+                        char *why, size_t whylen)
+{
+    char tmp[700];
+    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
+    unlink(tmp);
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0640);
+    if (fd < 0) {
+        snprintf(why, whylen, "cannot write %s: %s", tmp, strerror(errno));
+        return WG_EIO;
+    }
+    int bad = write_all(fd, text, n) != 0 || fsync(fd) != 0;
+    int e = errno;
+    if (close(fd) != 0 && !bad) {
+        bad = 1;
+        e = errno;
+    }
+    if (bad || rename(tmp, path) != 0) {
+        snprintf(why, whylen, "cannot write %s: %s", path, strerror(bad ? e : errno));
+        unlink(tmp);
+        return WG_EIO;
+    }
+    if (sync_dir(dir) != 0) {
+        snprintf(why, whylen, "wrote %s, but cannot sync %s (it may not survive a crash): %s",
+                 path, dir, strerror(errno));
+        return WG_EIO;
+    }
+    return WG_OK;
+}
+
 int snap_write(const snap *s, const char *dir, const char *name, char *path, size_t pathlen,
                char *why, size_t whylen)
 {
-    char tmp[600];
+    char text[WG_SNAPSHOT_MAX];
     int rc = file_path(path, pathlen, dir, name, why, whylen);
     if (rc)
         return rc;
+    int n = wg_snapshot_format(&s->w, s->scene, text, sizeof text, why, whylen);
+    if (n < 0)
+        return n;
     if (mkdir(dir, 0750) != 0 && errno != EEXIST) {
         snprintf(why, whylen, "cannot create state directory %s: %s", dir, strerror(errno));
         return WG_EIO;
     }
-    snprintf(tmp, sizeof tmp, "%s.tmp.%d", path, (int)getpid());
-    FILE *f = fopen(tmp, "w");
-    if (!f) {
-        snprintf(why, whylen, "cannot write %s: %s", tmp, strerror(errno));
+    return write_atomic(dir, path, text, (size_t)n, why, whylen);
+}
+
+/* ---- reading ---------------------------------------------------------------- */
+
+static const char *not_regular(mode_t m)
+{
+    return S_ISLNK(m)    ? "is a symbolic link (not followed), not a regular file"
+           : S_ISDIR(m)  ? "is a directory, not a regular file"
+           : S_ISFIFO(m) ? "is a FIFO, not a regular file"
+           : S_ISSOCK(m) ? "is a socket, not a regular file"
+           : S_ISCHR(m)  ? "is a character device, not a regular file"
+           : S_ISBLK(m)  ? "is a block device, not a regular file"
+                         : "is not a regular file";
+}
+
+/* A regular file within the size limit, or why not (its kind or size,
+ * never its content). */
+static int file_ok(const char *path, const struct stat *st, char *why, size_t whylen)
+{
+    if (!S_ISREG(st->st_mode)) {
+        snprintf(why, whylen, "%s %s", path, not_regular(st->st_mode));
         return WG_EIO;
     }
-    put_all(f, s);
-    int bad = ferror(f) | (fflush(f) != 0) | (fsync(fileno(f)) != 0);
-    bad |= fclose(f) != 0;
-    if (bad || rename(tmp, path) != 0) {
-        snprintf(why, whylen, "cannot write %s: %s", path, strerror(errno));
-        unlink(tmp);
+    if (st->st_size > WG_SNAPSHOT_MAX) {
+        snprintf(why, whylen, "%s is %lld bytes (limit %d): not a snapshot", path,
+                 (long long)st->st_size, WG_SNAPSHOT_MAX);
         return WG_EIO;
     }
     return WG_OK;
 }
 
-/* ---- reading ------------------------------------------------------------- */
-
-typedef struct rd {
-    snap *s;
-    const char *path;
-    int line;
-    char *why;
-    size_t whylen;
-    unsigned char seen_p[WG_NPARAM], seen_y[WG_NSTATE_MAX];
-    int seen_head;
-} rd;
-
-static int bad(rd *r, int rc, const char *what, const char *val)
+/* Open path for reading if it is a regular file within the limit: judged
+ * by lstat before it is opened (a FIFO or a device is never opened), opened
+ * without following a link or blocking, judged again by fstat. The file
+ * descriptor, or a negative code with why. */
+static int open_regular(const char *path, char *why, size_t whylen)
 {
-    snprintf(r->why, r->whylen, "%s:%d: %s '%.60s'", r->path, r->line, what, val);
-    return rc;
-}
-
-static int num(rd *r, const char *v, double *out)
-{
-    char *end;
-    *out = strtod(v, &end);
-    return end == v || *end || !isfinite(*out) ? bad(r, WG_EINVAL, "not a finite number:", v)
-                                               : WG_OK;
-}
-
-static int u64(rd *r, const char *v, uint64_t *out)
-{
-    char *end;
-    errno = 0;
-    *out = strtoull(v, &end, 10);
-    return end == v || *end || errno || *v == '-' ? bad(r, WG_EINVAL, "not a count:", v) : WG_OK;
-}
-
-static int period_rec(rd *r, const char *v, wg_period *w)
-{
-    char a[64], b[64];
-    unsigned long long per;
-    int n = 0;
-    if (sscanf(v, "%llu %63s %63s %d %d%n", &per, a, b, &w->motion, &w->impacts, &n) != 5 ||
-        v[n] || num(r, a, &w->min_xn) || num(r, b, &w->max_xn))
-        return bad(r, WG_EINVAL, "bad period record:", v);
-    w->period = per;
-    return WG_OK;
-}
-
-static int ramp_rec(rd *r, const char *v)
-{
-    wg_ramp *m = &r->s->w.ramp;
-    char name[64], x[4][64];
-    int n = 0;
-    if (sscanf(v, "%d %63s %63s %63s %63s %63s%n", &m->active, name, x[0], x[1], x[2], x[3], &n) !=
-            6 || v[n] || num(r, x[0], &m->v0) || num(r, x[1], &m->v1) || num(r, x[2], &m->tau0) ||
-        num(r, x[3], &m->dur))
-        return bad(r, WG_EINVAL, "bad ramp record:", v);
-    m->id = m->active ? wg_param_lookup(name) : 0;
-    if (m->active && (m->id < 0 || !(m->dur > 0)))
-        return bad(r, WG_EINVAL, "bad ramp record:", v);
-    return WG_OK;
-}
-
-static int indexed(rd *r, const char *key, const char *v)
-{
-    char msg[600];
-    if (strncmp(key, "param ", 6) == 0) {
-        int id = wg_param_lookup(key + 6);
-        if (id < 0)
-            return bad(r, WG_EUNKNOWN, "unknown parameter", key + 6);
-        if (wg_param_parse(id, v, &r->s->w.p.v[id], msg, sizeof msg))
-            return bad(r, WG_ERANGE, msg, "");
-        r->seen_p[id] = 1;
-        return WG_OK;
+    struct stat st;
+    if (lstat(path, &st) != 0) {
+        snprintf(why, whylen, "cannot read %s: %s", path, strerror(errno));
+        return WG_EIO;
     }
-    char *end;
-    long i = strtol(key + 2, &end, 10);
-    if (strncmp(key, "y ", 2) || *end || end == key + 2 || i < 0 || i >= WG_NSTATE_MAX)
-        return bad(r, WG_EUNKNOWN, "unknown key", key);
-    r->seen_y[i] = 1;
-    return num(r, v, &r->s->w.y[i]);
+    int rc = file_ok(path, &st, why, whylen);
+    if (rc)
+        return rc;
+    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+        if (errno == ELOOP) /* replaced by a link since the lstat */
+            snprintf(why, whylen, "%s %s", path, not_regular(S_IFLNK));
+        else
+            snprintf(why, whylen, "cannot read %s: %s", path, strerror(errno));
+        return WG_EIO;
+    }
+    if (fstat(fd, &st) != 0) {
+        snprintf(why, whylen, "cannot read %s: %s", path, strerror(errno));
+        rc = WG_EIO;
+    } else {
+        rc = file_ok(path, &st, why, whylen);
+    }
+    if (rc)
+        close(fd);
+    return rc ? rc : fd;
 }
 
-static int field(rd *r, const char *key, const char *v)
+/* Up to cap bytes of fd; -1 on a read error. */
+static long read_upto(int fd, char *buf, size_t cap)
 {
-    snap *s = r->s;
-    uint64_t u = 0;
-    double d;
-    int rc;
-    if (!strcmp(key, "scene"))
-        return snprintf(s->scene, sizeof s->scene, "%s", v), WG_OK;
-    if (!strcmp(key, "model") || !strcmp(key, "stepper") || !strcmp(key, "steps_per_period") ||
-        !strcmp(key, "k") || !strcmp(key, "period") || !strcmp(key, "steps")) {
-        if ((rc = u64(r, v, &u)) || u > (uint64_t)INT64_MAX)
-            return rc ? rc : bad(r, WG_EINVAL, "too large:", v);
-        if (!strcmp(key, "model")) s->w.model = (int)u;
-        else if (!strcmp(key, "stepper")) s->w.stepper = (int)u;
-        else if (!strcmp(key, "steps_per_period")) s->w.steps_per_period = u > 1000000 ? -1 : (int)u;
-        else if (!strcmp(key, "k")) s->w.k = (uint32_t)u;
-        else if (!strcmp(key, "period")) s->w.period = u;
-        else s->w.steps = u;
-        return WG_OK;
+    size_t n = 0;
+    while (n < cap) {
+        ssize_t k = read(fd, buf + n, cap - n);
+        if (k < 0 && errno == EINTR)
+            continue;
+        if (k < 0)
+            return -1;
+        if (k == 0)
+            break;
+        n += (size_t)k;
     }
-    if (!strcmp(key, "tau") || !strcmp(key, "tau_c")) {
-        if ((rc = num(r, v, &d)))
-            return rc;
-        *(key[3] ? &s->w.tau_c : &s->w.tau) = d;
-        return WG_OK;
-    }
-    if (!strcmp(key, "ramp"))
-        return ramp_rec(r, v);
-    if (!strcmp(key, "cur") || !strcmp(key, "last"))
-        return period_rec(r, v, key[0] == 'c' ? &s->w.cur : &s->w.last);
-    return indexed(r, key, v);
+    return (long)n;
 }
 
-static int parse_line(rd *r, char *line)
+/* The bytes of a snapshot file (at most WG_SNAPSHOT_MAX), or a negative
+ * code with why: buf holds cap > WG_SNAPSHOT_MAX bytes. */
+static long read_file(const char *path, char *buf, size_t cap, char *why, size_t whylen)
 {
-    line[strcspn(line, "\r\n")] = 0;
-    if (r->line == 1) {
-        r->seen_head = strcmp(line, SNAP_MAGIC) == 0;
-        return r->seen_head ? WG_OK : bad(r, WG_EINVAL, "not a wormgeard snapshot:", line);
+    int fd = open_regular(path, why, whylen);
+    if (fd < 0)
+        return fd;
+    long n = read_upto(fd, buf, cap);
+    int e = errno;
+    close(fd);
+    if (n < 0) {
+        snprintf(why, whylen, "cannot read %s: %s", path, strerror(e));
+        return WG_EIO;
     }
-    if (!line[0] || line[0] == '#')
-        return WG_OK;
-    char *eq = strstr(line, " = ");
-    if (!eq)
-        return bad(r, WG_EINVAL, "expected 'key = value', got", line);
-    *eq = 0;
-    return field(r, line, eq + 3);
-}
-
-static int complete(rd *r)
-{
-    for (int i = 0; i < WG_NPARAM; i++)
-        if (!r->seen_p[i])
-            return bad(r, WG_EINVAL, "missing parameter", wg_param_info_get(i)->name);
-    for (int i = 0; i < WG_NSTATE_MAX; i++)
-        if (!r->seen_y[i])
-            return bad(r, WG_EINVAL, "missing state value", "y");
-    if (!r->seen_head)
-        return bad(r, WG_EINVAL, "empty file", "");
-    return WG_OK;
+    if (n > WG_SNAPSHOT_MAX) {
+        snprintf(why, whylen, "%s grew past %d bytes while it was read", path, WG_SNAPSHOT_MAX);
+        return WG_EIO;
+    }
+    return n;
 }
 
 int snap_read(snap *s, const char *dir, const char *name, char *why, size_t whylen)
 {
-    char path[600], buf[512];
+    char path[600], text[WG_SNAPSHOT_MAX + 1], msg[400];
     int rc = file_path(path, sizeof path, dir, name, why, whylen);
     if (rc)
         return rc;
-    FILE *f = fopen(path, "r");
-    if (!f) {
-        snprintf(why, whylen, "cannot read %s: %s", path, strerror(errno));
+    long n = read_file(path, text, sizeof text, why, whylen);
+    if (n < 0)
+        return (int)n;
+    memset(s, 0, sizeof *s);
+    rc = wg_snapshot_parse(text, (size_t)n, &s->w, s->scene, sizeof s->scene, msg, sizeof msg);
+    if (rc)
+        snprintf(why, whylen, "%s: %s", path, msg);
+    return rc;
+}
+
+/* ---- start-up: temporary files of killed saves ----------------------------------- */
+
+/* NAME.wgstate.tmp.PID, a regular file, whose writer is gone (or is this
+ * process, which has saved nothing yet): another daemon sharing the
+ * directory may be writing its own right now. */
+static int stale_tmp(int dfd, const char *name)
+{
+    const char *t = strstr(name, ".wgstate.tmp.");
+    struct stat st;
+    char *end;
+    if (!t)
+        return 0;
+    t += strlen(".wgstate.tmp.");
+    long pid = strtol(t, &end, 10);
+    if (end == t || *end || *t < '1' || *t > '9' || pid <= 0)
+        return 0;
+    if (fstatat(dfd, name, &st, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISREG(st.st_mode))
+        return 0;
+    return pid == (long)getpid() || (kill((pid_t)pid, 0) != 0 && errno == ESRCH);
+}
+
+int snap_init(const char *dir, int *removed, char *why, size_t whylen)
+{
+    *removed = 0;
+    DIR *dp = opendir(dir);
+    if (!dp) {
+        if (errno == ENOENT) /* made by the first save */
+            return WG_OK;
+        snprintf(why, whylen, "cannot read state directory %s: %s", dir, strerror(errno));
         return WG_EIO;
     }
-    memset(s, 0, sizeof *s);
-    rd r = {.s = s, .path = path, .why = why, .whylen = whylen};
-    while (!rc && fgets(buf, sizeof buf, f)) {
-        r.line++;
-        rc = parse_line(&r, buf);
-    }
-    fclose(f);
-    return rc ? rc : complete(&r);
+    struct dirent *e;
+    while ((e = readdir(dp)))
+        if (stale_tmp(dirfd(dp), e->d_name) && unlinkat(dirfd(dp), e->d_name, 0) == 0)
+            (*removed)++;
+    closedir(dp);
+    return WG_OK;
 }
 
 int snap_apply(const snap *s, wg_sim *sim, char *why, size_t whylen)

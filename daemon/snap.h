@@ -1,12 +1,15 @@
 /* snap.h - save/restore: the full simulation state and parameters in a
- * named text file under the state directory.
+ * named file under the state directory.
  *
- * The file holds every parameter by name and every state number as a C99
- * hex float (%a), so a restore continues bit-exactly where the save was
- * taken (same trajectory, same ramp). Names are [A-Za-z0-9_.-], 1-64
- * characters, not starting with '.': no '/', no "..". The file is
- * NAME.wgstate, written to a temporary file and renamed (never half a file).
- * What makes up the state is the library's business (wg_snapshot). */
+ * The text is the library's snapshot format (wormgear/wg_snapshot.h:
+ * format 2, every field, hex floats, a BLAKE2b checksum), so a restore
+ * continues bit-exactly where the save was taken. This module is the file
+ * system's side: names are [A-Za-z0-9_.-], 1-64 characters, not starting
+ * with '.' (no '/', no ".."); the file is NAME.wgstate, written to
+ * NAME.wgstate.tmp.PID, synced and renamed (a reader sees the old file or
+ * the new one, whole), and the directory synced. A restore reads only a
+ * regular file of at most WG_SNAPSHOT_MAX bytes, never follows a symbolic
+ * link, never blocks on a FIFO, and never quotes the file's content. */
 #ifndef WGD_SNAP_H
 #define WGD_SNAP_H
 
@@ -14,9 +17,10 @@
 #include <stdint.h>
 
 #include "wormgear/wg_sim.h"
+#include "wormgear/wg_snapshot.h"
 
 typedef struct snap {
-    char scene[64];
+    char scene[WG_SNAPSHOT_SCENE_MAX];
     wg_snapshot w; /* the library's run state (wg_sim_snapshot/restore) */
 } snap;
 
@@ -26,19 +30,30 @@ int snap_name_ok(const char *name, char *why, size_t whylen);
 /* Capture sim (and the scene name) into s. */
 void snap_take(snap *s, const wg_sim *sim, const char *scene);
 
-/* Write s to dir/NAME.wgstate (dir created if missing). WG_OK, WG_EINVAL
- * (name) or WG_EIO with why; *path receives the file name. */
+/* Write s to dir/NAME.wgstate atomically (dir created if missing). WG_OK,
+ * WG_EINVAL (name, or a state that cannot be saved) or WG_EIO with why;
+ * *path receives the file name. */
 int snap_write(const snap *s, const char *dir, const char *name, char *path, size_t pathlen,
                char *why, size_t whylen);
 
-/* Read and validate dir/NAME.wgstate: every parameter through the table.
- * WG_OK, WG_EINVAL (name, syntax), WG_EIO (missing), WG_EUNKNOWN, WG_ERANGE
- * with why ("file:line: ..."). */
+/* Read dir/NAME.wgstate into s: WG_OK; WG_EINVAL (name; text that is not a
+ * whole, intact format-2 snapshot: "PATH: line 12: ..."); WG_EIO (missing,
+ * unreadable, not a regular file: "PATH is a FIFO, not a regular file", or
+ * larger than WG_SNAPSHOT_MAX: "PATH is 2097152 bytes (limit 8192)"). Never
+ * blocks; why never quotes the file. The values are checked by snap_apply. */
 int snap_read(snap *s, const char *dir, const char *name, char *why, size_t whylen);
 
-/* Apply s to sim, atomically: WG_ESTATE if the model, stepper or N differ
- * from the running sim, WG_ERANGE/WG_ESTABILITY from wg_sim_set_params;
- * sim unchanged on error. */
+/* At start: remove the temporary files (NAME.wgstate.tmp.PID, regular
+ * files only) that saves killed mid-write left in dir, those of a process
+ * that no longer exists or of this one; *removed counts them. WG_OK (also
+ * when dir does not exist yet), or WG_EIO with why if dir cannot be read. */
+int snap_init(const char *dir, int *removed, char *why, size_t whylen);
+
+/* Apply s to sim, atomically, every value checked as the live path would
+ * (wg_sim_restore): WG_ESTATE if the model, stepper or N differ from the
+ * running sim, WG_ERANGE/WG_ESTABILITY for the parameters or the ramp,
+ * WG_EINVAL for the state, time, counters or statistics; sim unchanged on
+ * error. */
 int snap_apply(const snap *s, wg_sim *sim, char *why, size_t whylen);
 
 #endif

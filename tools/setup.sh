@@ -6,9 +6,10 @@
 set -euo pipefail
 pkgs=(
   build-essential cmake pkg-config dpkg-dev
-  libinih-dev libsodium-dev
+  libinih-dev
   liblcm-dev liblcm-bin libglib2.0-dev
   libev-dev
+  libsodium-dev
   libsystemd-dev systemd
   libcairo2-dev
   iproute2 util-linux procps

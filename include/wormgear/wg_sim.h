@@ -102,7 +102,8 @@ typedef struct wg_sim {
 
 /* Everything that defines the future of a run: configuration, parameters
  * (a ramped one at its current value), state, phase, time, counters, the
- * ramp and the period statistics. Plain data: save it any way you like. */
+ * ramp and the period statistics. Plain data; wg_snapshot.h writes it as
+ * text and reads it back, and wg_sim_restore decides whether it makes a run. */
 typedef struct wg_snapshot {
     int model, stepper, steps_per_period;
     wg_params p;
@@ -163,9 +164,17 @@ void wg_sim_set_state(wg_sim *sim, const double *y, uint32_t k, double tau);
 /* Capture the run into snap. */
 void wg_sim_snapshot(const wg_sim *sim, wg_snapshot *snap);
 
-/* Continue bit-exactly from snap: WG_ESTATE if its model, stepper or N
- * differ from sim's, WG_EINVAL for a phase index out of range, or the codes
- * of wg_sim_set_params; sim unchanged on error. */
+/* Continue bit-exactly from snap, every field checked as the live path
+ * would: WG_ESTATE if its model, stepper or N differ from sim's; the codes
+ * of wg_sim_set_params for the parameters (ranges, cosines, stability); for
+ * an active ramp (active 0 or 1) those of wg_sim_ramp from ramp.v0 (a
+ * rampable parameter, duration, both ends in range and stable), with tau0 in
+ * [tau - dur, tau] and the ramped value on the ramp line; WG_EINVAL for
+ * k >= N, a state not finite or absurd, tau outside [0, 1e15], |tau_c| >
+ * 1e-12 (1 + tau), period > steps, cur.period != period, or period
+ * statistics that are not sane (motion a class, impacts >= 0, finite
+ * min_xn <= max_xn). On error sim is unchanged and why names the field and
+ * what is allowed. */
 int wg_sim_restore(wg_sim *sim, const wg_snapshot *snap, char *why, size_t whylen);
 
 /* Back to the static equilibrium at psi = 0, tau = 0, counters cleared;

@@ -25,7 +25,7 @@ if grep -v -E '^/(usr|etc)(/|$)' "$tmp/files" | grep -v '^/$'; then fail "files 
 dpkg-deb -I "$deb" conffiles >"$tmp/conffiles" 2>&1
 grep -qx /etc/wormgear/wormgeard.conf "$tmp/conffiles" || fail "config not a conffile: $(cat "$tmp/conffiles")"
 dpkg-deb -f "$deb" Depends >"$tmp/depends"
-for d in liblcm1 libev4 libinih1 libsystemd0; do
+for d in liblcm1 libev4 libinih1 libsystemd0 libsodium23; do
     grep -q "$d" "$tmp/depends" || fail "Depends lacks $d: $(cat "$tmp/depends")"
 done
 dpkg-deb -x "$deb" "$tmp/root"

@@ -20,7 +20,7 @@
 
 typedef struct sys {
     const char *bin;
-    char url[128], dir[64], sock[96];
+    char url[128], dir[64], sock[96], stale[128];
     pid_t pid;
     int nfd;                  /* notify socket */
     char notes[4096];         /* everything received on it */
@@ -101,6 +101,15 @@ static void start_daemon(void)
     snprintf(a.sun_path, sizeof a.sun_path, "%s", S.sock);
     S.nfd = socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
     ASSERT_TRUE(bind(S.nfd, (struct sockaddr *)&a, sizeof a) == 0);
+    pid_t dead = fork(); /* a save killed mid-write left its temporary file */
+    if (dead == 0)
+        _exit(0);
+    waitpid(dead, NULL, 0);
+    snprintf(S.stale, sizeof S.stale, "%s/old.wgstate.tmp.%ld", S.dir, (long)dead);
+    FILE *f = fopen(S.stale, "w");
+    ASSERT_TRUE(f != NULL);
+    if (f)
+        fclose(f);
     S.pid = fork();
     if (S.pid == 0) {
         setenv("NOTIFY_SOCKET", S.sock, 1);
@@ -155,6 +164,7 @@ static void test_system(void)
     start_daemon();
     ASSERT_TRUE(notify_wait("READY=1", 15000));
     ASSERT_CONTAINS(S.notes, "STATUS=");
+    ASSERT_TRUE(access(S.stale, F_OK) != 0); /* removed at start */
     healthy();
 
     /* accepted commands */
