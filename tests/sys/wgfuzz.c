@@ -783,7 +783,7 @@ static void special_files(void)
     if (big) {
         memset(big, '#', 2 << 20);
         put_file("fzbad.wgstate", big, 2 << 20);
-        expect x = {1, "too large", NULL, NULL, 0};
+        expect x = {1, "bytes (limit", NULL, NULL, 0};
         restore_expect_refusal("restore of a 2 MB file", &x);
         free(big);
     }
