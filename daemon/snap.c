@@ -25,9 +25,15 @@ int snap_name_ok(const char *name, char *why, size_t whylen)
         ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
              c == '_' || c == '-' || c == '.';
     }
-    if (!ok)
-        snprintf(why, whylen, "snapshot name '%.80s' refused: use 1-64 of [A-Za-z0-9_.-], "
-                              "not starting with '.', no '/' or '..'", name);
+    if (!ok) { /* quoted printable only: a refused name may hold anything */
+        char q[68];
+        size_t i = 0;
+        for (; name[i] && i < 64; i++)
+            q[i] = name[i] > 0x20 && name[i] < 0x7f ? name[i] : '?';
+        snprintf(q + i, sizeof q - i, "%s", name[i] ? "..." : "");
+        snprintf(why, whylen, "snapshot name '%s' (%zu bytes) refused: use 1-64 of "
+                              "[A-Za-z0-9_.-], not starting with '.', no '/' or '..'", q, n);
+    }
     return ok ? WG_OK : WG_EINVAL;
 }
 

@@ -63,6 +63,11 @@ static void test_save_restore_refusals(void)
         ASSERT_EQ_INT(simple(d, "restore", bad[i]), WG_EINVAL);
     }
     ASSERT_EQ_INT(simple(d, "restore", "never-saved"), WG_EIO);
+    /* a refused name is quoted printable only (issue 10, defect 9) */
+    ASSERT_EQ_INT(simple(d, "save", "a\n<3>FORGED\x1b[31m"), WG_EINVAL);
+    for (const char *m = F.message; *m; m++)
+        ASSERT_TRUE((unsigned char)*m >= 0x20 && (unsigned char)*m < 0x7f);
+    ASSERT_CONTAINS(F.message, "'a?<3>FORGED?[31m'");
     /* a snapshot of another N: ESTATE, nothing changed */
     snap s;
     char path[600], why[600];
