@@ -212,6 +212,7 @@ static void bridge_status(wgweb *w, double now)
     jb_key(b, "heartbeat_age_s"), jb_num(b, age);
     jb_key(b, "daemon_restarts"), jb_int(b, (int64_t)web_bus_restarts(&w->bus, WEB_BUS_STATUS));
     jb_key(b, "commands_allowed"), jb_bool(b, w->o.allow_commands);
+    jb_key(b, "origins_refused"), jb_int(b, (int64_t)w->srv.bad_origin);
     jb_key(b, "clients"), jb_int(b, fox_nclients(&w->fox));
     jb_key(b, "lcm_msgs"), jb_int(b, (int64_t)w->bus.msgs);
     jb_key(b, "lcm_gaps"), jb_int(b, (int64_t)web_bus_gaps(&w->bus));
@@ -300,12 +301,14 @@ static int start(wgweb *w)
                     .status = on_status, .params = on_params, .ack = on_ack};
     if (msg_schemas_init(&w->schemas) != 0)
         return fprintf(stderr, "wgweb: out of memory\n"), -1;
-    if (web_bus_open(&w->bus, w->o.url, w->o.prefix, &bh, why, sizeof why) != 0)
+    if (web_bus_open(&w->bus, w->o.url, w->o.prefix, &bh, why, sizeof why) != 0 ||
+        (w->o.key_file && bus_set_key(&w->bus.c, w->o.key_file, why, sizeof why)))
         return fprintf(stderr, "wgweb: %s\n", why), -1;
     if (start_fox(w) != 0)
         return fprintf(stderr, "wgweb: out of memory\n"), -1;
     find_root(w);
     srv_conf sc = {.iface = w->o.listen, .port = w->o.port, .web_root = w->root,
+                   .origins = w->o.origins, .norigins = w->o.norigins,
                    .max_frame = (size_t)w->o.max_frame};
     if (srv_init(&w->srv, w->loop, &sc, &w->fox, why, sizeof why) != 0)
         return fprintf(stderr, "wgweb: %s\n", why), -1;

@@ -55,6 +55,11 @@ static void usage(const web_opt *d)
            "  --web-root DIR      dashboard files (default $WGWEB_ROOT or\n"
            "                      <exe>/../share/wormgear/web)\n"
            "  --allow-commands    accept setParameters and clientPublish (/cmd)\n"
+           "  --key-file FILE     sign commands with this key (default $WORMGEAR_KEY_FILE):\n"
+           "                      needed when the daemon has command_key_file\n"
+           "  --allow-origin O    a web page origin allowed to connect besides this\n"
+           "                      bridge's own (e.g. https://app.foxglove.dev); repeatable.\n"
+           "                      A browser WebSocket from any other origin is refused\n"
            "  --contacts mesh|all contact events on /contact (default mesh)\n"
            "  --verbose           log connections and commands\n",
            d->listen);
@@ -85,7 +90,8 @@ static int set_num(web_opt *o, const num_opt *n, const char *text)
     return 0;
 }
 
-enum { O_URL = 256, O_PREFIX, O_LISTEN, O_ROOT, O_ALLOW, O_CONTACTS, O_VERBOSE, O_HELP, O_NUM };
+enum { O_URL = 256, O_PREFIX, O_LISTEN, O_ROOT, O_ALLOW, O_CONTACTS, O_VERBOSE, O_HELP, O_KEY,
+       O_ORIGIN, O_NUM };
 
 static int parse_one(web_opt *o, int c, const char *arg)
 {
@@ -95,6 +101,15 @@ static int parse_one(web_opt *o, int c, const char *arg)
     case O_LISTEN: o->listen = arg; return 0;
     case O_ROOT: o->web_root = arg; return 0;
     case O_ALLOW: o->allow_commands = 1; return 0;
+    case O_KEY: o->key_file = arg; return 0;
+    case O_ORIGIN:
+        if (o->norigins == (int)(sizeof o->origins / sizeof o->origins[0])) {
+            fprintf(stderr, "wgweb: --allow-origin: at most %zu\n",
+                    sizeof o->origins / sizeof o->origins[0]);
+            return 2;
+        }
+        o->origins[o->norigins++] = arg;
+        return 0;
     case O_VERBOSE: o->verbose = 1; return 0;
     case O_CONTACTS:
         if (strcmp(arg, "mesh") && strcmp(arg, "all")) {
@@ -116,8 +131,9 @@ int web_opt_parse(web_opt *o, int argc, char **argv)
         {"url", 1, 0, O_URL},         {"prefix", 1, 0, O_PREFIX},
         {"listen", 1, 0, O_LISTEN},   {"web-root", 1, 0, O_ROOT},
         {"allow-commands", 0, 0, O_ALLOW}, {"contacts", 1, 0, O_CONTACTS},
-        {"verbose", 0, 0, O_VERBOSE}, {"help", 0, 0, O_HELP}};
-    int n = 8, c, rc;
+        {"verbose", 0, 0, O_VERBOSE}, {"help", 0, 0, O_HELP},
+        {"key-file", 1, 0, O_KEY},    {"allow-origin", 1, 0, O_ORIGIN}};
+    int n = 10, c, rc;
     for (size_t i = 0; i < sizeof nums / sizeof nums[0]; i++)
         lo[n++] = (struct option){nums[i].name, 1, 0, O_NUM + (int)i};
     lo[n] = (struct option){0, 0, 0, 0};

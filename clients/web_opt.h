@@ -12,6 +12,9 @@ typedef struct web_opt {
     int port;                 /* 8765 */
     const char *web_root;     /* NULL: $WGWEB_ROOT or <exe>/../share/wormgear/web */
     int allow_commands;
+    const char *key_file;     /* sign commands (NULL: $WORMGEAR_KEY_FILE, or unsigned) */
+    const char *origins[8];   /* --allow-origin: web pages allowed besides this bridge's own */
+    int norigins;
     double scope_hz, poincare_hz, contact_hz;
     int contacts_all;         /* --contacts all: bearings too */
     int queue_len;            /* data messages per client */

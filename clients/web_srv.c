@@ -73,12 +73,45 @@ static int on_writeable(srv *s, srv_conn *c, struct lws *wsi)
     return 0;
 }
 
+/* A browser sends the page's Origin with a WebSocket: only this bridge's
+ * own pages (http://ITS-ADDRESS:PORT, localhost, 127.0.0.1, [::1]) and
+ * --allow-origin ones may connect, or any web page the user happens to
+ * open could read the daemon's data and, with --allow-commands, drive it.
+ * Non-browser clients (Foxglove desktop, node) send no Origin. */
+static int origin_ok(const srv *s, const char *o)
+{
+    const char *own[] = {"localhost", "127.0.0.1", "[::1]", s->conf.iface};
+    char want[300];
+    for (unsigned i = 0; i < sizeof own / sizeof own[0]; i++) {
+        snprintf(want, sizeof want, "http://%s:%d", own[i], s->port);
+        if (!strcmp(o, want))
+            return 1;
+    }
+    for (int i = 0; i < s->conf.norigins; i++)
+        if (!strcmp(o, s->conf.origins[i]))
+            return 1;
+    return 0;
+}
+
+static int filter(srv *s, struct lws *wsi)
+{
+    char o[300];
+    if (lws_hdr_copy(wsi, o, sizeof o, WSI_TOKEN_ORIGIN) <= 0 || origin_ok(s, o))
+        return 0;
+    if (s->bad_origin++ < 5)
+        fprintf(stderr, "wgweb: refused a WebSocket from the web page origin '%.100s' (not this "
+                        "bridge's own; --allow-origin to allow it)\n", o);
+    return -1;
+}
+
 static int cb_fox(struct lws *wsi, enum lws_callback_reasons reason, void *user, void *in,
                   size_t len)
 {
     srv *s = srv_of(wsi);
     srv_conn *c = user;
     switch (reason) {
+    case LWS_CALLBACK_FILTER_PROTOCOL_CONNECTION:
+        return filter(s, wsi);
     case LWS_CALLBACK_ESTABLISHED:
         return on_established(s, c, wsi);
     case LWS_CALLBACK_RECEIVE:

@@ -22,6 +22,8 @@ typedef struct srv_conf {
     int port;             /* TCP port (0: any free one) */
     const char *web_root; /* directory of the dashboard's files */
     size_t max_frame;     /* largest accepted incoming frame, bytes */
+    const char *const *origins; /* web origins allowed besides our own (norigins) */
+    int norigins;
 } srv_conf;
 
 typedef struct srv {
@@ -34,6 +36,7 @@ typedef struct srv {
     jbuf out;          /* the frame being written (LWS_PRE in front) */
     int port;          /* the port bound */
     uint64_t oversized;
+    uint64_t bad_origin;   /* WebSockets refused for their Origin */
     void *loops[1];
 } srv;
 

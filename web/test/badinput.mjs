@@ -57,6 +57,22 @@ await expectError("fragmented non-JSON", () => { bad.ws.send("{\"op\":", { fin: 
 await expectError("deeply nested JSON", () => bad.ws.send("[".repeat(5000)), /not JSON/);
 await expectError("setParameters with a string value", () => bad.ws.send(JSON.stringify({ op: "setParameters", parameters: [{ name: "omega", value: "fast" }] })), /value must be a number/);
 check("bad client still connected after all that", !bad.closed);
+
+// Cross-site WebSocket hijacking: a browser page of another origin is
+// refused at the handshake; the bridge's own origin and no Origin are not.
+async function withOrigin(origin) {
+  const ws = new WebSocket(url, ["foxglove.websocket.v1"], origin ? { origin } : {});
+  const r = { opened: false, failed: false };
+  ws.on("open", () => { r.opened = true; ws.close(); });
+  ws.on("error", () => (r.failed = true));
+  ws.on("unexpected-response", () => (r.failed = true));
+  await until(() => r.opened || r.failed, 3000, `connect with origin ${origin}`);
+  return r.opened;
+}
+check("a page of another origin is refused", !(await withOrigin("http://evil.example")));
+check("a page of another port is refused", !(await withOrigin(`http://127.0.0.1:${port + 1}`)));
+check("the bridge's own page may connect", await withOrigin(`http://127.0.0.1:${port}`));
+check("localhost is its own page too", await withOrigin(`http://localhost:${port}`));
 check("observer kept receiving during the abuse", obs.count("/scope") > scope0 + 20, `${obs.count("/scope") - scope0} scope messages`);
 check("observer saw no status error", obs.statuses.every((s) => s.level < 2), JSON.stringify(obs.statuses));
 
