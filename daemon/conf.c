@@ -49,6 +49,8 @@ static const key keys[] = {
     {"stepper", RESTART, K_STEPPER, S(stepper), 0, 0, NULL, "default",
      "rk4, or rk4-event (split at dead-zone crossings); default: rk4-event, the printed "
      "model rk4"},
+    {"scope_hz", LIVE, K_DBL, S(scope_hz), 0, 100, NULL, "50",
+     "SCOPE samples (scalars, for lcm-spy) per wall second, 0 = none"},
     {"state_rate_hz", LIVE, K_DBL, S(state_rate_hz), 0, 100000, NULL, "2000",
      "STATE samples per wall second, 0 = no STATE"},
     {"state_decimation", LIVE, K_INT, S(state_decimation), 0, 1000000000, NULL, "0",

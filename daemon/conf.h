@@ -34,6 +34,7 @@ typedef struct conf {
     int steps_per_period;     /* N */
     int stepper;              /* enum wg_stepper_kind */
     double state_rate_hz;     /* STATE samples per wall second (0: off) */
+    double scope_hz;          /* SCOPE samples per wall second (0: off) */
     int state_decimation;     /* fixed steps per STATE sample (0: from state_rate_hz) */
     int tick_us;              /* pacing tick */
     double catchup_ticks;     /* catch-up cap, in ticks' worth of steps */

@@ -10,8 +10,8 @@
 #include <sys/time.h>
 #include <unistd.h>
 
-static const char *const suffix[CH_COUNT] = {"CMD",      "ACK",     "PARAMS", "STATE",
-                                             "POINCARE", "CONTACT", "STATUS", "TICK"};
+static const char *const suffix[CH_COUNT] = {"CMD",     "ACK",    "PARAMS", "STATE", "POINCARE",
+                                             "CONTACT", "STATUS", "TICK",   "SCOPE"};
 
 const char *lcmio_channel_suffix(int ch) { return ch >= 0 && ch < CH_COUNT ? suffix[ch] : "?"; }
 
@@ -131,4 +131,5 @@ PUB(state, CH_STATE)
 PUB(poincare, CH_POINCARE)
 PUB(contact, CH_CONTACT)
 PUB(status, CH_STATUS)
+PUB(scope, CH_SCOPE)
 #undef PUB

@@ -17,12 +17,13 @@
 #include "lcmtypes/wormgear_contact_t.h"
 #include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_poincare_t.h"
+#include "lcmtypes/wormgear_scope_t.h"
 #include "lcmtypes/wormgear_state_t.h"
 #include "lcmtypes/wormgear_status_t.h"
 #include "lcmtypes/wormgear_tick_t.h"
 
 enum lcmio_channel { CH_CMD, CH_ACK, CH_PARAMS, CH_STATE, CH_POINCARE, CH_CONTACT, CH_STATUS,
-                     CH_TICK, CH_COUNT };
+                     CH_TICK, CH_SCOPE, CH_COUNT };
 enum { LCMIO_BUF = 61440,          /* every message stays below 60 KB */
        LCMIO_RECV_BUF = 4194304 };  /* udpm receive buffer asked for (recv_buf_size) */
 
@@ -64,5 +65,6 @@ int lcmio_pub_state(lcmio *io, wormgear_state_t *m);
 int lcmio_pub_poincare(lcmio *io, wormgear_poincare_t *m);
 int lcmio_pub_contact(lcmio *io, wormgear_contact_t *m);
 int lcmio_pub_status(lcmio *io, wormgear_status_t *m);
+int lcmio_pub_scope(lcmio *io, wormgear_scope_t *m);
 
 #endif

@@ -210,6 +210,10 @@ void report_tick(wgd *d, int64_t now)
         report_decimation(d);
         s->next_flush_ns = now + FLUSH_NS;
     }
+    if (d->conf.scope_hz > 0 && now >= s->next_scope_ns) {
+        stream_scope(d);
+        s->next_scope_ns = now + (int64_t)(SEC_NS / d->conf.scope_hz);
+    }
     if (now >= s->next_status_ns) {
         compute(d, now);
         wormgear_status_t m;

@@ -92,6 +92,16 @@ void stream_flush(wgd *d)
         flush_contact(d);
 }
 
+void stream_scope(wgd *d)
+{
+    wg_outputs o;
+    wg_sim_outputs(&d->sim, &o);
+    wormgear_scope_t m = {.t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau),
+                          .tau = d->sim.tau, .omega = d->sim.p.v[WG_P_OMEGA], .xn = o.xn,
+                          .dxn = o.dxn, .force = o.F};
+    lcmio_pub_scope(&d->io, &m);
+}
+
 static void on_step(void *ctx, const wg_sim *sim)
 {
     wgd *d = ctx;

@@ -57,6 +57,9 @@ void stream_fini(stream *s);
 /* The sink to pass to wg_sim_run (ctx = the daemon). */
 wg_sink stream_sink(struct wgd *d);
 
+/* Publish one SCOPE sample of the current state (scalars, for lcm-spy). */
+void stream_scope(struct wgd *d);
+
 /* Publish every non-empty batch now. */
 void stream_flush(struct wgd *d);
 

@@ -57,7 +57,7 @@ typedef struct stats {
     /* last computed figures */
     double rtf, steps_per_s, cpu_share, loop_mean_us, loop_max_us, impacts_per_period;
     int health;
-    int64_t next_status_ns, next_params_ns, next_fg_ns, next_flush_ns;
+    int64_t next_status_ns, next_params_ns, next_fg_ns, next_flush_ns, next_scope_ns;
     uint64_t cmds_accepted, cmds_refused, drops; /* drops: tick gaps and the like */
     uint64_t tick_seq_next;    /* expected TICK seq (wraps; valid once tick_seen) */
     int tick_seen;

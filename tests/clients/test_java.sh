@@ -45,8 +45,8 @@ fi
 "$JAVA" -Djava.net.preferIPv4Stack=true -cp "$tmp/cls:$cp" SpyCheck 4 "$WORMGEAR_URL" \
     >"$tmp/spy.out" 2>"$tmp/spy.err" || fail "SpyCheck exit $?: $(cat "$tmp/spy.err")"
 cat "$tmp/spy.out"
-grep -q "Found 8 LCM types" "$tmp/spy.out" || fail "lcm-spy did not find our 8 types"
-for t in STATE POINCARE CONTACT STATUS PARAMS; do
+grep -q "Found 9 LCM types" "$tmp/spy.out" || fail "lcm-spy did not find our 9 types"
+for t in STATE POINCARE CONTACT STATUS PARAMS SCOPE; do
     lt=$(echo $t | tr 'A-Z' 'a-z')
     grep -q "row: | SPYT_$t | ${lt}_t | .* | 0$" "$tmp/spy.out" ||
         fail "lcm-spy lists no SPYT_$t decoded as ${lt}_t with 0 undecodable"

@@ -10,6 +10,7 @@
 #include "lcmtypes/wormgear_state_t.h"
 #include "lcmtypes/wormgear_status_t.h"
 #include "lcmtypes/wormgear_tick_t.h"
+#include "lcmtypes/wormgear_scope_t.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -84,5 +85,8 @@ int main(int argc, char **argv)
     ENC(wormgear_ack_t, "ack_t", &ack);
     wormgear_tick_t tk = {1, 49, 5};
     ENC(wormgear_tick_t, "tick_t", &tk);
+    wormgear_scope_t sc = {.utime = 1, .seq = 50, .t_s = 0.25, .tau = 7975.25, .omega = 1.2,
+                           .xn = 1.2154, .dxn = -0.03, .force = 0.41};
+    ENC(wormgear_scope_t, "scope_t", &sc);
     return rc;
 }

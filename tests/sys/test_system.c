@@ -9,6 +9,7 @@
 
 #include "lcmtypes/wormgear_contact_t.h"
 #include "lcmtypes/wormgear_poincare_t.h"
+#include "lcmtypes/wormgear_scope_t.h"
 #include "lcmtypes/wormgear_state_t.h"
 #include "lcmtypes/wormgear_status_t.h"
 
@@ -31,7 +32,9 @@ typedef struct sys {
     int nstatus;
     double status_tau;
     int ndecode;              /* EDECODE ACKs addressed to nobody */
-    void *subs[5];
+    void *subs[6];
+    long nscope, scope_gaps, scope_bad;
+    int64_t scope_next;
 } sys;
 
 static sys S;
@@ -55,6 +58,16 @@ static void on_ct(const lcm_recv_buf_t *r, const char *ch, const wormgear_contac
     (void)r, (void)ch, (void)u;
     S.gaps[2] += S.msgs[2] && m->seq != S.next[2];
     S.next[2] = m->seq + 1, S.msgs[2]++, S.samples[2] += m->n;
+}
+
+/* SCOPE: scalars at scope_hz, consecutive seq, a plausible mesh sample. */
+static void on_scope(const lcm_recv_buf_t *r, const char *ch, const wormgear_scope_t *m,
+                     void *u)
+{
+    (void)r, (void)ch, (void)u;
+    S.scope_gaps += S.nscope && m->seq != S.scope_next;
+    S.scope_next = m->seq + 1, S.nscope++;
+    S.scope_bad += !(isfinite(m->xn) && isfinite(m->force) && m->omega > 0 && m->t_s >= 0);
 }
 
 static void on_status(const lcm_recv_buf_t *r, const char *ch, const wormgear_status_t *m,
@@ -161,6 +174,7 @@ static void test_system(void)
     S.subs[1] = wormgear_poincare_t_subscribe(S.c.lcm, "SYS_POINCARE", on_pc, NULL);
     S.subs[2] = wormgear_contact_t_subscribe(S.c.lcm, "SYS_CONTACT", on_ct, NULL);
     S.subs[3] = wormgear_status_t_subscribe(S.c.lcm, "SYS_STATUS", on_status, NULL);
+    S.subs[5] = wormgear_scope_t_subscribe(S.c.lcm, "SYS_SCOPE", on_scope, NULL);
     start_daemon();
     ASSERT_TRUE(notify_wait("READY=1", 15000));
     ASSERT_CONTAINS(S.notes, "STATUS=");
@@ -215,6 +229,14 @@ static void test_system(void)
         ASSERT_EQ_INT(S.gaps[i], 0);
     }
     ASSERT_TRUE(S.msgs[0] > 20 && S.msgs[1] > 5 && S.msgs[2] > 2);
+    /* SCOPE at its default 50 Hz: about 75 in the 1.5 s above, scalar and sane */
+    long sc0 = S.nscope;
+    bus_wait(&S.c, 1000, NULL, NULL);
+    printf("  SCOPE: %ld messages in 1 s, %ld seq gaps, %ld bad\n", S.nscope - sc0, S.scope_gaps,
+           S.scope_bad);
+    ASSERT_TRUE(S.nscope - sc0 >= 35 && S.nscope - sc0 <= 60);
+    ASSERT_EQ_INT(S.scope_gaps, 0);
+    ASSERT_EQ_INT(S.scope_bad, 0);
 
     /* SIGHUP: RELOADING=1 then READY=1 again */
     S.notes[0] = 0;
@@ -238,6 +260,7 @@ static void test_system(void)
     wormgear_contact_t_unsubscribe(S.c.lcm, S.subs[2]);
     wormgear_status_t_unsubscribe(S.c.lcm, S.subs[3]);
     wormgear_ack_t_unsubscribe(S.c.lcm, S.subs[4]);
+    wormgear_scope_t_unsubscribe(S.c.lcm, S.subs[5]);
     bus_close(&S.c);
     close(S.nfd);
     S.nfd = -1;

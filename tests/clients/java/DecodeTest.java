@@ -58,7 +58,10 @@ public class DecodeTest {
         wormgear.tick_t tk = new wormgear.tick_t(bin(d, "tick_t"));
         fingerprint(d, "tick_t", wormgear.tick_t.LCM_FINGERPRINT);
         check("tick_t", tk.seq == 49 && tk.nsteps == 5);
-        System.out.println(failures == 0 ? "all 8 types decode" : failures + " failures");
+        wormgear.scope_t sc = new wormgear.scope_t(bin(d, "scope_t"));
+        fingerprint(d, "scope_t", wormgear.scope_t.LCM_FINGERPRINT);
+        check("scope_t", sc.seq == 50 && sc.xn == 1.2154 && sc.omega == 1.2 && sc.force == 0.41);
+        System.out.println(failures == 0 ? "all 9 types decode" : failures + " failures");
         System.exit(failures == 0 ? 0 : 1);
     }
 }
