@@ -513,7 +513,8 @@ static void on_cmd(const lcm_recv_buf_t *rb, const char *channel, void *user)
 
 int cmd_process(wgd *d, int64_t budget_ns)
 {
-    int64_t end = log_now_ns() + budget_ns;
+    int64_t now = log_now_ns();
+    int64_t end = budget_ns > INT64_MAX - now ? INT64_MAX : now + budget_ns;
     int n = 0;
     size_t len;
     while (inbox_pop(&d->in, d->cmdbuf, &len)) {
