@@ -31,6 +31,14 @@ static int arm_timer(wgd *d)
     return timerfd_settime(d->tfd, TFD_TIMER_ABSTIME, &its, NULL);
 }
 
+/* CPU time of this (the loop's) thread, ns. */
+static int64_t thread_cpu_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
 /* Steps one chunk of work may run, from the measured cost of a step. */
 static uint64_t chunk(const wgd *d)
 {
@@ -46,7 +54,8 @@ static int running_in(const wgd *d, int mode)
  * fast mode? */
 static int work_pending(const wgd *d)
 {
-    return inbox_waiting(&d->in) || d->step.active || (d->owed.ticks && running_in(d, MODE_LOCKSTEP)) ||
+    return inbox_waiting(&d->in) || d->step.active ||
+           (d->owed.ticks && running_in(d, MODE_LOCKSTEP)) ||
            (d->owed.realtime && running_in(d, MODE_REALTIME)) || running_in(d, MODE_FAST);
 }
 
@@ -87,10 +96,20 @@ static void work_chunk(wgd *d)
 static void realtime(wgd *d, int64_t now)
 {
     pace_due due = pace_steps_due(&d->pace, now, d->sim.tau, wg_sim_step_tau(&d->sim));
-    if (due.overrun)
+    const stats *s = &d->stat;
+    double gap = (double)(now - s->tick_ns) * 1e-6;
+    double cpu = (double)(thread_cpu_ns() - s->tick_cpu_ns) * 1e-6;
+    if (s->tick_ns == 0) /* the first tick: nothing to compare with */
+        gap = cpu = 0;
+    if (due.overrun) /* whose time was it: the daemon's work, or not the daemon's at all */
         log_msg(&d->log, LOG_WARNING, "overrun: more than %g ticks behind (lag %.3f ms, "
-                "policy %s)", d->conf.catchup_ticks, pace_lag_s(&d->pace) * 1e3,
-                conf_policy_name(d->conf.overrun_policy));
+                "policy %s): %.1f ms since the last tick, the loop ran %.1f ms of it (the "
+                "longest handler %.1f ms)%s", d->conf.catchup_ticks,
+                pace_lag_s(&d->pace) * 1e3, conf_policy_name(d->conf.overrun_policy), gap, cpu,
+                (double)s->busiest_ns * 1e-6,
+                gap == 0            ? ""
+                : cpu < 0.5 * gap ? ": the daemon was not scheduled (a busy or full machine)"
+                                    : ": the daemon's own work");
     d->owed.realtime = due.steps; /* recomputed from tau each tick: never counted twice */
     work_chunk(d);
     if (due.stop && !d->fault) {
@@ -130,6 +149,7 @@ static void on_tick(struct ev_loop *loop, ev_io *w, int revents)
         reload(d);
     if (running_in(d, MODE_REALTIME))
         realtime(d, t0);
+    d->stat.tick_ns = t0, d->stat.tick_cpu_ns = thread_cpu_ns(), d->stat.busiest_ns = 0;
     report_tick(d, t0);
     sdn_watchdog(&d->sd, t0); /* only a loop that steps reaches this */
     first_ready(d);

@@ -60,6 +60,7 @@ void report_loop(wgd *d, int64_t dur_ns)
     s->loop_sum_ns += (double)dur_ns;
     s->loop_max_ns = fmax(s->loop_max_ns, (double)dur_ns);
     s->loops++;
+    s->busiest_ns = dur_ns > s->busiest_ns ? dur_ns : s->busiest_ns;
 }
 
 /* Steps per wall second the current mode aims at (0: unknown). */
