@@ -64,6 +64,7 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
     char host[64] = "host", ch[128];
     memset(c, 0, sizeof *c);
     url = url ? url : bus_default_url();
+    snprintf(c->url, sizeof c->url, "%s", url);
     snprintf(c->prefix, sizeof c->prefix, "%s", prefix ? prefix : bus_default_prefix());
     gethostname(host, sizeof host - 1);
     snprintf(c->client, sizeof c->client, "%s-%d@%s", name, (int)getpid(), host);
@@ -75,6 +76,13 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
     c->ack_sub = wormgear_ack_t_subscribe(c->lcm, bus_channel(c, "ACK", ch, sizeof ch),
                                           on_ack, c);
     return 0;
+}
+
+const char *bus_hint(const bus *c, char *buf, size_t len)
+{
+    snprintf(buf, len, "is wormgeard running on %s with prefix %s? (--url, --prefix or "
+             "$WORMGEAR_URL, $WORMGEAR_PREFIX choose another)", c->url, c->prefix);
+    return buf;
 }
 
 void bus_close(bus *c)

@@ -32,6 +32,7 @@ typedef struct bus_ack {
 
 typedef struct bus {
     lcm_t *lcm;
+    char url[256];            /* the LCM URL opened, for messages */
     char prefix[64];
     char client[96];          /* "<name>-<pid>@<host>" */
     int64_t seq;              /* last command seq sent */
@@ -60,6 +61,11 @@ const char *bus_default_prefix(void);
  * program name used in the client id. 0, or -1 with a message in why. */
 int bus_open(bus *c, const char *url, const char *prefix, const char *name, char *why,
              size_t whylen);
+
+/* What to ask when the daemon does not answer: "is wormgeard running on
+ * URL with prefix P? (--url, --prefix or $WORMGEAR_URL, $WORMGEAR_PREFIX
+ * choose another)", into buf. Returns buf. */
+const char *bus_hint(const bus *c, char *buf, size_t len);
 
 /* Close LCM. Safe on a failed open. */
 void bus_close(bus *c);
