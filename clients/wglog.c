@@ -2,8 +2,10 @@
  *
  * Reads the log with LCM's eventlog API; each message's type is found from
  * its fingerprint (the first 8 bytes), so any prefix works. `summary` lists
- * channels, types, message and sample counts, rates and seq gaps (dropped
- * messages) and restarts (seq going backwards); `export` writes one CSV per
+ * channels, types, message and sample counts, rates, seq gaps (dropped
+ * messages), restarts and senders (bus.h: seq lines and their send clocks,
+ * so a log played into a live bus is one more sender, not thousands of gaps
+ * and restarts); `export` writes one CSV per
  * channel with the type's fields as columns, one row per sample for the
  * batched types (STATE, POINCARE, CONTACT). Numbers are written in the
  * shortest form that reads back exactly (0.08, not 0.080000000000000002):
@@ -43,7 +45,8 @@ typedef struct chan {
     long msgs, samples, bad;
     long long bytes;
     int64_t t0, t1;           /* log timestamps, us */
-    bus_seq seq;              /* gaps, missing (messages lost), restarts */
+    bus_streams seq;          /* senders: gaps, missing (messages lost), restarts */
+    char notes[600];          /* the senders after the first, as they appeared */
     FILE *csv;
     int ncols;                /* params_t / poincare_t: columns fixed by the first message */
 } chan;
@@ -387,12 +390,23 @@ static chan *find_chan(log_run *r, const lcm_eventlog_event_t *ev)
     return c;
 }
 
-/* Every wormgear type starts utime, seq: count gaps and restarts. */
+/* Every wormgear type starts utime, seq: tell the senders apart (the log's
+ * timestamp is the receiver's clock), count gaps and restarts inside each,
+ * and note every sender after the first. */
 static void note_seq(chan *c, const lcm_eventlog_event_t *ev)
 {
     if (c->type == T_UNKNOWN || ev->datalen < 24 || !strcmp(types[c->type].name, "cmd_t"))
         return; /* cmd_t seq counts per client, not per channel */
-    bus_seq_note(&c->seq, be64((const char *)ev->data + 16));
+    int64_t utime = be64((const char *)ev->data + 8), seq = be64((const char *)ev->data + 16);
+    int line, rc = bus_streams_note(&c->seq, seq, utime, 0, ev->timestamp * 1e-6,
+                                    ev->timestamp, &line);
+    const bus_stream *l = &c->seq.s[line];
+    size_t n = strlen(c->notes);
+    if ((rc == BUS_NEW && c->seq.ids > 1) || rc == BUS_RESTART)
+        snprintf(c->notes + n, sizeof c->notes - n, "%s%s from seq %lld at %.3f s, its clock "
+                 "%+.3f s from the log's%s", n ? "; " : "", rc == BUS_NEW ? "a sender" : "a restart",
+                 (long long)seq, (ev->timestamp - c->t0) * 1e-6, l->offset_s,
+                 bus_stream_replayed(l) ? " (a replay)" : "");
 }
 
 static int event(log_run *r, const lcm_eventlog_event_t *ev)
@@ -479,15 +493,18 @@ static void summary(log_run *r, FILE *f)
     double span = (r->t1 - r->t0) * 1e-6;
     fprintf(f, "log %s: %ld events, %.3f s, %d channels\n", r->path, r->events, span, r->nch);
     qsort(r->ch, (size_t)r->nch, sizeof *r->ch, by_name);
-    fprintf(f, "%-24s %-11s %8s %9s %11s %9s %5s %8s %8s %6s\n", "channel", "type", "msgs",
-            "samples", "bytes", "rate_hz", "gaps", "missing", "restarts", "bad");
+    fprintf(f, "%-24s %-11s %8s %9s %11s %9s %5s %8s %8s %6s %7s\n", "channel", "type", "msgs",
+            "samples", "bytes", "rate_hz", "gaps", "missing", "restarts", "bad", "senders");
     for (int i = 0; i < r->nch; i++) {
         const chan *c = &r->ch[i];
         double s = (c->t1 - c->t0) * 1e-6, rate = c->msgs > 1 && s > 0 ? (c->msgs - 1) / s : 0;
-        fprintf(f, "%-24s %-11s %8ld %9ld %11lld %9.2f %5ld %8ld %8ld %6ld\n", c->name,
+        fprintf(f, "%-24s %-11s %8ld %9ld %11lld %9.2f %5ld %8ld %8ld %6ld %7ld\n", c->name,
                 c->type == T_UNKNOWN ? "unknown" : types[c->type].name, c->msgs, c->samples, c->bytes,
-                rate, c->seq.gaps, c->seq.missing, c->seq.restarts, c->bad);
+                rate, c->seq.gaps, c->seq.missing, c->seq.restarts, c->bad, c->seq.senders);
     }
+    for (int i = 0; i < r->nch; i++)
+        if (r->ch[i].notes[0])
+            fprintf(f, "note: %s: %s\n", r->ch[i].name, r->ch[i].notes);
 }
 
 static int close_all(log_run *r)

@@ -101,6 +101,22 @@ static void write_others(lcm_eventlog_t *l)
     put(l, "OTHER", 1300001, "not an lcm message", 18);
 }
 
+/* A log played into a live bus: RIG2_STATUS carries the live daemon (seq
+ * 100.., utime = now) and a replay of an hour ago (seq 3.., interleaved). */
+static void write_mixed(lcm_eventlog_t *l)
+{
+    const int64_t t0 = 1700000000000000; /* an epoch time, us */
+    for (int k = 0; k < 5; k++) {
+        wormgear_status_t a = {.seq = 100 + k, .utime = t0 + 500000 * k, .scene = "table3",
+                               .mode = "realtime", .run = "running", .health = "ok",
+                               .fault = "", .motion = "no_impact", .regime = "period-1"};
+        wormgear_status_t b = a;
+        b.seq = 3 + k, b.utime = t0 - 3600000000 + 500000 * k;
+        PUT(wormgear_status_t, l, "RIG2_STATUS", t0 + 500000 * k + 1000, &a);
+        PUT(wormgear_status_t, l, "RIG2_STATUS", t0 + 500000 * k + 2000, &b);
+    }
+}
+
 /* Run the shell command; its stdout into out (may be NULL); its exit code,
  * or -1. */
 static int run(const char *cmd, char *out, size_t len)
@@ -124,6 +140,7 @@ static void setup(void)
     ASSERT_TRUE(l != NULL);
     write_states(l);
     write_others(l);
+    write_mixed(l);
     lcm_eventlog_destroy(l);
 }
 
@@ -158,7 +175,19 @@ static void test_summary(void)
     ASSERT_CONTAINS(out, "RIG1_POINCARE");
     ASSERT_CONTAINS(out, "RIG1_TICK");
     ASSERT_CONTAINS(out, "OTHER");
-    ASSERT_CONTAINS(out, "15 events");
+    ASSERT_CONTAINS(out, "25 events");
+    /* the replay is one more sender: no gap, no restart */
+    long senders = 0;
+    s = strstr(out, "RIG2_STATUS ");
+    ASSERT_TRUE(s && sscanf(s, "RIG2_STATUS status_t %ld %*d %*d %*f %ld %ld %ld %*d %ld", &msgs,
+                            &gaps, &missing, &restarts, &senders) == 5);
+    ASSERT_EQ_INT(msgs, 10);
+    ASSERT_EQ_INT(gaps, 0);
+    ASSERT_EQ_INT(missing, 0);
+    ASSERT_EQ_INT(restarts, 0);
+    ASSERT_EQ_INT(senders, 2);
+    ASSERT_CONTAINS(out, "note: RIG2_STATUS: a sender from seq 3 at 0.001 s, its clock -3600.002 s "
+                         "from the log's (a replay)");
 }
 
 /* Column `col` (0-based) of line `row` (0 = header) of a CSV, as text. */
