@@ -2,6 +2,7 @@
 #include "bus.h"
 #include "cli.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -31,6 +32,111 @@ int bus_seq_note(bus_seq *s, int64_t seq)
     s->last = seq, s->have = 1;
     return jump;
 }
+
+/* ---- senders ---------------------------------------------------------------- */
+
+enum { JUMP_MAX = 100000 }; /* a forward jump beyond this is a new line, not a gap */
+#define EXPIRE_S 5.0
+
+/* Does a message whose clock offset is off agree with line s? A replay
+ * played faster or slower than real time drifts: allow up to 1 s per
+ * second since the line was last heard. */
+static int clock_agrees(const bus_stream *s, double off, double now_s)
+{
+    return fabs(off - s->offset_s) <= 0.5 + (now_s - s->seen_s);
+}
+
+static void drop_line(bus_streams *b, int i)
+{
+    memmove(&b->s[i], &b->s[i + 1], sizeof b->s[0] * (size_t)(b->n - i - 1));
+    b->n--;
+}
+
+/* The line a message continues: the same sender id, or seq above its last
+ * (not absurdly) with a clock that agrees, the nearest such; -1 if none. */
+static int find_line(const bus_streams *b, int64_t seq, double off, int64_t sender, double now_s)
+{
+    int best = -1;
+    for (int i = 0; i < b->n; i++) {
+        const bus_stream *s = &b->s[i];
+        if (sender || s->sender) {
+            if (sender == s->sender)
+                return i;
+            continue;
+        }
+        if (seq <= s->last_seq || seq - s->last_seq > JUMP_MAX || !clock_agrees(s, off, now_s))
+            continue;
+        if (best < 0 || s->last_seq > b->s[best].last_seq ||
+            (s->last_seq == b->s[best].last_seq && s->id > b->s[best].id))
+            best = i; /* the nearest below; on a tie the newer line */
+    }
+    return best;
+}
+
+/* A new line for a message no line continues: BUS_RESTART when it starts
+ * below a line on the same clock (that line is marked replaced), else
+ * BUS_NEW. The least recently heard line makes room when all are taken. */
+static int new_line(bus_streams *b, int64_t seq, double off, int64_t sender, double now_s,
+                    int *line)
+{
+    int old = -1;
+    for (int i = 0; i < b->n; i++) {
+        const bus_stream *s = &b->s[i];
+        if (!sender && !s->sender && !s->replaced_by && seq <= s->last_seq &&
+            clock_agrees(s, off, now_s) && (old < 0 || s->seen_s > b->s[old].seen_s))
+            old = i;
+    }
+    if (b->n == BUS_NSTREAM) {
+        int lru = 0;
+        for (int i = 1; i < b->n; i++)
+            lru = b->s[i].seen_s < b->s[lru].seen_s ? i : lru;
+        old = old == lru ? -1 : old > lru ? old - 1 : old;
+        drop_line(b, lru);
+    }
+    bus_stream *s = &b->s[b->n];
+    *s = (bus_stream){.sender = sender, .first_seq = seq, .last_seq = seq, .offset_s = off,
+                      .seen_s = now_s, .born_s = now_s, .msgs = 1, .id = ++b->ids};
+    *line = b->n++;
+    if (old >= 0) {
+        b->s[old].replaced_by = s->id;
+        b->restarts++;
+        return BUS_RESTART;
+    }
+    b->senders++;
+    return BUS_NEW;
+}
+
+int bus_streams_note(bus_streams *b, int64_t seq, int64_t utime_us, int64_t sender,
+                     double now_s, int64_t now_us, int *line)
+{
+    double off = (double)(utime_us - now_us) * 1e-6;
+    for (int i = 0; i < b->n;)
+        if (now_s - b->s[i].seen_s > EXPIRE_S)
+            drop_line(b, i);
+        else
+            i++;
+    int i = find_line(b, seq, off, sender, now_s);
+    if (i < 0)
+        return new_line(b, seq, off, sender, now_s, line);
+    bus_stream *s = &b->s[*line = i];
+    int rc = BUS_IN_ORDER;
+    if (seq <= s->last_seq) { /* the same sender id, counting again */
+        b->restarts++;
+        s->first_seq = seq, rc = BUS_RESTART;
+    } else if (seq > s->last_seq + 1) {
+        s->gaps++, b->gaps++;
+        s->missing += seq - s->last_seq - 1, b->missing += seq - s->last_seq - 1;
+        rc = BUS_GAP;
+    }
+    if (s->replaced_by) { /* not a restart after all: two senders at once */
+        s->replaced_by = 0;
+        b->restarts--, b->senders++, b->concurrent++;
+    }
+    s->last_seq = seq, s->offset_s = off, s->seen_s = now_s, s->msgs++;
+    return rc;
+}
+
+int bus_stream_replayed(const bus_stream *s) { return fabs(s->offset_s) > BUS_REPLAY_S; }
 
 const char *bus_channel(const bus *c, const char *suffix, char *buf, size_t len)
 {
@@ -64,6 +170,7 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
     char host[64] = "host", ch[128];
     memset(c, 0, sizeof *c);
     url = url ? url : bus_default_url();
+    snprintf(c->url, sizeof c->url, "%s", url);
     snprintf(c->prefix, sizeof c->prefix, "%s", prefix ? prefix : bus_default_prefix());
     gethostname(host, sizeof host - 1);
     snprintf(c->client, sizeof c->client, "%s-%d@%s", name, (int)getpid(), host);
@@ -87,6 +194,13 @@ int bus_set_key(bus *c, const char *path, char *why, size_t whylen)
         return -1;
     c->signing = 1;
     return 0;
+}
+
+const char *bus_hint(const bus *c, char *buf, size_t len)
+{
+    snprintf(buf, len, "is wormgeard running on %s with prefix %s? (--url, --prefix or "
+             "$WORMGEAR_URL, $WORMGEAR_PREFIX choose another)", c->url, c->prefix);
+    return buf;
 }
 
 void bus_close(bus *c)

@@ -35,6 +35,7 @@ typedef struct bus {
     lcm_t *lcm;
     int signing;              /* commands carry a MAC (bus_set_key) */
     unsigned char key[WG_KEY_BYTES];
+    char url[256];            /* the LCM URL opened, for messages */
     char prefix[64];
     char client[96];          /* "<name>-<pid>@<host>" */
     int64_t seq;              /* last command seq sent */
@@ -55,6 +56,61 @@ typedef struct bus_seq {
  * a restart, 0 in order or on the first message. */
 int bus_seq_note(bus_seq *s, int64_t seq);
 
+/* ---- senders: telling apart what shares a channel ------------------------
+ * A channel may carry more than one sender: a daemon restarted under the
+ * receiver, a log played back (lcm-logplayer) into a live bus, a second
+ * daemon on the same prefix. What the messages carry today tells them
+ * apart: each sender's seq runs up by one (gaps: messages lost), and its
+ * utime keeps a steady offset to the receiver's wall clock (about 0 for a
+ * live sender on this host; the age of the recording for a replay). A
+ * message joins the sender whose seq it continues with a clock that agrees;
+ * if none, it starts a new one. When the messages carry a sender id
+ * (pass it; 0: none), the id decides alone. */
+enum { BUS_NSTREAM = 4 };
+
+/* The seconds |utime - wall clock| beyond which a sender is a replay (or
+ * its clock is that far off). */
+#define BUS_REPLAY_S 2.0
+
+typedef struct bus_stream {
+    int64_t sender;          /* the id messages carried (0: none) */
+    int64_t first_seq, last_seq;
+    double offset_s;         /* utime - our wall clock, at the last message */
+    double seen_s;           /* our monotonic clock at the last message */
+    double born_s;
+    long msgs, gaps, missing;
+    long id;                 /* 1, 2, ... in the order lines were heard */
+    long replaced_by;        /* id of a line that started below this one (0: none) */
+} bus_stream;
+
+/* The senders heard on one channel, and what they did. */
+typedef struct bus_streams {
+    bus_stream s[BUS_NSTREAM];
+    int n;                   /* lines alive (heard within the expiry) */
+    long gaps, missing;      /* inside lines, over the session */
+    long restarts;           /* a line started again below an old one that then fell silent */
+    long senders;            /* new lines that were not restarts (the first counts) */
+    long concurrent;         /* times two lines were alive and both sending */
+    long ids;                /* lines ever heard */
+} bus_streams;
+
+/* What a message did to its channel's senders. */
+enum { BUS_IN_ORDER = 0, BUS_GAP = 1, BUS_NEW = 2, BUS_RESTART = 3 };
+
+/* Note a message (seq; utime_us, its send time) received at our monotonic
+ * now_s and wall clock now_us (the log's timestamp when reading a log);
+ * sender its id or 0. Lines silent for more than 5 s expire first.
+ * Returns BUS_IN_ORDER, BUS_GAP (messages lost before it), BUS_NEW (a new
+ * sender: another clock, or a line no sender continues) or BUS_RESTART (a
+ * new line below an old one on the same clock); *line is the index of its
+ * line in b->s. A "restart" whose old line then goes on is taken back:
+ * it was a second sender (restarts - 1, senders + 1, concurrent + 1). */
+int bus_streams_note(bus_streams *b, int64_t seq, int64_t utime_us, int64_t sender,
+                     double now_s, int64_t now_us, int *line);
+
+/* 1 when a line's send clock is more than BUS_REPLAY_S from ours. */
+int bus_stream_replayed(const bus_stream *s);
+
 /* $WORMGEAR_URL or the default; $WORMGEAR_PREFIX or the default. */
 const char *bus_default_url(void);
 const char *bus_default_prefix(void);
@@ -70,6 +126,11 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
  * the daemon's command_key_file); NULL or "" turns signing off. 0, or -1
  * with why. */
 int bus_set_key(bus *c, const char *path, char *why, size_t whylen);
+
+/* What to ask when the daemon does not answer: "is wormgeard running on
+ * URL with prefix P? (--url, --prefix or $WORMGEAR_URL, $WORMGEAR_PREFIX
+ * choose another)", into buf. Returns buf. */
+const char *bus_hint(const bus *c, char *buf, size_t len);
 
 /* Close LCM. Safe on a failed open. */
 void bus_close(bus *c);

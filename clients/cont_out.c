@@ -1,13 +1,11 @@
 /* cont_out.c - the files of a continuation run (see cont_out.h). */
 #include "cont_out.h"
+#include "wormgear/wg_scene.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static const char *const state_names[WG_NSTATE_MAX] = {
-    "x1", "y1", "z1", "x2", "y2", "z2", "s", "dx1", "dy1", "dz1", "dx2", "dy2", "dz2", "ds"};
 
 int cont_add_point(cont_result *r, const wg_cont_point *p)
 {
@@ -64,8 +62,9 @@ static int close_w(FILE *f, const char *path, char *why, size_t whylen)
 
 static void state_header(FILE *f, int nstate)
 {
+    int model = nstate == wg_model_nstate(WG_MODEL_PRINTED) ? WG_MODEL_PRINTED : WG_MODEL_CONSISTENT;
     for (int j = 0; j < nstate && j < WG_NSTATE_MAX; j++)
-        fprintf(f, ",%s", state_names[j]);
+        fprintf(f, ",%s", wg_state_name(model, j));
 }
 
 static void state_row(FILE *f, const double *y, int nstate)

@@ -190,15 +190,18 @@ static int write_views(FILE *out, const wg_params *p, const double *y, const wg_
     int rc = 1;
     if (views_alloc(&w, ao->periods, ao->trace_periods, N) == 0 &&
         replay(p, y, o, N, ao, &w) == 0) {
-        char base[1024], path[1100], title[200];
-        snprintf(base, sizeof base, "%s-at-%s=%g", ao->prefix, ao->pname, ao->value);
+        char base[1024], path[1100], title[200], tag[96];
+        snprintf(base, sizeof base, "%s-at-%s", ao->prefix,
+                 out_tag(tag, sizeof tag, ao->pname, ao->value));
         snprintf(path, sizeof path, "%s-trace.csv", base);
         rc = write_trace(path, &w);
         snprintf(title, sizeof title, "%s = %g", ao->pname, ao->value);
         if (ao->png)
             rc |= write_pngs(base, title, &w, p->v[WG_P_B]);
-        fprintf(out, "files       %s-trace.csv%s\n", base,
-                ao->png ? ", -phase.png, -poincare.png, -trace.png" : "");
+        fprintf(out, "files       %s-trace.csv", base);
+        if (ao->png)
+            fprintf(out, ", %s-phase.png, %s-poincare.png, %s-trace.png", base, base, base);
+        fputc('\n', out);
     }
     views_free(&w);
     return rc;

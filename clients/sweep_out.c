@@ -266,7 +266,22 @@ int out_json(const char *path, const sweep_study *st, char *why, size_t whylen)
 
 /* ---- PNG ------------------------------------------------------------------- */
 
-int out_pngs(const char *prefix, const sweep_study *st, char *why, size_t whylen)
+void out_files_add(out_files *files, const char *path)
+{
+    if (!files)
+        return;
+    size_t len = strlen(files->list);
+    snprintf(files->list + len, sizeof files->list - len, "%s%s", files->n++ ? ", " : "", path);
+}
+
+const char *out_tag(char *buf, size_t len, const char *name, double v)
+{
+    snprintf(buf, len, "%s-%g", name, v);
+    return buf;
+}
+
+int out_pngs(const char *prefix, const sweep_study *st, out_files *files, char *why,
+             size_t whylen)
 {
     wg_transition *t = malloc(sizeof *t * STUDY_MAX_TRANS);
     if (!t) {
@@ -276,9 +291,10 @@ int out_pngs(const char *prefix, const sweep_study *st, char *why, size_t whylen
     int rc = 0;
     for (int k = 0; k < st->ngroups && !rc; k++) {
         const sweep_group *g = &st->g[k];
-        char path[1024], title[256];
+        char path[1024], title[256], tag[96];
         if (st->gparam >= 0) {
-            snprintf(path, sizeof path, "%s-%s=%g.png", prefix, out_pname(st->gparam), g->gval);
+            snprintf(path, sizeof path, "%s-%s.png", prefix,
+                     out_tag(tag, sizeof tag, out_pname(st->gparam), g->gval));
             snprintf(title, sizeof title, "%s: Poincare x_n vs %s, %s = %g%s", st->scene,
                      out_pname(st->param), out_pname(st->gparam), g->gval, st->partial ? " (partial)" : "");
         } else {
@@ -290,6 +306,8 @@ int out_pngs(const char *prefix, const sweep_study *st, char *why, size_t whylen
                        g->down ? g->down->pts : NULL, g->up ? g->up->ndone : 0,
                        g->down ? g->down->ndone : 0, st->b, NULL, 0};
         rc = plot_bifurcation(path, &pb, why, whylen);
+        if (!rc)
+            out_files_add(files, path);
     }
     free(t);
     return rc;

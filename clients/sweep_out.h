@@ -45,8 +45,23 @@ int out_poincare_csv(const char *path, const sweep_study *st, char *why, size_t 
  * transitions) as JSON. */
 int out_json(const char *path, const sweep_study *st, char *why, size_t whylen);
 
-/* One bifurcation diagram per group: prefix.png, or prefix-NAME=V.png. */
-int out_pngs(const char *prefix, const sweep_study *st, char *why, size_t whylen);
+/* The files a run wrote, for the line that tells the user: "a.csv, b.png". */
+typedef struct out_files {
+    char list[4096];
+    int n;
+} out_files;
+
+/* Add path to the list (NULL-safe: files may be NULL). */
+void out_files_add(out_files *files, const char *path);
+
+/* "NAME-V" for file names: the parameter and its value (%g), no '=' (a
+ * shell and a URL take it as it is). Returns buf. */
+const char *out_tag(char *buf, size_t len, const char *name, double v);
+
+/* One bifurcation diagram per group: prefix.png, or prefix-NAME-V.png;
+ * each path written is added to files (may be NULL). */
+int out_pngs(const char *prefix, const sweep_study *st, out_files *files, char *why,
+             size_t whylen);
 
 /* 2-D map: rows as CSV (row value, x value, regime, ...). */
 int out_map_csv(const char *path, const wg_chain *rows, int nrows, char *why, size_t whylen);

@@ -2,6 +2,7 @@
  * Exit 0 accepted, 1 refused or no answer, 2 usage error. */
 #include "bus.h"
 #include "cli.h"
+#include "units.h"
 
 #include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_status_t.h"
@@ -29,6 +30,8 @@ typedef struct ctl {
     opts o;
     wormgear_params_t *params; /* copy of the PARAMS answering a get */
     wormgear_status_t *status;
+    const char *want[WG_NPARAM]; /* get NAME...: the parameters asked for */
+    int nwant;
 } ctl;
 
 static void usage(FILE *f)
@@ -48,8 +51,11 @@ static void usage(FILE *f)
             "  mode realtime|fast|lockstep [RATE]\n"
             "                             change pacing (RATE: realtime factor, 1 = physical)\n"
             "  save NAME | restore NAME   full state to/from NAME.wgstate in the state dir\n"
-            "  get                        the current parameters, with units\n"
+            "  get [NAME...]              the current parameters (or those named): value, unit\n"
+            "                             (- for dimensionless) and the physical equivalent\n"
+            "                             (omega in Hz, lengths in µm, loads in N, ...)\n"
             "  params                     every parameter: name, unit, range, default, help\n"
+            "                             and how it maps to physical units (no daemon needed)\n"
             "  status                     one STATUS message, readable\n"
             "  keygen FILE                a new key for signed commands (mode 0600; the\n"
             "                             daemon's command_key_file, clients' --key-file)\n\n"
@@ -153,8 +159,9 @@ static int report(ctl *t, const char *what)
         if (t->o.json)
             printf("{\"accepted\":false,\"code\":\"ETIMEDOUT\",\"message\":\"no ACK within %g s\"}\n",
                    t->o.timeout_s);
-        fprintf(stderr, "wgctl: %s: no answer within %g s (is wormgeard running with prefix '%s' "
-                        "on this URL?)\n", what, t->o.timeout_s, t->c.prefix);
+        char hint[512];
+        fprintf(stderr, "wgctl: %s: no answer within %g s: %s\n", what, t->o.timeout_s,
+                bus_hint(&t->c, hint, sizeof hint));
         return 1;
     }
     if (t->o.json) {
@@ -283,23 +290,81 @@ static int get_done(void *u)
     return t->params && t->c.ack.got;
 }
 
+/* Is parameter name one that `get NAME...` asked for (all when none)? */
+static int wanted(const ctl *t, const char *name)
+{
+    for (int i = 0; i < t->nwant; i++)
+        if (strcmp(t->want[i], name) == 0)
+            return 1;
+    return t->nwant == 0;
+}
+
+/* The message's values as a parameter set (table defaults for any it
+ * lacks) and its scale, for the physical equivalents. */
+static void params_of(const wormgear_params_t *p, wg_params *v, units_scale *s)
+{
+    wg_params_default(v);
+    for (int i = 0; i < p->n; i++) {
+        int id = wg_param_lookup(p->name[i]);
+        if (id >= 0)
+            v->v[id] = p->value[i];
+    }
+    *s = (units_scale){p->omega_n_rad_s, p->length_m, p->mesh_stiffness_N_m};
+}
+
+static void print_params_json(const ctl *t, const wormgear_params_t *p)
+{
+    wg_params v;
+    units_scale sc;
+    params_of(p, &v, &sc);
+    printf("{\"scene\":");
+    json_str(stdout, p->scene);
+    printf(",\"tau\":%.17g,\"omega_n_rad_s\":%.17g,\"length_m\":%.17g,"
+           "\"mesh_stiffness_N_m\":%.17g,\"steps_per_period\":%d,\"params\":{",
+           p->tau, p->omega_n_rad_s, p->length_m, p->mesh_stiffness_N_m, p->steps_per_period);
+    for (int i = 0, k = 0; i < p->n; i++)
+        if (wanted(t, p->name[i]))
+            printf("%s\"%s\":%.17g", k++ ? "," : "", p->name[i], p->value[i]);
+    printf("},\"physical\":{");
+    for (int i = 0, k = 0; i < p->n; i++) {
+        double x;
+        const char *u;
+        if (wanted(t, p->name[i]) && !units_param(wg_param_lookup(p->name[i]), &v, &sc, &x, &u))
+            printf("%s\"%s\":{\"value\":%.17g,\"unit\":\"%s\"}", k++ ? "," : "", p->name[i], x, u);
+    }
+    printf("},\"ramp\":%s}\n", p->ramp_active ? "true" : "false");
+}
+
+/* One line per parameter: name = value, the unit ("-": dimensionless),
+ * and the physical equivalent where there is one. */
 static void print_params(const ctl *t, const wormgear_params_t *p)
 {
-    if (t->o.json) {
-        printf("{\"scene\":");
-        json_str(stdout, p->scene);
-        printf(",\"tau\":%.17g,\"omega_n_rad_s\":%.17g,\"steps_per_period\":%d,\"params\":{",
-               p->tau, p->omega_n_rad_s, p->steps_per_period);
-        for (int i = 0; i < p->n; i++)
-            printf("%s\"%s\":%.17g", i ? "," : "", p->name[i], p->value[i]);
-        printf("},\"ramp\":%s}\n", p->ramp_active ? "true" : "false");
-        return;
+    char num[32];
+    wg_params v;
+    units_scale sc;
+    if (t->o.json)
+        return print_params_json(t, p);
+    params_of(p, &v, &sc);
+    if (!t->nwant) {
+        printf("scene %s, model %s, stepper %s, N = %d, tau %.9g (%.6g s)\n", p->scene, p->model,
+               p->stepper, p->steps_per_period, p->tau, p->tau / p->omega_n_rad_s);
+        printf("scale omega_n = %.6g rad/s, b_c = %.6g µm, K_m = %.6g N/m, m_e = %.6g kg\n",
+               p->omega_n_rad_s, p->length_m * 1e6, p->mesh_stiffness_N_m,
+               p->mesh_stiffness_N_m / (p->omega_n_rad_s * p->omega_n_rad_s));
     }
-    printf("scene %s, model %s, stepper %s, N = %d, tau %.9g (%.6g s)\n", p->scene, p->model,
-           p->stepper, p->steps_per_period, p->tau, p->tau / p->omega_n_rad_s);
-    for (int i = 0; i < p->n; i++)
-        printf("  %-5s = %-12.9g %s\n", p->name[i], p->value[i], p->unit[i]);
-    if (p->ramp_active)
+    for (int i = 0; i < p->n; i++) {
+        double x;
+        const char *u;
+        if (!wanted(t, p->name[i]))
+            continue;
+        const char *shown = units_shown(p->unit[i]);
+        printf("  %-5s = %-19s", p->name[i], wg_num_format(p->value[i], num, sizeof num));
+        if (!units_param(wg_param_lookup(p->name[i]), &v, &sc, &x, &u))
+            printf(" %-3s  %.6g %s\n", shown, x, u);
+        else
+            printf(" %s\n", shown);
+    }
+    if (p->ramp_active && !t->nwant)
         printf("ramp: %s %.9g -> %.9g over %.9g tau from tau %.9g\n", p->ramp_param, p->ramp_from,
                p->ramp_to, p->ramp_duration_tau, p->ramp_tau0);
 }
@@ -383,8 +448,9 @@ static int do_status(ctl *t)
     bus_wait(&t->c, (int)(t->o.timeout_s * 1000), status_done, t);
     wormgear_status_t_unsubscribe(t->c.lcm, s);
     if (!t->status) {
-        fprintf(stderr, "wgctl: status: no STATUS on %sSTATUS within %g s\n", t->c.prefix,
-                t->o.timeout_s);
+        char hint[512];
+        fprintf(stderr, "wgctl: status: no STATUS on %sSTATUS within %g s: %s\n", t->c.prefix,
+                t->o.timeout_s, bus_hint(&t->c, hint, sizeof hint));
         return 1;
     }
     print_status(t, t->status);
@@ -394,6 +460,9 @@ static int do_status(ctl *t)
 
 static int do_params(const ctl *t)
 {
+    if (!t->o.json)
+        printf("%-5s %-4s %-19s %-9s %s\n", "name", "unit", "range", "default",
+               "meaning (- : dimensionless); physical: its equivalent, as wgctl get shows it");
     for (int i = 0; i < WG_NPARAM; i++) {
         const wg_param_info *r = wg_param_info_get(i);
         if (t->o.json) {
@@ -403,8 +472,12 @@ static int do_params(const ctl *t)
             json_str(stdout, r->help);
             printf("}%s", i == WG_NPARAM - 1 ? "]\n" : "\n");
         } else {
-            printf("%-5s %-3s [%g, %g] default %g%s: %s\n", r->name, r->unit, r->min, r->max,
-                   r->def, r->flags & WG_PF_RAMP ? " (rampable)" : "", r->help);
+            char range[48];
+            const char *rule = units_param_rule(i);
+            snprintf(range, sizeof range, "[%g, %g]", r->min, r->max);
+            printf("%-5s %-4s %-19s %-9.6g %s%s%s%s\n", r->name, units_shown(r->unit), range,
+                   r->def, r->help,
+                   r->flags & WG_PF_RAMP ? " (rampable)" : "", *rule ? "; physical: " : "", rule);
         }
     }
     return 0;
@@ -423,6 +496,21 @@ static int do_keygen(const char *path)
     return 0;
 }
 
+/* get NAME...: every name must be a parameter of the table. */
+static int get_names(ctl *t, int n, char **args)
+{
+    if (n > WG_NPARAM)
+        return cli_usage_error(PROG, "get: at most %d names", WG_NPARAM);
+    for (int i = 0; i < n; i++) {
+        if (wg_param_lookup(args[i]) < 0)
+            return cli_usage_error(PROG, "get: '%s' is not a parameter (wgctl params lists "
+                                         "them)", args[i]);
+        t->want[i] = args[i];
+    }
+    t->nwant = n;
+    return 0;
+}
+
 static int dispatch(ctl *t, const char *cmd, int n, char **args)
 {
     if (t->o.at_section && strcmp(cmd, "set"))
@@ -434,11 +522,10 @@ static int dispatch(ctl *t, const char *cmd, int n, char **args)
     if (!strcmp(cmd, "mode")) return do_mode(t, n, args);
     if (!strcmp(cmd, "pause") || !strcmp(cmd, "resume") || !strcmp(cmd, "reset"))
         return do_simple(t, cmd, n);
-    if (!strcmp(cmd, "get") || !strcmp(cmd, "status")) {
-        if (n)
-            return cli_usage_error(PROG, "%s takes no arguments", cmd);
-        return !strcmp(cmd, "get") ? do_get(t) : do_status(t);
-    }
+    if (!strcmp(cmd, "get"))
+        return get_names(t, n, args) ? CLI_EUSAGE : do_get(t);
+    if (!strcmp(cmd, "status"))
+        return n ? cli_usage_error(PROG, "status takes no arguments") : do_status(t);
     return cli_usage_error(PROG, "unknown command '%s'", cmd);
 }
 

@@ -2,11 +2,15 @@
  *
  * Reads the log with LCM's eventlog API; each message's type is found from
  * its fingerprint (the first 8 bytes), so any prefix works. `summary` lists
- * channels, types, message and sample counts, rates and seq gaps (dropped
- * messages) and restarts (seq going backwards); `export` writes one CSV per
+ * channels, types, message and sample counts, rates, seq gaps (dropped
+ * messages), restarts and senders (bus.h: seq lines and their send clocks,
+ * so a log played into a live bus is one more sender, not thousands of gaps
+ * and restarts); `export` writes one CSV per
  * channel with the type's fields as columns, one row per sample for the
- * batched types (STATE, POINCARE, CONTACT). Numbers are printed with 17
- * significant digits: the CSV holds exactly what was published.
+ * batched types (STATE, POINCARE, CONTACT). Numbers are written in the
+ * shortest form that reads back exactly (0.08, not 0.080000000000000002):
+ * the CSV holds exactly what was published. --units physical converts the
+ * samples with the scale of the log's PARAMS (s, Hz, um, m/s, N).
  * Exit 0, 1 unreadable log or unwritable output, 2 usage error. */
 #include "bus.h"
 #include "cli.h"
@@ -18,7 +22,9 @@
 #include "lcmtypes/wormgear_state_t.h"
 #include "lcmtypes/wormgear_status_t.h"
 #include "lcmtypes/wormgear_tick_t.h"
+#include "units.h"
 #include "wormgear/wg_model.h"
+#include "wormgear/wg_scene.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -39,7 +45,8 @@ typedef struct chan {
     long msgs, samples, bad;
     long long bytes;
     int64_t t0, t1;           /* log timestamps, us */
-    bus_seq seq;              /* gaps, missing (messages lost), restarts */
+    bus_streams seq;          /* senders: gaps, missing (messages lost), restarts */
+    char notes[600];          /* the senders after the first, as they appeared */
     FILE *csv;
     int ncols;                /* params_t / poincare_t: columns fixed by the first message */
 } chan;
@@ -47,6 +54,8 @@ typedef struct chan {
 typedef struct log_run {
     const char *path, *out, *pattern;
     int export_, quiet, also_summary;
+    int physical;             /* --units physical */
+    units_scale scale;        /* of the latest PARAMS (the first one before it) */
     regex_t re;
     int has_re;
     chan *ch;
@@ -74,7 +83,12 @@ static void cs(FILE *f, const char *s) /* a string cell, quoted when needed */
     fputc('"', f);
 }
 
-static void cd(FILE *f, double v) { fprintf(f, ",%.17g", v); }
+static void cd(FILE *f, double v)
+{
+    char b[40];
+    fputc(',', f);
+    fputs(wg_num_format(v, b, sizeof b), f);
+}
 static void ci(FILE *f, long long v) { fprintf(f, ",%lld", v); }
 static void csc(FILE *f, const char *s) { fputc(',', f), cs(f, s); }
 
@@ -93,18 +107,37 @@ static void lead(FILE *f, int64_t ts, int64_t utime, int64_t seq)
     if (T##_decode((ev)->data, 0, (ev)->datalen, &msg) < 0)                                \
         return -1;
 
-static int rows_state(chan *c, const lcm_eventlog_event_t *ev)
+/* Factors of the sample columns: 1, or the physical ones of the latest
+ * PARAMS (--units physical). */
+typedef struct fx {
+    double w, x, v, f;        /* Hz per omega, um per x, m/s per x', N per F */
+} fx;
+
+static fx factors(const log_run *r)
+{
+    if (!r->physical)
+        return (fx){1, 1, 1, 1};
+    const units_scale *s = &r->scale;
+    return (fx){units_hz_per_omega(s), units_um_per_x(s), units_m_s_per_v(s), units_n_per_f(s)};
+}
+
+static int rows_state(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
     DECODE_OR_FAIL(wormgear_state_t, m, ev);
     FILE *f = c->csv;
+    fx k = factors(r);
     if (f && c->msgs == 0)
-        head(f, "step0,decimation,i,tau,t_s,omega,xn,dxn,force,fb_x1,fb_y1,fb_z1,fb_x2,fb_y2,fb_z2");
+        head(f, r->physical ? "step0,decimation,i,tau,t_s,f_mesh_hz,x_n_um,dx_n_m_s,F_N,fb_x1_N,"
+                              "fb_y1_N,fb_z1_N,fb_x2_N,fb_y2_N,fb_z2_N"
+                            : "step0,decimation,i,tau,t_s,omega,xn,dxn,force,fb_x1,fb_y1,fb_z1,"
+                              "fb_x2,fb_y2,fb_z2");
     for (int i = 0; f && i < m.n; i++) {
         lead(f, ev->timestamp, m.utime, m.seq);
         ci(f, m.step0), ci(f, m.decimation), ci(f, i);
-        cd(f, m.tau[i]), cd(f, m.t_s[i]), cd(f, m.omega[i]), cd(f, m.xn[i]), cd(f, m.dxn[i]);
-        cd(f, m.force[i]), cd(f, m.fb_x1[i]), cd(f, m.fb_y1[i]), cd(f, m.fb_z1[i]);
-        cd(f, m.fb_x2[i]), cd(f, m.fb_y2[i]), cd(f, m.fb_z2[i]);
+        cd(f, m.tau[i]), cd(f, m.t_s[i]), cd(f, m.omega[i] * k.w), cd(f, m.xn[i] * k.x);
+        cd(f, m.dxn[i] * k.v), cd(f, m.force[i] * k.f), cd(f, m.fb_x1[i] * k.f);
+        cd(f, m.fb_y1[i] * k.f), cd(f, m.fb_z1[i] * k.f), cd(f, m.fb_x2[i] * k.f);
+        cd(f, m.fb_y2[i] * k.f), cd(f, m.fb_z2[i] * k.f);
         fputc('\n', f);
     }
     int n = m.n;
@@ -112,26 +145,43 @@ static int rows_state(chan *c, const lcm_eventlog_event_t *ev)
     return n;
 }
 
-static int rows_poincare(chan *c, const lcm_eventlog_event_t *ev)
+/* The POINCARE header: the state by its names (x1 ... ds; the printed
+ * form's th1, th2), with units when physical. */
+static void poincare_head(const log_run *r, FILE *f, int nstate)
+{
+    int model = nstate == wg_model_nstate(WG_MODEL_PRINTED) ? WG_MODEL_PRINTED
+                                                            : WG_MODEL_CONSISTENT;
+    fprintf(f, "log_utime,utime,seq,i,period,tau,t_s,%s,motion,impacts",
+            r->physical ? "f_mesh_hz,x_n_um,dx_n_m_s,F_N,min_x_n_um,max_x_n_um"
+                        : "omega,xn,dxn,force,min_xn,max_xn");
+    for (int k = 0; k < nstate; k++) {
+        const char *name = wg_state_name(model, k);
+        if (name)
+            fprintf(f, ",%s%s", name, !r->physical ? "" : 2 * k < nstate ? "_um" : "_m_s");
+        else
+            fprintf(f, ",y%d", k); /* a state this build does not know */
+    }
+    fputc('\n', f);
+}
+
+static int rows_poincare(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
     DECODE_OR_FAIL(wormgear_poincare_t, m, ev);
     FILE *f = c->csv;
+    fx k = factors(r);
     if (f && c->msgs == 0) {
         c->ncols = m.nstate;
-        fprintf(f, "log_utime,utime,seq,i,period,tau,t_s,omega,xn,dxn,force,min_xn,max_xn,"
-                   "motion,impacts");
-        for (int k = 0; k < m.nstate; k++)
-            fprintf(f, ",y%d", k);
-        fputc('\n', f);
+        poincare_head(r, f, m.nstate);
     }
     for (int i = 0; f && i < m.n; i++) {
         lead(f, ev->timestamp, m.utime, m.seq);
         ci(f, i), ci(f, m.period[i]);
-        cd(f, m.tau[i]), cd(f, m.t_s[i]), cd(f, m.omega[i]), cd(f, m.xn[i]), cd(f, m.dxn[i]);
-        cd(f, m.force[i]), cd(f, m.min_xn[i]), cd(f, m.max_xn[i]);
-        ci(f, m.motion[i]), ci(f, m.impacts[i]);
-        for (int k = 0; k < c->ncols; k++)
-            k < m.nstate ? cd(f, m.y[i][k]) : (void)fputc(',', f);
+        cd(f, m.tau[i]), cd(f, m.t_s[i]), cd(f, m.omega[i] * k.w), cd(f, m.xn[i] * k.x);
+        cd(f, m.dxn[i] * k.v), cd(f, m.force[i] * k.f), cd(f, m.min_xn[i] * k.x);
+        cd(f, m.max_xn[i] * k.x);
+        csc(f, wg_motion_name(m.motion[i])), ci(f, m.impacts[i]);
+        for (int j = 0; j < c->ncols; j++)
+            j < m.nstate ? cd(f, m.y[i][j] * (2 * j < m.nstate ? k.x : k.v)) : (void)fputc(',', f);
         fputc('\n', f);
     }
     int n = m.n;
@@ -139,16 +189,18 @@ static int rows_poincare(chan *c, const lcm_eventlog_event_t *ev)
     return n;
 }
 
-static int rows_contact(chan *c, const lcm_eventlog_event_t *ev)
+static int rows_contact(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
     DECODE_OR_FAIL(wormgear_contact_t, m, ev);
     FILE *f = c->csv;
+    fx k = factors(r);
     if (f && c->msgs == 0)
-        head(f, "i,tau,t_s,velocity,period,contact,kind,contact_name,kind_name");
+        head(f, r->physical ? "i,tau,t_s,velocity_m_s,period,contact,kind,contact_name,kind_name"
+                            : "i,tau,t_s,velocity,period,contact,kind,contact_name,kind_name");
     for (int i = 0; f && i < m.n; i++) {
         lead(f, ev->timestamp, m.utime, m.seq);
-        ci(f, i), cd(f, m.tau[i]), cd(f, m.t_s[i]), cd(f, m.velocity[i]), ci(f, m.period[i]);
-        ci(f, m.contact[i]), ci(f, m.kind[i]);
+        ci(f, i), cd(f, m.tau[i]), cd(f, m.t_s[i]), cd(f, m.velocity[i] * k.v);
+        ci(f, m.period[i]), ci(f, m.contact[i]), ci(f, m.kind[i]);
         csc(f, wg_contact_name(m.contact[i]));
         csc(f, wg_event_name(m.kind[i]));
         fputc('\n', f);
@@ -158,8 +210,9 @@ static int rows_contact(chan *c, const lcm_eventlog_event_t *ev)
     return n;
 }
 
-static int rows_status(chan *c, const lcm_eventlog_event_t *ev)
+static int rows_status(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
+    (void)r;
     DECODE_OR_FAIL(wormgear_status_t, m, ev);
     FILE *f = c->csv;
     if (f && c->msgs == 0)
@@ -184,10 +237,13 @@ static int rows_status(chan *c, const lcm_eventlog_event_t *ev)
 
 /* PARAMS: the scalars, then one column per parameter (named by the first
  * message; later messages are matched by name). */
-static int rows_params(chan *c, const lcm_eventlog_event_t *ev)
+static int rows_params(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
     DECODE_OR_FAIL(wormgear_params_t, m, ev);
     FILE *f = c->csv;
+    units_scale sc = {m.omega_n_rad_s, m.length_m, m.mesh_stiffness_N_m};
+    if (units_scale_ok(&sc))
+        r->scale = sc; /* the samples after it are in its scale */
     if (f && c->msgs == 0) {
         c->ncols = m.n;
         fprintf(f, "log_utime,utime,seq,reason,cmd_client,cmd_seq,scene,model,stepper,"
@@ -212,8 +268,9 @@ static int rows_params(chan *c, const lcm_eventlog_event_t *ev)
     return 1;
 }
 
-static int rows_cmd(chan *c, const lcm_eventlog_event_t *ev)
+static int rows_cmd(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
+    (void)r;
     DECODE_OR_FAIL(wormgear_cmd_t, m, ev);
     FILE *f = c->csv;
     if (f && c->msgs == 0)
@@ -221,9 +278,11 @@ static int rows_cmd(chan *c, const lcm_eventlog_event_t *ev)
     if (f) {
         char buf[2048] = "";
         size_t len = 0;
-        for (int i = 0; i < m.nparams && len < sizeof buf - 64; i++)
-            len += (size_t)snprintf(buf + len, sizeof buf - len, "%s%s=%.17g", i ? ";" : "",
-                                    m.names[i], m.values[i]);
+        for (int i = 0; i < m.nparams && len < sizeof buf - 64; i++) {
+            char num[40];
+            len += (size_t)snprintf(buf + len, sizeof buf - len, "%s%s=%s", i ? ";" : "",
+                                    m.names[i], wg_num_format(m.values[i], num, sizeof num));
+        }
         lead(f, ev->timestamp, m.utime, m.seq);
         csc(f, m.client), csc(f, m.op), csc(f, buf), ci(f, m.has_from), cd(f, m.from);
         cd(f, m.duration), csc(f, m.unit), ci(f, m.nsteps), csc(f, m.name), cd(f, m.rate);
@@ -233,8 +292,9 @@ static int rows_cmd(chan *c, const lcm_eventlog_event_t *ev)
     return 1;
 }
 
-static int rows_ack(chan *c, const lcm_eventlog_event_t *ev)
+static int rows_ack(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
+    (void)r;
     DECODE_OR_FAIL(wormgear_ack_t, m, ev);
     FILE *f = c->csv;
     if (f && c->msgs == 0)
@@ -249,8 +309,9 @@ static int rows_ack(chan *c, const lcm_eventlog_event_t *ev)
     return 1;
 }
 
-static int rows_tick(chan *c, const lcm_eventlog_event_t *ev)
+static int rows_tick(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
+    (void)r;
     DECODE_OR_FAIL(wormgear_tick_t, m, ev);
     if (c->csv && c->msgs == 0)
         head(c->csv, "nsteps");
@@ -266,7 +327,7 @@ static int rows_tick(chan *c, const lcm_eventlog_event_t *ev)
 static const struct type {
     const char *name;
     int64_t (*hash)(void);
-    int (*rows)(chan *c, const lcm_eventlog_event_t *ev);
+    int (*rows)(log_run *r, chan *c, const lcm_eventlog_event_t *ev);
 } types[] = {
     {"state_t", __wormgear_state_t_get_hash, rows_state},
     {"poincare_t", __wormgear_poincare_t_get_hash, rows_poincare},
@@ -329,12 +390,23 @@ static chan *find_chan(log_run *r, const lcm_eventlog_event_t *ev)
     return c;
 }
 
-/* Every wormgear type starts utime, seq: count gaps and restarts. */
+/* Every wormgear type starts utime, seq: tell the senders apart (the log's
+ * timestamp is the receiver's clock), count gaps and restarts inside each,
+ * and note every sender after the first. */
 static void note_seq(chan *c, const lcm_eventlog_event_t *ev)
 {
     if (c->type == T_UNKNOWN || ev->datalen < 24 || !strcmp(types[c->type].name, "cmd_t"))
         return; /* cmd_t seq counts per client, not per channel */
-    bus_seq_note(&c->seq, be64((const char *)ev->data + 16));
+    int64_t utime = be64((const char *)ev->data + 8), seq = be64((const char *)ev->data + 16);
+    int line, rc = bus_streams_note(&c->seq, seq, utime, 0, ev->timestamp * 1e-6,
+                                    ev->timestamp, &line);
+    const bus_stream *l = &c->seq.s[line];
+    size_t n = strlen(c->notes);
+    if ((rc == BUS_NEW && c->seq.ids > 1) || rc == BUS_RESTART)
+        snprintf(c->notes + n, sizeof c->notes - n, "%s%s from seq %lld at %.3f s, its clock "
+                 "%+.3f s from the log's%s", n ? "; " : "", rc == BUS_NEW ? "a sender" : "a restart",
+                 (long long)seq, (ev->timestamp - c->t0) * 1e-6, l->offset_s,
+                 bus_stream_replayed(l) ? " (a replay)" : "");
 }
 
 static int event(log_run *r, const lcm_eventlog_event_t *ev)
@@ -351,7 +423,7 @@ static int event(log_run *r, const lcm_eventlog_event_t *ev)
             return -1;
         }
     }
-    int n = c->type == T_UNKNOWN ? 0 : types[c->type].rows(c, ev);
+    int n = c->type == T_UNKNOWN ? 0 : types[c->type].rows(r, c, ev);
     if (n < 0)
         c->bad++;
     else
@@ -361,6 +433,32 @@ static int event(log_run *r, const lcm_eventlog_event_t *ev)
     c->bytes += ev->datalen;
     c->t1 = ev->timestamp;
     return 0;
+}
+
+/* --units physical: the scale of the log's first PARAMS (the samples
+ * before it are in that scale too). 0, or 1 with a message. */
+static int first_scale(log_run *r)
+{
+    lcm_eventlog_t *log = lcm_eventlog_create(r->path, "r");
+    if (!log)
+        return 0; /* read_log reports it */
+    lcm_eventlog_event_t *ev;
+    int64_t h = __wormgear_params_t_get_hash();
+    while (!units_scale_ok(&r->scale) && (ev = lcm_eventlog_read_next_event(log))) {
+        wormgear_params_t m;
+        if (ev->datalen >= 8 && be64(ev->data) == h && /* any channel: --channel STATE too */
+            wormgear_params_t_decode(ev->data, 0, ev->datalen, &m) >= 0) {
+            r->scale = (units_scale){m.omega_n_rad_s, m.length_m, m.mesh_stiffness_N_m};
+            wormgear_params_t_decode_cleanup(&m);
+        }
+        lcm_eventlog_free_event(ev);
+    }
+    lcm_eventlog_destroy(log);
+    if (units_scale_ok(&r->scale))
+        return 0;
+    fprintf(stderr, "wglog: --units physical: %s has no PARAMS message, so its physical scale "
+                    "(omega_n, b_c, K_m) is unknown\n", r->path);
+    return 1;
 }
 
 static int read_log(log_run *r)
@@ -395,15 +493,18 @@ static void summary(log_run *r, FILE *f)
     double span = (r->t1 - r->t0) * 1e-6;
     fprintf(f, "log %s: %ld events, %.3f s, %d channels\n", r->path, r->events, span, r->nch);
     qsort(r->ch, (size_t)r->nch, sizeof *r->ch, by_name);
-    fprintf(f, "%-24s %-11s %8s %9s %11s %9s %5s %8s %8s %6s\n", "channel", "type", "msgs",
-            "samples", "bytes", "rate_hz", "gaps", "missing", "restarts", "bad");
+    fprintf(f, "%-24s %-11s %8s %9s %11s %9s %5s %8s %8s %6s %7s\n", "channel", "type", "msgs",
+            "samples", "bytes", "rate_hz", "gaps", "missing", "restarts", "bad", "senders");
     for (int i = 0; i < r->nch; i++) {
         const chan *c = &r->ch[i];
         double s = (c->t1 - c->t0) * 1e-6, rate = c->msgs > 1 && s > 0 ? (c->msgs - 1) / s : 0;
-        fprintf(f, "%-24s %-11s %8ld %9ld %11lld %9.2f %5ld %8ld %8ld %6ld\n", c->name,
+        fprintf(f, "%-24s %-11s %8ld %9ld %11lld %9.2f %5ld %8ld %8ld %6ld %7ld\n", c->name,
                 c->type == T_UNKNOWN ? "unknown" : types[c->type].name, c->msgs, c->samples, c->bytes,
-                rate, c->seq.gaps, c->seq.missing, c->seq.restarts, c->bad);
+                rate, c->seq.gaps, c->seq.missing, c->seq.restarts, c->bad, c->seq.senders);
     }
+    for (int i = 0; i < r->nch; i++)
+        if (r->ch[i].notes[0])
+            fprintf(f, "note: %s: %s\n", r->ch[i].name, r->ch[i].notes);
 }
 
 static int close_all(log_run *r)
@@ -435,6 +536,10 @@ static void usage(FILE *f)
             "  -o, --out DIR         export: output directory, created if missing (default .)\n"
             "  -c, --channel REGEX   only channels matching this POSIX extended regex, anchored\n"
             "                        (default: all, i.e. '.*')\n"
+            "  -u, --units U         export: dimensionless (default) or physical: the samples\n"
+            "                        of STATE, POINCARE, CONTACT in Hz, um, m/s, N (columns\n"
+            "                        f_mesh_hz, x_n_um, dx_n_m_s, F_N, x1_um ... ds_m_s,\n"
+            "                        velocity_m_s), with the scale of the log's PARAMS\n"
             "  -s, --summary         export: also print the summary\n"
             "  -q, --quiet           no notes about skipped channels\n"
             "  -h, --help            this text\n\n"
@@ -450,6 +555,11 @@ static int opt_one(void *ctx, int c, const char *a)
     case 'o': r->out = a; return 0;
     case 'c': r->pattern = a; return 0;
     case 's': r->also_summary = 1; return 0;
+    case 'u':
+        if (strcmp(a, "physical") && strcmp(a, "dimensionless"))
+            return cli_usage_error(PROG, "--units '%s': dimensionless or physical", a);
+        r->physical = !strcmp(a, "physical");
+        return 0;
     case 'q': r->quiet = 1; return 0;
     case 'h': usage(stdout); exit(0);
     default: return -1;
@@ -459,9 +569,9 @@ static int opt_one(void *ctx, int c, const char *a)
 static int parse(int argc, char **argv, log_run *r)
 {
     static const struct option lo[] = {{"out", 1, 0, 'o'},     {"channel", 1, 0, 'c'},
-                                       {"summary", 0, 0, 's'}, {"quiet", 0, 0, 'q'},
+                                       {"summary", 0, 0, 's'}, {"quiet", 0, 0, 'q'}, {"units", 1, 0, 'u'},
                                        {"help", 0, 0, 'h'},    {0, 0, 0, 0}};
-    int rc = cli_getopt(PROG, argc, argv, "o:c:sqh", lo, opt_one, r);
+    int rc = cli_getopt(PROG, argc, argv, "o:c:u:sqh", lo, opt_one, r);
     if (rc)
         return rc;
     if (argc - optind != 2)
@@ -490,6 +600,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "wglog: cannot create --out directory '%s': %s\n", r.out, strerror(errno));
         rc = 1;
     }
+    if (!rc && r.physical)
+        rc = first_scale(&r);
     if (!rc)
         rc = read_log(&r);
     rc |= close_all(&r);

@@ -587,7 +587,7 @@ static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, c
     rc = rc ? rc : out_json(path, &st, why, sizeof why);
     snprintf(path, sizeof path, "%s.md", r->o.out);
     rc = rc ? rc : md_write(path, &st, why, sizeof why);
-    rc = rc ? rc : out_pngs(r->o.out, &st, why, sizeof why);
+    rc = rc ? rc : out_pngs(r->o.out, &st, NULL, why, sizeof why);
     rc = rc ? rc : write_impacts(r, ch, win, why, sizeof why);
     if (rc)
         fprintf(stderr, "wgrig: %s\n", why);

@@ -80,10 +80,12 @@ static void usage(FILE *f)
         "                          period (step-halving check; about 3x the cost)\n"
         "  --threads K             chains in parallel (default: online CPUs)\n"
         "  --out PREFIX            output prefix (default sweep): PREFIX.csv,\n"
-        "                          PREFIX-poincare.csv, PREFIX.json, PREFIX.md, PNGs\n"
+        "                          PREFIX-poincare.csv, PREFIX.json, PREFIX.md, PREFIX.png\n"
+        "                          (--values: PREFIX-NAME-V.png per value); the files\n"
+        "                          written are listed on stderr at the end\n"
         "  --no-png, --no-json     skip those outputs\n"
         "  --at V                  single point: summary, LLE, Floquet, phase portrait,\n"
-        "                          Poincare map and time trace (PREFIX-at-NAME=V-*)\n"
+        "                          Poincare map and time trace (PREFIX-at-NAME-V-*)\n"
         "  --at-periods P          Poincare periods for --at (default 2000)\n"
         "  --table-from CSV        recompute the transitions table (PREFIX.md) from a\n"
         "                          points CSV of an earlier run, without integrating\n"
@@ -333,40 +335,44 @@ static int run_all(wg_chain *cs, int n, const opts *o, int size, double *wall)
     return rc;
 }
 
-static int write_study(const opts *o, sweep_study *st)
+/* Write one output with fn(path, ...): 0 and its path on the list, or -1. */
+#define WRITE(files, fn, path, ...)                                                       \
+    (fn(path, __VA_ARGS__) ? -1 : (out_files_add(files, path), 0))
+
+static int write_study(const opts *o, sweep_study *st, out_files *files)
 {
     char path[1024], why[512];
     int rc = 0;
     snprintf(path, sizeof path, "%s.csv", o->out);
-    rc |= out_points_csv(path, st, why, sizeof why);
+    rc |= WRITE(files, out_points_csv, path, st, why, sizeof why);
     snprintf(path, sizeof path, "%s-poincare.csv", o->out);
-    rc |= out_poincare_csv(path, st, why, sizeof why);
+    rc |= WRITE(files, out_poincare_csv, path, st, why, sizeof why);
     snprintf(path, sizeof path, "%s.md", o->out);
-    rc |= md_write(path, st, why, sizeof why);
+    rc |= WRITE(files, md_write, path, st, why, sizeof why);
     if (o->json) {
         snprintf(path, sizeof path, "%s.json", o->out);
-        rc |= out_json(path, st, why, sizeof why);
+        rc |= WRITE(files, out_json, path, st, why, sizeof why);
     }
     if (o->png)
-        rc |= out_pngs(o->out, st, why, sizeof why);
+        rc |= out_pngs(o->out, st, files, why, sizeof why);
     if (rc)
         fprintf(stderr, "wgsweep: %s\n", why);
     return rc ? 1 : 0;
 }
 
-static int write_map(const opts *o, const wg_chain *rows, int n, int partial)
+static int write_map(const opts *o, const wg_chain *rows, int n, int partial, out_files *files)
 {
     char path[1024], why[512], title[256];
     int rc = 0;
     snprintf(path, sizeof path, "%s-map.csv", o->out);
-    rc |= out_map_csv(path, rows, n, why, sizeof why);
+    rc |= WRITE(files, out_map_csv, path, rows, n, why, sizeof why);
     const char *xn = wg_param_info_get(o->param)->name, *yn = wg_param_info_get(o->mparam)->name;
     for (int mode = 0; o->png && mode < 2 && !rc; mode++) {
         snprintf(path, sizeof path, "%s-map%s.png", o->out, mode ? "-motion" : "");
         snprintf(title, sizeof title, "%s over (%s, %s), up sweeps%s",
                  mode ? "motion class" : "regime", xn, yn, partial ? " (partial)" : "");
         plot_map pm = {title, xn, yn, rows, n, mode};
-        rc |= plot_regime_map(path, &pm, why, sizeof why);
+        rc |= WRITE(files, plot_regime_map, path, &pm, why, sizeof why);
     }
     if (rc)
         fprintf(stderr, "wgsweep: %s\n", why);
@@ -391,9 +397,11 @@ static int do_map(const opts *o, const wg_scene *sc, int rank, int size)
         for (int r = 0; r < o->mrows; r++)
             if (rows[r].rc)
                 fprintf(stderr, "wgsweep: row %d: %s\n", r, rows[r].why);
-        rc = write_map(o, rows, o->mrows, partial) || rc;
+        out_files files = {"", 0};
+        rc = write_map(o, rows, o->mrows, partial, &files) || rc;
         if (!o->quiet)
-            fprintf(stderr, "wgsweep: %d rows x %d points in %.1f s\n", o->mrows, o->points, wall);
+            fprintf(stderr, "wgsweep: %d rows x %d points in %.1f s; wrote %s\n", o->mrows,
+                    o->points, wall, files.list);
     }
     for (int r = 0; rows && r < o->mrows; r++)
         free(rows[r].pts);
@@ -477,11 +485,11 @@ static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank
         for (int i = 0; i < n; i++)
             if (cs[i].rc)
                 fprintf(stderr, "wgsweep: chain %d stopped: %s\n", i, cs[i].why);
-        rc = write_study(o, &st) || rc;
+        out_files files = {"", 0};
+        rc = write_study(o, &st, &files) || rc;
         if (!o->quiet)
-            fprintf(stderr, "wgsweep: %d chains x %d points in %.1f s%s; wrote %s.{csv,md%s}\n",
-                    n, o->points, st.wall_s, st.partial ? " (interrupted)" : "", o->out,
-                    o->json ? ",json" : "");
+            fprintf(stderr, "wgsweep: %d chains x %d points in %.1f s%s; wrote %s\n", n,
+                    o->points, st.wall_s, st.partial ? " (interrupted)" : "", files.list);
     }
     for (int i = 0; cs && i < n; i++)
         free(cs[i].pts);

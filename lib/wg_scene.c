@@ -73,6 +73,13 @@ static const char *const state_keys[2][WG_NSTATE_MAX] = {
      "dz2", "dth1", "dth2"},
 };
 
+const char *wg_state_name(int model, int i)
+{
+    if (model < 0 || model > 1 || i < 0 || i >= wg_model_nstate(model))
+        return NULL;
+    return state_keys[model][i];
+}
+
 void wg_scale_default(wg_scale *s)
 {
     s->omega_n_rad_s = 31901.0;

@@ -68,6 +68,11 @@ double wg_scale_seconds(const wg_scale *s, double tau);
 /* Initial state of the scene (given, or static equilibrium). */
 void wg_scene_initial(const wg_scene *sc, double *y);
 
+/* Name of state variable i of a model: "x1" ... "s", "dx1" ... "ds"
+ * (printed: "th1", "th2", "dth1", "dth2" for s, ds), the [initial] keys and
+ * every CSV's column names; NULL outside 0 .. wg_model_nstate(model) - 1. */
+const char *wg_state_name(int model, int i);
+
 /* Physical parameter table (rows of the [physical] section), for --help. */
 int wg_scene_nphys(void);
 const wg_param_info *wg_scene_phys_info(int i);

@@ -1,7 +1,9 @@
 /* test_wglog.c - wglog on a synthetic log written with the eventlog API:
  * every wormgear type, a seq gap, a restart, a foreign channel; the summary
- * counts them, the CSV holds the published values bit-exactly, strings are
- * quoted, bad usage exits 2 naming the option. $WGLOG is the binary. */
+ * counts them, the CSV holds the published values bit-exactly in their
+ * shortest form, the state columns by name and motion by name, strings are
+ * quoted, --units physical converts with the log's scale, bad usage exits 2
+ * naming the option. $WGLOG is the binary. */
 #include "test.h"
 
 #include "lcmtypes/wormgear_ack_t.h"
@@ -83,6 +85,8 @@ static void write_others(lcm_eventlog_t *l)
     int8_t ramp[2] = {1, 1};
     wormgear_params_t pa = {.seq = 0, .reason = "start", .cmd_client = "", .cmd_seq = -1,
                             .scene = "table3", .model = "consistent", .stepper = "rk4-event",
+                            .omega_n_rad_s = 31901, .length_m = 1e-4,
+                            .mesh_stiffness_N_m = 2e9,
                             .n = 2, .name = names, .unit = units, .value = val, .min = val,
                             .max = val, .def = val, .rampable = ramp, .ramp_param = ""};
     PUT(wormgear_params_t, l, "RIG1_PARAMS", 1000001, &pa);
@@ -95,6 +99,22 @@ static void write_others(lcm_eventlog_t *l)
     wormgear_tick_t t = {.seq = 0, .nsteps = 5};
     PUT(wormgear_tick_t, l, "RIG1_TICK", 1300000, &t);
     put(l, "OTHER", 1300001, "not an lcm message", 18);
+}
+
+/* A log played into a live bus: RIG2_STATUS carries the live daemon (seq
+ * 100.., utime = now) and a replay of an hour ago (seq 3.., interleaved). */
+static void write_mixed(lcm_eventlog_t *l)
+{
+    const int64_t t0 = 1700000000000000; /* an epoch time, us */
+    for (int k = 0; k < 5; k++) {
+        wormgear_status_t a = {.seq = 100 + k, .utime = t0 + 500000 * k, .scene = "table3",
+                               .mode = "realtime", .run = "running", .health = "ok",
+                               .fault = "", .motion = "no_impact", .regime = "period-1"};
+        wormgear_status_t b = a;
+        b.seq = 3 + k, b.utime = t0 - 3600000000 + 500000 * k;
+        PUT(wormgear_status_t, l, "RIG2_STATUS", t0 + 500000 * k + 1000, &a);
+        PUT(wormgear_status_t, l, "RIG2_STATUS", t0 + 500000 * k + 2000, &b);
+    }
 }
 
 /* Run the shell command; its stdout into out (may be NULL); its exit code,
@@ -120,6 +140,7 @@ static void setup(void)
     ASSERT_TRUE(l != NULL);
     write_states(l);
     write_others(l);
+    write_mixed(l);
     lcm_eventlog_destroy(l);
 }
 
@@ -154,7 +175,19 @@ static void test_summary(void)
     ASSERT_CONTAINS(out, "RIG1_POINCARE");
     ASSERT_CONTAINS(out, "RIG1_TICK");
     ASSERT_CONTAINS(out, "OTHER");
-    ASSERT_CONTAINS(out, "15 events");
+    ASSERT_CONTAINS(out, "25 events");
+    /* the replay is one more sender: no gap, no restart */
+    long senders = 0;
+    s = strstr(out, "RIG2_STATUS ");
+    ASSERT_TRUE(s && sscanf(s, "RIG2_STATUS status_t %ld %*d %*d %*f %ld %ld %ld %*d %ld", &msgs,
+                            &gaps, &missing, &restarts, &senders) == 5);
+    ASSERT_EQ_INT(msgs, 10);
+    ASSERT_EQ_INT(gaps, 0);
+    ASSERT_EQ_INT(missing, 0);
+    ASSERT_EQ_INT(restarts, 0);
+    ASSERT_EQ_INT(senders, 2);
+    ASSERT_CONTAINS(out, "note: RIG2_STATUS: a sender from seq 3 at 0.001 s, its clock -3600.002 s "
+                         "from the log's (a replay)");
 }
 
 /* Column `col` (0-based) of line `row` (0 = header) of a CSV, as text. */
@@ -197,16 +230,29 @@ static void test_export(void)
     }
     ASSERT_TRUE(cell(path, 16, 0, c, sizeof c) < 0); /* 15 samples, no more */
     snprintf(path, sizeof path, "%s/csv/RIG1_POINCARE.csv", dir);
+    ASSERT_EQ_INT(cell(path, 0, 15, c, sizeof c), 0);
+    ASSERT_STR(c, "x1"); /* the state by name, not y0 ... y13 */
+    ASSERT_EQ_INT(cell(path, 0, 17, c, sizeof c), 0);
+    ASSERT_STR(c, "z1");
     ASSERT_EQ_INT(cell(path, 0, 28, c, sizeof c), 0);
-    ASSERT_STR(c, "y13");
+    ASSERT_STR(c, "ds");
     ASSERT_EQ_INT(cell(path, 2, 28, c, sizeof c), 0);
     ASSERT_TRUE(strtod(c, NULL) == -1.0 / 3.0);
+    ASSERT_EQ_INT(cell(path, 1, 13, c, sizeof c), 0);
+    ASSERT_STR(c, "single_sided"); /* motion by name */
+    ASSERT_EQ_INT(cell(path, 1, 8, c, sizeof c), 0);
+    ASSERT_STR(c, "0.5");
     snprintf(path, sizeof path, "%s/csv/RIG1_CONTACT.csv", dir);
     ASSERT_EQ_INT(cell(path, 2, 10, c, sizeof c), 0);
     ASSERT_STR(c, "x2");
     snprintf(path, sizeof path, "%s/csv/RIG1_PARAMS.csv", dir);
     ASSERT_EQ_INT(cell(path, 0, 21, c, sizeof c), 0);
     ASSERT_STR(c, "xi_p");
+    ASSERT_EQ_INT(cell(path, 1, 21, c, sizeof c), 0);
+    ASSERT_STR(c, "0.08"); /* shortest round trip, not 0.080000000000000002 */
+    snprintf(path, sizeof path, "%s/csv/RIG1_CMD.csv", dir);
+    ASSERT_EQ_INT(cell(path, 1, 5, c, sizeof c), 0);
+    ASSERT_STR(c, "omega=0.7;xi_p=0.08");
     snprintf(path, sizeof path, "%s/csv/RIG1_ACK.csv", dir);
     FILE *f = fopen(path, "r");
     char all[2048] = "";
@@ -216,6 +262,50 @@ static void test_export(void)
     ASSERT_CONTAINS(all, "\"omega = 99 out of range [0.01, 10], \"\"said\"\" the table\"");
     snprintf(path, sizeof path, "%s/csv/OTHER.csv", dir);
     ASSERT_TRUE(access(path, F_OK) != 0); /* foreign channel skipped */
+}
+
+/* --units physical: the samples in Hz, um, m/s, N with the scale of the
+ * log's PARAMS (which comes after the first STATE: the pre-pass finds it). */
+static void test_physical(void)
+{
+    char cmd[512], path[256], c[256];
+    snprintf(cmd, sizeof cmd, "%s export %s --out %s/phys -q --units physical --channel "
+             "'RIG1_(STATE|POINCARE|CONTACT)'", wglog(), logpath, dir);
+    ASSERT_EQ_INT(run(cmd, NULL, 0), 0);
+    snprintf(path, sizeof path, "%s/phys/RIG1_STATE.csv", dir);
+    static const char *const head[] = {"f_mesh_hz", "x_n_um", "dx_n_m_s", "F_N", "fb_x1_N"};
+    for (int k = 0; k < 5; k++) {
+        ASSERT_EQ_INT(cell(path, 0, 8 + k, c, sizeof c), 0);
+        ASSERT_STR(c, head[k]);
+    }
+    ASSERT_EQ_INT(cell(path, 2, 9, c, sizeof c), 0);
+    ASSERT_TRUE(strtod(c, NULL) == xn_of(0, 1) * (1e-4 * 1e6)); /* x_n b_c in um */
+    ASSERT_EQ_INT(cell(path, 2, 11, c, sizeof c), 0);
+    ASSERT_TRUE(strtod(c, NULL) == (sqrt(2.0) * 6 + 1) * (2e9 * 1e-4)); /* F K_m b_c in N */
+    snprintf(path, sizeof path, "%s/phys/RIG1_POINCARE.csv", dir);
+    ASSERT_EQ_INT(cell(path, 0, 15, c, sizeof c), 0);
+    ASSERT_STR(c, "x1_um");
+    ASSERT_EQ_INT(cell(path, 0, 28, c, sizeof c), 0);
+    ASSERT_STR(c, "ds_m_s");
+    ASSERT_EQ_INT(cell(path, 2, 28, c, sizeof c), 0);
+    ASSERT_TRUE(strtod(c, NULL) == -1.0 / 3.0 * (1e-4 * 31901)); /* v b_c omega_n in m/s */
+    snprintf(path, sizeof path, "%s/phys/RIG1_CONTACT.csv", dir);
+    ASSERT_EQ_INT(cell(path, 0, 6, c, sizeof c), 0);
+    ASSERT_STR(c, "velocity_m_s");
+    /* a log without PARAMS has no scale: refused, saying why */
+    char lone[160], out[1024];
+    snprintf(lone, sizeof lone, "%s/lone.lcmlog", dir);
+    lcm_eventlog_t *l = lcm_eventlog_create(lone, "w");
+    ASSERT_TRUE(l != NULL);
+    write_states(l);
+    lcm_eventlog_destroy(l);
+    snprintf(cmd, sizeof cmd, "%s export %s --out %s/lone --units physical 2>&1", wglog(), lone,
+             dir);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 1);
+    ASSERT_CONTAINS(out, "has no PARAMS message, so its physical scale");
+    snprintf(cmd, sizeof cmd, "%s export %s --units metric 2>&1", wglog(), lone);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 2);
+    ASSERT_CONTAINS(out, "--units 'metric': dimensionless or physical");
 }
 
 static void test_channel_filter(void)
@@ -257,6 +347,7 @@ static void test_all(void)
     setup();
     test_summary();
     test_export();
+    test_physical();
     test_channel_filter();
     test_usage();
     test_cleanup();

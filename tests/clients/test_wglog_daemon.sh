@@ -3,7 +3,7 @@
 # daemon run with lcm-logger (--lcm-url=, as 1.3.1's -l is broken) while a
 # subscriber (wgtap) prints what it receives; export the log with wglog and
 # check every STATE and POINCARE sample that both saw is identical in the CSV
-# (17 significant digits), the summary has the channels, and a set command
+# (the shortest text that reads back exactly), the summary has the channels, and a set command
 # shows up in CMD/ACK. Run through netns.sh (host-local URL only).
 D=$1 W=$2 T=$3 C=$4 L=$5
 code=0

@@ -19,6 +19,9 @@ check "csv has 4 chains x 6 points" '[ $(($(wc -l < "$dir/s1.csv") - 1)) -eq 24 
 check "json parses" 'python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert len(d[\"groups\"])==2" "$dir/s1.json"'
 check "table finds the doubling at 1.19-1.20" 'grep -q "period doubling | 1.1950 (1.1900-1.2000)" "$dir/s1.md"'
 
+"$sweep" --from 1.17 --to 1.22 --points 3 --transient 100 --threads 1 --values xi_p=0.08,0.10 --out "$dir/w" 2>"$dir/w.err" >/dev/null
+check "the last line names every file written" 'grep -q "; wrote $dir/w.csv, $dir/w-poincare.csv, $dir/w.md, $dir/w.json, $dir/w-xi_p-0.08.png, $dir/w-xi_p-0.1.png\$" "$dir/w.err" && [ -s "$dir/w-xi_p-0.1.png" ]'
+
 "$sweep" $common --threads 2 --values xi_p=0.08,0.10 --out "$dir/s2" >/dev/null
 check "threads: identical csv" 'cmp -s "$dir/s1.csv" "$dir/s2.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/s2-poincare.csv"'
 
@@ -46,7 +49,8 @@ check "interrupt leaves partial results" \
   'grep -q "\"partial\":true" "$dir/int.json" && [ $(wc -l < "$dir/int.csv") -gt 1 ] && [ $(wc -l < "$dir/int.csv") -lt 800 ] && grep -q PARTIAL "$dir/int.md" && [ -s "$dir/int.png" ]'
 
 "$sweep" --at 0.85 --at-periods 200 --out "$dir/at" > "$dir/at.txt"
-check "--at summary and views" 'grep -q "regime      P1" "$dir/at.txt" && grep -q floquet "$dir/at.txt" && [ -s "$dir/at-at-omega=0.85-phase.png" ] && [ -s "$dir/at-at-omega=0.85-poincare.png" ] && [ -s "$dir/at-at-omega=0.85-trace.csv" ]'
+check "--at summary and views" 'grep -q "regime      P1" "$dir/at.txt" && grep -q floquet "$dir/at.txt" && [ -s "$dir/at-at-omega-0.85-phase.png" ] && [ -s "$dir/at-at-omega-0.85-poincare.png" ] && [ -s "$dir/at-at-omega-0.85-trace.csv" ]'
+check "--at names every file, none with '='" 'grep -q "^files       $dir/at-at-omega-0.85-trace.csv, $dir/at-at-omega-0.85-phase.png, $dir/at-at-omega-0.85-poincare.png, $dir/at-at-omega-0.85-trace.png\$" "$dir/at.txt" && ! ls "$dir" | grep -q ='
 
 "$sweep" --map xi_p=0.08:0.12:2 --from 1.18 --to 1.21 --points 3 --transient 150 --quiet --out "$dir/map"
 check "2-D map csv and pngs" '[ $(wc -l < "$dir/map-map.csv") -eq 7 ] && [ -s "$dir/map-map.png" ] && [ -s "$dir/map-map-motion.png" ]'

@@ -1,11 +1,13 @@
 /* wgtap - test helper: print what a subscriber receives on <prefix>STATE and
  * <prefix>POINCARE for SEC seconds, one line per sample:
  *   STATE,seq,i,tau,xn      POINCARE,seq,i,period,xn
- * with 17 significant digits (the same numbers wglog writes to its CSV).
+ * in the shortest form that reads back exactly (wg_num_format: the text
+ * wglog writes to its CSV).
  * usage: wgtap URL PREFIX SEC */
 #include "cli.h"
 #include "lcmtypes/wormgear_poincare_t.h"
 #include "lcmtypes/wormgear_state_t.h"
+#include "wormgear/wg_param.h"
 
 #include <lcm/lcm.h>
 #include <stdio.h>
@@ -15,16 +17,19 @@
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, const wormgear_state_t *m, void *u)
 {
     (void)rb, (void)ch, (void)u;
+    char a[40], b[40];
     for (int i = 0; i < m->n; i++)
-        printf("STATE,%lld,%d,%.17g,%.17g\n", (long long)m->seq, i, m->tau[i], m->xn[i]);
+        printf("STATE,%lld,%d,%s,%s\n", (long long)m->seq, i, wg_num_format(m->tau[i], a, 40),
+               wg_num_format(m->xn[i], b, 40));
 }
 
 static void on_pc(const lcm_recv_buf_t *rb, const char *ch, const wormgear_poincare_t *m, void *u)
 {
     (void)rb, (void)ch, (void)u;
+    char a[40];
     for (int i = 0; i < m->n; i++)
-        printf("POINCARE,%lld,%d,%lld,%.17g\n", (long long)m->seq, i, (long long)m->period[i],
-               m->xn[i]);
+        printf("POINCARE,%lld,%d,%lld,%s\n", (long long)m->seq, i, (long long)m->period[i],
+               wg_num_format(m->xn[i], a, sizeof a));
 }
 
 int main(int argc, char **argv)
