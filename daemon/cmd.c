@@ -54,12 +54,15 @@ static void ack(wgd *d, const char *client, int64_t seq, const char *op, int rc,
     lcmio_pub_ack(&d->io, &a);
     if (rc == WG_OK) {
         d->stat.cmds_accepted++;
-        if (strcmp(op, "get") && strcmp(op, "step"))
-            log_msg(&d->log, LOG_INFO, "%s from %s (seq %" PRId64 "): %s", a.op, a.client, seq,
-                    msg);
-        else
+        if (strcmp(op, "get") && strcmp(op, "step")) { /* a state change: never lost */
+            char what[ACK_TEXT + 40];
+            snprintf(what, sizeof what, "%s: %s", a.op, msg);
+            log_change(&d->log, LOG_INFO, what, "%s from %s (seq %" PRId64 "): %s", a.op,
+                       a.client, seq, msg);
+        } else {
             log_msg(&d->log, LOG_DEBUG, "%s from %s (seq %" PRId64 "): %s", a.op, a.client,
                     seq, msg);
+        }
     } else {
         d->stat.cmds_refused++;
         log_msg(&d->log, LOG_WARNING, "refused %s from %s (seq %" PRId64 "): %s: %s",
@@ -112,9 +115,10 @@ static int apply_set(wgd *d, const int *ids, const double *values, int n, const 
     if (rc)
         return rc;
     size_t k = (size_t)snprintf(why, len, "set");
-    for (int i = 0; i < n && k < len; i++)
-        k += (size_t)snprintf(why + k, len - k, " %s=%.17g", wg_param_info_get(ids[i])->name,
-                              values[i]);
+    char num[32];
+    for (int i = 0; i < n && k < len; i++) /* exact, in the fewest digits */
+        k += (size_t)snprintf(why + k, len - k, " %s=%s", wg_param_info_get(ids[i])->name,
+                              wg_num_format(values[i], num, sizeof num));
     if (ramp >= 0 && k < len)
         snprintf(why + k, len - k, " (cancelled the ramp of %s at %.9g)",
                  wg_param_info_get(ramp)->name, d->sim.p.v[ramp]);
@@ -257,12 +261,26 @@ static int op_ramp(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     }
     if ((rc = ramp_check(d, c, &id, &dur, why, len)))
         return rc;
+    const wg_ramp was = d->sim.ramp;
     if ((rc = wg_sim_ramp(&d->sim, id, c->has_from ? &c->from : NULL, c->values[0], dur, why,
                           len)))
         return rc; /* nothing applied */
     double v0 = d->sim.ramp.v0;
-    snprintf(why, len, "ramp %s %.9g -> %.9g over %.9g tau (%.6g s simulated)", c->names[0], v0,
-             c->values[0], dur, wg_scale_seconds(&d->scene.scale, dur));
+    int n = snprintf(why, len, "ramp %s %.9g -> %.9g over %.9g tau (%.6g s simulated)",
+                     c->names[0], v0, c->values[0], dur, wg_scale_seconds(&d->scene.scale, dur));
+    if (was.active && n > 0 && (size_t)n < len) { /* never silently: say what it replaced */
+        const char *old = wg_param_info_get(was.id)->name;
+        double left = was.tau0 + was.dur - d->sim.tau;
+        double left_s = wg_scale_seconds(&d->scene.scale, left > 0 ? left : 0);
+        if (was.id == id)
+            snprintf(why + n, len - (size_t)n, "; it replaces the running ramp of %s to %.9g, "
+                     "%.6g s simulated before its end, from where that ramp had taken it", old,
+                     was.v1, left_s);
+        else
+            snprintf(why + n, len - (size_t)n, "; it replaces the running ramp of %s to %.9g, "
+                     "%.6g s simulated before its end: %s stays at %.9g", old, was.v1, left_s,
+                     old, d->sim.p.v[was.id]);
+    }
     report_change(d, REPORT_ORBIT, "ramp", c->client, c->seq);
     return WG_OK;
 }
@@ -380,7 +398,15 @@ static int op_mode(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
                    d->sim.tau);
     report_decimation(d);
-    snprintf(why, len, "mode %s, rate %g", conf_mode_name(mode), d->conf.rate);
+    if (mode == MODE_REALTIME)
+        snprintf(why, len, "mode realtime, rate %g (%g x physical real time)", d->conf.rate,
+                 d->conf.rate);
+    else if (mode == MODE_FAST)
+        snprintf(why, len, "mode fast: as fast as one core allows (the rate, %g, applies to "
+                 "realtime only)", d->conf.rate);
+    else
+        snprintf(why, len, "mode lockstep: the simulation advances only by step commands and "
+                 "TICK messages");
     return WG_OK;
 }
 

@@ -82,6 +82,9 @@ static const key keys[] = {
      "print a one-line status on stdout each second (-F)"},
     {"verbose", APPLY(CONF_APPLY_VERBOSE), K_BOOL, S(verbose), 0, 1, NULL, "no",
      "debug logging (-v)"},
+    {"log_prefix", APPLY(CONF_APPLY_VERBOSE), K_BOOL, S(log_prefix), 0, 1, NULL, "no",
+     "start each log line with its syslog priority, <3> ... <7> (always under journald, "
+     "where $JOURNAL_STREAM is set)"},
 };
 #undef S
 #undef LIVE
@@ -246,7 +249,7 @@ int conf_check_number(const char *name, double x, char *why, size_t whylen)
         snprintf(why, whylen, "unknown numeric key '%s' (see wormgeard --help)", name);
         return 2;
     }
-    snprintf(text, sizeof text, "%.17g", x); /* for the message only */
+    wg_num_format(x, text, sizeof text); /* for the message only */
     return check_number(k, x, text, why, whylen);
 }
 
@@ -423,7 +426,7 @@ static int walk(conf *c, int argc, char **argv, int pass, const char **cfg, char
         if (opt == '?' || opt == ':') {
             const char *bad = argv[optind - 1];
             snprintf(why, len, opt == ':' ? "option '%s' needs a value"
-                                          : "unknown option '%s' (see wormgeard --help)",
+                                          : "unknown option '%s'",
                      bad);
             return 2;
         }
@@ -441,7 +444,7 @@ static int walk(conf *c, int argc, char **argv, int pass, const char **cfg, char
         }
     }
     if (optind < argc) {
-        snprintf(why, len, "unexpected argument '%s' (see wormgeard --help)", argv[optind]);
+        snprintf(why, len, "unexpected argument '%s'", argv[optind]);
         return 2;
     }
     return help;

@@ -50,6 +50,7 @@ typedef struct conf {
     int mlock;                /* mlockall at start */
     int foreground;           /* one-line status on stdout each second */
     int verbose;
+    int log_prefix;           /* "<N>" priority prefixes on log lines */
     int check_only;           /* --check-config: load, validate, exit */
     int nsets;
     char sets[CONF_MAX_SETS][128]; /* --set name=value (validated by the param table) */

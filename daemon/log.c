@@ -6,7 +6,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
 
 int64_t log_now_ns(void)
 {
@@ -47,9 +46,14 @@ static void emit(const log_ctx *l, int prio, const char *text)
 void log_init(log_ctx *l, int verbose)
 {
     memset(l, 0, sizeof *l);
-    l->prefix = getenv("JOURNAL_STREAM") != NULL || !isatty(STDERR_FILENO);
-    l->max_prio = verbose ? LOG_DEBUG : LOG_INFO;
+    log_configure(l, verbose, 0);
     l->window_ns = 10 * (int64_t)1000000000;
+}
+
+void log_configure(log_ctx *l, int verbose, int prefix)
+{
+    l->prefix = prefix || getenv("JOURNAL_STREAM") != NULL;
+    l->max_prio = verbose ? LOG_DEBUG : LOG_INFO;
 }
 
 static void flush_slot(log_ctx *l, log_slot *s)
@@ -85,10 +89,9 @@ static log_slot *slot_of(log_ctx *l, const char *fmt)
     return old;
 }
 
-void log_msg(log_ctx *l, int prio, const char *fmt, ...)
+/* 1: the call site fmt is over its burst in this window (counted). */
+static int limited(log_ctx *l, int prio, const char *fmt)
 {
-    if (prio > l->max_prio)
-        return;
     int64_t now = log_now_ns();
     log_slot *s = slot_of(l, fmt);
     if (now - s->window_ns >= l->window_ns) {
@@ -100,12 +103,41 @@ void log_msg(log_ctx *l, int prio, const char *fmt, ...)
     if (++s->count > LOG_BURST) {
         s->suppressed++;
         l->suppressed++;
-        return;
+        return 1;
     }
+    return 0;
+}
+
+static void vemit(const log_ctx *l, int prio, const char *fmt, va_list ap)
+{
     char text[1024], safe[4 * sizeof text];
+    vsnprintf(text, sizeof text, fmt, ap);
+    emit(l, prio, log_escape(text, safe, sizeof safe));
+}
+
+void log_msg(log_ctx *l, int prio, const char *fmt, ...)
+{
+    if (prio > l->max_prio || limited(l, prio, fmt))
+        return;
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(text, sizeof text, fmt, ap);
+    vemit(l, prio, fmt, ap);
     va_end(ap);
-    emit(l, prio, log_escape(text, safe, sizeof safe));
+}
+
+void log_change(log_ctx *l, int prio, const char *what, const char *fmt, ...)
+{
+    if (prio > l->max_prio)
+        return;
+    uint32_t h = 2166136261u; /* FNV-1a of what: a repeat of the last change? */
+    for (const unsigned char *p = (const unsigned char *)what; *p; p++)
+        h = (h ^ *p) * 16777619u;
+    int repeat = l->changes && h == l->last_change;
+    l->last_change = h, l->changes = 1;
+    if (repeat && limited(l, prio, fmt))
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vemit(l, prio, fmt, ap);
+    va_end(ap);
 }

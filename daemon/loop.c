@@ -212,7 +212,7 @@ static void apply_verbose(void *ctx, const conf *was)
 {
     wgd *d = ctx;
     (void)was;
-    d->log.max_prio = d->conf.verbose ? LOG_DEBUG : LOG_INFO;
+    log_configure(&d->log, d->conf.verbose, d->conf.log_prefix);
 }
 
 static void apply_key(void *ctx, const conf *was)

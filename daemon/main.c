@@ -142,10 +142,11 @@ int main(int argc, char **argv)
     d->start_ns = log_now_ns();
     log_init(&d->log, 0);
     int rc = conf_load(&d->conf, argc, argv, d->init_why, sizeof d->init_why);
-    if (rc == 2)
-        fprintf(stderr, "wormgeard: %s\n(try wormgeard --help)\n", d->init_why);
+    if (rc == 2) /* one hint, whether or not the message names one already */
+        fprintf(stderr, "wormgeard: %s%s\n", d->init_why,
+                strstr(d->init_why, "--help") ? "" : " (see wormgeard --help)");
     if (rc == 0) {
-        d->log.max_prio = d->conf.verbose ? LOG_DEBUG : LOG_INFO;
+        log_configure(&d->log, d->conf.verbose, d->conf.log_prefix);
         rc = run(d);
     } else if (rc == 1) {
         rc = 0;

@@ -25,7 +25,20 @@ const char *report_health_name(int h)
 
 const char *report_run_name(const wgd *d)
 {
-    return d->step.active ? "stepping" : d->run == RUN_RUNNING ? "running" : "paused";
+    if (d->step.active)
+        return "stepping";
+    if (d->run != RUN_RUNNING)
+        return "paused";
+    return d->conf.mode == MODE_LOCKSTEP ? "waiting" : "running";
+}
+
+/* Over the tracked orbit once there is one (a period-2 orbit alternating
+ * an impacting and a free period is single_sided, not whichever came
+ * last); before, the last period's; "unknown" before the first. */
+static const char *motion_name(const wgd *d)
+{
+    return d->st.trk.n ? wg_motion_name(d->st.trk.motion)
+           : d->sim.period ? wg_motion_name(d->st.motion) : "unknown";
 }
 
 static void interval_start(wgd *d, int64_t now)
@@ -101,6 +114,11 @@ static void compute(wgd *d, int64_t now)
     s->health = d->fault ? HEALTH_FAULT : late ? HEALTH_LAGGING : HEALTH_OK;
 }
 
+static const char *regime_name(const wgd *d, char *buf, unsigned len)
+{
+    return d->sim.ramp.active ? "ramping" : stream_regime(&d->st, buf, len);
+}
+
 static void fill_status(const wgd *d, wormgear_status_t *m, char *regime, unsigned rlen)
 {
     const stats *s = &d->stat;
@@ -117,10 +135,8 @@ static void fill_status(const wgd *d, wormgear_status_t *m, char *regime, unsign
         .cpu_share = s->cpu_share, .msgs_dropped = (int64_t)(d->io.dropped + s->drops),
         .cmds_dropped = (int64_t)d->in.dropped, .rx_dropped = (int64_t)lcmio_rx_dropped(),
         .cmds_accepted = (int64_t)s->cmds_accepted, .cmds_refused = (int64_t)s->cmds_refused,
-        .motion = d->st.trk.n ? (char *)wg_motion_name(d->st.trk.motion) /* over the orbit */
-                  : d->sim.period ? (char *)wg_motion_name(d->st.motion) : (char *)"unknown",
-        .impacts_per_period = s->impacts_per_period, .regime = d->sim.ramp.active ? (char *)"ramping"
-                                                      : (char *)stream_regime(&d->st, regime, rlen),
+        .motion = (char *)motion_name(d), .impacts_per_period = s->impacts_per_period,
+        .regime = (char *)regime_name(d, regime, rlen),
         .ramp_active = (int8_t)d->sim.ramp.active,
         .uptime_s = (double)(log_now_ns() - d->start_ns) * 1e-9};
 }
@@ -144,15 +160,20 @@ void report_fault(wgd *d)
 void report_line(const wgd *d, char *buf, unsigned len)
 {
     const stats *s = &d->stat;
+    char mode[32], regime[24];
+    if (d->conf.mode == MODE_REALTIME)
+        snprintf(mode, sizeof mode, "realtime x%g", d->conf.rate);
+    else
+        snprintf(mode, sizeof mode, "%s", conf_mode_name(d->conf.mode));
     snprintf(buf, len,
              "%s %s %s | t %.4f s tau %.6g | omega %.4g | rtf %.3f lag %.1f ms | %.3g steps/s "
-             "cpu %.0f%% | %s %.2f imp/period | overruns %llu | cmds %llu/%llu refused",
-             conf_mode_name(d->conf.mode), report_run_name(d), report_health_name(s->health),
+             "cpu %.0f%% | %s %s %.2f impacts/period | overruns %llu | cmds %llu/%llu refused",
+             mode, report_run_name(d), report_health_name(s->health),
              wg_scale_seconds(&d->scene.scale, d->sim.tau), d->sim.tau, d->sim.p.v[WG_P_OMEGA],
-             s->rtf, pace_lag_s(&d->pace) * 1e3, s->steps_per_s, s->cpu_share * 100.0,
-             d->sim.period ? wg_motion_name(d->st.motion) : "-", s->impacts_per_period,
-             (unsigned long long)d->pace.overruns, (unsigned long long)s->cmds_accepted,
-             (unsigned long long)s->cmds_refused);
+             s->rtf, d->conf.mode == MODE_REALTIME ? pace_lag_s(&d->pace) * 1e3 : 0.0,
+             s->steps_per_s, s->cpu_share * 100.0, regime_name(d, regime, sizeof regime),
+             motion_name(d), s->impacts_per_period, (unsigned long long)d->pace.overruns,
+             (unsigned long long)s->cmds_accepted, (unsigned long long)s->cmds_refused);
 }
 
 void report_params(wgd *d, const char *reason, const char *client, int64_t cmd_seq)

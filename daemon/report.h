@@ -39,7 +39,8 @@ void report_fault(struct wgd *d);
  * the causing command ("" / -1 if none). */
 void report_params(struct wgd *d, const char *reason, const char *client, int64_t cmd_seq);
 
-/* One-line human summary (foreground, sd_notify STATUS=). */
+/* One-line human summary (foreground, sd_notify STATUS=): the same motion,
+ * regime and impacts per period as STATUS. */
 void report_line(const struct wgd *d, char *buf, unsigned len);
 
 /* Recompute the STATE decimation from state_rate_hz and the step rate. */
@@ -55,7 +56,8 @@ enum { REPORT_ORBIT = 1, REPORT_RATE = 2 };
 void report_change(struct wgd *d, int what, const char *reason, const char *client,
                    int64_t cmd_seq);
 
-/* Names: "ok" "lagging" "fault"; "running" "paused" "stepping". */
+/* Names: "ok" "lagging" "fault"; "running" "paused" "stepping", and
+ * "waiting" (lockstep, running, between step commands and TICKs). */
 const char *report_health_name(int health);
 const char *report_run_name(const struct wgd *d);
 

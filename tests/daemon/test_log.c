@@ -4,6 +4,7 @@
 #include "log.h"
 #include "test.h"
 
+#include <stdlib.h>
 #include <unistd.h>
 
 static void test_escape(void)
@@ -44,4 +45,81 @@ static void test_one_line_per_message(void)
     ASSERT_EQ_INT(forged, 0);
 }
 
-TEST_MAIN(TEST(test_escape), TEST(test_one_line_per_message))
+/* Redirect stderr into a temporary file; capture_end reads it back. */
+static int capture_begin(char *path, int *keep)
+{
+    strcpy(path, "/tmp/wgd-log-XXXXXX");
+    int fd = mkstemp(path);
+    *keep = dup(2);
+    dup2(fd, 2);
+    return fd;
+}
+
+static int capture_end(char *path, int fd, int keep, char *out, size_t n)
+{
+    fflush(stderr);
+    dup2(keep, 2);
+    close(keep);
+    FILE *f = fopen(path, "r");
+    size_t got = f ? fread(out, 1, n - 1, f) : 0;
+    out[got] = 0;
+    if (f)
+        fclose(f);
+    close(fd);
+    unlink(path);
+    int lines = 0;
+    for (char *p = out; *p; p++)
+        lines += *p == '\n';
+    return lines;
+}
+
+/* Accepted changes are never rate-limited; repeats and refusals are. */
+static void test_changes_never_lost(void)
+{
+    char path[] = "/tmp/wgd-log-XXXXXX", out[16384];
+    int keep, fd = capture_begin(path, &keep);
+    log_ctx l;
+    log_init(&l, 0);
+    char what[64];
+    for (int i = 0; i < 20; i++) {
+        snprintf(what, sizeof what, "set: omega = %d", i);
+        log_change(&l, LOG_INFO, what, "%s", what);
+    }
+    int n = capture_end(path, fd, keep, out, sizeof out);
+    ASSERT_EQ_INT(n, 20);
+    ASSERT_CONTAINS(out, "set: omega = 19");
+    fd = capture_begin(path, &keep);
+    for (int i = 0; i < 20; i++)
+        log_change(&l, LOG_INFO, "set: omega = 1", "set from rig (seq %d)", i);
+    for (int i = 0; i < 20; i++)
+        log_msg(&l, LOG_WARNING, "refused set from rig (seq %d)", i);
+    log_fini(&l);
+    n = capture_end(path, fd, keep, out, sizeof out);
+    /* the first of the repeats is a change (the last was omega = 19): 1 + 5
+     * repeats, 5 refusals, two lines counting the rest */
+    ASSERT_EQ_INT(n, 1 + LOG_BURST + LOG_BURST + 2);
+    ASSERT_CONTAINS(out, "14 similar messages suppressed");
+    ASSERT_CONTAINS(out, "15 similar messages suppressed");
+}
+
+/* "<N>" prefixes only under journald or when asked. */
+static void test_prefixes(void)
+{
+    char path[] = "/tmp/wgd-log-XXXXXX", out[4096];
+    int keep, fd = capture_begin(path, &keep);
+    log_ctx l;
+    unsetenv("JOURNAL_STREAM");
+    log_init(&l, 0); /* stderr is a file here: still no prefix */
+    log_msg(&l, LOG_WARNING, "plain");
+    log_configure(&l, 0, 1);
+    log_msg(&l, LOG_WARNING, "asked");
+    setenv("JOURNAL_STREAM", "8:12345", 1);
+    log_configure(&l, 0, 0);
+    log_msg(&l, LOG_ERR, "journal");
+    unsetenv("JOURNAL_STREAM");
+    capture_end(path, fd, keep, out, sizeof out);
+    ASSERT_STR(out, "wormgeard: warning: plain\n<4>asked\n<3>journal\n");
+}
+
+TEST_MAIN(TEST(test_escape), TEST(test_one_line_per_message), TEST(test_changes_never_lost),
+          TEST(test_prefixes))

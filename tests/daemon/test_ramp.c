@@ -96,4 +96,26 @@ static void test_ramp_many_names(void)
     teardown(d);
 }
 
-TEST_MAIN(TEST(test_ramp_continuity), TEST(test_ramp_refused_atomic), TEST(test_ramp_many_names))
+/* A ramp that replaces a running one says so, and what became of it. */
+static void test_ramp_replaces(void)
+{
+    wgd *d = setup(64);
+    ASSERT_EQ_INT(ramp(d, "omega", 0, 0, 1.5, 1000, "tau"), WG_OK);
+    ASSERT_TRUE(strstr(F.message, "replaces") == NULL);
+    run(d, 64 * 10);
+    ASSERT_EQ_INT(ramp(d, "omega", 0, 0, 0.8, 500, "tau"), WG_OK);
+    ASSERT_CONTAINS(F.message, "it replaces the running ramp of omega to 1.5");
+    ASSERT_CONTAINS(F.message, "from where that ramp had taken it");
+    run(d, 64 * 10);
+    double phi = d->sim.p.v[WG_P_PHI];
+    ASSERT_EQ_INT(ramp(d, "phi", 0, 0, phi + 0.1, 500, "tau"), WG_OK);
+    ASSERT_CONTAINS(F.message, "it replaces the running ramp of omega to 0.8");
+    ASSERT_CONTAINS(F.message, "omega stays at");
+    double w = d->sim.p.v[WG_P_OMEGA];
+    run(d, 64 * 10);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], w, 0); /* the replaced ramp really stopped */
+    teardown(d);
+}
+
+TEST_MAIN(TEST(test_ramp_continuity), TEST(test_ramp_refused_atomic), TEST(test_ramp_many_names),
+          TEST(test_ramp_replaces))

@@ -68,4 +68,28 @@ static void test_status_after_set(void)
     teardown(d);
 }
 
-TEST_MAIN(TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set))
+/* The foreground line tells the same motion, regime and impacts per period
+ * as STATUS, whichever period of a period-2 orbit (one impacting, one
+ * free) came last. */
+static void test_line_matches_status(void)
+{
+    wgd *d = setup(128);
+    ASSERT_EQ_INT(set1(d, "omega", 1.2), WG_OK);
+    run(d, 128 * 400);
+    char line[512], want[96];
+    for (int k = 0; k < 2; k++) {
+        run(d, 128);
+        report_status(d);
+        drain(d);
+        ASSERT_STR(F.motion, "single_sided");
+        ASSERT_STR(F.regime, "period-2");
+        report_line(d, line, sizeof line);
+        snprintf(want, sizeof want, "| %s %s %.2f impacts/period |", F.regime, F.motion,
+                 F.impacts_per_period);
+        ASSERT_CONTAINS(line, want);
+    }
+    teardown(d);
+}
+
+TEST_MAIN(TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set),
+          TEST(test_line_matches_status))

@@ -36,6 +36,8 @@ has out "mode lockstep, rate 0.5"
 expect 2 "$D" --mode warp --check-config
 has err "mode: 'warp' is not one of realtime, fast, lockstep"
 expect 2 "$D" --bogus
+has err "unknown option '--bogus'"
+[ "$(grep -o -- '--help' "$tmp/err" | wc -l)" -eq 1 ] || fail "--bogus: not exactly one hint: $(cat "$tmp/err")"
 # a boolean takes "--key no" as well as "--key=no"
 expect 0 "$D" --accept-commands no --start-paused=yes --check-config
 expect 2 "$D" --accept-commands maybe --check-config
@@ -101,13 +103,29 @@ has out '"health":"ok"'
 expect 0 "$C" params
 has out "xi_p"
 expect 0 "$C" mode fast
+has out "mode fast: as fast as one core allows"
+expect 0 "$C" mode lockstep
+has out "advances only by step commands and TICK messages"
+expect 0 "$C" status
+has out "waiting"
 expect 0 "$C" mode realtime 0.05
+has out "mode realtime, rate 0.05"
+# a new ramp says what it replaced
+expect 0 "$C" ramp omega 1.3 --over 100s
+expect 0 "$C" ramp omega 1.1 --over 100s
+has out "it replaces the running ramp of omega to 1.3"
+# accepted changes are all logged, however fast they come (the rate limit
+# is for repeats and refusals)
+for v in 0.101 0.102 0.103 0.104 0.105 0.106 0.107 0.108; do
+    "$C" set xi_p=$v >/dev/null || fail "set xi_p=$v"
+done
 expect 1 "$C" mode realtime 5000
 expect 0 "$C" reset --params
 expect 1 "$C" --prefix NOBODY_ --timeout 0.3 pause
 has err "no answer"
 sleep 1.2
-[ "$(grep -c 'realtime running' "$tmp/fg")" -ge 1 ] || fail "no foreground status line: $(cat "$tmp/fg")"
+[ "$(grep -c 'realtime x0.05 running' "$tmp/fg")" -ge 1 ] || fail "no foreground status line: $(cat "$tmp/fg")"
+grep -q "impacts/period" "$tmp/fg" || fail "foreground line without impacts/period: $(tail -1 "$tmp/fg")"
 
 kill -TERM "$pid"
 wait "$pid"
@@ -115,6 +133,12 @@ rc=$?
 pid=
 [ $rc -eq 0 ] || fail "SIGTERM: exit $rc: $(tail -5 "$tmp/log")"
 grep -q "refused set" "$tmp/log" || fail "refusals not logged"
+for v in 0.101 0.102 0.103 0.104 0.105 0.106 0.107 0.108; do
+    grep -q "xi_p.*$v" "$tmp/log" || fail "accepted set xi_p=$v not in the log"
+done
+# stderr is a file, not the journal: no "<N>" prefixes
+! grep -q '^<[0-9]>' "$tmp/log" || fail "<N> prefixes outside journald: $(head -3 "$tmp/log")"
+grep -q '^wormgeard: ' "$tmp/log" || fail "log lines without 'wormgeard: ': $(head -3 "$tmp/log")"
 
 # ---- signed commands: a daemon with command_key_file accepts only commands
 # signed with its key (wgctl keygen writes one; --key-file or
