@@ -50,6 +50,8 @@ static void usage(FILE *f)
             "  step N                     advance N RK4 steps (lockstep mode, or paused)\n"
             "  mode realtime|fast|lockstep [RATE]\n"
             "                             change pacing (RATE: realtime factor, 1 = physical)\n"
+            "  contacts all|mesh|none [N] which contact events the daemon publishes on CONTACT:\n"
+            "                             all (N: 1 in N of each bearing's), the mesh's, none\n"
             "  save NAME | restore NAME   full state to/from NAME.wgstate in the state dir\n"
             "  get [NAME...]              the current parameters (or those named): value, unit\n"
             "                             (- for dimensionless) and the physical equivalent\n"
@@ -261,6 +263,18 @@ static int do_mode(ctl *t, int n, char **args)
     wormgear_cmd_t c = bus_cmd("mode");
     c.name = args[0];
     c.rate = rate;
+    return send_wait(t, &c);
+}
+
+/* contacts all|mesh|none [N]: the daemon checks the name and range. */
+static int do_contacts(ctl *t, int n, char **args)
+{
+    int64_t every = 0;
+    if (n < 1 || n > 2 || (n == 2 && cli_int64(args[1], 1, INT64_MAX, &every)))
+        return cli_usage_error(PROG, "contacts: expected all|mesh|none [N >= 1]");
+    wormgear_cmd_t c = bus_cmd("contacts");
+    c.name = args[0];
+    c.nsteps = every;
     return send_wait(t, &c);
 }
 
@@ -520,6 +534,7 @@ static int dispatch(ctl *t, const char *cmd, int n, char **args)
     if (!strcmp(cmd, "step")) return do_step(t, n, args);
     if (!strcmp(cmd, "save") || !strcmp(cmd, "restore")) return do_named(t, cmd, n, args);
     if (!strcmp(cmd, "mode")) return do_mode(t, n, args);
+    if (!strcmp(cmd, "contacts")) return do_contacts(t, n, args);
     if (!strcmp(cmd, "pause") || !strcmp(cmd, "resume") || !strcmp(cmd, "reset"))
         return do_simple(t, cmd, n);
     if (!strcmp(cmd, "get"))
@@ -546,7 +561,7 @@ int main(int argc, char **argv)
     if (!strcmp(pos[0], "keygen"))
         return npos != 2 ? cli_usage_error(PROG, "keygen: expected one FILE") : do_keygen(pos[1]);
     static const char *const known[] = {"set", "ramp", "step", "save", "restore", "mode",
-                                        "pause", "resume", "reset", "get", "status"};
+                                        "pause", "resume", "reset", "get", "status", "contacts"};
     unsigned k = 0;
     while (k < sizeof known / sizeof known[0] && strcmp(known[k], pos[0]))
         k++;

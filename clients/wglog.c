@@ -21,6 +21,7 @@
 #include "lcmtypes/wormgear_poincare_t.h"
 #include "lcmtypes/wormgear_state_t.h"
 #include "lcmtypes/wormgear_status_t.h"
+#include "lcmtypes/wormgear_scope_t.h"
 #include "lcmtypes/wormgear_tick_t.h"
 #include "units.h"
 #include "wormgear/wg_model.h"
@@ -195,14 +196,17 @@ static int rows_contact(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
     FILE *f = c->csv;
     fx k = factors(r);
     if (f && c->msgs == 0)
-        head(f, r->physical ? "i,tau,t_s,velocity_m_s,period,contact,kind,contact_name,kind_name"
-                            : "i,tau,t_s,velocity,period,contact,kind,contact_name,kind_name");
+        head(f, r->physical ? "i,tau,t_s,velocity_m_s,period,contact,kind,contact_name,kind_name,"
+                              "bearing_every"
+                            : "i,tau,t_s,velocity,period,contact,kind,contact_name,kind_name,"
+                              "bearing_every");
     for (int i = 0; f && i < m.n; i++) {
         lead(f, ev->timestamp, m.utime, m.seq);
         ci(f, i), cd(f, m.tau[i]), cd(f, m.t_s[i]), cd(f, m.velocity[i] * k.v);
         ci(f, m.period[i]), ci(f, m.contact[i]), ci(f, m.kind[i]);
         csc(f, wg_contact_name(m.contact[i]));
         csc(f, wg_event_name(m.kind[i]));
+        ci(f, m.bearing_every); /* 1 all, N 1 in N of a bearing's, 0 mesh only */
         fputc('\n', f);
     }
     int n = m.n;
@@ -218,8 +222,8 @@ static int rows_status(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
     if (f && c->msgs == 0)
         head(f, "scene,mode,rate,run,health,fault,tau,t_s,omega,steps,period,steps_per_period,"
                 "rtf,lag_s,overruns,loop_mean_us,loop_max_us,steps_per_s,cpu_share,"
-                "msgs_dropped,cmds_accepted,cmds_refused,motion,impacts_per_period,regime,"
-                "ramp_active,uptime_s");
+                "msgs_dropped,cmds_accepted,cmds_refused,cmds_dropped,rx_dropped,motion,"
+                "impacts_per_period,regime,ramp_active,uptime_s");
     if (f) {
         lead(f, ev->timestamp, m.utime, m.seq);
         csc(f, m.scene), csc(f, m.mode), cd(f, m.rate), csc(f, m.run), csc(f, m.health);
@@ -227,7 +231,7 @@ static int rows_status(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
         ci(f, m.period), ci(f, m.steps_per_period), cd(f, m.rtf), cd(f, m.lag_s);
         ci(f, m.overruns), cd(f, m.loop_mean_us), cd(f, m.loop_max_us), cd(f, m.steps_per_s);
         cd(f, m.cpu_share), ci(f, m.msgs_dropped), ci(f, m.cmds_accepted);
-        ci(f, m.cmds_refused), csc(f, m.motion), cd(f, m.impacts_per_period);
+        ci(f, m.cmds_refused), ci(f, m.cmds_dropped), ci(f, m.rx_dropped), csc(f, m.motion), cd(f, m.impacts_per_period);
         csc(f, m.regime), ci(f, m.ramp_active), cd(f, m.uptime_s);
         fputc('\n', f);
     }
@@ -324,6 +328,24 @@ static int rows_tick(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
     return 1;
 }
 
+static int rows_scope(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
+{
+    DECODE_OR_FAIL(wormgear_scope_t, m, ev);
+    FILE *f = c->csv;
+    fx k = factors(r);
+    if (f && c->msgs == 0)
+        head(f, r->physical ? "t_s,tau,f_mesh_hz,x_n_um,dx_n_m_s,F_N"
+                            : "t_s,tau,omega,xn,dxn,force");
+    if (f) {
+        lead(f, ev->timestamp, m.utime, m.seq);
+        cd(f, m.t_s), cd(f, m.tau), cd(f, m.omega * k.w), cd(f, m.xn * k.x);
+        cd(f, m.dxn * k.v), cd(f, m.force * k.f);
+        fputc('\n', f);
+    }
+    wormgear_scope_t_decode_cleanup(&m);
+    return 1;
+}
+
 static const struct type {
     const char *name;
     int64_t (*hash)(void);
@@ -337,6 +359,7 @@ static const struct type {
     {"cmd_t", __wormgear_cmd_t_get_hash, rows_cmd},
     {"ack_t", __wormgear_ack_t_get_hash, rows_ack},
     {"tick_t", __wormgear_tick_t_get_hash, rows_tick},
+    {"scope_t", __wormgear_scope_t_get_hash, rows_scope},
 };
 enum { NTYPES = sizeof types / sizeof types[0] };
 

@@ -450,6 +450,35 @@ static int op_get(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     return WG_OK;
 }
 
+/* contacts all|mesh|none [N]: which CONTACT events are published (nsteps:
+ * bearing_every, 0 = keep). */
+static int op_contacts(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
+{
+    char nm[24];
+    int which = conf_contacts_lookup(c->name);
+    if (which < 0) {
+        snprintf(why, len, "contacts '%s' is not one of all, mesh, none",
+                 clean(c->name, nm, sizeof nm));
+        return WG_EINVAL;
+    }
+    if (c->nsteps != 0 && conf_check_number("bearing_every", (double)c->nsteps, why, len))
+        return WG_ERANGE;
+    stream_flush(d); /* what was collected goes out under the old setting */
+    d->conf.contacts = which;
+    if (c->nsteps != 0)
+        d->conf.bearing_every = (int)c->nsteps;
+    stream_set_contacts(&d->st, which, d->conf.bearing_every);
+    if (which == CONTACTS_ALL && d->conf.bearing_every > 1)
+        snprintf(why, len, "contacts all: every mesh event, 1 in %d events of each bearing",
+                 d->conf.bearing_every);
+    else
+        snprintf(why, len, "contacts %s: %s", conf_contacts_name(which),
+                 which == CONTACTS_ALL    ? "every mesh and bearing event"
+                 : which == CONTACTS_MESH ? "mesh events only, no bearing events"
+                                          : "no CONTACT messages");
+    return WG_OK;
+}
+
 static const struct {
     const char *op;
     op_fn fn;
@@ -457,7 +486,7 @@ static const struct {
 } ops[] = {{"set", op_set, 0},         {"ramp", op_ramp, 0},     {"pause", op_pause, 0},
            {"resume", op_resume, 0},   {"reset", op_reset, 0},   {"step", op_step, 0},
            {"save", op_save, 0},       {"restore", op_restore, 0}, {"get", op_get, 1},
-           {"mode", op_mode, 0}};
+           {"mode", op_mode, 0},       {"contacts", op_contacts, 0}};
 
 static void dispatch(wgd *d, const wormgear_cmd_t *c)
 {
@@ -470,7 +499,7 @@ static void dispatch(wgd *d, const wormgear_cmd_t *c)
             break;
     if (i == sizeof ops / sizeof ops[0])
         snprintf(why, len, "unknown op '%s' (set ramp pause resume reset step save restore "
-                           "get mode)", clean(c->op, op, sizeof op));
+                           "get mode contacts)", clean(c->op, op, sizeof op));
     else if (!d->conf.accept_commands && !ops[i].readonly) {
         snprintf(why, len, "commands are disabled on this daemon (accept_commands = no)");
         rc = WG_ESTATE;

@@ -15,6 +15,7 @@ enum { K_STR, K_INT, K_DBL, K_BOOL, K_ENUM, K_STEPPER };
 
 static const char *const mode_names[] = {"realtime", "fast", "lockstep", NULL};
 static const char *const policy_names[] = {"continue", "freeze", "stop", NULL};
+static const char *const contacts_names[] = {"all", "mesh", "none", NULL};
 
 typedef struct key {
     const char *name;
@@ -51,6 +52,11 @@ static const key keys[] = {
      "model rk4"},
     {"scope_hz", LIVE, K_DBL, S(scope_hz), 0, 100, NULL, "50",
      "SCOPE samples (scalars, for lcm-spy) per wall second, 0 = none"},
+    {"contacts", APPLY(CONF_APPLY_CONTACTS), K_ENUM, S(contacts), 0, 0, contacts_names, "all",
+     "CONTACT events published: all (bearings thinned by bearing_every), mesh (the mesh's "
+     "only), none"},
+    {"bearing_every", APPLY(CONF_APPLY_CONTACTS), K_INT, S(bearing_every), 1, 1000000000, NULL,
+     "1", "contacts = all: publish every Nth event of each bearing (1: every one)"},
     {"state_rate_hz", LIVE, K_DBL, S(state_rate_hz), 0, 100000, NULL, "2000",
      "STATE samples per wall second, 0 = no STATE"},
     {"state_decimation", LIVE, K_INT, S(state_decimation), 0, 1000000000, NULL, "0",
@@ -104,6 +110,8 @@ static int enum_lookup(const char *const *names, const char *v)
 }
 
 int conf_mode_lookup(const char *name) { return enum_lookup(mode_names, name); }
+int conf_contacts_lookup(const char *name) { return enum_lookup(contacts_names, name); }
+const char *conf_contacts_name(int c) { return c >= 0 && c < 3 ? contacts_names[c] : "?"; }
 
 static const key *key_find(const char *name)
 {

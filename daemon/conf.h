@@ -16,13 +16,14 @@
 
 enum { MODE_REALTIME, MODE_FAST, MODE_LOCKSTEP };
 enum { POLICY_CONTINUE, POLICY_FREEZE, POLICY_STOP };
+enum { CONTACTS_ALL, CONTACTS_MESH, CONTACTS_NONE };
 enum { CONF_MAX_SETS = 32 };
 enum { CONF_RESTART = 1 }; /* key flag: takes effect at the next restart only */
 
 /* The apply hooks of live keys, by slot; the caller of conf_reload supplies
  * them (conf.c calls nothing above it). */
 enum { CONF_APPLY_NONE, CONF_APPLY_MODE, CONF_APPLY_TICK, CONF_APPLY_VERBOSE, CONF_APPLY_KEY,
-       CONF_NAPPLY };
+       CONF_APPLY_CONTACTS, CONF_NAPPLY };
 
 typedef struct conf {
     char path[512];           /* config file read ("" = none) */
@@ -35,6 +36,8 @@ typedef struct conf {
     int stepper;              /* enum wg_stepper_kind */
     double state_rate_hz;     /* STATE samples per wall second (0: off) */
     double scope_hz;          /* SCOPE samples per wall second (0: off) */
+    int contacts;             /* CONTACTS_*: which CONTACT events are published */
+    int bearing_every;        /* contacts = all: every Nth event of each bearing */
     int state_decimation;     /* fixed steps per STATE sample (0: from state_rate_hz) */
     int tick_us;              /* pacing tick */
     double catchup_ticks;     /* catch-up cap, in ticks' worth of steps */
@@ -93,6 +96,10 @@ int conf_check_number(const char *name, double x, char *why, size_t whylen);
 const char *conf_mode_name(int mode);
 const char *conf_policy_name(int policy);
 int conf_mode_lookup(const char *name);
+
+/* "all" "mesh" "none"; the CONTACTS_* of a name, or -1. */
+const char *conf_contacts_name(int contacts);
+int conf_contacts_lookup(const char *name);
 
 /* Print the --help text (every key with its default and range). */
 void conf_usage(FILE *f);

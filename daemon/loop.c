@@ -229,9 +229,18 @@ static void apply_key(void *ctx, const conf *was)
     }
 }
 
+static void apply_contacts(void *ctx, const conf *was)
+{
+    wgd *d = ctx;
+    (void)was;
+    stream_flush(d); /* a CONTACT message holds one setting */
+    stream_set_contacts(&d->st, d->conf.contacts, d->conf.bearing_every);
+}
+
 static const conf_apply_fn hooks[CONF_NAPPLY] = {
     [CONF_APPLY_MODE] = apply_mode, [CONF_APPLY_TICK] = apply_tick,
-    [CONF_APPLY_VERBOSE] = apply_verbose, [CONF_APPLY_KEY] = apply_key};
+    [CONF_APPLY_VERBOSE] = apply_verbose, [CONF_APPLY_KEY] = apply_key,
+    [CONF_APPLY_CONTACTS] = apply_contacts};
 
 /* SIGHUP: re-read the configuration; live keys now, restart-only ones
  * logged. Pacing re-anchors and PARAMS goes out as after any reload. */

@@ -37,6 +37,7 @@ static int m_stream(wgd *d)
 {
     int on = d->conf.state_rate_hz > 0 || d->conf.state_decimation > 0;
     stream_init(&d->st, d->sim.nstate, &d->scene.scale, on);
+    stream_set_contacts(&d->st, d->conf.contacts, d->conf.bearing_every);
     return 0;
 }
 

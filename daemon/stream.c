@@ -17,6 +17,7 @@ void stream_init(stream *s, int nstate, const wg_scale *scale, int state_on)
     s->st_on = state_on;
     s->decimation = 1;
     s->countdown = 0;
+    s->ct_mesh = 1, s->ct_every = 1;
     for (int i = 0; i < PC_MAX; i++)
         s->pc_rows[i] = s->pc_y[i];
     stream_regime_reset(s);
@@ -75,7 +76,7 @@ static void flush_poincare(wgd *d)
 static void flush_contact(wgd *d)
 {
     stream *s = &d->st;
-    wormgear_contact_t m = {.n = s->ct_n, .tau = s->ct_tau, .t_s = s->ct_ts,
+    wormgear_contact_t m = {.bearing_every = s->ct_every, .n = s->ct_n, .tau = s->ct_tau, .t_s = s->ct_ts,
                             .velocity = s->ct_vel, .period = s->ct_period,
                             .contact = s->ct_contact, .kind = s->ct_kind};
     lcmio_pub_contact(&d->io, &m);
@@ -154,10 +155,28 @@ static void on_section(void *ctx, const wg_section *sec)
         flush_poincare(d);
 }
 
+void stream_set_contacts(stream *s, int contacts, int bearing_every)
+{
+    s->ct_mesh = contacts != CONTACTS_NONE;
+    s->ct_every = contacts == CONTACTS_ALL ? bearing_every : 0;
+}
+
+/* Published under the contacts setting? Bearings count per bearing, so
+ * each one is thinned evenly. */
+static int contact_kept(stream *s, int contact)
+{
+    uint64_t k = s->ct_seen[contact]++;
+    int keep = contact == 0 ? s->ct_mesh : s->ct_every > 0 && k % (uint64_t)s->ct_every == 0;
+    s->ct_thinned += !keep;
+    return keep;
+}
+
 static void on_event(void *ctx, const wg_event *ev)
 {
     wgd *d = ctx;
     stream *s = &d->st;
+    if (ev->contact < 0 || ev->contact >= WG_NCONTACT || !contact_kept(s, ev->contact))
+        return;
     int i = s->ct_n++;
     s->ct_tau[i] = ev->tau;
     s->ct_ts[i] = wg_scale_seconds(&s->scale, ev->tau);

@@ -36,6 +36,9 @@ typedef struct stream {
     double pc_y[PC_MAX][WG_NSTATE_MAX];
     double *pc_rows[PC_MAX];
     /* CONTACT */
+    int ct_mesh, ct_every;          /* published: mesh events; every Nth of a bearing's (0: none) */
+    uint64_t ct_seen[WG_NCONTACT];  /* events per contact, published or not */
+    uint64_t ct_thinned;            /* events not published (contacts setting), since start */
     int ct_n;
     double ct_tau[CT_MAX], ct_ts[CT_MAX], ct_vel[CT_MAX];
     int64_t ct_period[CT_MAX];
@@ -71,6 +74,12 @@ void stream_regime_reset(stream *s);
  * over the last 96 periods: quasi-periodic, chaotic or still settling),
  * "unknown" (fewer than 16 periods since the last change). */
 const char *stream_regime(const stream *s, char *buf, unsigned len);
+
+/* Which contact events to publish from now on (conf.h CONTACTS_*): all
+ * (the mesh's, and every Nth of each bearing's, N = bearing_every >= 1),
+ * mesh (only the mesh's) or none. Call stream_flush first: a CONTACT
+ * message holds one setting. */
+void stream_set_contacts(stream *s, int contacts, int bearing_every);
 
 /* Set the STATE decimation (steps per sample, >= 1). */
 void stream_set_decimation(stream *s, int decimation);

@@ -62,7 +62,7 @@ int main(int argc, char **argv)
     int32_t imp[2] = {1, 2};
     wormgear_poincare_t pc = {1, 43, 14, 2, per, a, a, a, a, a, a, a, a, mot, imp, y};
     ENC(wormgear_poincare_t, "poincare_t", &pc);
-    wormgear_contact_t ct = {1, 44, 2, a, a, a, per, mot, kind};
+    wormgear_contact_t ct = {1, 44, 10, 2, a, a, a, per, mot, kind};
     ENC(wormgear_contact_t, "contact_t", &ct);
     wormgear_status_t ss = {.utime = 1, .seq = 45, .scene = "table3", .mode = "realtime",
                             .rate = 1, .run = "running", .health = "ok", .fault = "",

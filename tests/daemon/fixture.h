@@ -41,6 +41,7 @@ typedef struct fx {
     int64_t params_cmd_seq;
     int64_t seq_next[3], seq_gaps;  /* STATE POINCARE CONTACT */
     int nsamples, npc, nct;
+    int nct_by[WG_NCONTACT], ct_every;   /* CONTACT events per contact; last bearing_every */
     double *tau, *omega, *xn;        /* STATE samples */
     int64_t pc_last_period;
     int pc_gaps;
@@ -144,6 +145,10 @@ static void on_ct(const lcm_recv_buf_t *rb, const char *ch, const wormgear_conta
     (void)rb, (void)ch, (void)u;
     seqcheck(2, m->seq);
     F.nct += m->n;
+    F.ct_every = m->bearing_every;
+    for (int i = 0; i < m->n; i++)
+        if (m->contact[i] >= 0 && m->contact[i] < WG_NCONTACT)
+            F.nct_by[m->contact[i]]++;
 }
 
 static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_status_t *m,

@@ -91,5 +91,60 @@ static void test_line_matches_status(void)
     teardown(d);
 }
 
-TEST_MAIN(TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set),
+/* contacts all N / mesh / none: what CONTACT carries, counted per
+ * contact against the library's own event counts. */
+static void test_contacts_setting(void)
+{
+    wgd *d = setup(128);
+    ASSERT_EQ_INT(set1(d, "omega", 1.35), WG_OK); /* bearings and mesh impact */
+    uint64_t before[WG_NCONTACT], n[WG_NCONTACT];
+    wormgear_cmd_t c = {.op = "contacts", .name = "all", .nsteps = 10};
+    ASSERT_EQ_INT(send(d, &c), WG_OK);
+    ASSERT_CONTAINS(F.message, "1 in 10 events of each bearing");
+    for (int round = 0; round < 3; round++) {
+        for (int k = 0; k < WG_NCONTACT; k++) {
+            before[k] = 0;
+            for (int e = 0; e < WG_NEVKIND; e++)
+                before[k] += d->sim.nevents[k][e];
+        }
+        memset(F.nct_by, 0, sizeof F.nct_by);
+        run(d, 128 * 300);
+        stream_flush(d);
+        drain(d);
+        for (int k = 0; k < WG_NCONTACT; k++) {
+            n[k] = 0;
+            for (int e = 0; e < WG_NEVKIND; e++)
+                n[k] += d->sim.nevents[k][e];
+            n[k] -= before[k];
+        }
+        ASSERT_TRUE(n[0] > 0 && n[1] > 100);
+        if (round == 0) { /* 1 in 10 of each bearing's, every mesh event */
+            ASSERT_EQ_INT(F.ct_every, 10);
+            ASSERT_EQ_INT(F.nct_by[0], n[0]);
+            for (int k = 1; k < WG_NCONTACT; k++)
+                ASSERT_TRUE(F.nct_by[k] >= (int)(n[k] / 10) && F.nct_by[k] <= (int)(n[k] / 10) + 1);
+            c = (wormgear_cmd_t){.op = "contacts", .name = "mesh"};
+        } else if (round == 1) {
+            ASSERT_EQ_INT(F.ct_every, 0);
+            ASSERT_EQ_INT(F.nct_by[0], n[0]);
+            for (int k = 1; k < WG_NCONTACT; k++)
+                ASSERT_EQ_INT(F.nct_by[k], 0);
+            c = (wormgear_cmd_t){.op = "contacts", .name = "none"};
+        } else {
+            for (int k = 0; k < WG_NCONTACT; k++)
+                ASSERT_EQ_INT(F.nct_by[k], 0);
+        }
+        if (round < 2)
+            ASSERT_EQ_INT(send(d, &c), WG_OK);
+    }
+    c = (wormgear_cmd_t){.op = "contacts", .name = "some"};
+    ASSERT_EQ_INT(send(d, &c), WG_EINVAL);
+    ASSERT_CONTAINS(F.message, "not one of all, mesh, none");
+    c = (wormgear_cmd_t){.op = "contacts", .name = "all", .nsteps = -3};
+    ASSERT_EQ_INT(send(d, &c), WG_ERANGE);
+    ASSERT_EQ_INT(d->conf.contacts, CONTACTS_NONE); /* a refusal changes nothing */
+    teardown(d);
+}
+
+TEST_MAIN(TEST(test_contacts_setting), TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set),
           TEST(test_line_matches_status))

@@ -110,6 +110,16 @@ expect 0 "$C" status
 has out "waiting"
 expect 0 "$C" mode realtime 0.05
 has out "mode realtime, rate 0.05"
+# which contact events go out
+expect 0 "$C" contacts all 50
+has out "1 in 50 events of each bearing"
+expect 0 "$C" contacts mesh
+has out "mesh events only"
+expect 1 "$C" contacts some
+has err "not one of all, mesh, none"
+expect 2 "$C" contacts
+expect 2 "$C" contacts all 0
+expect 0 "$C" contacts all 1
 # a new ramp says what it replaced
 expect 0 "$C" ramp omega 1.3 --over 100s
 expect 0 "$C" ramp omega 1.1 --over 100s

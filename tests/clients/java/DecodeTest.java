@@ -39,7 +39,7 @@ public class DecodeTest {
                                 && pc.impacts[1] == 2 && pc.period[1] == 6);
         wormgear.contact_t ct = new wormgear.contact_t(bin(d, "contact_t"));
         fingerprint(d, "contact_t", wormgear.contact_t.LCM_FINGERPRINT);
-        check("contact_t", ct.seq == 44 && ct.n == 2 && ct.kind[1] == 2 && ct.velocity[1] == 1.0 / 7 + 1);
+        check("contact_t", ct.seq == 44 && ct.bearing_every == 10 && ct.n == 2 && ct.kind[1] == 2 && ct.velocity[1] == 1.0 / 7 + 1);
         wormgear.status_t ss = new wormgear.status_t(bin(d, "status_t"));
         fingerprint(d, "status_t", wormgear.status_t.LCM_FINGERPRINT);
         check("status_t", ss.seq == 45 && ss.scene.equals("table3") && ss.omega == 0.7
