@@ -2,10 +2,13 @@
 #include "plot.h"
 #include "plot_draw.h"
 
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
 #include <cairo.h>
 #include <fontconfig/fontconfig.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define FONT "DejaVu Sans"
@@ -128,7 +131,7 @@ static void hguide(cairo_t *cr, const frame *f, double y, const char *label)
     if (y < f->ymin || y > f->ymax)
         return;
     dashed(cr, f->x0, py(f, y), f->x0 + f->w, py(f, y));
-    text(cr, f->x0 + f->w + 4, py(f, y) + 4, 12, 0.0, label);
+    text(cr, f->x0 + f->w - 5, py(f, y) - 4, 12, 1.0, label);
 }
 
 /* Dashed vertical guide at data x, labelled above. */
@@ -137,28 +140,186 @@ static void vguide(cairo_t *cr, const frame *f, double x, const char *label)
     if (x < f->xmin || x > f->xmax)
         return;
     dashed(cr, px(f, x), f->y0, px(f, x), f->y0 + f->h);
-    text(cr, px(f, x), f->y0 - 4, 12, 0.5, label);
+    text(cr, px(f, x) + 4, f->y0 + f->h - 8, 12, 0.0, label);
 }
 
-static int finish(cairo_surface_t *s, cairo_t *cr, const char *path, char *why, size_t whylen)
+/* ---- a page: surface by format, title and caption, what it says in words -- */
+
+int plot_format_ok(const char *format)
 {
+    return !format || !strcmp(format, "png") || !strcmp(format, "svg") || !strcmp(format, "pdf");
+}
+
+static const char *fmt(const char *format) { return format ? format : "png"; }
+
+cairo_t *pd_canvas(const char *path, const char *format, int w, int h, cairo_surface_t **s)
+{
+    format = fmt(format);
+    if (!strcmp(format, "svg"))
+        *s = cairo_svg_surface_create(path, w, h);
+    else if (!strcmp(format, "pdf"))
+        *s = cairo_pdf_surface_create(path, w, h);
+    else
+        *s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
+    cairo_t *cr = cairo_create(*s);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    return cr;
+}
+
+double pd_page_head(cairo_t *cr, double w, const char *title, const plot_page *pg)
+{
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, w / 2, 30, 20, 0.5, title ? title : "");
+    double y = 30;
+    for (int i = 0; i < 4 && pg->caption[i]; i++)
+        text(cr, w / 2, y += 18, 12.5, 0.5, pg->caption[i]);
+    return y;
+}
+
+void pd_words(pd_doc *d, const char *what, const char *s)
+{
+    size_t n = strlen(d->desc);
+    if (s && *s)
+        snprintf(d->desc + n, sizeof d->desc - n, "%s%s%s%s", n ? "\n" : "", what ? what : "",
+                 what ? ": " : "", s);
+}
+
+void pd_doc_init(pd_doc *d, const char *title, const plot_page *pg)
+{
+    snprintf(d->title, sizeof d->title, "%s", title ? title : "");
+    d->desc[0] = 0;
+    for (int i = 0; i < 4 && pg->caption[i]; i++)
+        pd_words(d, NULL, pg->caption[i]);
+}
+
+/* s into f with XML's special characters escaped. */
+static void xml_put(FILE *f, const char *s)
+{
+    for (; *s; s++) {
+        if (*s == '&')
+            fputs("&amp;", f);
+        else if (*s == '<')
+            fputs("&lt;", f);
+        else if (*s == '>')
+            fputs("&gt;", f);
+        else if (*s == '"')
+            fputs("&quot;", f);
+        else
+            fputc(*s, f);
+    }
+}
+
+/* cairo draws an SVG's text as glyph outlines: give it <title> and <desc>
+ * (what a reader, a screen reader or grep finds) after the <svg> tag. */
+static int svg_describe(const char *path, const pd_doc *d)
+{
+    FILE *f = fopen(path, "rb");
+    char *buf = NULL;
+    long n = -1;
+    if (f && fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) > 0 && fseek(f, 0, SEEK_SET) == 0 &&
+        (buf = malloc((size_t)n + 1)) && fread(buf, 1, (size_t)n, f) != (size_t)n)
+        n = -1;
+    if (f)
+        fclose(f);
+    char *tag = n > 0 ? (buf[n] = 0, strstr(buf, "<svg")) : NULL, *end = tag ? strchr(tag, '>') : NULL;
+    int rc = -1;
+    if (end && (f = fopen(path, "wb"))) {
+        fwrite(buf, 1, (size_t)(end + 1 - buf), f);
+        fputs("\n<title>", f), xml_put(f, d->title), fputs("</title>\n<desc>", f);
+        xml_put(f, d->desc), fputs("</desc>", f);
+        fwrite(end + 1, 1, (size_t)(n - (end + 1 - buf)), f);
+        rc = fclose(f) ? -1 : 0;
+    }
+    free(buf);
+    return rc;
+}
+
+int pd_finish(cairo_surface_t *s, cairo_t *cr, const char *path, const char *format,
+              const pd_doc *d, char *why, size_t whylen)
+{
+    format = fmt(format);
     cairo_destroy(cr);
-    cairo_status_t st = cairo_surface_write_to_png(s, path);
+    cairo_status_t st = CAIRO_STATUS_SUCCESS;
+    if (!strcmp(format, "png")) {
+        st = cairo_surface_write_to_png(s, path);
+    } else if (!strcmp(format, "pdf") && d) {
+        char sub[sizeof d->desc];
+        snprintf(sub, sizeof sub, "%s", d->desc);
+        for (char *c = sub; (c = strchr(c, '\n'));)
+            *c = '|'; /* one line: the lines apart by | */
+        cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_TITLE, d->title);
+        cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_SUBJECT, sub);
+        cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_CREATOR, "wormgear");
+    }
+    cairo_surface_finish(s);
+    if (st == CAIRO_STATUS_SUCCESS)
+        st = cairo_surface_status(s);
     cairo_surface_destroy(s);
     if (st != CAIRO_STATUS_SUCCESS) {
         snprintf(why, whylen, "cannot write %s: %s", path, cairo_status_to_string(st));
         return -1;
     }
+    if (!strcmp(format, "svg") && d && svg_describe(path, d)) {
+        snprintf(why, whylen, "cannot write %s", path);
+        return -1;
+    }
     return 0;
 }
 
-static cairo_t *canvas(int w, int h, cairo_surface_t **s)
+/* A second scale on an axis of f: where 0 on top, 1 a second row under
+ * the x numbers, 2 on the right. Ticks at its own round values. */
+static void scale2(cairo_t *cr, const frame *f, const plot_scale2 *sc, int where)
 {
-    *s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
-    cairo_t *cr = cairo_create(*s);
-    cairo_set_source_rgb(cr, 1, 1, 1);
-    cairo_paint(cr);
-    return cr;
+    char buf[32];
+    if (!(sc->k > 0))
+        return;
+    int vert = where == 2;
+    double lo = (vert ? f->ymin : f->xmin) * sc->k, hi = (vert ? f->ymax : f->xmax) * sc->k;
+    double st = sc->step > 0 ? sc->step : tick_step(lo, hi, vert ? 6 : 8), bot = f->y0 + f->h, right = f->x0 + f->w;
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 1.0);
+    for (double u = ceil(lo / st - 1e-9) * st; u <= hi + 1e-9 * st; u += st) {
+        double d = u / sc->k;
+        snprintf(buf, sizeof buf, "%g", fabs(u) < 1e-12 * st ? 0.0 : u);
+        if (where == 0) {
+            cairo_move_to(cr, px(f, d), f->y0), cairo_line_to(cr, px(f, d), f->y0 + 6);
+            text(cr, px(f, d), f->y0 - 7, 13, 0.5, buf);
+        } else if (where == 1) {
+            cairo_move_to(cr, px(f, d), bot), cairo_line_to(cr, px(f, d), bot + 5);
+            text(cr, px(f, d), bot + 64, 13, 0.5, buf);
+        } else {
+            cairo_move_to(cr, right, py(f, d)), cairo_line_to(cr, right - 6, py(f, d));
+            text(cr, right + 6, py(f, d) + 5, 13, 0.0, buf);
+        }
+        cairo_stroke(cr);
+    }
+    if (where == 0)
+        text(cr, f->x0 + f->w / 2, f->y0 - 27, 15, 0.5, sc->label);
+    else if (where == 1)
+        text(cr, f->x0 + f->w / 2, bot + 86, 15, 0.5, sc->label);
+    else
+        vtext(cr, right + 66, f->y0 + f->h / 2, 15, sc->label);
+}
+
+void pd_scale2(cairo_t *cr, const frame *f, const plot_scale2 *sc, int where)
+{
+    scale2(cr, f, sc, where);
+}
+
+/* A note in the frame's top left corner, on a white box. */
+static void note(cairo_t *cr, const frame *f, const char *s)
+{
+    cairo_text_extents_t e;
+    cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, 14);
+    cairo_text_extents(cr, s, &e);
+    cairo_set_source_rgba(cr, 1, 1, 1, 0.85);
+    cairo_rectangle(cr, f->x0 + 8, f->y0 + 8, e.x_advance + 12, 24);
+    cairo_fill(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, f->x0 + 14, f->y0 + 25, 14, 0.0, s);
 }
 
 /* ---- bifurcation diagram ---------------------------------------------------- */
@@ -239,7 +400,27 @@ static void legend_box(cairo_t *cr, double x, double y, const double rgb[3], con
     text(cr, x + 19, y, 12, 0.0, label);
 }
 
-static void bif_legend(cairo_t *cr, double x, double y)
+/* The up sweep's Poincare x_n as filled dots, the down sweep's as rings
+ * (a dot in a ring where they agree, either alone where they differ); at
+ * the legend's (x, y) when f is NULL. */
+static void sweep_marks(cairo_t *cr, const frame *f, const wg_point *pts, int n, int up,
+                        double x, double y)
+{
+    set_rgb(cr, up ? C_UP : C_DOWN, up ? 0.85 : 0.8);
+    cairo_set_line_width(cr, 1.1);
+    for (int i = 0; i < (f ? n : 1); i++)
+        for (int k = 0; k < (f ? pts[i].nsec : 1); k++) {
+            double cx = f ? px(f, pts[i].value) : x, cy = f ? py(f, pts[i].xn[k]) : y;
+            cairo_new_sub_path(cr);
+            cairo_arc(cr, cx, cy, up ? 1.6 : 3.6, 0, 2 * M_PI);
+        }
+    if (up)
+        cairo_fill(cr);
+    else
+        cairo_stroke(cr);
+}
+
+static void bif_legend(cairo_t *cr, double x, double y, const char *shading)
 {
     static const struct {
         int regime, period;
@@ -253,23 +434,30 @@ static void bif_legend(cairo_t *cr, double x, double y)
         wg_point p = {.regime = items[i].regime, .period = items[i].period};
         double rgb[3];
         plot_regime_colour(&p, 0, rgb);
-        legend_box(cr, x + 125.0 * i, y, rgb, items[i].label);
+        legend_box(cr, x + 118.0 * i, y, rgb, items[i].label);
     }
-    legend_box(cr, x + 125.0 * 7 + 10, y, C_UP, "up sweep");
-    legend_box(cr, x + 125.0 * 8 + 10, y, C_DOWN, "down sweep");
+    double mx = x + 118.0 * 7 + 20;
+    sweep_marks(cr, NULL, NULL, 0, 1, mx + 7, y - 4);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, mx + 19, y, 12, 0.0, "up sweep");
+    sweep_marks(cr, NULL, NULL, 0, 0, mx + 117, y - 4);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, mx + 129, y, 12, 0.0, "down sweep");
+    text(cr, x, y + 22, 12, 0.0, shading);
 }
 
 /* The strips "up"/"down" and the main panel with shading, dots, guides. */
-static void bif_main(cairo_t *cr, const plot_bif *pb, const frame *f)
+static void bif_main(cairo_t *cr, const plot_bif *pb, const frame *f, const char *ylabel)
 {
-    shade(cr, f, pb->up, pb->nup, f->y0, f->h);
+    int up = pb->nup > 0;
+    shade(cr, f, up ? pb->up : pb->down, up ? pb->nup : pb->ndown, f->y0, f->h);
     shade(cr, f, pb->up, pb->nup, f->y0 - 34, 14);
     shade(cr, f, pb->down, pb->ndown, f->y0 - 18, 14);
     cairo_set_source_rgb(cr, 0, 0, 0);
     text(cr, f->x0 - 6, f->y0 - 23, 11, 1.0, "up");
     text(cr, f->x0 - 6, f->y0 - 7, 11, 1.0, "down");
-    dots(cr, f, pb->down, pb->ndown, C_DOWN);
-    dots(cr, f, pb->up, pb->nup, C_UP);
+    sweep_marks(cr, f, pb->down, pb->ndown, 0, 0, 0);
+    sweep_marks(cr, f, pb->up, pb->nup, 1, 0, 0);
     char lab[32];
     snprintf(lab, sizeof lab, "+b = %g", pb->b);
     hguide(cr, f, pb->b, lab);
@@ -277,14 +465,16 @@ static void bif_main(cairo_t *cr, const plot_bif *pb, const frame *f)
     if (-pb->b >= f->ymin)
         hguide(cr, f, -pb->b, lab);
     else
-        text(cr, f->x0 + f->w + 4, f->y0 + f->h, 12, 0.0, "(-b below)");
-    axes(cr, f, pb->xlabel, "Poincare x_n (psi = 0)", 0);
+        text(cr, f->x0 + f->w - 5, f->y0 + f->h - 6, 12, 1.0, "(-b below)");
+    axes(cr, f, pb->xlabel, ylabel, 0);
+    scale2(cr, f, &pb->y2, 2);
 }
 
 int plot_bifurcation(const char *path, const plot_bif *pb, char *why, size_t whylen)
 {
+    static const char ylab[] = "Poincaré x_n at ψ = 0  (b_c)", ylab2[] = "min x_n over the orbit  (b_c)";
     cairo_surface_t *s;
-    cairo_t *cr = canvas(1400, 1000, &s);
+    cairo_t *cr = pd_canvas(path, pb->pg.format, 1400, 1030, &s);
     double lo, hi, xlo, xhi;
     bif_range(pb, &lo, &hi, &xlo, &xhi);
     if (!isfinite(lo)) {
@@ -293,12 +483,14 @@ int plot_bifurcation(const char *path, const plot_bif *pb, char *why, size_t why
     }
     lo = fmin(lo, pb->b);
     hi = fmax(hi, pb->b);
-    double pad = 0.05 * (hi - lo + 1e-9);
-    frame top = {90, 110, 1210, 560, xlo, xhi, lo - pad, hi + pad};
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    text(cr, 700, 32, 20, 0.5, pb->title ? pb->title : "bifurcation diagram");
-    bif_legend(cr, 90, 62);
-    bif_main(cr, pb, &top);
+    double pad = 0.05 * (hi - lo + 1e-9), y = pd_page_head(cr, 1400, pb->title, &pb->pg);
+    frame top = {90, y + 98, 1210, 560 - (y - 30), xlo, xhi, lo - pad, hi + pad};
+    const char *shading = pb->nup ? "background: regime of the up sweep (the strips above the "
+                                    "panel: up, then down)"
+                                  : "background: regime of the down sweep (the strips above the "
+                                    "panel: up, then down)";
+    bif_legend(cr, 90, y + 30, shading);
+    bif_main(cr, pb, &top, ylab);
     /* min x_n panel, spanning +-b */
     double mlo = -pb->b, mhi = pb->b;
     const wg_point *sets[2] = {pb->up, pb->down};
@@ -310,13 +502,21 @@ int plot_bifurcation(const char *path, const plot_bif *pb, char *why, size_t why
                 mhi = fmax(mhi, sets[k][i].min_xn);
             }
     double mp = 0.06 * (mhi - mlo);
-    frame bot = {90, 700, 1210, 220, xlo, xhi, mlo - mp, mhi + mp};
+    frame bot = {90, top.y0 + top.h + 30, 1210, 200, xlo, xhi, mlo - mp, mhi + mp};
     min_curve(cr, &bot, pb->down, pb->ndown, C_DOWN);
     min_curve(cr, &bot, pb->up, pb->nup, C_UP);
     hguide(cr, &bot, pb->b, "+b");
     hguide(cr, &bot, -pb->b, "-b");
-    axes(cr, &bot, pb->xlabel, "min x_n over the orbit", 1);
-    return finish(s, cr, path, why, whylen);
+    axes(cr, &bot, pb->xlabel, ylab2, 1);
+    scale2(cr, &bot, &pb->y2, 2);
+    scale2(cr, &bot, &pb->x2, 1);
+    pd_doc d;
+    pd_doc_init(&d, pb->title, &pb->pg);
+    pd_words(&d, NULL, shading);
+    pd_words(&d, "x axis", pb->xlabel), pd_words(&d, "x axis, second scale", pb->x2.label);
+    pd_words(&d, "y axis", ylab), pd_words(&d, "lower panel", ylab2);
+    pd_words(&d, "y axis, second scale", pb->y2.label);
+    return pd_finish(s, cr, path, pb->pg.format, &d, why, whylen);
 }
 
 /* ---- regime map ----------------------------------------------------------- */
@@ -362,7 +562,7 @@ static void map_legend(cairo_t *cr, int mode, double x, double y)
 int plot_regime_map(const char *path, const plot_map *pm, char *why, size_t whylen)
 {
     cairo_surface_t *s;
-    cairo_t *cr = canvas(1200, 900, &s);
+    cairo_t *cr = pd_canvas(path, pm->pg.format, 1200, 860, &s);
     double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
     for (int r = 0; r < pm->nrows; r++) {
         const wg_chain *c = &pm->rows[r];
@@ -373,7 +573,9 @@ int plot_regime_map(const char *path, const plot_map *pm, char *why, size_t whyl
     }
     int nr = pm->nrows, nx = pm->nrows ? pm->rows[0].npts : 1;
     double dx = nx > 1 ? (xhi - xlo) / (nx - 1) : 1.0, dy = nr > 1 ? (yhi - ylo) / (nr - 1) : 1.0;
-    frame f = {110, 90, 1020, 700, xlo - dx / 2, xhi + dx / 2, ylo - dy / 2, yhi + dy / 2};
+    double y = pd_page_head(cr, 1200, pm->title, &pm->pg);
+    frame f = {110, y + 95, 960, 790 - (y + 95), xlo - dx / 2, xhi + dx / 2, ylo - dy / 2,
+               yhi + dy / 2};
     for (int r = 0; r < nr; r++) {
         const wg_chain *c = &pm->rows[r];
         double yv = c->base.v[c->param2];
@@ -387,19 +589,47 @@ int plot_regime_map(const char *path, const plot_map *pm, char *why, size_t whyl
             cairo_fill(cr);
         }
     }
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    text(cr, 600, 32, 20, 0.5, pm->title ? pm->title : "regime map");
-    map_legend(cr, pm->mode, 110, 64);
+    map_legend(cr, pm->mode, 110, y + 30);
     axes(cr, &f, pm->xlabel, pm->ylabel, 1);
-    return finish(s, cr, path, why, whylen);
+    scale2(cr, &f, &pm->x2, 0);
+    scale2(cr, &f, &pm->y2, 2);
+    pd_doc d;
+    pd_doc_init(&d, pm->title, &pm->pg);
+    pd_words(&d, "x axis", pm->xlabel), pd_words(&d, "x axis, second scale", pm->x2.label);
+    pd_words(&d, "y axis", pm->ylabel), pd_words(&d, "y axis, second scale", pm->y2.label);
+    return pd_finish(s, cr, path, pm->pg.format, &d, why, whylen);
 }
 
 /* ---- x-y plots -------------------------------------------------------------- */
 
-int plot_xy_png(const char *path, const plot_xy *p, char *why, size_t whylen)
+static void xy_data(cairo_t *cr, const frame *f, const plot_xy *p)
+{
+    cairo_save(cr);
+    cairo_rectangle(cr, f->x0, f->y0, f->w, f->h);
+    cairo_clip(cr);
+    set_rgb(cr, C_UP, p->dots ? 0.8 : 0.9);
+    cairo_set_line_width(cr, 1.0);
+    for (int i = 0; i < p->n; i++) {
+        if (p->dots) {
+            cairo_new_sub_path(cr);
+            cairo_arc(cr, px(f, p->x[i]), py(f, p->y[i]), p->n < 100 ? 3.5 : 2.0, 0, 2 * M_PI);
+        } else if (i == 0) {
+            cairo_move_to(cr, px(f, p->x[i]), py(f, p->y[i]));
+        } else {
+            cairo_line_to(cr, px(f, p->x[i]), py(f, p->y[i]));
+        }
+    }
+    if (p->dots)
+        cairo_fill(cr);
+    else
+        cairo_stroke(cr);
+    cairo_restore(cr);
+}
+
+int plot_xy_write(const char *path, const plot_xy *p, char *why, size_t whylen)
 {
     cairo_surface_t *s;
-    cairo_t *cr = canvas(1000, 800, &s);
+    cairo_t *cr = pd_canvas(path, p->pg.format, 1000, 850, &s);
     double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
     for (int i = 0; i < p->n; i++) {
         xlo = fmin(xlo, p->x[i]), xhi = fmax(xhi, p->x[i]);
@@ -414,23 +644,10 @@ int plot_xy_png(const char *path, const plot_xy *p, char *why, size_t whylen)
     if (!(yhi > ylo))
         ylo -= 0.5, yhi += 0.5;
     double mx = 0.05 * (xhi - xlo), my = 0.05 * (yhi - ylo);
-    frame f = {100, 70, 820, 640, xlo - mx, xhi + mx, ylo - my, yhi + my};
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    text(cr, 500, 36, 18, 0.5, p->title ? p->title : "");
-    set_rgb(cr, C_UP, p->dots ? 0.8 : 0.9);
-    cairo_set_line_width(cr, 1.0);
-    for (int i = 0; i < p->n; i++) {
-        if (p->dots)
-            cairo_rectangle(cr, px(&f, p->x[i]) - 1.5, py(&f, p->y[i]) - 1.5, 3, 3);
-        else if (i == 0)
-            cairo_move_to(cr, px(&f, p->x[i]), py(&f, p->y[i]));
-        else
-            cairo_line_to(cr, px(&f, p->x[i]), py(&f, p->y[i]));
-    }
-    if (p->dots)
-        cairo_fill(cr);
-    else
-        cairo_stroke(cr);
+    double y = pd_page_head(cr, 1000, p->title, &p->pg), top = y + (p->x2.k > 0 ? 62 : 24);
+    frame f = {105, top, p->y2.k > 0 ? 785 : 845, 790 - top, xlo - mx, xhi + mx, ylo - my,
+               yhi + my};
+    xy_data(cr, &f, p);
     if (p->b > 0) {
         for (int sgn = -1; sgn <= 1; sgn += 2) {
             char lab[32];
@@ -442,7 +659,16 @@ int plot_xy_png(const char *path, const plot_xy *p, char *why, size_t whylen)
         }
     }
     axes(cr, &f, p->xlabel, p->ylabel, 1);
-    return finish(s, cr, path, why, whylen);
+    scale2(cr, &f, &p->x2, 0);
+    scale2(cr, &f, &p->y2, 2);
+    if (p->note)
+        note(cr, &f, p->note);
+    pd_doc d;
+    pd_doc_init(&d, p->title, &p->pg);
+    pd_words(&d, NULL, p->note);
+    pd_words(&d, "x axis", p->xlabel), pd_words(&d, "x axis, second scale", p->x2.label);
+    pd_words(&d, "y axis", p->ylabel), pd_words(&d, "y axis, second scale", p->y2.label);
+    return pd_finish(s, cr, path, p->pg.format, &d, why, whylen);
 }
 
 /* ---- the helpers for other figures (plot_draw.h) ----------------------------- */

@@ -2,8 +2,6 @@
 #include "plot_cont.h"
 #include "plot_draw.h"
 
-#include <cairo-pdf.h>
-#include <cairo-svg.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,32 +16,6 @@ static void period_rgb(int n, double rgb[3])
                                    {0.85, 0.45, 0.00}};
     int k = n == 1 ? 0 : n == 2 ? 1 : n == 4 ? 2 : 3;
     memcpy(rgb, c[k], sizeof c[k]);
-}
-
-static cairo_surface_t *surface(const char *path, const char *format)
-{
-    if (strcmp(format, "svg") == 0)
-        return cairo_svg_surface_create(path, W, H);
-    if (strcmp(format, "pdf") == 0)
-        return cairo_pdf_surface_create(path, W, H);
-    return cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, H);
-}
-
-static int finish(cairo_surface_t *s, cairo_t *cr, const char *path, const char *format,
-                  char *why, size_t whylen)
-{
-    cairo_destroy(cr);
-    cairo_status_t st = strcmp(format, "png") == 0 ? cairo_surface_write_to_png(s, path)
-                                                    : CAIRO_STATUS_SUCCESS;
-    cairo_surface_finish(s);
-    if (st == CAIRO_STATUS_SUCCESS)
-        st = cairo_surface_status(s);
-    cairo_surface_destroy(s);
-    if (st != CAIRO_STATUS_SUCCESS) {
-        snprintf(why, whylen, "cannot write %s: %s", path, cairo_status_to_string(st));
-        return -1;
-    }
-    return 0;
 }
 
 /* The value plotted for point p in panel `bot`: section k's x_n, or min x_n. */
@@ -247,14 +219,10 @@ static void legend(cairo_t *cr, const plot_cont *pc, double y)
 
 int plot_continuation(const char *path, const plot_cont *pc, char *why, size_t whylen)
 {
-    cairo_surface_t *s = surface(path, pc->format);
-    cairo_t *cr = cairo_create(s);
-    cairo_set_source_rgb(cr, 1, 1, 1);
-    cairo_paint(cr);
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    pd_text(cr, W / 2.0, 30, 20, 0.5, pc->title);
-    for (int i = 0; i < 3 && pc->caption[i]; i++)
-        pd_text(cr, W / 2.0, 54 + 17.0 * i, 12.5, 0.5, pc->caption[i]);
+    cairo_surface_t *s;
+    cairo_t *cr = pd_canvas(path, pc->format, W, H, &s);
+    plot_page pg = {pc->format, {pc->caption[0], pc->caption[1], pc->caption[2], NULL}};
+    pd_page_head(cr, W, pc->title, &pg);
     legend(cr, pc, 118);
     double lo, hi;
     yrange(pc, 0, &lo, &hi);
@@ -272,7 +240,12 @@ int plot_continuation(const char *path, const plot_cont *pc, char *why, size_t w
     pd_hguide(cr, &bot, pc->b, "+b");
     pd_hguide(cr, &bot, -pc->b, "-b");
     bifurcations(cr, &top, &bot, pc->r);
-    pd_axes(cr, &top, pc->xlabel, "x_n at the section ψ = 0  (units of b_c)", 0);
-    pd_axes(cr, &bot, pc->xlabel, "min x_n over the orbit  (b_c)", 1);
-    return finish(s, cr, path, pc->format, why, whylen);
+    static const char yt[] = "x_n at the section ψ = 0  (units of b_c)",
+                      yb[] = "min x_n over the orbit  (b_c)";
+    pd_axes(cr, &top, pc->xlabel, yt, 0);
+    pd_axes(cr, &bot, pc->xlabel, yb, 1);
+    pd_doc d;
+    pd_doc_init(&d, pc->title, &pg);
+    pd_words(&d, "x axis", pc->xlabel), pd_words(&d, "y axis", yt), pd_words(&d, "lower panel", yb);
+    return pd_finish(s, cr, path, pc->format, &d, why, whylen);
 }

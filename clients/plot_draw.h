@@ -6,6 +6,8 @@
 #define WG_PLOT_DRAW_H
 
 #include <cairo.h>
+#include <stddef.h>
+#include "plot.h"
 #include "wormgear/wg_sweep.h"
 
 /* A plotting area: pixel box and data ranges. */
@@ -23,6 +25,35 @@ static inline double py(const frame *f, double y)
 {
     return f->y0 + f->h - (y - f->ymin) / (f->ymax - f->ymin) * f->h;
 }
+
+/* What a figure says in words (title, caption, axis labels): an SVG's
+ * <title> and <desc>, a PDF's Title and Subject. */
+typedef struct pd_doc {
+    char title[320];
+    char desc[2048];         /* lines apart by '\n' */
+} pd_doc;
+
+/* A white page of w x h (pixels, or points for SVG and PDF) in format
+ * ("png", NULL too, "svg", "pdf") that writes to path: its context. */
+cairo_t *pd_canvas(const char *path, const char *format, int w, int h, cairo_surface_t **s);
+
+/* The title and caption lines centred at the top of a page w wide: the
+ * baseline of the last line drawn. */
+double pd_page_head(cairo_t *cr, double w, const char *title, const plot_page *pg);
+
+/* The doc of a page: its title, the caption lines; then a line "what: s"
+ * (what NULL: s alone) per pd_words. */
+void pd_doc_init(pd_doc *d, const char *title, const plot_page *pg);
+void pd_words(pd_doc *d, const char *what, const char *s);
+
+/* Write the page (PNG; SVG and PDF end here) with the doc d (may be NULL),
+ * and free it: 0, or -1 with why. */
+int pd_finish(cairo_surface_t *s, cairo_t *cr, const char *path, const char *format,
+              const pd_doc *d, char *why, size_t whylen);
+
+/* A second scale sc on an axis of f: where 0 on top, 1 a row under the x
+ * numbers, 2 on the right (nothing when sc->k is 0). */
+void pd_scale2(cairo_t *cr, const frame *f, const plot_scale2 *sc, int where);
 
 /* Text at (x, y), size in points, align 0 left .. 1 right (UTF-8). */
 void pd_text(cairo_t *cr, double x, double y, double size, double align, const char *s);

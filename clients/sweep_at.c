@@ -1,6 +1,7 @@
 /* sweep_at.c - single-point views for wgsweep --at (see sweep_at.h). */
 #include "sweep_at.h"
 #include "plot.h"
+#include "plot_text.h"
 #include "sweep_out.h"
 #include "wormgear/wg_shoot.h"
 #include "wormgear/wg_status.h"
@@ -95,26 +96,69 @@ static int write_trace(const char *path, const views *w)
     return 0;
 }
 
-static int write_pngs(const char *base, const char *title, const views *w, double b)
+/* What the figures of one point share. */
+typedef struct fig {
+    const at_opts *ao;
+    const char *base, *title;      /* file base; "table3, omega = 1.2" */
+    const char *note;              /* regime and Lyapunov exponent */
+    plot_page pg;
+    double b, omega;
+} fig;
+
+static int fig_write(const fig *g, const char *what, plot_xy *p)
 {
-    char path[1100], why[256], t[300];
-    int rc = 0;
-    snprintf(t, sizeof t, "%s: phase portrait", title);
-    plot_xy ph = {t, "x_n", "x_n'", w->x, w->v, w->nt, 0, b, 1};
-    snprintf(path, sizeof path, "%s-phase.png", base);
-    rc |= plot_xy_png(path, &ph, why, sizeof why);
-    char t2[300];
-    snprintf(t2, sizeof t2, "%s: Poincare map (psi = 0), %d periods", title, w->ns);
-    plot_xy pm = {t2, "x_n", "x_n'", w->sx, w->sy, w->ns, 1, b, 1};
-    snprintf(path, sizeof path, "%s-poincare.png", base);
-    rc |= plot_xy_png(path, &pm, why, sizeof why);
-    char t3[300];
-    snprintf(t3, sizeof t3, "%s: time trace", title);
-    plot_xy tr = {t3, "tau", "x_n", w->t, w->x, w->nt, 0, b, 0};
-    snprintf(path, sizeof path, "%s-trace.png", base);
-    rc |= plot_xy_png(path, &tr, why, sizeof why);
-    if (rc)
+    char path[1100], why[256];
+    snprintf(path, sizeof path, "%s-%s.%s", g->base, what, plot_text_ext(g->ao->format));
+    if (plot_xy_write(path, p, why, sizeof why)) {
         fprintf(stderr, "wgsweep: %s\n", why);
+        return 1;
+    }
+    return 0;
+}
+
+/* The time trace: t in ms from the trace's first period (tau when the
+ * scene has no usable scale), mesh periods on top. */
+static int trace_fig(const fig *g, const views *w, plot_xy *p, char *t)
+{
+    const units_scale *us = &g->ao->us;
+    double *ms = malloc(sizeof(double) * (size_t)(w->nt ? w->nt : 1));
+    if (!ms)
+        return 1;
+    double T = 6.283185307179586 / g->omega, t0 = (double)w->trace_from * T;
+    double k = units_scale_ok(us) ? 1e3 * units_s_per_tau(us) : 1.0;
+    for (int i = 0; i < w->nt; i++)
+        ms[i] = (w->t[i] - t0) * k;
+    snprintf(t, 300, "%s: time trace, %d mesh periods (T = %.4g %s)", g->title,
+             g->ao->trace_periods, T * k, units_scale_ok(us) ? "ms" : "in τ");
+    p->title = t, p->x = ms, p->y = w->x, p->n = w->nt, p->b = g->b, p->b_on_x = 0;
+    p->xlabel = units_scale_ok(us) ? "t from the first traced period  (ms)" : "τ = ω_n t  (-)";
+    p->ylabel = PLOT_XN_LABEL;
+    int tp = g->ao->trace_periods;
+    p->x2 = (plot_scale2){1.0 / (T * k), "mesh periods", tp <= 40 ? 1 : tp <= 100 ? 5 : 0};
+    p->y2 = (plot_scale2){units_scale_ok(us) ? units_um_per_x(us) : 0, PLOT_XN_UM, 0};
+    p->pg = g->pg;
+    int rc = fig_write(g, "trace", p);
+    free(ms);
+    return rc;
+}
+
+static int write_figs(const fig *g, const views *w)
+{
+    const units_scale *us = &g->ao->us;
+    int ok = units_scale_ok(us), rc = 0;
+    char t[300];
+    static const char vlab[] = "x_n' = dx_n/dτ  (b_c ω_n)";
+    plot_scale2 xum = {ok ? units_um_per_x(us) : 0, PLOT_XN_UM, 0};
+    plot_scale2 vms = {ok ? units_m_s_per_v(us) : 0, "x_n'  (m/s)", 0};
+    snprintf(t, sizeof t, "%s: phase portrait, the last %d mesh periods", g->title,
+             g->ao->trace_periods);
+    plot_xy ph = {t, PLOT_XN_LABEL, vlab, w->x, w->v, w->nt, 0, g->b, 1, xum, vms, g->note, g->pg};
+    rc |= fig_write(g, "phase", &ph);
+    snprintf(t, sizeof t, "%s: Poincaré map at ψ = 0, %d periods", g->title, w->ns);
+    plot_xy pm = {t, PLOT_XN_LABEL, vlab, w->sx, w->sy, w->ns, 1, g->b, 1, xum, vms, g->note, g->pg};
+    rc |= fig_write(g, "poincare", &pm);
+    plot_xy tr = {0};
+    rc |= trace_fig(g, w, &tr, t);
     return rc ? 1 : 0;
 }
 
@@ -160,47 +204,63 @@ static void summary(FILE *out, const wg_point *pt, double v, const at_opts *ao)
 
 /* The largest Lyapunov exponent from y, for every point here, periodic or
  * not (printed only when it could be computed). */
-static void print_lle(FILE *out, const wg_params *p, const double *y, const wg_sweep_opts *o,
-                      int N)
+static double print_lle(FILE *out, const wg_params *p, const double *y, const wg_sweep_opts *o,
+                        int N)
 {
+    double lle = NAN;
     wg_sim sim, twin;
     char why[256];
     wg_sim_config cfg = {o->model, o->stepper, N};
     if (wg_sim_init(&sim, p, &cfg, why, sizeof why) != WG_OK)
-        return;
+        return lle;
     if (wg_sim_init(&twin, p, &cfg, why, sizeof why) == WG_OK) {
         wg_sim_set_state(&sim, y, 0, 0.0);
         wg_simmap sb = {&sim, 1}, st = {&twin, 1};
         wg_map mb = wg_simmap_map(&sb), mt = wg_simmap_map(&st);
-        double x[WG_NSTATE_MAX], lle;
+        double x[WG_NSTATE_MAX], v;
         memcpy(x, y, sizeof x);
-        if (wg_lle_twin(&mb, &mt, x, o->lle_periods, o->lle_d0, &lle) == WG_OK)
+        if (wg_lle_twin(&mb, &mt, x, o->lle_periods, o->lle_d0, &v) == WG_OK) {
+            lle = v;
             fprintf(out, "lyapunov    %.5f per mesh period (%d periods, d0 = %g)\n", lle,
                     o->lle_periods, o->lle_d0);
+        }
         wg_sim_fini(&twin);
     }
     wg_sim_fini(&sim);
+    return lle;
 }
 
-/* Replay the orbit and write its trace CSV and (ao->png) PNGs: 0, or 1. */
+/* Replay the orbit and write its trace CSV and (ao->png) figures, which
+ * carry the point's regime and Lyapunov exponent lle: 0, or 1. */
 static int write_views(FILE *out, const wg_params *p, const double *y, const wg_sweep_opts *o,
-                       const at_opts *ao, int N)
+                       const at_opts *ao, const wg_point *pt, double lle)
 {
     views w;
-    int rc = 1;
+    int rc = 1, N = pt->steps;
     if (views_alloc(&w, ao->periods, ao->trace_periods, N) == 0 &&
         replay(p, y, o, N, ao, &w) == 0) {
-        char base[1024], path[1100], title[200], tag[96];
+        char base[1024], path[1100], title[200], tag[96], note[200], lab[32], cap[2][400];
+        const char *ext = plot_text_ext(ao->format);
         snprintf(base, sizeof base, "%s-at-%s", ao->prefix,
                  out_tag(tag, sizeof tag, ao->pname, ao->value));
         snprintf(path, sizeof path, "%s-trace.csv", base);
         rc = write_trace(path, &w);
-        snprintf(title, sizeof title, "%s = %g", ao->pname, ao->value);
+        snprintf(title, sizeof title, "%s, %s = %g", ao->scene ? ao->scene : "",
+                 plot_text_psym(wg_param_lookup(ao->pname)), ao->value);
+        int n = snprintf(note, sizeof note, "%s (%s), %s", out_label(pt, lab, sizeof lab),
+                         wg_regime_name(pt->regime), wg_motion_name(pt->motion));
+        snprintf(note + n, sizeof note - (size_t)n, isfinite(lle) ? ", λ = %.4f per mesh period"
+                 : ", λ not computed", lle);
+        if (ao->scene_p)
+            plot_text_caption(cap, ao->scene, p, ao->scene_p, -1, -1, o, N, N);
+        fig g = {ao, base, title, note, {ao->format, {ao->scene_p ? cap[0] : NULL, cap[1],
+                 NULL, NULL}}, p->v[WG_P_B], p->v[WG_P_OMEGA]};
         if (ao->png)
-            rc |= write_pngs(base, title, &w, p->v[WG_P_B]);
+            rc |= write_figs(&g, &w);
         fprintf(out, "files       %s-trace.csv", base);
         if (ao->png)
-            fprintf(out, ", %s-phase.png, %s-poincare.png, %s-trace.png", base, base, base);
+            fprintf(out, ", %s-phase.%s, %s-poincare.%s, %s-trace.%s", base, ext, base, ext,
+                    base, ext);
         fputc('\n', out);
     }
     views_free(&w);
@@ -220,10 +280,10 @@ int at_view(const wg_params *p, const double *y0, const wg_sweep_opts *o, const 
         return 1;
     }
     summary(out, pt, ao->value, ao);
-    print_lle(out, p, y, o, pt->steps);
+    double lle = print_lle(out, p, y, o, pt->steps);
     if (pt->regime == WG_REGIME_PERIODIC && pt->period > 0)
         print_floquet(out, p, y, o, pt->steps, pt->period);
-    int rc = write_views(out, p, y, o, ao, pt->steps);
+    int rc = write_views(out, p, y, o, ao, pt, lle);
     free(pt);
     return rc;
 }

@@ -1,10 +1,13 @@
 /* sweep_at.h - single-point views (wgsweep --at): regime, Lyapunov exponent,
- * Floquet multipliers of the refined orbit, and PNG/CSV of the phase
- * portrait, Poincare map and time trace. */
+ * Floquet multipliers of the refined orbit, and the phase portrait,
+ * Poincare map (both with regime and Lyapunov exponent) and time trace
+ * (physical time, mesh-period ticks) as figures (PNG, SVG or PDF) and a
+ * CSV. */
 #ifndef WG_SWEEP_AT_H
 #define WG_SWEEP_AT_H
 
 #include <stdio.h>
+#include "units.h"
 #include "wormgear/wg_sweep.h"
 
 typedef struct at_opts {
@@ -13,7 +16,11 @@ typedef struct at_opts {
     double value;        /* its value at the point */
     int periods;         /* Poincare map periods */
     int trace_periods;   /* periods in the phase portrait and time trace */
-    int png;             /* write PNGs */
+    int png;             /* write the figures */
+    const char *format;  /* figures: "png" (NULL too), "svg" or "pdf" */
+    const char *scene;   /* its name, for the captions */
+    const wg_params *scene_p; /* the scene's own values (NULL: no "set away" line) */
+    units_scale us;      /* the scene's scale: ms, µm, m/s on the figures */
 } at_opts;
 
 /* Analyse parameters p (the point value already set) from state y, print a

@@ -1,6 +1,7 @@
 /* sweep_out.c - writers of a sweep study (see sweep_out.h). */
 #include "sweep_out.h"
 #include "plot.h"
+#include "plot_text.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -280,35 +281,53 @@ const char *out_tag(char *buf, size_t len, const char *name, double v)
     return buf;
 }
 
+/* The N range of a group's points (0, 0: none). */
+static void steps_range(const sweep_group *g, int *lo, int *hi)
+{
+    const wg_chain *cs[2] = {g->up, g->down};
+    *lo = 0, *hi = 0;
+    for (int c = 0; c < 2; c++)
+        for (int i = 0; cs[c] && i < cs[c]->ndone; i++) {
+            int n = cs[c]->pts[i].steps;
+            *lo = !*lo || n < *lo ? n : *lo;
+            *hi = n > *hi ? n : *hi;
+        }
+}
+
 int out_pngs(const char *prefix, const sweep_study *st, out_files *files, char *why,
              size_t whylen)
 {
-    wg_transition *t = malloc(sizeof *t * STUDY_MAX_TRANS);
-    if (!t) {
-        snprintf(why, whylen, "out of memory");
-        return -1;
-    }
     int rc = 0;
+    const char *ext = plot_text_ext(st->format);
     for (int k = 0; k < st->ngroups && !rc; k++) {
         const sweep_group *g = &st->g[k];
-        char path[1024], title[256], tag[96];
+        const wg_chain *c = g->up ? g->up : g->down;
+        char path[1024], title[256], tag[96], xl[96], x2l[96], cap[2][400] = {"", ""};
         if (st->gparam >= 0) {
-            snprintf(path, sizeof path, "%s-%s.png", prefix,
-                     out_tag(tag, sizeof tag, out_pname(st->gparam), g->gval));
-            snprintf(title, sizeof title, "%s: Poincare x_n vs %s, %s = %g%s", st->scene,
-                     out_pname(st->param), out_pname(st->gparam), g->gval, st->partial ? " (partial)" : "");
+            snprintf(path, sizeof path, "%s-%s.%s", prefix,
+                     out_tag(tag, sizeof tag, out_pname(st->gparam), g->gval), ext);
+            snprintf(title, sizeof title, "%s: bifurcation diagram in %s, %s = %g%s", st->scene,
+                     plot_text_psym(st->param), plot_text_psym(st->gparam), g->gval, st->partial ? " (partial)" : "");
         } else {
-            snprintf(path, sizeof path, "%s.png", prefix);
-            snprintf(title, sizeof title, "%s: Poincare x_n vs %s%s", st->scene, out_pname(st->param),
-                     st->partial ? " (partial)" : "");
+            snprintf(path, sizeof path, "%s.%s", prefix, ext);
+            snprintf(title, sizeof title, "%s: bifurcation diagram in %s%s", st->scene,
+                     plot_text_psym(st->param), st->partial ? " (partial)" : "");
         }
-        plot_bif pb = {title, out_pname(st->param), g->up ? g->up->pts : NULL,
+        int nlo, nhi;
+        steps_range(g, &nlo, &nhi);
+        if (c && st->scene_p)
+            plot_text_caption(cap, st->scene, &c->base, st->scene_p, st->param, -1, st->o, nlo,
+                              nhi);
+        plot_bif pb = {title, plot_text_plabel(st->param, xl, sizeof xl), g->up ? g->up->pts : NULL,
                        g->down ? g->down->pts : NULL, g->up ? g->up->ndone : 0,
-                       g->down ? g->down->ndone : 0, st->b, NULL, 0};
+                       g->down ? g->down->ndone : 0, st->b, NULL, 0,
+                       c ? plot_text_pscale(st->param, &c->base, &st->us, x2l, sizeof x2l)
+                         : (plot_scale2){0, NULL, 0},
+                       {units_scale_ok(&st->us) ? units_um_per_x(&st->us) : 0, PLOT_XN_UM, 0},
+                       {st->format, {c && st->scene_p ? cap[0] : NULL, cap[1], NULL, NULL}}};
         rc = plot_bifurcation(path, &pb, why, whylen);
         if (!rc)
             out_files_add(files, path);
     }
-    free(t);
     return rc;
 }

@@ -6,6 +6,7 @@
 #define WG_SWEEP_OUT_H
 
 #include <stdio.h>
+#include "units.h"
 #include "wormgear/wg_sweep.h"
 
 enum { STUDY_MAX_GROUPS = 64, STUDY_MAX_TRANS = 512 };
@@ -33,6 +34,10 @@ typedef struct sweep_study {
     int partial;             /* interrupted: some chains incomplete */
     double wall_s;
     int threads, ranks;
+    const wg_params *scene_p; /* the scene's own values, for the figures' captions
+                                (NULL: no "set away" line) */
+    units_scale us;          /* the scene's scale: the figures' Hz and µm */
+    const char *format;      /* figures: "png" (NULL too), "svg" or "pdf" */
 } sweep_study;
 
 /* Points of every chain, one row each (CSV). */
@@ -58,8 +63,9 @@ void out_files_add(out_files *files, const char *path);
  * shell and a URL take it as it is). Returns buf. */
 const char *out_tag(char *buf, size_t len, const char *name, double v);
 
-/* One bifurcation diagram per group: prefix.png, or prefix-NAME-V.png;
- * each path written is added to files (may be NULL). */
+/* One bifurcation diagram per group: prefix.png, or prefix-NAME-V.png
+ * (.svg, .pdf by st->format), with the caption of plot_text.h; each path
+ * written is added to files (may be NULL). */
 int out_pngs(const char *prefix, const sweep_study *st, out_files *files, char *why,
              size_t whylen);
 

@@ -83,6 +83,23 @@ int units_param(int id, const wg_params *p, const units_scale *s, double *v, con
     return 0;
 }
 
+int units_param_factor(int id, const wg_params *p, const units_scale *s, double *k,
+                       const char **unit)
+{
+    wg_params q = *p;
+    double v1, v2;
+    if (id < 0 || id >= WG_NPARAM)
+        return -1;
+    q.v[id] = 1.0;
+    if (units_param(id, &q, s, &v1, unit))
+        return -1;
+    q.v[id] = 2.0;
+    if (units_param(id, &q, s, &v2, unit) || fabs(v2 - 2 * v1) > 1e-12 * fabs(v2))
+        return -1;
+    *k = v1;
+    return 0;
+}
+
 double units_s_per_tau(const units_scale *s) { return 1.0 / s->omega_n_rad_s; }
 double units_hz_per_omega(const units_scale *s) { return s->omega_n_rad_s / TWO_PI; }
 double units_um_per_x(const units_scale *s) { return s->length_m * 1e6; }

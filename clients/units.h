@@ -30,6 +30,13 @@ const char *units_shown(const char *table_unit);
  * k_a; a bearing row of a rigid body, mu = 0; a bad scale). */
 int units_param(int id, const wg_params *p, const units_scale *s, double *v, const char **unit);
 
+/* The factor k with physical = k * parameter, the same for every value of
+ * parameter id at the other values p (omega -> Hz, lengths -> µm, ...):
+ * 0 with *k and *unit, or -1 when the conversion is not a factor (the
+ * masses, 1 / mu) or there is none. */
+int units_param_factor(int id, const wg_params *p, const units_scale *s, double *k,
+                       const char **unit);
+
 /* How parameter id maps to physical units, in words for a listing with no
  * scale at hand ("Hz = omega omega_n / 2 pi (mesh frequency)"), or "" when it does not. */
 const char *units_param_rule(int id);

@@ -1,14 +1,20 @@
 /* wgmon - live terminal dashboard of wormgeard (plain ANSI, works over ssh).
  *
  * Subscribes to STATUS, PARAMS, STATE, POINCARE and CONTACT and redraws a
- * frame a few times a second: pacing health, the key parameters, a scrolling
- * x_n trace, the Poincare scatter of the last seconds, impacts per period,
- * motion class and regime (the daemon's, and a local period detection with
- * the analysis library), and dropped-message counts from seq gaps. A daemon
- * restart shows as a seq reset. Headless: --once / --frames N print frames
- * as plain text. Exit 0, 1 no STATUS heard (--once/--frames), 2 usage. */
+ * frame a few times a second: pacing health, the key parameters, the x_n
+ * trace over a window of mesh periods with a time axis (mon_view.c:
+ * scrolling, or stroboscopic when STATE has too few samples per period),
+ * the Poincare scatter of the last seconds, impacts per period, motion
+ * class and regime (the daemon's, and a local period detection with the
+ * analysis library), and dropped-message counts from seq gaps. Senders are
+ * told apart (bus.h): a daemon restart shows as such, a log played back as
+ * a replay, and when several share the bus the live one is shown.
+ * Headless: --once / --frames N print frames as plain text.
+ * Exit 0, 1 no STATUS heard (--once/--frames), 2 usage. */
 #include "bus.h"
 #include "cli.h"
+#include "mon_text.h"
+#include "mon_view.h"
 
 #include "lcmtypes/wormgear_contact_t.h"
 #include "lcmtypes/wormgear_params_t.h"
@@ -40,14 +46,16 @@ static volatile sig_atomic_t g_quit, g_winch; /* set by signal handlers only */
 typedef struct opts {
     const char *url, *prefix;
     double window_s, fps, timeout_s, tol;
+    int periods;      /* the trace's window, mesh periods */
     int frames;       /* 0: interactive until q */
     int plain;        /* no escape sequences */
     int cols, rows;   /* 0: from the terminal */
 } opts;
 
 typedef struct seqc {      /* per-channel counters */
-    bus_seq seq;          /* .missing: messages dropped */
+    bus_streams seq;      /* its senders; .missing: messages dropped */
     int64_t count, bad;
+    int64_t ignored;      /* messages of a sender not shown */
 } seqc;
 
 typedef struct status_copy {
@@ -63,19 +71,20 @@ typedef struct mon {
     opts o;
     seqc sc[NCH];
     void *subs[NCH];
-    int have_status, have_params, restarts;
+    int have_status, have_params;
+    double follow_off;            /* the shown sender's clock offset (s) */
+    int64_t follow_sender;        /* its id, when messages carry one */
+    int following;                /* a STATUS chose the sender to show */
     double status_at;             /* wall seconds (monotonic) of the last STATUS */
     status_copy st;
     double key[NKEY];
     int has_key[NKEY];
     char stepper[16], ramp_param[16];
+    double omega_n_rad_s, length_m; /* the scale, from PARAMS */
     double ramp_from, ramp_to, ramp_tau0, ramp_dur;
     int ramp_active;
-    double *tr_t, *tr_x;          /* x_n trace ring: receive time, value */
-    long tr_n;                    /* samples ever pushed */
-    double *pc_t, *pc_x, *pc_v;   /* Poincare ring: time, x_n, x_n' */
-    int *pc_imp, *pc_mot;
-    long pc_n;
+    mon_trace tr;                 /* STATE samples */
+    mon_sections pc;              /* POINCARE sections */
     double ys[WG_TRACK_LEN * WG_NSTATE_MAX]; /* last consecutive states (stride ydim) */
     int ny, ydim;
     long contacts[WG_NCONTACT][WG_NEVKIND]; /* CONTACT events in the session */
@@ -91,11 +100,14 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: wgmon [options]\n"
             "Live dashboard of a running wormgeard: pacing, parameters, x_n trace, Poincare\n"
-            "scatter, impacts, motion and regime, dropped messages. Keys: q quit, c clear,\n"
-            "space freeze/unfreeze the display.\n\n"
+            "scatter, impacts, motion and regime, senders and dropped messages. Keys: q quit,\n"
+            "c clear, space freeze/unfreeze the display.\n\n"
             "  --url URL          LCM URL (default $WORMGEAR_URL or %s)\n"
             "  --prefix P         channel prefix (default $WORMGEAR_PREFIX or %s)\n"
-            "  --window SEC       trace and scatter span, wall seconds (default 5; [0.5, 600])\n"
+            "  --periods P        the x_n trace's window, mesh periods (default 4; [1, 1000])\n"
+            "  --window SEC       wall seconds of Poincare sections in the scatter and the\n"
+            "                     motion counts, and of samples in a stroboscopic trace\n"
+            "                     (default 5; [0.5, 600])\n"
             "  --fps HZ           frames per second (default 4; [0.2, 30])\n"
             "  --tol X            period-detection tolerance, max norm (default 1e-6; (0, 1])\n"
             "  --once             wait for a STATUS (see --timeout), print one frame, exit\n"
@@ -104,6 +116,22 @@ static void usage(FILE *f)
             "  --size COLSxROWS   frame size in characters (default: the terminal, else 100x32)\n"
             "  --plain            no ANSI escapes (default when stdout is not a terminal)\n"
             "  -h, --help         this text\n\n"
+            "The trace and the daemon's rate. The trace's time axis is simulated time: mesh\n"
+            "periods, and ms once PARAMS gave the scale. The daemon publishes about 2000 STATE\n"
+            "samples per wall second (wormgeard --state-rate-hz). At physical real time\n"
+            "(wormgeard --rate 1; table3 at omega = 1 meshes at 5077 Hz) that is under one\n"
+            "sample per mesh period, so a trace of raw samples would alias: wgmon then folds\n"
+            "the last --window seconds of samples onto the window by their phase from the\n"
+            "section psi = 0 and says STROBOSCOPIC over the plot (a faithful picture of a\n"
+            "periodic orbit; a cloud for a chaotic one). With 8 or more samples per period\n"
+            "it scrolls: the last --periods periods, newest at the right. For a scrolling\n"
+            "trace slow the daemon down: wormgeard --rate 0.01, or at run time\n"
+            "`wgctl mode realtime 0.01` (20 ms of wall time per mesh period at omega = 1,\n"
+            "about 40 samples each), or raise --state-rate-hz.\n\n"
+            "Senders. Messages are told apart by their seq lines and the offset of their\n"
+            "utime to this host's clock: a daemon restart shows as `restarted xN`, a log\n"
+            "played back (lcm-logplayer) as REPLAY with its age, and when several senders\n"
+            "share the channels the live one is shown and the others are named.\n\n"
             "Exit status: 0 ok, 1 no STATUS heard (--once/--frames), 2 usage error.\n",
             BUS_DEFAULT_URL, BUS_DEFAULT_PREFIX);
 }
@@ -127,6 +155,9 @@ static int opt_one(void *ctx, int c, const char *a)
     case 'u': o->url = a; return 0;
     case 'p': o->prefix = a; return 0;
     case 'w': return cli_opt_num(PROG, "--window", a, 0.5, 600, "seconds in [0.5, 600]", &o->window_s);
+    case 'r':
+        return cli_opt_int(PROG, "--periods", a, 1, 1000, "mesh periods, an integer in [1, 1000]",
+                           &o->periods);
     case 'f': return cli_opt_num(PROG, "--fps", a, 0.2, 30, "frames per second in [0.2, 30]", &o->fps);
     case 't': return cli_opt_num(PROG, "--tol", a, 1e-300, 1, "a tolerance in (0, 1]", &o->tol);
     case '1': o->frames = 1; return 0;
@@ -144,10 +175,11 @@ static int parse_opts(int argc, char **argv, opts *o)
 {
     static const struct option lo[] = {
         {"url", 1, 0, 'u'},    {"prefix", 1, 0, 'p'}, {"window", 1, 0, 'w'},
-        {"fps", 1, 0, 'f'},    {"tol", 1, 0, 't'},    {"once", 0, 0, '1'},
-        {"frames", 1, 0, 'n'}, {"timeout", 1, 0, 'T'}, {"size", 1, 0, 's'},
-        {"plain", 0, 0, 'P'},  {"help", 0, 0, 'h'},   {0, 0, 0, 0}};
-    *o = (opts){.window_s = 5, .fps = 4, .timeout_s = 5, .tol = 1e-6};
+        {"periods", 1, 0, 'r'}, {"fps", 1, 0, 'f'},   {"tol", 1, 0, 't'},
+        {"once", 0, 0, '1'},   {"frames", 1, 0, 'n'}, {"timeout", 1, 0, 'T'},
+        {"size", 1, 0, 's'},   {"plain", 0, 0, 'P'},  {"help", 0, 0, 'h'},
+        {0, 0, 0, 0}};
+    *o = (opts){.window_s = 5, .fps = 4, .timeout_s = 5, .tol = 1e-6, .periods = 4};
     int rc = cli_getopt(PROG, argc, argv, "h", lo, opt_one, o);
     if (rc)
         return rc;
@@ -160,15 +192,59 @@ static int parse_opts(int argc, char **argv, opts *o)
 
 static void ask_params(mon *m);
 
-/* Count a message's seq on channel k; a backwards seq is a daemon restart. */
-static void seq_note(mon *m, int k, int64_t seq)
+static void clear_plots(mon *m);
+
+/* The sender to show: of every line heard on any channel, the one whose
+ * clock is nearest ours (a live daemon before a replay); its clock (or its
+ * id, when messages carry one) picks the messages shown. When the choice
+ * moves to another sender the plots start again. */
+static void choose_sender(mon *m)
 {
+    const bus_stream *best = NULL;
+    for (int k = 0; k < NCH; k++)
+        for (int i = 0; i < m->sc[k].seq.n; i++) {
+            const bus_stream *l = &m->sc[k].seq.s[i];
+            if (!best || fabs(l->offset_s) < fabs(best->offset_s))
+                best = l;
+        }
+    if (!best)
+        return;
+    int moved = m->following && (best->sender != m->follow_sender ||
+                                 (!best->sender && fabs(best->offset_s - m->follow_off) > 1.0));
+    m->follow_off = best->offset_s;
+    m->follow_sender = best->sender;
+    m->following = 1;
+    if (moved)
+        clear_plots(m);
+}
+
+/* Is a message on line l of the sender shown? */
+static int shown(const mon *m, const bus_stream *l)
+{
+    if (!m->following)
+        return 1;
+    if (l->sender || m->follow_sender)
+        return l->sender == m->follow_sender;
+    return fabs(l->offset_s - m->follow_off) <= 1.0;
+}
+
+/* Note a message's sender on channel k: 1 if it is the sender shown. A
+ * restart of it asks PARAMS again and restarts the period detection. */
+static int seq_note(mon *m, int k, int64_t seq, int64_t utime)
+{
+    int line;
     m->sc[k].count++;
-    int jump = bus_seq_note(&m->sc[k].seq, seq);
-    if (jump < 0 && k == CH_STATUS)
-        m->restarts++, ask_params(m);
-    if (jump && k == CH_POINCARE)
+    int rc = bus_streams_note(&m->sc[k].seq, seq, utime, 0, cli_mono_s(), cli_wall_us(), &line);
+    choose_sender(m);
+    if (!shown(m, &m->sc[k].seq.s[line])) {
+        m->sc[k].ignored++;
+        return 0;
+    }
+    if (rc == BUS_RESTART && k == CH_STATUS)
+        ask_params(m);
+    if (rc != BUS_IN_ORDER && k == CH_POINCARE)
         m->ny = 0; /* the period detection needs consecutive sections */
+    return 1;
 }
 
 #define CPY(dst, src) snprintf((dst), sizeof(dst), "%s", (src) ? (src) : "")
@@ -212,17 +288,17 @@ static void on_params(mon *m, const wormgear_params_t *p)
     m->ramp_active = p->ramp_active;
     m->ramp_from = p->ramp_from; m->ramp_to = p->ramp_to;
     m->ramp_tau0 = p->ramp_tau0; m->ramp_dur = p->ramp_duration_tau;
+    m->omega_n_rad_s = p->omega_n_rad_s;
+    m->length_m = p->length_m;
     m->have_params = 1;
 }
 
 static void on_state(mon *m, const wormgear_state_t *s)
 {
     double t = cli_mono_s();
-    for (int i = 0; i < s->n; i++) {
-        long j = m->tr_n++ % TR_CAP;
-        m->tr_t[j] = t;
-        m->tr_x[j] = s->xn[i];
-    }
+    m->tr.decimation = s->decimation;
+    for (int i = 0; i < s->n; i++)
+        mon_trace_push(&m->tr, s->step0 + (int64_t)i * s->decimation, s->xn[i], t);
 }
 
 static void on_poincare(mon *m, const wormgear_poincare_t *p)
@@ -232,12 +308,7 @@ static void on_poincare(mon *m, const wormgear_poincare_t *p)
     if (dim != m->ydim)
         m->ny = 0, m->ydim = dim;
     for (int i = 0; i < p->n; i++) {
-        long j = m->pc_n++ % PC_CAP;
-        m->pc_t[j] = t;
-        m->pc_x[j] = p->xn[i];
-        m->pc_v[j] = p->dxn[i];
-        m->pc_imp[j] = p->impacts[i];
-        m->pc_mot[j] = p->motion[i];
+        mon_sections_push(&m->pc, t, p->xn[i], p->dxn[i], p->impacts[i], p->motion[i]);
         if (m->ny == WG_TRACK_LEN)
             memmove(m->ys, m->ys + dim, sizeof(double) * (size_t)(dim * (WG_TRACK_LEN - 1))), m->ny--;
         for (int k = 0; k < dim; k++)
@@ -254,7 +325,8 @@ static void on_contact(mon *m, const wormgear_contact_t *c)
             m->contacts[c->contact[i]][c->kind[i]]++;
 }
 
-/* Raw handler: decode by channel, count seq and undecodable messages. */
+/* Raw handler: decode by channel, count seq and undecodable messages, use
+ * the messages of the sender shown. */
 #define DECODE(T, fn)                                                                      \
     do {                                                                                   \
         T msg;                                                                             \
@@ -262,8 +334,7 @@ static void on_contact(mon *m, const wormgear_contact_t *c)
             m->sc[k].bad++;                                                                \
             return;                                                                        \
         }                                                                                  \
-        seq_note(m, k, msg.seq);                                                           \
-        if (!m->frozen)                                                                    \
+        if (seq_note(m, k, msg.seq, msg.utime) && !m->frozen)                              \
             fn(m, &msg);                                                                   \
         T##_decode_cleanup(&msg);                                                          \
     } while (0)
@@ -284,307 +355,214 @@ static void on_raw(const lcm_recv_buf_t *rb, const char *channel, void *u)
     }
 }
 
-static void clear_data(mon *m)
+/* Forget the plotted data (another sender is shown now). */
+static void clear_plots(mon *m)
 {
-    m->tr_n = m->pc_n = 0;
+    m->tr.n = m->pc.n = 0;
     m->ny = 0;
     memset(m->contacts, 0, sizeof m->contacts);
+}
+
+static void clear_data(mon *m)
+{
+    clear_plots(m);
     for (int k = 0; k < NCH; k++)
         m->sc[k] = (seqc){0};
-    m->restarts = 0;
+    m->following = 0;
 }
 
 /* ---- drawing ---------------------------------------------------------------- */
 
-typedef struct frame {  /* the text of one frame, built line by line */
-    char *buf;
-    size_t len, cap;
-    int cols, plain, col; /* visible columns used on the current line */
-} frame;
-
-static void fr_raw(frame *f, const char *s, size_t n)
-{
-    if (f->len + n + 1 > f->cap) {
-        size_t cap = (f->cap + n + 1) * 2;
-        char *b = realloc(f->buf, cap);
-        if (!b)
-            return;
-        f->buf = b, f->cap = cap;
-    }
-    memcpy(f->buf + f->len, s, n);
-    f->len += n;
-    f->buf[f->len] = 0;
-}
-
-/* Visible text, cut at the frame width; colour is an SGR code or 0. */
-__attribute__((format(printf, 3, 4))) static void fr_put(frame *f, int colour, const char *fmt, ...)
-{
-    char t[1024], sgr[16];
-    va_list ap;
-    va_start(ap, fmt);
-    int n = vsnprintf(t, sizeof t, fmt, ap);
-    va_end(ap);
-    n = n < 0 ? 0 : n > (int)sizeof t - 1 ? (int)sizeof t - 1 : n;
-    if (n > f->cols - f->col)
-        n = f->cols - f->col;
-    if (n <= 0)
-        return;
-    if (colour && !f->plain)
-        fr_raw(f, sgr, (size_t)snprintf(sgr, sizeof sgr, "\033[%dm", colour));
-    fr_raw(f, t, (size_t)n);
-    if (colour && !f->plain)
-        fr_raw(f, "\033[0m", 4);
-    f->col += n;
-}
-
-static void fr_nl(frame *f)
-{
-    if (!f->plain)
-        fr_raw(f, "\033[K", 3);
-    fr_raw(f, "\n", 1);
-    f->col = 0;
-}
-
 static int health_colour(const char *h) { return !strcmp(h, "ok") ? 32 : !strcmp(h, "lagging") ? 33 : 31; }
 
-/* Oldest ring index with a time within the window (j0 .. n-1 are recent). */
-static long ring_from(const double *t, long n, long cap, double since)
+/* A span of seconds as a reader takes it: "3.2 s", "4.1 min", "3.2 h", "2.1 d". */
+static const char *age_text(double s, char *buf, size_t len)
 {
-    long lo = n > cap ? n - cap : 0, hi = n;
-    while (lo < hi) { /* times are non-decreasing along the ring */
-        long mid = lo + (hi - lo) / 2;
-        if (t[mid % cap] < since)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    return lo;
+    s = fabs(s);
+    if (s < 120)
+        snprintf(buf, len, "%.1f s", s);
+    else if (s < 7200)
+        snprintf(buf, len, "%.1f min", s / 60);
+    else if (s < 172800)
+        snprintf(buf, len, "%.1f h", s / 3600);
+    else
+        snprintf(buf, len, "%.1f d", s / 86400);
+    return buf;
 }
 
-static void draw_header(mon *m, frame *f, double now)
+/* The senders on STATUS, when there is more than the live one: the shown
+ * one a replay, or others beside it. */
+static void draw_senders(mon *m, mon_text *f)
+{
+    const bus_streams *b = &m->sc[CH_STATUS].seq;
+    char age[32];
+    if (!m->following)
+        return;
+    if (fabs(m->follow_off) > BUS_REPLAY_S) {
+        mon_text_put(f, 35, "source  REPLAY: sent %s %s (a log played back, or a clock that far "
+                     "off)", age_text(m->follow_off, age, sizeof age),
+                     m->follow_off < 0 ? "ago" : "ahead");
+        mon_text_nl(f);
+    }
+    int n = 0; /* a line a restart replaced is gone, not a sender beside it */
+    for (int i = 0; i < b->n; i++)
+        n += !b->s[i].replaced_by;
+    if (n < 2)
+        return;
+    mon_text_put(f, 33, "senders %d on %sSTATUS: showing the %s;", n, m->c.prefix,
+                 fabs(m->follow_off) > BUS_REPLAY_S ? "one nearest this host's clock" : "live one");
+    int me = 0; /* the STATUS line of the sender shown */
+    for (int i = 1; i < b->n; i++)
+        if (fabs(b->s[i].offset_s - m->follow_off) < fabs(b->s[me].offset_s - m->follow_off))
+            me = i;
+    for (int i = 0; i < b->n; i++) {
+        const bus_stream *l = &b->s[i];
+        if (l->replaced_by || i == me)
+            continue;
+        if (fabs(l->offset_s - m->follow_off) <= 1.0)
+            mon_text_put(f, 33, " another on the same clock, seq %lld.. (a second daemon?): "
+                         "mixed in", (long long)l->first_seq);
+        else
+            mon_text_put(f, 33, " seq %lld.. sent %s %s%s: not shown", (long long)l->first_seq,
+                         age_text(l->offset_s, age, sizeof age), l->offset_s < 0 ? "ago" : "ahead",
+                         bus_stream_replayed(l) ? " (a replay)" : "");
+    }
+    mon_text_nl(f);
+}
+
+static void draw_header(mon *m, mon_text *f, double now)
 {
     const status_copy *s = &m->st;
-    fr_put(f, 1, "wormgear monitor");
-    fr_put(f, 0, "  %s* on %s", m->c.prefix, m->o.url ? m->o.url : bus_default_url());
-    fr_nl(f);
+    mon_text_put(f, 1, "wormgear monitor");
+    mon_text_put(f, 0, "  %s* on %s", m->c.prefix, m->c.url);
+    mon_text_nl(f);
     if (!m->have_status) {
-        fr_put(f, 33, "waiting for %sSTATUS ... (is wormgeard running with this URL and prefix?)", m->c.prefix);
-        fr_nl(f);
+        char hint[512];
+        mon_text_put(f, 33, "waiting for %sSTATUS ... %s", m->c.prefix,
+                     bus_hint(&m->c, hint, sizeof hint));
+        mon_text_nl(f);
         return;
     }
     double age = now - m->status_at;
-    fr_put(f, 0, "daemon  %s  %s x%g  %s  ", s->scene, s->mode, s->rate, s->run);
-    fr_put(f, health_colour(s->health), "%s", s->health);
+    mon_text_put(f, 0, "daemon  %s  %s x%g  %s  ", s->scene, s->mode, s->rate, s->run);
+    mon_text_put(f, health_colour(s->health), "%s", s->health);
     if (s->fault[0])
-        fr_put(f, 31, " (%s)", s->fault);
-    fr_put(f, 0, "  up %.0f s", s->uptime_s);
+        mon_text_put(f, 31, " (%s)", s->fault);
+    mon_text_put(f, 0, "  up %.0f s", s->uptime_s);
+    if (fabs(m->follow_off) > BUS_REPLAY_S)
+        mon_text_put(f, 35, "  REPLAY");
     if (age > 3.0)
-        fr_put(f, 31, "  NO HEARTBEAT for %.0f s", age);
-    if (m->restarts)
-        fr_put(f, 33, "  restarted x%d", m->restarts);
-    fr_nl(f);
-    fr_put(f, 0, "time    t %.6f s  tau %.3f  period %lld  N %d %s", s->t_s, s->tau,
-           (long long)s->period, s->N, m->stepper);
-    fr_nl(f);
-    fr_put(f, 0, "pace    rtf %.4f  lag %.3f ms  ", s->rtf, s->lag_s * 1e3);
-    fr_put(f, s->overruns ? 33 : 0, "overruns %lld", (long long)s->overruns);
-    fr_put(f, 0, "  loop %.1f/%.1f us  %.0f steps/s  cpu %.1f%%", s->loop_mean_us, s->loop_max_us,
-           s->steps_per_s, s->cpu * 100);
-    fr_nl(f);
+        mon_text_put(f, 31, "  NO HEARTBEAT for %.0f s", age);
+    if (m->sc[CH_STATUS].seq.restarts)
+        mon_text_put(f, 33, "  restarted x%ld", m->sc[CH_STATUS].seq.restarts);
+    mon_text_nl(f);
+    draw_senders(m, f);
+    mon_text_put(f, 0, "time    t %.6f s  tau %.3f  period %lld  N %d %s", s->t_s, s->tau,
+                 (long long)s->period, s->N, m->stepper);
+    mon_text_nl(f);
+    mon_text_put(f, 0, "pace    rtf %.4f  lag %.3f ms  ", s->rtf, s->lag_s * 1e3);
+    mon_text_put(f, s->overruns ? 33 : 0, "overruns %lld", (long long)s->overruns);
+    mon_text_put(f, 0, "  loop %.1f/%.1f us", s->loop_mean_us, s->loop_max_us);
+    mon_text_put(f, 0, "  %.0f steps/s  cpu %.1f%%", s->steps_per_s, s->cpu * 100);
+    mon_text_nl(f);
 }
 
-static void draw_params(mon *m, frame *f)
+static void draw_params(mon *m, mon_text *f)
 {
-    fr_put(f, 0, "params ");
+    mon_text_put(f, 0, "params ");
     for (int k = 0; k < NKEY; k++)
-        if (m->has_key[k])
-            fr_put(f, k == 0 ? 1 : 0, " %s %.6g", key_names[k], m->key[k]);
+        if (m->has_key[k]) {
+            mon_text_put(f, k == 0 ? 1 : 0, " %s %.6g", key_names[k], m->key[k]);
+            if (k == 0 && m->omega_n_rad_s > 0)
+                mon_text_put(f, 0, " (%.0f Hz)", m->key[k] * m->omega_n_rad_s / (2 * M_PI));
+        }
     if (!m->have_params)
-        fr_put(f, 0, " omega %.6g (PARAMS not yet heard)", m->st.omega);
+        mon_text_put(f, 0, " omega %.6g (PARAMS not yet heard)", m->st.omega);
     if (m->ramp_active && m->ramp_dur > 0) {
         double fr = (m->st.tau - m->ramp_tau0) / m->ramp_dur;
-        fr_put(f, 36, "  ramp %s %.4g->%.4g %.0f%%", m->ramp_param, m->ramp_from, m->ramp_to,
-               100 * fmin(1, fmax(0, fr)));
+        mon_text_put(f, 36, "  ramp %s %.4g->%.4g %.0f%%", m->ramp_param, m->ramp_from,
+                     m->ramp_to, 100 * fmin(1, fmax(0, fr)));
     }
-    fr_nl(f);
+    mon_text_nl(f);
 }
 
-static void draw_motion(mon *m, frame *f, double now)
+static void draw_motion(mon *m, mon_text *f, double now)
 {
-    long j0 = ring_from(m->pc_t, m->pc_n, PC_CAP, now - m->o.window_s), n = m->pc_n - j0;
+    const mon_sections *pc = &m->pc;
+    long j0 = mon_view_from(pc->t, pc->n, pc->cap, now - m->o.window_s), n = pc->n - j0;
     long imp = 0, mot[3] = {0, 0, 0};
-    for (long j = j0; j < m->pc_n; j++) {
-        imp += m->pc_imp[j % PC_CAP];
-        int c = m->pc_mot[j % PC_CAP];
+    for (long j = j0; j < pc->n; j++) {
+        imp += pc->imp[j % pc->cap];
+        int c = pc->mot[j % pc->cap];
         mot[c < 0 ? 0 : c > 2 ? 2 : c]++;
     }
     int worst = mot[2] ? 2 : mot[1] ? 1 : 0;
-    fr_put(f, 0, "motion  daemon: %s, %.3g impacts/period", m->st.motion, m->st.imp_pp);
+    mon_text_put(f, 0, "motion  daemon: %s, %.3g impacts/period", m->st.motion, m->st.imp_pp);
     if (n)
-        fr_put(f, 0, "; last %.3g s: %s, %.3g impacts/period (periods none/single/double "
-               "%ld/%ld/%ld)", m->o.window_s, wg_motion_name(worst), (double)imp / n, mot[0], mot[1], mot[2]);
-    fr_nl(f);
+        mon_text_put(f, 0, "  last %g s: %s, %.3g impacts/period", m->o.window_s,
+                     wg_motion_name(worst), (double)imp / n);
+    if (n)
+        mon_text_put(f, 0, " (periods none/single/double %ld/%ld/%ld)", mot[0], mot[1], mot[2]);
+    mon_text_nl(f);
     double resid = 0;
     int per = m->ny >= 16 ? wg_period_detect(m->ys, m->ny, m->ydim, WG_PERIOD_MAX,
                                              m->o.tol, &resid)
                           : -1;
-    fr_put(f, 0, "regime  daemon: %s  local: ", m->st.regime);
+    mon_text_put(f, 0, "regime  daemon: %s  local: ", m->st.regime);
     if (per > 0)
-        fr_put(f, 32, "period-%d", per);
+        mon_text_put(f, 32, "period-%d", per);
     else if (per == 0)
-        fr_put(f, 35, "aperiodic (no period <= %d)", WG_PERIOD_MAX);
+        mon_text_put(f, 35, "aperiodic (no period <= %d)", WG_PERIOD_MAX);
     else
-        fr_put(f, 0, "(collecting %d/16 sections)", m->ny);
+        mon_text_put(f, 0, "(collecting %d/16 sections)", m->ny);
     if (per >= 0)
-        fr_put(f, 0, " over %d sections, resid %.2g, tol %.2g", m->ny, resid, m->o.tol);
-    fr_nl(f);
+        mon_text_put(f, 0, " over %d sections, resid %.2g, tol %.2g", m->ny, resid, m->o.tol);
+    mon_text_nl(f);
 }
 
-static void draw_msgs(mon *m, frame *f)
+static void draw_msgs(mon *m, mon_text *f)
 {
-    long drop = 0;
-    fr_put(f, 0, "msgs   ");
+    long drop = 0, ign = 0;
+    mon_text_put(f, 0, "msgs   ");
     for (int k = 0; k < NCH; k++) {
-        drop += m->sc[k].seq.missing;
-        fr_put(f, 0, " %s %lld", ch_suffix[k], (long long)m->sc[k].count);
-        if (m->sc[k].seq.missing)
-            fr_put(f, 33, " (-%lld)", (long long)m->sc[k].seq.missing);
-        if (m->sc[k].bad)
-            fr_put(f, 31, " (%lld undecodable)", (long long)m->sc[k].bad);
+        const seqc *c = &m->sc[k];
+        drop += c->seq.missing, ign += c->ignored;
+        mon_text_put(f, 0, " %s %lld", ch_suffix[k], (long long)c->count);
+        if (c->seq.missing)
+            mon_text_put(f, 33, " (-%ld)", c->seq.missing);
+        if (c->bad)
+            mon_text_put(f, 31, " (%lld undecodable)", (long long)c->bad);
     }
-    fr_put(f, drop ? 33 : 0, "  dropped %ld", drop);
-    fr_put(f, 0, "  daemon-side %lld  cmds %lld/%lld refused  mesh impacts %ld",
-           (long long)m->st.dropped, (long long)m->st.acc, (long long)m->st.ref,
-           m->contacts[WG_C_MESH][WG_EV_DRIVE_IMPACT] + m->contacts[WG_C_MESH][WG_EV_BACK_IMPACT]);
-    fr_nl(f);
+    mon_text_put(f, drop ? 33 : 0, "  dropped %ld", drop);
+    if (ign)
+        mon_text_put(f, 33, "  not shown %ld (other senders)", ign);
+    mon_text_put(f, 0, "  daemon-side %lld", (long long)m->st.dropped);
+    mon_text_put(f, 0, "  cmds %lld/%lld refused", (long long)m->st.acc, (long long)m->st.ref);
+    mon_text_put(f, 0, "  mesh impacts %ld",
+                 m->contacts[WG_C_MESH][WG_EV_DRIVE_IMPACT] + m->contacts[WG_C_MESH][WG_EV_BACK_IMPACT]);
+    mon_text_nl(f);
 }
 
-/* A character canvas: w x h cells. */
-typedef struct canvas { int w, h; char *c; } canvas;
-
-static void cv_mark(canvas *cv, int x, int y, char ch)
-{
-    if (x >= 0 && x < cv->w && y >= 0 && y < cv->h)
-        cv->c[y * cv->w + x] = ch;
-}
-
-/* Scrolling x_n trace: each column the min..max of its samples. */
-static void plot_trace(mon *m, canvas *cv, double now, double *lo, double *hi)
-{
-    long j0 = ring_from(m->tr_t, m->tr_n, TR_CAP, now - m->o.window_s), n = m->tr_n - j0;
-    *lo = INFINITY, *hi = -INFINITY;
-    for (long j = j0; j < m->tr_n; j++)
-        *lo = fmin(*lo, m->tr_x[j % TR_CAP]), *hi = fmax(*hi, m->tr_x[j % TR_CAP]);
-    if (n < 1)
-        return;
-    if (*hi - *lo < 1e-9)
-        *lo -= 0.5, *hi += 0.5;
-    long per = (n + cv->w - 1) / cv->w;
-    int x0 = cv->w - (int)((n + per - 1) / per); /* newest at the right edge */
-    for (long b = 0; b * per < n; b++) {
-        double a = INFINITY, z = -INFINITY;
-        for (long j = j0 + b * per; j < j0 + (b + 1) * per && j < m->tr_n; j++)
-            a = fmin(a, m->tr_x[j % TR_CAP]), z = fmax(z, m->tr_x[j % TR_CAP]);
-        int ya = (int)lround((*hi - a) / (*hi - *lo) * (cv->h - 1));
-        int yz = (int)lround((*hi - z) / (*hi - *lo) * (cv->h - 1));
-        for (int y = yz; y <= ya; y++)
-            cv_mark(cv, x0 + (int)b, y, ya == yz ? '-' : '|');
-    }
-}
-
-/* Poincare scatter x_n' (up) against x_n (right), density shaded. */
-static void plot_scatter(mon *m, canvas *cv, double now, double box[4], long *npts)
-{
-    static const char shade[] = ".:oO#@";
-    long j0 = ring_from(m->pc_t, m->pc_n, PC_CAP, now - m->o.window_s);
-    double x0 = INFINITY, x1 = -INFINITY, v0 = INFINITY, v1 = -INFINITY;
-    for (long j = j0; j < m->pc_n; j++) {
-        long i = j % PC_CAP;
-        x0 = fmin(x0, m->pc_x[i]), x1 = fmax(x1, m->pc_x[i]);
-        v0 = fmin(v0, m->pc_v[i]), v1 = fmax(v1, m->pc_v[i]);
-    }
-    *npts = m->pc_n - j0;
-    if (*npts < 1)
-        return;
-    double px = fmax(1e-6, 0.05 * (x1 - x0)), pv = fmax(1e-6, 0.05 * (v1 - v0));
-    x0 -= px, x1 += px, v0 -= pv, v1 += pv;
-    box[0] = x0, box[1] = x1, box[2] = v0, box[3] = v1;
-    for (long j = j0; j < m->pc_n; j++) {
-        long i = j % PC_CAP;
-        int x = (int)((m->pc_x[i] - x0) / (x1 - x0) * cv->w);
-        int y = (int)((v1 - m->pc_v[i]) / (v1 - v0) * cv->h);
-        if (x < 0 || x >= cv->w || y < 0 || y >= cv->h)
-            continue;
-        char *c = &cv->c[y * cv->w + x];
-        const char *p = strchr(shade, *c);
-        *c = *c == ' ' ? shade[0] : p && p[1] ? p[1] : *c;
-    }
-}
-
-static void draw_plots(mon *m, frame *f, double now, int h)
-{
-    int side = f->cols >= 100, wl = side ? (f->cols - 12) / 2 : f->cols - 9, hh = side ? h - 2 : (h - 4) / 2;
-    if (hh < 3 || wl < 20)
-        return;
-    canvas a = {wl, hh, malloc((size_t)(wl * hh))}, b = {side ? wl : wl, hh, malloc((size_t)(wl * hh))};
-    if (!a.c || !b.c) {
-        free(a.c), free(b.c);
-        return;
-    }
-    memset(a.c, ' ', (size_t)(wl * hh));
-    memset(b.c, ' ', (size_t)(wl * hh));
-    double lo, hi, box[4] = {0, 1, 0, 1};
-    long np;
-    plot_trace(m, &a, now, &lo, &hi);
-    plot_scatter(m, &b, now, box, &np);
-    const canvas *cv[2] = {&a, &b};
-    for (int p = 0; p < (side ? 1 : 2); p++) {
-        if (side)
-            fr_put(f, 1, "%-*s   %s", wl + 8, "x_n trace", "Poincare section: x_n' (up) vs x_n (right)");
-        else
-            fr_put(f, 1, p ? "Poincare section: x_n' (up) vs x_n (right)" : "x_n trace");
-        fr_put(f, 0, "  last %g s, %ld sections", m->o.window_s, np);
-        fr_nl(f);
-        for (int y = 0; y < hh; y++) {
-            for (int q = side ? 0 : p; q <= (side ? 1 : p); q++) {
-                double top = q ? box[3] : hi, bot = q ? box[2] : lo;
-                if (y == 0 || y == hh - 1)
-                    fr_put(f, 0, "%7.4g ", y ? bot : top);
-                else
-                    fr_put(f, 0, "        ");
-                fr_put(f, 0, "%.*s", cv[q]->w, cv[q]->c + y * cv[q]->w);
-                if (side && !q)
-                    fr_put(f, 0, "  ");
-            }
-            fr_nl(f);
-        }
-        if (side || p)
-            fr_put(f, 0, "%*s%-*.4g%*.4g", side ? wl + 18 : 8, "", side ? wl / 2 : wl / 2, box[0],
-                   wl - wl / 2, box[1]);
-        if (side || p)
-            fr_nl(f);
-    }
-    free(a.c), free(b.c);
-}
-
-static void render(mon *m, frame *f)
+static void render(mon *m, mon_text *f)
 {
     double now = cli_mono_s();
-    f->len = 0, f->col = 0, f->cols = m->cols;
+    mon_text_begin(f, m->cols, m->o.plain);
     if (!f->plain)
-        fr_raw(f, "\033[H", 3);
+        mon_text_raw(f, "\033[H", 3);
     draw_header(m, f, now);
     if (m->have_status) {
         draw_params(m, f);
         draw_motion(m, f, now);
         draw_msgs(m, f);
-        draw_plots(m, f, now, m->rows - 10);
+        mon_view_ctx c = {m->st.N, m->st.omega, m->omega_n_rad_s, m->length_m, m->o.periods,
+                          m->o.window_s, now};
+        mon_view_plots(f, &m->tr, &m->pc, &c, m->rows - f->lines - 1);
     }
-    fr_put(f, 0, "%s", f->plain ? "" : m->frozen ? "-- frozen -- space: resume  q: quit  c: clear" : "q: quit  c: clear  space: freeze");
+    mon_text_put(f, 0, "%s", f->plain ? "" : m->frozen ? "-- frozen -- space: resume  q: quit  c: clear" : "q: quit  c: clear  space: freeze");
     if (!f->plain)
-        fr_raw(f, "\033[K\033[J", 6);
+        mon_text_raw(f, "\033[K\033[J", 6);
     else
-        fr_nl(f);
+        mon_text_nl(f);
     fwrite(f->buf, 1, f->len, stdout);
     fflush(stdout);
 }
@@ -668,7 +646,7 @@ static void pump(mon *m, double until)
 
 static int run(mon *m)
 {
-    frame f = {.plain = m->o.plain};
+    mon_text f = {0};
     double next = cli_mono_s();
     if (m->o.frames) { /* headless: first wait for a heartbeat */
         double end = cli_mono_s() + m->o.timeout_s;
@@ -676,7 +654,7 @@ static int run(mon *m)
             pump(m, fmin(end, cli_mono_s() + 0.05));
         /* a little data for the plots, PARAMS and the local period detection */
         for (end = cli_mono_s() + 1.5; m->have_status && !g_quit && cli_mono_s() < end &&
-                                  (m->ny < 24 || !m->have_params);)
+                                  (m->ny < 24 || !m->have_params || m->tr.n < 1000);)
             pump(m, fmin(end, cli_mono_s() + 0.05));
         next = cli_mono_s();
     }
@@ -694,7 +672,7 @@ static int run(mon *m)
             pump(m, next);
     }
     term_leave(m);
-    free(f.buf);
+    mon_text_free(&f);
     return m->o.frames && !m->have_status ? 1 : 0;
 }
 
@@ -709,14 +687,7 @@ static int setup(mon *m)
         m->subs[k] = lcm_subscribe(m->c.lcm, bus_channel(&m->c, ch_suffix[k], ch, sizeof ch),
                                    on_raw, m);
     ask_params(m);
-    m->tr_t = malloc(sizeof(double) * TR_CAP);
-    m->tr_x = malloc(sizeof(double) * TR_CAP);
-    m->pc_t = malloc(sizeof(double) * PC_CAP);
-    m->pc_x = malloc(sizeof(double) * PC_CAP);
-    m->pc_v = malloc(sizeof(double) * PC_CAP);
-    m->pc_imp = malloc(sizeof(int) * PC_CAP);
-    m->pc_mot = malloc(sizeof(int) * PC_CAP);
-    if (!m->tr_t || !m->tr_x || !m->pc_t || !m->pc_x || !m->pc_v || !m->pc_imp || !m->pc_mot) {
+    if (mon_trace_alloc(&m->tr, TR_CAP) || mon_sections_alloc(&m->pc, PC_CAP)) {
         fprintf(stderr, "wgmon: out of memory\n");
         return 1;
     }
@@ -726,8 +697,8 @@ static int setup(mon *m)
 static void teardown(mon *m)
 {
     bus_close(&m->c);
-    free(m->tr_t), free(m->tr_x), free(m->pc_t), free(m->pc_x), free(m->pc_v);
-    free(m->pc_imp), free(m->pc_mot);
+    mon_trace_free(&m->tr);
+    mon_sections_free(&m->pc);
 }
 
 int main(int argc, char **argv)

@@ -563,10 +563,11 @@ static int write_impacts(rig *r, wg_chain *ch[2], window *win[2], char *why, siz
     char title[160];
     snprintf(title, sizeof title, "%s: mesh impacts per period vs %s (rig: up, then back down)", r->scene,
              r->o.param);
-    plot_xy px = {title, r->o.param, "impacts per period", x, y, n, 0, 0, 0}; /* up, then down */
+    plot_xy px = {.title = title, .xlabel = r->o.param, .ylabel = "mesh impacts per period  (-)",
+                  .x = x, .y = y, .n = n}; /* a polyline: up, then down */
     snprintf(path, sizeof path, "%s-impacts.png", r->o.out);
     if (!rc && n > 0)
-        rc = plot_xy_png(path, &px, why, whylen);
+        rc = plot_xy_write(path, &px, why, whylen);
     free(x), free(y);
     return rc;
 }

@@ -6,6 +6,7 @@
 #include "cli.h"
 #include "cont_out.h"
 #include "plot.h"
+#include "plot_text.h"
 #include "sweep_at.h"
 #include "sweep_load.h"
 #include "sweep_md.h"
@@ -47,6 +48,9 @@ typedef struct opts {
     const char *exact[STUDY_MAX_GROUPS]; /* --exact: wgcont's bifurcations per group */
     int nexact;
     double at;
+    const char *format;     /* figures: png, svg or pdf */
+    wg_params scene_p;      /* the scene's own values, before --set */
+    units_scale us;         /* its scale, for the figures' Hz and µm */
     wg_sweep_opts so;
 } opts;
 
@@ -83,7 +87,11 @@ static void usage(FILE *f)
         "                          PREFIX-poincare.csv, PREFIX.json, PREFIX.md, PREFIX.png\n"
         "                          (--values: PREFIX-NAME-V.png per value); the files\n"
         "                          written are listed on stderr at the end\n"
-        "  --no-png, --no-json     skip those outputs\n"
+        "  --format png|svg|pdf    figure format (default png): every figure has a\n"
+        "                          caption (scene, parameters set, N, transient and\n"
+        "                          recorded periods) and axes with units (omega and\n"
+        "                          mesh frequency in Hz, x_n in b_c and um)\n"
+        "  --no-png, --no-json     skip the figures (any format), the JSON\n"
         "  --at V                  single point: summary, LLE, Floquet, phase portrait,\n"
         "                          Poincare map and time trace (PREFIX-at-NAME-V-*)\n"
         "  --at-periods P          Poincare periods for --at (default 2000)\n"
@@ -207,7 +215,7 @@ static void opts_default(opts *o)
     memset(o, 0, sizeof *o);
     o->scene = "table3", o->out = "sweep", o->param = WG_P_OMEGA, o->from = 0.1, o->to = 2.5;
     o->points = 241, o->up = o->down = 1, o->gparam = -1, o->mparam = -1, o->png = o->json = 1;
-    o->at_periods = 2000;
+    o->at_periods = 2000, o->format = "png";
     long nc = sysconf(_SC_NPROCESSORS_ONLN);
     o->threads = nc < 1 ? 1 : nc > 256 ? 256 : (int)nc;
     wg_sweep_opts_default(&o->so);
@@ -224,7 +232,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"steps-per-period", 1, 0, 'N'}, {"stepper", 1, 0, 'k'}, {"floquet", 0, 0, 'Q'}, {"verify-steps", 0, 0, 'W'},
         {"threads", 1, 0, 'j'}, {"out", 1, 0, 'o'}, {"no-png", 0, 0, 'G'}, {"no-json", 0, 0, 'J'},
         {"at", 1, 0, 'A'}, {"at-periods", 1, 0, 'P'}, {"quiet", 0, 0, 'q'}, {"table-from", 1, 0, 'Y'},
-        {"exact", 1, 0, 'X'},
+        {"exact", 1, 0, 'X'}, {"format", 1, 0, 'O'},
         {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     opts_default(o);
     int c, rc;
@@ -244,6 +252,11 @@ static int parse_opts(int argc, char **argv, opts *o)
         case 'J': o->json = 0; break;
         case 'q': o->quiet = 1; break;
         case 'Y': o->table_from = optarg; break;
+        case 'O':
+            if (!plot_format_ok(optarg))
+                return cli_usage_error(PROG, "--format: png, svg or pdf, got '%s'", optarg);
+            o->format = optarg;
+            break;
         case 'X':
             if (o->nexact == STUDY_MAX_GROUPS)
                 return cli_usage_error(PROG, "too many --exact files, at most %d", STUDY_MAX_GROUPS);
@@ -360,18 +373,27 @@ static int write_study(const opts *o, sweep_study *st, out_files *files)
     return rc ? 1 : 0;
 }
 
-static int write_map(const opts *o, const wg_chain *rows, int n, int partial, out_files *files)
+static int write_map(const opts *o, const char *scene, const wg_chain *rows, int n, int partial,
+                     out_files *files)
 {
     char path[1024], why[512], title[256];
     int rc = 0;
     snprintf(path, sizeof path, "%s-map.csv", o->out);
     rc |= WRITE(files, out_map_csv, path, rows, n, why, sizeof why);
-    const char *xn = wg_param_info_get(o->param)->name, *yn = wg_param_info_get(o->mparam)->name;
+    char xl[96], yl[96], x2[96], y2[96], cap[2][400], what[200];
+    plot_scale2 sx = plot_text_pscale(o->param, &rows[0].base, &o->us, x2, sizeof x2);
+    plot_scale2 sy = plot_text_pscale(o->mparam, &rows[0].base, &o->us, y2, sizeof y2);
+    plot_text_caption(cap, scene, &rows[0].base, &o->scene_p, o->param, o->mparam, &o->so, 0, 0);
+    snprintf(what, sizeof what, "%d rows of %s in [%g, %g], each an up sweep of %d points in %s",
+             n, plot_text_psym(o->mparam), o->mfrom, o->mto, o->points, plot_text_psym(o->param));
     for (int mode = 0; o->png && mode < 2 && !rc; mode++) {
-        snprintf(path, sizeof path, "%s-map%s.png", o->out, mode ? "-motion" : "");
-        snprintf(title, sizeof title, "%s over (%s, %s), up sweeps%s",
-                 mode ? "motion class" : "regime", xn, yn, partial ? " (partial)" : "");
-        plot_map pm = {title, xn, yn, rows, n, mode};
+        snprintf(path, sizeof path, "%s-map%s.%s", o->out, mode ? "-motion" : "", o->format);
+        snprintf(title, sizeof title, "%s: %s over (%s, %s), up sweeps%s", scene,
+                 mode ? "motion class" : "regime", plot_text_psym(o->param),
+                 plot_text_psym(o->mparam), partial ? " (partial)" : "");
+        plot_map pm = {title, plot_text_plabel(o->param, xl, sizeof xl),
+                       plot_text_plabel(o->mparam, yl, sizeof yl), rows, n, mode, sx, sy,
+                       {o->format, {cap[0], cap[1], what, NULL}}};
         rc |= WRITE(files, plot_regime_map, path, &pm, why, sizeof why);
     }
     if (rc)
@@ -398,7 +420,7 @@ static int do_map(const opts *o, const wg_scene *sc, int rank, int size)
             if (rows[r].rc)
                 fprintf(stderr, "wgsweep: row %d: %s\n", r, rows[r].why);
         out_files files = {"", 0};
-        rc = write_map(o, rows, o->mrows, partial, &files) || rc;
+        rc = write_map(o, sc->name, rows, o->mrows, partial, &files) || rc;
         if (!o->quiet)
             fprintf(stderr, "wgsweep: %d rows x %d points in %.1f s; wrote %s\n", o->mrows,
                     o->points, wall, files.list);
@@ -463,7 +485,8 @@ static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank
 {
     sweep_study st = {.scene = sc->name, .command = cmd, .param = o->param, .gparam = o->gparam,
                       .ngroups = o->gparam >= 0 ? o->ngvals : 1, .b = sc->p.v[WG_P_B],
-                      .o = &o->so, .threads = o->threads, .ranks = size};
+                      .o = &o->so, .threads = o->threads, .ranks = size,
+                      .scene_p = &o->scene_p, .us = o->us, .format = o->format};
     int n = st.ngroups * (o->up + o->down), rc = 0;
     cont_bifs ex[STUDY_MAX_GROUPS];
     memset(ex, 0, sizeof ex);
@@ -534,7 +557,8 @@ static int do_at(const opts *o, const wg_scene *sc)
     p.v[o->param] = o->at;
     double y[WG_NSTATE_MAX] = {0};
     wg_scene_initial(sc, y);
-    at_opts ao = {o->out, wg_param_info_get(o->param)->name, o->at, o->at_periods, 20, o->png};
+    at_opts ao = {o->out, wg_param_info_get(o->param)->name, o->at, o->at_periods, 20, o->png,
+                  o->format, sc->name, &o->scene_p, o->us};
     return at_view(&p, y, &o->so, &ao, stdout);
 }
 
@@ -552,6 +576,11 @@ int main(int argc, char **argv)
     if (!rc && (rc = wg_scene_open(&sc, o.scene, why, sizeof why))) {
         fprintf(stderr, "wgsweep: %s\n", why);
         rc = 2;
+    }
+    if (!rc) {
+        o.scene_p = sc.p;
+        o.us = plot_text_scale(sc.scale.omega_n_rad_s, sc.scale.length_m,
+                               sc.scale.mesh_stiffness_N_m);
     }
     if (!rc && wg_scene_apply_sets(&sc, o.sets, o.nsets, why, sizeof why)) {
         fprintf(stderr, "wgsweep: --set %s\n", why);

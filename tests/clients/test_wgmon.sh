@@ -1,9 +1,12 @@
 #!/bin/sh
-# test_wgmon.sh WORMGEARD WGMON WGCTL - the live monitor headless (--once,
-# --frames) and interactive under tmux (draws, resizes, quits on q): usage
-# errors, no daemon, a regime change after `wgctl set`, a daemon restart.
-# Run through netns.sh (host-local URL only).
-D=$1 M=$2 C=$3
+# test_wgmon.sh WORMGEARD WGMON WGCTL LCM_LOGGER LCM_LOGPLAYER - the live
+# monitor headless (--once, --frames) and interactive under tmux (draws,
+# resizes, quits on q): usage errors, no daemon, a regime change after
+# `wgctl set`, the period-2 orbit at physical real time at 80, 150 and 200
+# columns (two points in the scatter, both axes labelled, a stroboscopic
+# trace with its time axis) and scrolling at rate 0.01, a daemon restart, a
+# log replayed into the live bus and alone. Run through netns.sh.
+D=$1 M=$2 C=$3 LOGGER=$4 PLAYER=$5
 code=0
 tmp=$(mktemp -d) || exit 1
 pid=
@@ -29,9 +32,13 @@ start() {
 
 # ---- usage
 expect 0 "$M" --help
-for o in --url --prefix --window --fps --tol --once --frames --timeout --size --plain; do
+for o in --url --prefix --periods --window --fps --tol --once --frames --timeout --size --plain; do
     has out "$o"
 done
+has out "STROBOSCOPIC"
+has out "wormgeard --rate 0.01"
+has out "wgctl mode realtime 0.01"
+has out "REPLAY"
 has out "default 4; \[0.2, 30\]"
 expect 2 "$M" --fps 99
 has err "--fps '99': frames per second in \[0.2, 30\]"
@@ -48,7 +55,7 @@ start
 expect 0 "$M" --once --size 100x30 --window 3
 cat "$tmp/out"
 has out "daemon  table3  realtime x0.01  running  ok"
-has out "params  omega 0.7 xi_p 0.08"
+has out "params  omega 0.7 (3554 Hz) xi_p 0.08"
 has out "motion  daemon: single_sided"
 has out "Poincare section"
 has out "msgs    STATUS"
@@ -60,6 +67,34 @@ has out "params  omega 0.5 "
 has out "last 1 s: no_impact, 0 impacts/period"
 has out "local: period-1"
 
+# ---- scrolling at rate 0.01: the last 4 mesh periods, time axis back from now
+expect 0 "$M" --once --size 100x40
+has out "scrolling, [0-9]* samples/period"
+has out "^periods -4 .* -3 .* -2 .* -1 .* 0 "
+has out "^     ms -[0-9.]* .* 0 "
+
+# ---- the period-2 orbit at physical real time (issue 12 item 2): omega = 1.2
+"$C" mode realtime 1 >/dev/null || fail "wgctl mode realtime 1"
+"$C" set omega=1.2 >/dev/null || fail "wgctl set omega=1.2"
+sleep 2
+for size in 80x40 150x45 200x50 160x40 80x24; do
+    cols=${size%x*}
+    expect 0 "$M" --once --size $size --window 2
+    cp "$tmp/out" "$tmp/p2-$size"
+    has out "local: period-2"
+    has out "STROBOSCOPIC"
+    has out "sections in 2 cells"                            # two distinct points
+    has out "^periods 0  *1  *2  *3  *4\( \|$\)"             # period ticks
+    has out "x_n 1.1[0-9]*  *1.2[0-9]* *$"                   # both x labels, the right one at the edge
+    [ "$(grep -c '@' "$tmp/out")" -eq 2 ] || fail "$size: not two points: $(cat "$tmp/out")"
+    awk -v w="$cols" 'length > w { exit 1 }' "$tmp/out" || fail "$size: a line wider than $cols"
+done
+has p2-150x45 "^     ms 0  *0.164  *0.328  *0.492  *0.657"
+has p2-200x50 "^x_n, STROBOSCOPIC, over 4 mesh periods (T = 0.164 ms)"
+has p2-80x40 "^0.33 samples/period: the last 2 s folded on the window by phase from psi = 0"
+echo "--- the period-2 frame at 80x40:"; cat "$tmp/p2-80x40"
+"$C" mode realtime 0.01 >/dev/null
+
 # ---- a daemon restart while watching: shows as a seq reset, keeps going
 "$M" --frames 14 --fps 4 --size 100x20 >"$tmp/frames" 2>&1 &
 mpid=$!
@@ -70,6 +105,31 @@ start
 wait $mpid || fail "wgmon --frames exit $?"
 grep -q "restarted x1" "$tmp/frames" || fail "no restart shown: $(grep '^daemon' "$tmp/frames")"
 [ "$(grep -c '^wormgear monitor' "$tmp/frames")" -eq 14 ] || fail "not 14 frames"
+grep -q "senders 2" "$tmp/frames" && fail "a restart taken for two senders"
+
+# ---- a log played back into the live bus (issue 12 item 8): one more
+# sender, shown as a replay and not mixed in; no restarts, no drops
+"$LOGGER" --lcm-url="$WORMGEAR_URL" "$tmp/run.lcmlog" >/dev/null 2>&1 &
+lpid=$!
+sleep 2.5
+kill -INT $lpid; wait $lpid
+sleep 2.5                                   # the log is now 2.5 .. 5 s old
+"$PLAYER" --lcm-url="$WORMGEAR_URL" "$tmp/run.lcmlog" >/dev/null 2>&1 &
+ppid=$!
+sleep 0.3
+expect 0 "$M" --frames 3 --fps 2 --size 120x40
+kill $ppid 2>/dev/null; wait $ppid 2>/dev/null
+has out "senders 2 on MONT_STATUS: showing the live one; seq .* sent .* ago (a replay): not shown"
+has out "not shown [0-9]* (other senders)"
+has out "dropped 0"
+grep -q "restarted" "$tmp/out" && fail "a replay taken for restarts: $(grep restarted "$tmp/out")"
+# ... and alone on another port: REPLAY, with its age
+"$PLAYER" --lcm-url="udpm://239.255.76.67:$((20001 + $$ % 20000))?ttl=0" "$tmp/run.lcmlog" >/dev/null 2>&1 &
+ppid=$!
+expect 0 "$M" --url "udpm://239.255.76.67:$((20001 + $$ % 20000))?ttl=0" --once --size 120x40
+kill $ppid 2>/dev/null; wait $ppid 2>/dev/null
+has out "daemon  table3 .* REPLAY"
+has out "source  REPLAY: sent [0-9.]* s ago (a log played back"
 
 # ---- interactive, in a tmux pane: draws, follows a resize, quits on q
 if command -v tmux >/dev/null; then
@@ -78,7 +138,7 @@ if command -v tmux >/dev/null; then
     sleep 2
     tmux -L "$sock" capture-pane -p >"$tmp/pane1"
     has pane1 "wormgear monitor"
-    has pane1 "x_n trace .*Poincare section"   # side by side at 120 columns
+    has pane1 "^x_n over 4 mesh periods .*Poincare section"   # side by side at 120 columns
     has pane1 "q: quit"
     tmux -L "$sock" resize-window -x 80 -y 40 2>/dev/null || tmux -L "$sock" refresh-client -C 80,40
     sleep 1

@@ -55,6 +55,32 @@ check "--at names every file, none with '='" 'grep -q "^files       $dir/at-at-o
 "$sweep" --map xi_p=0.08:0.12:2 --from 1.18 --to 1.21 --points 3 --transient 150 --quiet --out "$dir/map"
 check "2-D map csv and pngs" '[ $(wc -l < "$dir/map-map.csv") -eq 7 ] && [ -s "$dir/map-map.png" ] && [ -s "$dir/map-map-motion.png" ]'
 
+# Figures (issue 12 item 12): captions, axes with symbols and units, regime
+# and Lyapunov exponent, in SVG (its <title>/<desc>) and PDF (its Title).
+"$sweep" --at 1.2 --at-periods 200 --format svg --set f_e=0.1 --out "$dir/fa" > "$dir/fa.txt"
+svg=$dir/fa-at-omega-1.2
+check "--format svg: the files named" 'grep -q "^files .*$svg-phase.svg, $svg-poincare.svg, $svg-trace.svg\$" "$dir/fa.txt"'
+check "svg caption: scene, xi_p, what was set, N, transient, recorded" \
+  'grep -q "^<desc>scene table3, ξ_p = 0.08, N = 256 steps per mesh period, transient 300 periods (+ up to 3 x 300 while no period is found), 128 periods recorded\$" "$svg-phase.svg" && grep -q "^set away from the scene: ω = 1.2 (scene: 1), f_e = 0.1 (scene: 0.092442)\$" "$svg-phase.svg"'
+check "svg phase portrait and Poincare map: regime and Lyapunov exponent" \
+  'for v in phase poincare; do grep -q "^P2 (periodic), single_sided, λ = -0\.[0-9]* per mesh period\$" "$svg-$v.svg" || exit 1; done'
+check "svg axes: x_n in b_c and um, x_n in b_c omega_n and m/s" \
+  'grep -q "^x axis: x_n  (b_c)\$" "$svg-poincare.svg" && grep -q "^x axis, second scale: x_n  (µm)\$" "$svg-poincare.svg" && grep -q "^y axis: x_n. = dx_n/dτ  (b_c ω_n)\$" "$svg-poincare.svg" && grep -q "^y axis, second scale: x_n.  (m/s)</desc>\$" "$svg-poincare.svg"'
+check "svg time trace: physical time, mesh periods on top" \
+  'grep -q "<title>table3, ω = 1.2: time trace, 20 mesh periods (T = 0.1641 ms)</title>" "$svg-trace.svg" && grep -q "^x axis: t from the first traced period  (ms)\$" "$svg-trace.svg" && grep -q "^x axis, second scale: mesh periods\$" "$svg-trace.svg"'
+check "svg is drawn (glyphs and paths), not only described" '[ $(grep -c "<use xlink:href=\"#glyph" "$svg-phase.svg") -gt 200 ]'
+"$sweep" --from 1.17 --to 1.22 --points 4 --transient 100 --quiet --format pdf --no-json --out "$dir/fp"
+hex() { printf %s "$1" | iconv -f UTF-8 -t UTF-16BE | od -An -tx1 | tr -d ' \n' | tr a-f A-F; }
+check "--format pdf: a PDF with its title" \
+  '[ "$(head -c 5 "$dir/fp.pdf")" = "%PDF-" ] && grep -a -q "/Title <FEFF$(hex "table3: bifurcation diagram in ω")>" "$dir/fp.pdf"'
+check "pdf subject: caption, shading, both axes with Hz and um" \
+  'grep -a -q "/Subject <FEFF$(hex "scene table3, ξ_p = 0.08, N = 256 steps per mesh period")" "$dir/fp.pdf" && grep -a -q "$(hex "background: regime of the up sweep")" "$dir/fp.pdf" && grep -a -q "$(hex "x axis, second scale: mesh frequency  (Hz)")" "$dir/fp.pdf" && grep -a -q "$(hex "y axis, second scale: x_n  (µm)")" "$dir/fp.pdf"'
+"$sweep" --from 1.17 --to 1.22 --points 4 --transient 100 --quiet --format svg --no-json --dir down --values xi_p=0.1 --out "$dir/fd"
+check "down sweep only: its shading named, xi_p listed as set" \
+  'grep -q "^background: regime of the down sweep" "$dir/fd-xi_p-0.1.svg" && grep -q "^scene table3, ξ_p = 0.1, .*set away from the scene: ξ_p (scene: 0.08)\$\|^set away from the scene: ξ_p (scene: 0.08)\$" "$dir/fd-xi_p-0.1.svg"'
+"$sweep" --format gif >/dev/null 2>"$dir/fmt.err"; rc=$?
+check "--format gif: usage error" '[ $rc -eq 2 ] && grep -q "png, svg or pdf" "$dir/fmt.err"'
+
 "$sweep" --param nope >/dev/null 2>&1; rc=$?
 check "unknown parameter exits 2" '[ $rc -eq 2 ]'
 "$sweep" --values xi_p=9 >/dev/null 2>&1; rc=$?
