@@ -32,7 +32,7 @@ enum { REC_CAP = 8192, RAMP_MAX = 1 << 20, STOPPED = -1000 };
 static volatile sig_atomic_t g_stop; /* set by SIGINT/SIGTERM only */
 
 typedef struct opts {
-    const char *url, *prefix, *param, *out, *unit;
+    const char *url, *prefix, *param, *out, *unit, *key_file;
     double from, to, ramp, tol, timeout_s, stall_s;
     int have_from, have_to, points, up, down, settle, record, extend, bins, lle, fast, keep;
     int quiet, retries;
@@ -85,6 +85,8 @@ static void usage(FILE *f)
         "(or ramp it), read POINCARE and CONTACT, and write the bifurcation diagram.\n\n"
         "  --url URL           LCM URL (default $WORMGEAR_URL or %s)\n"
         "  --prefix P          channel prefix (default $WORMGEAR_PREFIX or %s)\n"
+        "  --key-file FILE     sign commands with this key (default $WORMGEAR_KEY_FILE):\n"
+        "                      needed when the daemon has command_key_file\n"
         "  --param NAME        parameter driven (default omega; `wgctl params` lists them)\n"
         "  --from A --to B     range, in the parameter's unit (required; within its range)\n"
         "  --points N          stepwise: points per direction (default 21; [2, 10000])\n"
@@ -135,6 +137,7 @@ static int opt_one(void *ctx, int c, const char *a)
     switch (c) {
     case 'u': o->url = a; return 0;
     case 'p': o->prefix = a; return 0;
+    case 'k': o->key_file = a; return 0;
     case 'P': o->param = a; return 0;
     case 'o': o->out = a; return 0;
     case 'f':
@@ -173,7 +176,8 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"settle", 1, 0, 's'}, {"record", 1, 0, 'r'}, {"extend", 1, 0, 'e'}, {"ramp", 1, 0, 'R'},
         {"bins", 1, 0, 'b'}, {"tol", 1, 0, 'T'}, {"no-lle", 0, 0, 'L'}, {"fast", 0, 0, 'F'},
         {"keep", 0, 0, 'K'}, {"timeout", 1, 0, 'w'}, {"stall", 1, 0, 'S'},
-        {"retries", 1, 0, 'x'}, {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
+        {"retries", 1, 0, 'x'}, {"quiet", 0, 0, 'q'}, {"key-file", 1, 0, 'k'},
+        {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     *o = (opts){.param = "omega", .out = "rig", .unit = "s", .points = 21, .up = 1, .down = 1,
                 .settle = 300, .record = 128, .extend = 3, .lle = 1, .timeout_s = 3,
                 .stall_s = 10, .retries = 5};
@@ -642,7 +646,8 @@ static int open_bus(rig *r)
 {
     static const char *const chans[] = {"POINCARE", "CONTACT", "PARAMS", "STATUS"};
     char why[256], ch[128];
-    if (bus_open(&r->c, r->o.url, r->o.prefix, "wgrig", why, sizeof why))
+    if (bus_open(&r->c, r->o.url, r->o.prefix, "wgrig", why, sizeof why) ||
+        (r->o.key_file && bus_set_key(&r->c, r->o.key_file, why, sizeof why)))
         return fprintf(stderr, "wgrig: %s\n", why), 1;
     for (int k = 0; k < 4; k++) {
         lcm_subscription_t *s =
