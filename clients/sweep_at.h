@@ -23,6 +23,16 @@ typedef struct at_opts {
     units_scale us;      /* the scene's scale: ms, µm, m/s on the figures */
 } at_opts;
 
+/* The state to start --at from, out of a snapshot file (format 2, as the
+ * daemon's `save` writes: include/wormgear/wg_snapshot.h): read only if it is
+ * a regular file of at most WG_SNAPSHOT_MAX bytes, verified (checksum) and
+ * restored as the daemon would, taken in scene `scene` with model `model`,
+ * then run with its own parameters, stepper and N to the next Poincare
+ * section (psi = 0), where *p and y (WG_NSTATE_MAX) are taken. 0, or 1 with
+ * why naming the file and what is wrong (never quoting it). */
+int at_state_load(const char *path, const char *scene, int model, wg_params *p, double *y,
+                  char *why, size_t whylen);
+
 /* Analyse parameters p (the point value already set) from state y, print a
  * summary to out and write the views. 0 ok, 1 runtime error (message on
  * stderr). */

@@ -45,6 +45,7 @@ typedef struct opts {
     int threads, png, json, quiet;
     int at_set, at_periods;
     const char *table_from;
+    const char *at_state;   /* --at-state FILE: a snapshot to start --at from */
     const char *exact[STUDY_MAX_GROUPS]; /* --exact: wgcont's bifurcations per group */
     int nexact;
     double at;
@@ -95,6 +96,10 @@ static void usage(FILE *f)
         "  --at V                  single point: summary, LLE, Floquet, phase portrait,\n"
         "                          Poincare map and time trace (PREFIX-at-NAME-V-*)\n"
         "  --at-periods P          Poincare periods for --at (default 2000)\n"
+        "  --at-state FILE         start --at from a saved state (`wgctl save NAME` writes\n"
+        "                          NAME.wgstate in the daemon's state dir), with its\n"
+        "                          parameters, then --set and --at (default: the scene's\n"
+        "                          initial state, [initial] in the scene file)\n"
         "  --table-from CSV        recompute the transitions table (PREFIX.md) from a\n"
         "                          points CSV of an earlier run, without integrating\n"
         "  --exact CSV             wgcont's PREFIX-bifurcations.csv: the table gains an\n"
@@ -200,6 +205,7 @@ static int parse_range(int c, const char *a, opts *o)
     case 'p': bad = (o->param = wg_param_lookup(a)) < 0, need = "--param: unknown parameter"; break;
     case 'V': bad = parse_values(a, o), need = "--values: need NAME=v1,v2,... in range, got"; break;
     case 'M': bad = parse_map(a, o), need = "--map: need NAME=A:B:M in range, got"; break;
+    case 'Z': o->at_state = a; return 0;
     case 'A':
         o->at_set = 1, bad = cli_num(a, -DBL_MAX, DBL_MAX, &o->at), need = "--at: not a number:";
         break;
@@ -231,7 +237,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"lle-tol", 1, 0, 'l'}, {"tol-factor", 1, 0, 'F'}, {"tol-floor", 1, 0, 'f'},
         {"steps-per-period", 1, 0, 'N'}, {"stepper", 1, 0, 'k'}, {"floquet", 0, 0, 'Q'}, {"verify-steps", 0, 0, 'W'},
         {"threads", 1, 0, 'j'}, {"out", 1, 0, 'o'}, {"no-png", 0, 0, 'G'}, {"no-json", 0, 0, 'J'},
-        {"at", 1, 0, 'A'}, {"at-periods", 1, 0, 'P'}, {"quiet", 0, 0, 'q'}, {"table-from", 1, 0, 'Y'},
+        {"at", 1, 0, 'A'}, {"at-periods", 1, 0, 'P'}, {"at-state", 1, 0, 'Z'}, {"quiet", 0, 0, 'q'}, {"table-from", 1, 0, 'Y'},
         {"exact", 1, 0, 'X'}, {"format", 1, 0, 'O'},
         {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     opts_default(o);
@@ -273,6 +279,8 @@ static int parse_opts(int argc, char **argv, opts *o)
     }
     if (optind < argc)
         return cli_usage_error(PROG, "unexpected argument '%s'", argv[optind]);
+    if (o->at_state && !o->at_set)
+        return cli_usage_error(PROG, "--at-state needs --at V (the point to analyse)");
     if (o->step > 0)
         o->points = (int)floor(fabs(o->to - o->from) / o->step + 1.5e-9) + 1;
     return 0;
@@ -554,9 +562,24 @@ static int do_at(const opts *o, const wg_scene *sc)
         fprintf(stderr, "wgsweep: --at: %s\n", why);
         return 2;
     }
-    p.v[o->param] = o->at;
     double y[WG_NSTATE_MAX] = {0};
-    wg_scene_initial(sc, y);
+    if (o->at_state) { /* the snapshot's parameters and state, then --set and --at */
+        char w[640];
+        if (at_state_load(o->at_state, sc->name, sc->model, &p, y, w, sizeof w)) {
+            fprintf(stderr, "wgsweep: --at-state %s\n", w);
+            return 1;
+        }
+        printf("start       %s: its parameters and state, run on to the next section\n",
+               o->at_state);
+        for (int i = 0; i < o->nsets; i++)
+            if (wg_param_assign(&p, o->sets[i], why, sizeof why)) {
+                fprintf(stderr, "wgsweep: --set %s\n", why);
+                return 2;
+            }
+    } else {
+        wg_scene_initial(sc, y);
+    }
+    p.v[o->param] = o->at;
     at_opts ao = {o->out, wg_param_info_get(o->param)->name, o->at, o->at_periods, 20, o->png,
                   o->format, sc->name, &o->scene_p, o->us};
     return at_view(&p, y, &o->so, &ao, stdout);

@@ -1,9 +1,9 @@
 #!/bin/sh
-# test_wgctl.sh WORMGEARD WGCTL - wgctl from the shell against the real
+# test_wgctl.sh WORMGEARD WGCTL WGSWEEP - wgctl from the shell against the real
 # daemon (exit codes 0 accepted / 1 refused or no answer / 2 usage, outputs,
 # --json), config-file errors with file:line, CLI overrides, the foreground
 # status line, SIGTERM -> 0. Run through netns.sh (host-local URL only).
-D=$1 C=$2
+D=$1 C=$2 W=$3
 code=0
 tmp=$(mktemp -d) || exit 1
 pid=
@@ -79,6 +79,19 @@ expect 1 "$C" step 10
 has err "ESTATE"
 expect 0 "$C" save s1
 expect 0 "$C" restore s1
+# wgsweep --at from the saved state: its parameters, then --set and --at
+expect 0 "$W" --at 1.2 --at-state "$tmp/state/s1.wgstate" --at-periods 100 --no-png --out "$tmp/at"
+has out "start       $tmp/state/s1.wgstate: its parameters and state"
+has out "regime      P[0-9]* (periodic)"
+sed 's/^y 1 = -0x1\.0/y 1 = -0x1.9/; s/^y 1 = 0x1\.0/y 1 = 0x1.9/' "$tmp/state/s1.wgstate" >"$tmp/bad.wgstate"
+cmp -s "$tmp/bad.wgstate" "$tmp/state/s1.wgstate" && fail "the test did not change the snapshot"
+expect 1 "$W" --at 1.2 --at-state "$tmp/bad.wgstate" --no-png --out "$tmp/at"
+has err "checksum mismatch"
+expect 1 "$W" --at 1.2 --at-state /dev/null --no-png --out "$tmp/at"
+has err "not a regular file"
+expect 1 "$W" --scene torsional --at 1.2 --at-state "$tmp/state/s1.wgstate" --no-png --out "$tmp/at"
+has err "pass --scene table3"
+expect 2 "$W" --at-state "$tmp/state/s1.wgstate"
 expect 1 "$C" restore ../x
 has err "EINVAL"
 expect 1 "$C" restore nothing-here
