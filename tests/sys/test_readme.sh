@@ -1,0 +1,168 @@
+#!/bin/sh
+# test_readme.sh SRC - the README's walk-through and install commands, run
+# literally from the source tree, and what the README says will be seen.
+#
+# Walk-through: `bash tools/run.sh` (which builds build/release if needed
+# and starts the daemon), wgmon in a tmux pane, the wgctl commands in order;
+# after each, the wgmon screen and `wgctl status` are checked against the
+# README's sentences. Install: `cmake --install build/release --prefix
+# /usr/local` with a tmpfs over /usr/local in a private mount namespace, the
+# installed daemon checks its installed config; `cpack -G DEB` in
+# build/release. The commands are read from README.md and must equal the
+# list below: when the README changes, this test changes with it.
+# Run through netns.sh: the README's default URL then stays in a private
+# network namespace.
+src=$1
+tmp=$(mktemp -d) || exit 1
+sock=wgreadme$$
+runpid=
+cleanup() {
+    [ -n "$runpid" ] && kill -KILL "$runpid" 2>/dev/null
+    tmux -L "$sock" kill-server 2>/dev/null
+    rm -rf "$tmp"
+}
+trap cleanup EXIT
+status=0
+fail() { echo "FAIL: $*"; status=1; }
+cd "$src" || exit 1
+
+# The fenced block after a heading, comments and blank lines dropped.
+block() { # block HEADING
+    awk -v h="$1" '$0 == h { on = 1; next } on && /^```/ { if (inb) exit; inb = 1; next }
+                   on && inb { sub(/[ ]+#.*$/, ""); if ($0 != "") print }' README.md
+}
+block "## A walk-through" >"$tmp/walk"
+cat >"$tmp/want" <<'EOF'
+bash tools/run.sh
+build/release/clients/wgmon
+build/release/clients/wgctl set omega=0.5
+build/release/clients/wgctl ramp omega 1.5 --over 6s
+build/release/clients/wgctl set omega=1.2
+build/release/clients/wgctl status
+EOF
+if ! cmp -s "$tmp/walk" "$tmp/want"; then
+    echo "FAIL: the README's walk-through is not what this test checks; update both:"
+    diff "$tmp/want" "$tmp/walk"
+    exit 1
+fi
+line() { sed -n "${1}p" "$tmp/walk"; }
+
+# ---- terminal 1: the daemon (tools/run.sh builds first when needed)
+export WG_STATE_DIR="$tmp/state"
+sh -c "exec $(line 1)" >"$tmp/run.out" 2>"$tmp/run.err" &
+runpid=$!
+i=0
+until build/release/clients/wgctl --timeout 0.5 status >/dev/null 2>&1; do
+    i=$((i + 1))
+    kill -0 "$runpid" 2>/dev/null || { cat "$tmp/run.err"; fail "tools/run.sh exited"; exit 1; }
+    [ $i -lt 1200 ] || { tail "$tmp/run.err"; fail "no daemon after tools/run.sh"; exit 1; }
+    sleep 0.5
+done
+
+# ---- terminal 2: wgmon in a tmux pane
+tmux -L "$sock" -f /dev/null new-session -d -x 120 -y 45 "$(line 2)" || { fail "tmux"; exit 1; }
+screen() { tmux -L "$sock" capture-pane -p >"$tmp/screen"; }
+# wait_for PATTERN SECONDS: the pane shows PATTERN (extended regex) in time
+wait_for() {
+    n=0
+    while :; do
+        screen
+        grep -Eq -- "$1" "$tmp/screen" && return 0
+        n=$((n + 1))
+        [ $n -lt $(($2 * 4)) ] || { fail "wgmon never showed '$1'; last frame:"; cat "$tmp/screen"; return 1; }
+        sleep 0.25
+    done
+}
+
+# ---- terminal 3
+sh -c "$(line 3)" >"$tmp/out" 2>&1 || fail "$(line 3): $(cat "$tmp/out")"
+wait_for "regime +daemon: period-1" 20
+wait_for "rtf 1\.0" 5
+grep -q "no_impact" "$tmp/screen" || fail "at omega = 0.5: no 'no_impact' on the screen"
+# CONTACT messages received since wgmon started (the msgs line)
+contacts() { screen; sed -n 's/.* CONTACT \([0-9]*\).*/\1/p' "$tmp/screen" | head -1; }
+c1=$(contacts)
+sleep 1.5
+c2=$(contacts)
+[ -n "$c1" ] && [ "$c1" = "$c2" ] || fail "at omega = 0.5 contact events flow ($c1 -> $c2)"
+
+sh -c "$(line 4)" >"$tmp/out" 2>&1 || fail "$(line 4): $(cat "$tmp/out")"
+wait_for "daemon: ramping" 5
+n=0 # contact events start to flow during the ramp
+while [ "$(contacts)" = "$c2" ] && [ $n -lt 32 ]; do n=$((n + 1)); sleep 0.25; done
+[ "$(contacts)" != "$c2" ] || fail "no contact events during the ramp"
+
+sh -c "$(line 5)" >"$tmp/out" 2>&1 || fail "$(line 5): $(cat "$tmp/out")"
+wait_for "regime +daemon: period-2" 30
+wait_for "single_sided, 0\.5 impacts/period" 10
+# the scatter holds the last 5 s of sections: two points once the ramp's are out of it
+wait_for "sections in 2 cells" 20
+[ "$(grep -o '@' "$tmp/screen" | wc -l)" -eq 2 ] || { fail "not two '@' in the scatter:"; cat "$tmp/screen"; }
+
+sh -c "$(line 6)" >"$tmp/status" 2>&1 || fail "$(line 6): $(cat "$tmp/status")"
+for w in "period-2" "single_sided" "health ok"; do
+    grep -q "$w" "$tmp/status" || fail "wgctl status lacks '$w': $(cat "$tmp/status")"
+done
+
+# Ctrl-C stops it with 0 (run.sh exec'd the daemon: the signal is its)
+tmux -L "$sock" send-keys q
+kill -INT "$runpid"
+wait "$runpid"
+rc=$?
+runpid=
+[ $rc -eq 0 ] || fail "tools/run.sh after Ctrl-C: exit $rc"
+grep -q "realtime x1 running ok" "$tmp/run.out" || fail "no status line from run.sh: $(tail -2 "$tmp/run.out")"
+
+# ---- the offline commands that follow (the section's second block), in a
+# scratch directory (they write files) that sees the build as build/
+awk '/^## A walk-through/ { on = 1; next } on && /^## / { exit }
+     on && /^```/ { k++; next } on && k == 3 { sub(/[ ]+#.*$/, ""); if ($0 != "") print }' \
+    README.md >"$tmp/offline"
+cat >"$tmp/want" <<'EOF'
+build/release/clients/wgsim --set omega=1.2 --poincare -
+build/release/clients/wgsweep --out sweep
+build/release/clients/wgsweep --at 1.33 --out view
+EOF
+if ! cmp -s "$tmp/offline" "$tmp/want"; then
+    echo "FAIL: the README's offline commands are not what this test checks; update both:"
+    diff "$tmp/want" "$tmp/offline"
+    exit 1
+fi
+mkdir "$tmp/scratch" && ln -s "$src/build" "$tmp/scratch/build"
+(cd "$tmp/scratch" && sh -c "$(sed -n 1p "$tmp/offline")") >"$tmp/pc.csv" 2>"$tmp/err" ||
+    fail "$(sed -n 1p "$tmp/offline"): $(cat "$tmp/err")"
+head -1 "$tmp/pc.csv" | grep -q "^period,tau,omega,x_n" || fail "wgsim --poincare: $(head -2 "$tmp/pc.csv")"
+[ "$(wc -l <"$tmp/pc.csv")" -eq 201 ] || fail "wgsim --poincare: not 200 periods"
+(cd "$tmp/scratch" && sh -c "$(sed -n 2p "$tmp/offline")" && sh -c "$(sed -n 3p "$tmp/offline")") \
+    >"$tmp/sweep.out" 2>&1 || fail "wgsweep: $(tail -3 "$tmp/sweep.out")"
+[ -s "$tmp/scratch/sweep.csv" ] && [ -s "$tmp/scratch/sweep.png" ] ||
+    fail "wgsweep --out sweep wrote no sweep.csv and sweep.png: $(ls "$tmp/scratch")"
+ls "$tmp/scratch"/view*.png >/dev/null 2>&1 || fail "wgsweep --at 1.33 --out view wrote no PNG"
+
+# ---- Install, literally: /usr/local is a tmpfs in a private mount namespace
+block "## Install" >"$tmp/inst"
+cat >"$tmp/want" <<'EOF'
+cmake --install build/release --prefix /usr/local
+(cd build/release && cpack -G DEB)
+EOF
+if ! cmp -s "$tmp/inst" "$tmp/want"; then
+    echo "FAIL: the README's install commands are not what this test checks; update both:"
+    diff "$tmp/want" "$tmp/inst"
+    exit 1
+fi
+if unshare -m true 2>/dev/null; then
+    unshare -m sh -c "mount -t tmpfs none /usr/local && $(sed -n 1p "$tmp/inst") >'$tmp/inst.log' 2>&1 &&
+        /usr/local/sbin/wormgeard --config /usr/local/etc/wormgear/wormgeard.conf --check-config &&
+        /usr/local/bin/wgsim --periods 2 --transient 0 >/dev/null" ||
+        { tail -5 "$tmp/inst.log"; fail "$(sed -n 1p "$tmp/inst"), then the installed programs"; }
+else
+    echo "note: no mount namespace here: the install into /usr/local is not run"
+fi
+before=$(ls build/release/*.deb 2>/dev/null)
+sh -c "$(sed -n 2p "$tmp/inst")" >"$tmp/cpack.log" 2>&1 || { tail -5 "$tmp/cpack.log"; fail "cpack"; }
+deb=$(ls build/release/wormgear_*_amd64.deb 2>/dev/null | head -1)
+[ -n "$deb" ] && dpkg-deb -c "$deb" 2>/dev/null | grep -q "./usr/sbin/wormgeard" || fail "no .deb with /usr/sbin/wormgeard"
+[ -z "$before" ] && rm -f build/release/*.deb
+
+[ $status = 0 ] && echo "ok: the README's walk-through and install commands, literally"
+exit $status
