@@ -590,9 +590,11 @@ static const char *hostile_name(void)
 static void random_cmds(long n)
 {
     static const char *ops[] = {"set", "ramp", "pause", "reset", "step", "save", "restore",
-                                "get", "mode", "", "SET", "resume", "\xc3\xa9", "set "};
+                                "get", "mode", "", "SET", "resume", "\xc3\xa9", "set ",
+                                "contacts"};
     static const char *units[] = {"s", "tau", "", "ms", "S", "tau\n"};
-    static const char *modes[] = {"realtime", "fast", "lockstep", "", "warp", "params"};
+    static const char *modes[] = {"realtime", "fast", "lockstep", "", "warp", "params",
+                                  "all", "mesh", "none", "MESH"};
     for (long i = 0; i < n; i++) {
         cmdspec c = {.op = ops[rndi(sizeof ops / sizeof ops[0])], .seq = (int64_t)rnd()};
         c.nparams = rndi(4) == 0 ? rndi(70) - 2 : 1 + rndi(3);
