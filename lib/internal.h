@@ -62,6 +62,11 @@ typedef struct wg_sim_core {
 /* Mesh direction c (x_n = c . q) and force weights m (mass ratio times c). */
 void model_mesh_vectors(int model, const wg_params *p, double c[7], double m[7]);
 
+/* wg_rk4_hmax the slow way (the reference its tests compare with, and the
+ * fallback if QR fails): bisection on h of the spectral radius of the RK4
+ * step matrix R(hA), from norms of its repeated squares (3-5 ms). */
+double model_rk4_hmax_bisect(const wg_params *p);
+
 /* Kernel specialisation bits. */
 enum {
     KF_EM = 1u << 0,   /* e_m != 0: transmission error terms */
