@@ -36,11 +36,24 @@ void ct_exc_at(const wg_sim *s, const phase *ph, double t, wg_exc *e)
     e->fx = v[WG_P_F_M] + v[WG_P_F_E] * (c * r[2][0] - sn * r[2][1]);
 }
 
+/* The double just above c >= 0: x > c iff x >= above(c). */
+static double above(double c)
+{
+    uint64_t u;
+    memcpy(&u, &c, sizeof u);
+    u = c == 0.0 ? 1 : u + 1;
+    memcpy(&c, &u, sizeof c);
+    return c;
+}
+
 void ct_set_lock(wg_sim *s, int contact, int zone)
 {
     double c = ct_threshold(s, contact);
     s->core->kc.w[contact] = zone != 0 ? 1.0 : 0.0;
     s->core->kc.zc[contact] = zone * c;
+    /* ct_zone(x, c) == zone iff zlo <= x <= zhi (never for NaN) */
+    s->core->zlo[contact] = zone > 0 ? above(c) : zone == 0 ? -c : -INFINITY;
+    s->core->zhi[contact] = zone < 0 ? -above(c) : zone == 0 ? c : INFINITY;
 }
 
 /* ---- Hermite interpolation of a contact coordinate over one step ------- */
