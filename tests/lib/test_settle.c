@@ -1,7 +1,8 @@
 /* Early transient stop (wg_sweep_opts.settle) against the full transient on
  * the Table-3 study (table3, xi_p = 0.08, 0.10, 0.12, omega 0.1 .. 2.5 step
  * 0.01, up and down: 1,446 points; one group on a coarser grid under the
- * sanitizers).
+ * sanitizers). $WG_SETTLE_SCENE=NAME runs another scene the same way, at
+ * its own xi_p.
  *
  * Per point: the full-transient study is run as chains; each point is then
  * analysed again from the very state its chain handed it, with early
@@ -34,6 +35,13 @@ static const double xis[] = {0.08, 0.10, 0.12};
 #endif
 enum { NXI = sizeof xis / sizeof xis[0], NCH = 2 * NXI };
 
+/* $WG_SETTLE_SCENE: another scene, at its own xi_p (one group) */
+static const char *scene_name(void)
+{
+    const char *s = getenv("WG_SETTLE_SCENE");
+    return s && *s ? s : "table3";
+}
+
 static double now_s(void)
 {
     struct timespec t;
@@ -47,11 +55,11 @@ static int nthreads(void)
     return n < 1 ? 1 : n > 16 ? 16 : (int)n;
 }
 
-static wg_params table3(void)
+static wg_params scene(void)
 {
     wg_scene sc;
     char why[256];
-    int rc = wg_scene_open(&sc, "table3", why, sizeof why);
+    int rc = wg_scene_open(&sc, scene_name(), why, sizeof why);
     if (rc)
         fprintf(stderr, "%s\n", why);
     ASSERT_EQ_INT(rc, WG_OK);
@@ -87,9 +95,10 @@ static int same(const wg_point *a, const wg_point *b, int motion)
 
 /* Single-point chains over every point of the study cs: from the seed each
  * point had in its chain (prev = 1), or from its final state (prev = 0). */
-static void points_again(const wg_chain *cs, int np, int prev, wg_chain *one, wg_point *out)
+static void points_again(const wg_chain *cs, int nch, int np, int prev, wg_chain *one,
+                         wg_point *out)
 {
-    for (int k = 0; k < NCH; k++) {
+    for (int k = 0; k < nch; k++) {
         for (int i = 0; i < np; i++) {
             const wg_point *pt = &cs[k].pts[i];
             double y[WG_NSTATE_MAX] = {0};
@@ -108,8 +117,9 @@ static void points_again(const wg_chain *cs, int np, int prev, wg_chain *one, wg
 
 static void test_early_stop_keeps_classification(void)
 {
-    const int np = (int)floor(2.4 / OM_STEP + 0.5) + 1, n = NCH * np;
-    wg_params base = table3();
+    const int ng = strcmp(scene_name(), "table3") == 0 ? NXI : 1, nch = 2 * ng;
+    const int np = (int)floor(2.4 / OM_STEP + 0.5) + 1, n = nch * np;
+    wg_params base = scene();
     wg_sweep_opts full, early;
     wg_sweep_opts_default(&early);
     ASSERT_TRUE(early.settle > 0); /* early stopping is the default */
@@ -120,21 +130,22 @@ static void test_early_stop_keeps_classification(void)
     wg_chain cf[NCH], ce[NCH];
     wg_chain *one = calloc((size_t)n, sizeof *one), *rob = calloc((size_t)n, sizeof *rob);
     ASSERT_TRUE(pf && pe && p1 && pr && one && rob);
-    for (int g = 0; g < NXI; g++) {
+    for (int g = 0; g < ng; g++) {
         wg_params p = base;
-        p.v[WG_P_XI_P] = xis[g];
+        if (ng > 1)
+            p.v[WG_P_XI_P] = xis[g];
         for (int d = 0; d < 2; d++) {
             cf[2 * g + d] = chain(&p, np, d ? -1 : 1, 0, NULL, &pf[(2 * g + d) * np]);
             ce[2 * g + d] = chain(&p, np, d ? -1 : 1, 0, NULL, &pe[(2 * g + d) * np]);
         }
     }
     double t0 = now_s();
-    ASSERT_EQ_INT(wg_chains_run(cf, NCH, &full, nthreads(), NULL, NULL, NULL), WG_OK);
+    ASSERT_EQ_INT(wg_chains_run(cf, nch, &full, nthreads(), NULL, NULL, NULL), WG_OK);
     double t1 = now_s();
-    ASSERT_EQ_INT(wg_chains_run(ce, NCH, &early, nthreads(), NULL, NULL, NULL), WG_OK);
+    ASSERT_EQ_INT(wg_chains_run(ce, nch, &early, nthreads(), NULL, NULL, NULL), WG_OK);
     double t2 = now_s();
-    points_again(cf, np, 1, one, p1);
-    points_again(cf, np, 0, rob, pr);
+    points_again(cf, nch, np, 1, one, p1);
+    points_again(cf, nch, np, 0, rob, pr);
     ASSERT_EQ_INT(wg_chains_run(one, n, &early, nthreads(), NULL, NULL, NULL), WG_OK);
     ASSERT_EQ_INT(wg_chains_run(rob, n, &full, nthreads(), NULL, NULL, NULL), WG_OK);
     int robust = 0, agree = 0, chain_agree = 0, chain_robust = 0;
@@ -147,13 +158,13 @@ static void test_early_stop_keeps_classification(void)
         chain_agree += same(&pf[i], &pe[i], 1);
         if (!same(&pf[i], &p1[i], 1))
             fprintf(stderr, "xi_p %.2f %s omega %.2f: full %s/%d/%s, early %s/%d/%s\n",
-                    xis[i / (2 * np)],
+                    ng > 1 ? xis[i / (2 * np)] : base.v[WG_P_XI_P],
                     (i / np) % 2 ? "down" : "up", pf[i].value, wg_regime_name(pf[i].regime),
                     pf[i].period, wg_motion_name(pf[i].motion), wg_regime_name(p1[i].regime),
                     p1[i].period, wg_motion_name(p1[i].motion));
     }
-    printf("%d points; full run robust (same regime and period again ~2x later) on %d\n", n,
-           robust);
+    printf("scene %s: %d points; full run robust (same regime and period again ~2x later) on %d\n",
+           scene_name(), n, robust);
     printf("per point, from the same seed: %d of %d robust points agree with early stopping "
            "(%.1f %%)\n", agree, robust, 100.0 * agree / (robust ? robust : 1));
     double mean = 0;
@@ -175,7 +186,7 @@ static void test_early_stop_keeps_classification(void)
  * window runs whole. */
 static void test_early_stop_saves_periods(void)
 {
-    wg_params p = table3();
+    wg_params p = scene();
     p.v[WG_P_OMEGA] = 0.5;
     wg_sweep_opts full, early;
     wg_sweep_opts_default(&early);
