@@ -278,12 +278,15 @@ static void provenance(FILE *f, const sweep_study *st)
                 st->source);
         return;
     }
+    char early[80] = "";
+    if (o->settle > 0)
+        snprintf(early, sizeof early, " (ending once settled over %d periods)", o->settle);
     fprintf(f, "Model %s, stepper %s, N = %d steps per mesh period (raised where RK4 needs "
-               "more), transient %d + record %d periods per point (up to %d extensions), LLE "
+               "more), transient %d%s + record %d periods per point (up to %d extensions), LLE "
                "over %d periods (chaotic above %g per period), period tolerance max(%g, %g x "
                "one-period error). Wall time %.1f s on %d thread(s) x %d process(es).\n\n",
             wg_model_name(o->model), wg_stepper_name(o->stepper), o->steps, o->transient,
-            o->record, o->extend, o->lle_periods, o->lle_tol, o->tol_floor, o->tol_factor,
+            early, o->record, o->extend, o->lle_periods, o->lle_tol, o->tol_floor, o->tol_factor,
             st->wall_s, st->threads, st->ranks);
 }
 

@@ -227,11 +227,11 @@ static void json_transitions(FILE *f, const sweep_study *st, const sweep_group *
 static void json_opts(FILE *f, const wg_sweep_opts *o)
 {
     fprintf(f, "\"options\":{\"model\":\"%s\",\"stepper\":\"%s\",\"steps_per_period\":%d,"
-               "\"transient\":%d,\"record\":%d,\"extend\":%d,\"lle_periods\":%d,"
+               "\"transient\":%d,\"settle\":%d,\"record\":%d,\"extend\":%d,\"lle_periods\":%d,"
                "\"lle_d0\":%g,\"lle_tol\":%g,\"tol_factor\":%g,\"tol_floor\":%g,"
                "\"floquet\":%s,\"verify_2n\":%s}",
             wg_model_name(o->model), wg_stepper_name(o->stepper), o->steps, o->transient,
-            o->record, o->extend, o->lle_periods, o->lle_d0, o->lle_tol, o->tol_factor,
+            o->settle, o->record, o->extend, o->lle_periods, o->lle_d0, o->lle_tol, o->tol_factor,
             o->tol_floor, o->floquet ? "true" : "false", o->verify ? "true" : "false");
 }
 

@@ -608,6 +608,7 @@ static int check_param(rig *r)
     char why[256];
     wg_sweep_opts_default(&r->so);
     r->so.transient = r->o.settle, r->so.record = r->o.record, r->so.extend = r->o.extend;
+    r->so.settle = 0; /* the daemon runs the whole transient: no early stop */
     if (r->o.tol > 0)
         r->so.tol_floor = r->o.tol, r->so.tol_factor = 0;
     if ((r->pid = wg_param_lookup(r->o.param)) < 0)

@@ -70,6 +70,10 @@ static void usage(FILE *f)
         "  --values NAME=v1,v2..   one up/down pair per value of another parameter\n"
         "  --map NAME=A:B:M        2-D regime map: M rows of NAME, each an up sweep\n"
         "  --transient T           periods before recording, per point (default 300)\n"
+        "  --settle W              end the transient early once the last W Poincare\n"
+        "                          sections repeat with a period <= 32 within the period\n"
+        "                          tolerance (16..4096, default 64)\n"
+        "  --full-transient        always run the whole transient (no early stop)\n"
         "  --record R              periods recorded for the period test (64..4096, default 128)\n"
         "  --extend E              extra transients while no period is found (default 3)\n"
         "  --lle-periods L         twin-trajectory periods for aperiodic points (default 300)\n"
@@ -160,6 +164,7 @@ static int parse_numeric(int c, const char *a, opts *o)
     const char *need = "unknown option";
     switch (c) {
     case 'T': bad = cli_int(a, 0, 100000000, &s->transient), need = "--transient: need 0..1e8, got"; break;
+    case 'w': bad = cli_int(a, 16, 4096, &s->settle), need = "--settle: need 16..4096, got"; break;
     case 'R': bad = cli_int(a, 64, 4096, &s->record), need = "--record: need 64..4096, got"; break;
     case 'E': bad = cli_int(a, 0, 1000, &s->extend), need = "--extend: need 0..1000, got"; break;
     case 'L': bad = cli_int(a, 1, 100000000, &s->lle_periods), need = "--lle-periods: need >= 1, got"; break;
@@ -233,6 +238,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"scene", 1, 0, 's'}, {"set", 1, 0, 'S'}, {"param", 1, 0, 'p'}, {"from", 1, 0, 'a'},
         {"to", 1, 0, 'b'}, {"points", 1, 0, 'n'}, {"step", 1, 0, 'd'}, {"dir", 1, 0, 'D'},
         {"values", 1, 0, 'V'}, {"map", 1, 0, 'M'}, {"transient", 1, 0, 'T'},
+        {"settle", 1, 0, 'w'}, {"full-transient", 0, 0, 'U'},
         {"record", 1, 0, 'R'}, {"extend", 1, 0, 'E'}, {"lle-periods", 1, 0, 'L'},
         {"lle-tol", 1, 0, 'l'}, {"tol-factor", 1, 0, 'F'}, {"tol-floor", 1, 0, 'f'},
         {"steps-per-period", 1, 0, 'N'}, {"stepper", 1, 0, 'k'}, {"floquet", 0, 0, 'Q'}, {"verify-steps", 0, 0, 'W'},
@@ -254,6 +260,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         case 'o': o->out = optarg; break;
         case 'Q': o->so.floquet = 1; break;
         case 'W': o->so.verify = 1; break;
+        case 'U': o->so.settle = 0; break;
         case 'G': o->png = 0; break;
         case 'J': o->json = 0; break;
         case 'q': o->quiet = 1; break;

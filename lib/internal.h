@@ -43,16 +43,42 @@ typedef struct ct_trace {
     ct_split sp[CT_MAX_SPLITS];
 } ct_trace;
 
+/* A run of plain steps in one kernel call (constant parameters, no ramp,
+ * no per-step callback), the state kept in registers between steps. Each
+ * step does what wg_sim_run's general step does when nothing happens, in
+ * the same arithmetic: the kernel, the mesh contact in ct_contacts' order,
+ * Kahan time, the period's min/max x_n, k + 1. The run stops before a step
+ * that completes a period (k = N - 1), changes a contact's zone (contact j
+ * stays when lo[j] <= x <= hi[j]), turns x_n' round (the extremum needs
+ * the Hermite refinement), or whose state sum |y| is not below `fin`;
+ * the caller takes that step. */
+typedef struct wg_krun {
+    double y[WG_NSTATE_MAX];     /* in/out: state */
+    double xn, dxn;              /* in/out: mesh contact of y */
+    double tau, tau_c;           /* in/out: Kahan time */
+    double min_xn, max_xn;       /* in/out: the period's statistics */
+    uint32_t k, N;               /* in/out: phase index; steps per period */
+    double h, fin;               /* step; sum |y| must stay below fin */
+    const wg_exc *table;         /* 2N+1 half-step excitation entries */
+    double lo[WG_NCONTACT], hi[WG_NCONTACT]; /* zone bounds per contact */
+} wg_krun;
+
+/* At most n plain steps of r (above); returns the number taken. */
+typedef uint64_t (*wg_krun_fn)(const void *restrict kc, wg_krun *restrict r, uint64_t n);
+
 /* The private part of a wg_sim (allocated by wg_sim_init with the table). */
 typedef struct wg_sim_core {
     wg_kcoef kc;
     wg_kernel_fn kernel;  /* specialised kernel for the current parameters */
+    wg_krun_fn krun;      /* its run of plain steps (NULL: printed form) */
     unsigned kflags;      /* which specialisation (for reports) */
+    int isa;              /* which instruction set's kernels (KISA_*) */
     wg_exc *table;        /* 2N+1 excitation entries at half steps */
     wg_params hkey;       /* parameters hkey_hmax was computed for (cache) */
     double hkey_hmax;     /* 0: no cached value */
     /* contact bookkeeping at the end of the last step */
     int zone[WG_NCONTACT];
+    double zlo[WG_NCONTACT], zhi[WG_NCONTACT]; /* contact j stays in its zone iff zlo <= x <= zhi */
     double q[WG_NCONTACT], v[WG_NCONTACT];
     wg_period cur;        /* statistics of the period in progress */
     wg_period last;       /* statistics of the last completed period */
@@ -61,6 +87,11 @@ typedef struct wg_sim_core {
 
 /* Mesh direction c (x_n = c . q) and force weights m (mass ratio times c). */
 void model_mesh_vectors(int model, const wg_params *p, double c[7], double m[7]);
+
+/* wg_rk4_hmax the slow way (the reference its tests compare with, and the
+ * fallback if QR fails): bisection on h of the spectral radius of the RK4
+ * step matrix R(hA), from norms of its repeated squares (3-5 ms). */
+double model_rk4_hmax_bisect(const wg_params *p);
 
 /* Kernel specialisation bits. */
 enum {
@@ -73,8 +104,22 @@ enum {
     KF_NKERNEL = 64
 };
 
-/* The consistent-form kernel for a set of KF_* bits; kc is a wg_kcoef. */
-wg_kernel_fn kernel_select(unsigned kflags);
+/* Instruction sets the kernels are built for; every one gives the same
+ * bits (kern_tmpl.h). */
+enum { KISA_SSE2, KISA_AVX2, KISA_AVX512, KISA_N };
+
+/* Name ("sse2", "avx2", "avx512"); whether this CPU runs it; the one a new
+ * wg_sim uses: $WG_ISA if it names a supported set, else the widest. */
+const char *kernel_isa_name(int isa);
+int kernel_isa_supported(int isa);
+int kernel_isa_choose(void);
+
+/* The consistent-form kernel for a set of KF_* bits and an instruction set;
+ * kc is a wg_kcoef. */
+wg_kernel_fn kernel_select(unsigned kflags, int isa);
+
+/* The run function for a set of KF_* bits and an instruction set. */
+wg_krun_fn krun_select(unsigned kflags, int isa);
 
 /* RK4 step of the printed form (unspecialised, for comparison); kc is the
  * wg_params. */
@@ -149,7 +194,9 @@ static inline void ct_contacts(const wg_sim *s, const double *y, const wg_exc *e
     v[0] = dx;
 }
 
-/* Lock contact's dead zone on `zone` (g = w x - zc) for the locked kernels. */
+/* Lock contact's dead zone on `zone` (g = w x - zc) for the locked kernels,
+ * and set the bounds of that zone (zlo, zhi) for the runs of plain steps.
+ * Called whenever a zone or a threshold changes. */
 void ct_set_lock(wg_sim *s, int contact, int zone);
 
 /* Cubic Hermite of a contact coordinate over one step, t in [0, 1]. */

@@ -36,11 +36,24 @@ void ct_exc_at(const wg_sim *s, const phase *ph, double t, wg_exc *e)
     e->fx = v[WG_P_F_M] + v[WG_P_F_E] * (c * r[2][0] - sn * r[2][1]);
 }
 
+/* The double just above c >= 0: x > c iff x >= above(c). */
+static double above(double c)
+{
+    uint64_t u;
+    memcpy(&u, &c, sizeof u);
+    u = c == 0.0 ? 1 : u + 1;
+    memcpy(&c, &u, sizeof c);
+    return c;
+}
+
 void ct_set_lock(wg_sim *s, int contact, int zone)
 {
     double c = ct_threshold(s, contact);
     s->core->kc.w[contact] = zone != 0 ? 1.0 : 0.0;
     s->core->kc.zc[contact] = zone * c;
+    /* ct_zone(x, c) == zone iff zlo <= x <= zhi (never for NaN) */
+    s->core->zlo[contact] = zone > 0 ? above(c) : zone == 0 ? -c : -INFINITY;
+    s->core->zhi[contact] = zone < 0 ? -above(c) : zone == 0 ? c : INFINITY;
 }
 
 /* ---- Hermite interpolation of a contact coordinate over one step ------- */
@@ -156,21 +169,41 @@ void ct_interpolate(const wg_sim *s, evbuf *b, int j, int z0, int z1,
 
 /* ---- rk4-event: split the step at located crossings -------------------- */
 
-static void substep(const wg_sim *s, const phase *ph, const double *ya, double *yb, double t0,
-                    double t1)
+/* The excitation at the sub-step times of one split step, each time
+ * evaluated once: the same times recur (the step's end at every pass, the
+ * crossing a substep ends at and the next one starts from, the contacts
+ * there), and ct_exc_at costs a sine and a cosine. The same bits. */
+enum { EXC_MEMO = 8 };
+typedef struct exc_memo {
+    double t[EXC_MEMO];
+    wg_exc e[EXC_MEMO];
+    int n, next;
+} exc_memo;
+
+static wg_exc exc_at(exc_memo *m, const wg_sim *s, const phase *ph, double t)
 {
-    wg_exc e[3];
-    ct_exc_at(s, ph, t0, &e[0]);
-    ct_exc_at(s, ph, 0.5 * (t0 + t1), &e[1]);
-    ct_exc_at(s, ph, t1, &e[2]);
+    for (int i = 0; i < m->n; i++)
+        if (m->t[i] == t)
+            return m->e[i];
+    int i = m->next;
+    m->next = (i + 1) % EXC_MEMO;
+    m->n += m->n < EXC_MEMO;
+    m->t[i] = t;
+    ct_exc_at(s, ph, t, &m->e[i]);
+    return m->e[i];
+}
+
+static void substep(const wg_sim *s, const phase *ph, exc_memo *m, const double *ya,
+                    double *yb, double t0, double t1)
+{
+    wg_exc e[3] = {exc_at(m, s, ph, t0), exc_at(m, s, ph, 0.5 * (t0 + t1)), exc_at(m, s, ph, t1)};
     s->core->kernel(ya, yb, &s->core->kc, e, t1 - t0);
 }
 
-static void contacts_at(const wg_sim *s, const phase *ph, const double *y, double t, double *q,
-                        double *v)
+static void contacts_at(const wg_sim *s, const phase *ph, exc_memo *m, const double *y,
+                        double t, double *q, double *v)
 {
-    wg_exc e;
-    ct_exc_at(s, ph, t, &e);
+    wg_exc e = exc_at(m, s, ph, t);
     ct_contacts(s, y, &e, q, v);
 }
 
@@ -209,11 +242,12 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
     double qa[WG_NCONTACT], va[WG_NCONTACT], qb[WG_NCONTACT], vb[WG_NCONTACT];
     int nc = ct_ncontacts(s);
     double t = 0.0;
+    exc_memo m = {.n = 0};
     memcpy(ya, y0, sizeof ya);
     memcpy(yc, y0, sizeof yc);
     for (int splits = 0;; splits++) {
-        contacts_at(s, ph, ya, t, qa, va);
-        contacts_at(s, ph, y1, h, qb, vb);
+        contacts_at(s, ph, &m, ya, t, qa, va);
+        contacts_at(s, ph, &m, y1, h, qb, vb);
         int first = -1, dir = 0;
         double tfirst = 2.0, thr = 0.0;
         for (int j = 0; j < nc; j++) {
@@ -236,9 +270,9 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
         /* step to the crossing, then refine it by Newton on the coordinate */
         double tc = t + tfirst * (h - t), qc[WG_NCONTACT], vc[WG_NCONTACT], tstate = tc;
         for (int it = 0; it < 3; it++) {
-            substep(s, ph, ya, yc, t, tc);
+            substep(s, ph, &m, ya, yc, t, tc);
             tstate = tc;
-            contacts_at(s, ph, yc, tc, qc, vc);
+            contacts_at(s, ph, &m, yc, tc, qc, vc);
             double r = qc[first] - thr;
             if (fabs(r) <= 1e-13 * (1.0 + fabs(thr)) || vc[first] == 0.0)
                 break;
@@ -272,11 +306,11 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
         }
         memcpy(ya, yc, sizeof ya);
         t = tc;
-        substep(s, ph, ya, y1, t, h);
+        substep(s, ph, &m, ya, y1, t, h);
     }
     /* smooth contacts, and any left after MAX_SPLITS: interpolate over the
      * last piece */
-    contacts_at(s, ph, y1, h, qb, vb);
+    contacts_at(s, ph, &m, y1, h, qb, vb);
     for (int j = 0; j < nc; j++) {
         int z1 = ct_zone(qb[j], ct_threshold(s, j));
         if (z1 != s->core->zone[j]) {

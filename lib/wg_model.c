@@ -3,6 +3,8 @@
  * against wg_rhs() here. */
 #include "wormgear/wg_model.h"
 #include "internal.h"
+#include "wormgear/wg_regime.h"
+#include "wormgear/wg_status.h"
 
 #include <math.h>
 #include <string.h>
@@ -159,6 +161,7 @@ void wg_equilibrium(int model, const wg_params *p, double *y)
 /* ---- RK4 stability limit ------------------------------------------------ */
 
 enum { SN = 14 };
+#define RK4_TOL (1.0 + 1e-8) /* |R| up to this counts as stable (rounding of A) */
 
 static void matmul(int n, const double *a, const double *b, double *out)
 {
@@ -237,15 +240,12 @@ static double rk4_radius(int n, const double *A, double h, double stable)
     return exp(ldexp(logc, -30));
 }
 
-double wg_rk4_hmax(int model, const wg_params *p)
+double model_rk4_hmax_bisect(const wg_params *p)
 {
-    if (model != WG_MODEL_CONSISTENT)
-        return 0.0;
     double A[SN * SN];
     int n = linear_matrix(p, A);
-    const double tol = 1.0 + 1e-8;
     double lo = 0.0, hi = 1.0;
-    while (rk4_radius(n, A, hi, tol) <= tol) {
+    while (rk4_radius(n, A, hi, RK4_TOL) <= RK4_TOL) {
         lo = hi;
         hi *= 2.0;
         if (hi > 1e6)
@@ -253,12 +253,61 @@ double wg_rk4_hmax(int model, const wg_params *p)
     }
     for (int it = 0; it < 32; it++) { /* relative precision 2^-32 of hi */
         double mid = 0.5 * (lo + hi);
-        if (rk4_radius(n, A, mid, tol) <= tol)
+        if (rk4_radius(n, A, mid, RK4_TOL) <= RK4_TOL)
             lo = mid;
         else
             hi = mid;
     }
     return lo;
+}
+
+/* |R(h lam)|^2 for the RK4 polynomial R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24
+ * and lam = re + i im (Horner, as rk4_radius forms R(hA)). */
+static double rk4_gain2(double re, double im, double h)
+{
+    double zr = h * re, zi = h * im, pr = 1.0, pi = 0.0;
+    for (int d = 4; d >= 1; d--) {
+        double tr = (zr * pr - zi * pi) / d, ti = (zr * pi + zi * pr) / d;
+        pr = 1.0 + tr;
+        pi = ti;
+    }
+    return pr * pr + pi * pi;
+}
+
+/* Largest h with |R(h' lam)| <= RK4_TOL for every h' in [0, h]. Along a ray
+ * into the left half-plane RK4's stability region is left once, at
+ * |h lam| <= 2.97 (checked on a 0.05-degree grid of rays): a scan brackets
+ * that exit and bisection pins it to the last bit. */
+static double ray_hmax(double re, double im)
+{
+    enum { SCAN = 64 };
+    double mod = hypot(re, im), t2 = RK4_TOL * RK4_TOL, lo = 0.0, hi = 0.0;
+    if (!(mod > 0.0))
+        return INFINITY;
+    for (int i = 1; i <= SCAN && lo == hi; i++) {
+        hi = 3.2 / mod * i / SCAN;
+        if (rk4_gain2(re, im, hi) <= t2)
+            lo = hi;
+    }
+    if (lo == hi) /* no exit up to |z| = 3.2: cannot happen for RK4 */
+        return hi;
+    for (double mid = 0.5 * (lo + hi); mid > lo && mid < hi; mid = 0.5 * (lo + hi))
+        *(rk4_gain2(re, im, mid) <= t2 ? &lo : &hi) = mid;
+    return lo;
+}
+
+double wg_rk4_hmax(int model, const wg_params *p)
+{
+    if (model != WG_MODEL_CONSISTENT)
+        return 0.0;
+    double A[SN * SN], wr[SN], wi[SN], h = INFINITY;
+    int n = linear_matrix(p, A);
+    if (wg_eig(n, A, wr, wi) != WG_OK) /* QR did not converge: the slow way */
+        return model_rk4_hmax_bisect(p);
+    for (int i = 0; i < n; i++)
+        if (wi[i] >= 0.0) /* a conjugate has the same |R| */
+            h = dmin(h, ray_hmax(wr[i], wi[i]));
+    return h > 1e6 ? 1048576.0 : h;
 }
 
 int wg_params_same_linear(const wg_params *a, const wg_params *b)

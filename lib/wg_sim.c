@@ -94,7 +94,9 @@ static void coefficients(wg_sim *s)
     for (int j = 0; j < WG_NCONTACT; j++)
         ct_set_lock(s, j, s->core->zone[j]);
     s->core->kflags = kflags_of(s);
-    s->core->kernel = s->cfg.model == WG_MODEL_PRINTED ? kernel_printed : kernel_select(s->core->kflags);
+    int printed = s->cfg.model == WG_MODEL_PRINTED;
+    s->core->kernel = printed ? kernel_printed : kernel_select(s->core->kflags, s->core->isa);
+    s->core->krun = printed ? NULL : krun_select(s->core->kflags, s->core->isa);
 }
 
 static void build_table(wg_sim *s)
@@ -204,6 +206,8 @@ int wg_sim_init(wg_sim *s, const wg_params *p, const wg_sim_config *cfg, char *w
     s->core = calloc(1, sizeof *s->core);
     if (s->core)
         s->core->table = malloc(sizeof(wg_exc) * (size_t)(2 * cfg->steps_per_period + 1));
+    if (s->core)
+        s->core->isa = kernel_isa_choose();
     if (!s->core || !s->core->table) {
         wg_sim_fini(s);
         snprintf(why, whylen, "out of memory for the excitation table");
@@ -628,6 +632,38 @@ static void sync_out(wg_sim *s, const double *y, const double *q, const double *
     memcpy(s->core->v, v, sizeof s->core->v);
 }
 
+/* Up to n plain steps in the kernel's own loop (wg_krun) from the state y
+ * with contacts q, v (updated); returns how many it took. The step it
+ * stops before is left to the general step. */
+static uint64_t fast_steps(wg_sim *s, double *y, double *q, double *v, uint64_t n)
+{
+    wg_sim_core *c = s->core;
+    wg_krun r = {.xn = q[0], .dxn = v[0], .tau = s->tau, .tau_c = s->tau_c,
+                 .min_xn = c->cur.min_xn, .max_xn = c->cur.max_xn, .k = s->k,
+                 .N = (uint32_t)s->cfg.steps_per_period, .h = s->h, .fin = ABSURD * (1 - 1e-9),
+                 .table = c->table};
+    memcpy(r.y, y, sizeof r.y);
+    memcpy(r.lo, c->zlo, sizeof r.lo);
+    memcpy(r.hi, c->zhi, sizeof r.hi);
+    uint64_t m = c->krun(&c->kc, &r, n);
+    if (m == 0)
+        return 0;
+    memcpy(y, r.y, sizeof r.y);
+    q[0] = r.xn;
+    v[0] = r.dxn;
+    for (int j = 0; j < 6 && (c->kflags & KF_BEAR); j++) { /* as ct_contacts */
+        q[j + 1] = y[j];
+        v[j + 1] = y[7 + j];
+    }
+    s->tau = r.tau;
+    s->tau_c = r.tau_c;
+    c->cur.min_xn = r.min_xn;
+    c->cur.max_xn = r.max_xn;
+    s->k = r.k;
+    s->steps += m;
+    return m;
+}
+
 int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
 {
     const uint32_t N = (uint32_t)s->cfg.steps_per_period;
@@ -644,7 +680,15 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
     int cur = 0;
     uint64_t i;
     int rc = WG_OK;
+    /* plain steps run in the kernel's own loop unless a ramp or a per-step
+     * callback needs the general step every time */
+    const int fast = s->core->krun && !(sink && sink->on_step);
     for (i = 0; i < n; i++) {
+        if (fast && !s->ramp.active) {
+            i += fast_steps(s, yb[cur], qb[cur], vb[cur], n - i);
+            if (i == n)
+                break;
+        }
         double *y0 = yb[cur], *y1 = yb[!cur], *q0 = qb[cur], *q1 = qb[!cur];
         double *v0 = vb[cur], *v1 = vb[!cur];
         const wg_exc *e;
@@ -688,6 +732,7 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
                         herm H = {q0[j], q1[j], v0[j] * h, v1[j] * h};
                         ct_interpolate(s, &b, j, s->core->zone[j], z1, &H, 0.0, h);
                         s->core->zone[j] = z1;
+                        ct_set_lock(s, j, z1); /* the bounds (rk4 reads no lock) */
                     }
                 }
             }

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #define LOOSE_TOL 1e-4 /* period tolerance once the LLE says "converging" */
+#define SETTLE_EVERY 16 /* periods between the early-stop tests of a transient */
 
 /* Workspace of one chain: the main sim, its twin (LLE) and a 2N sim for the
  * integration error, each (re)initialised when N changes. */
@@ -20,8 +21,9 @@ typedef struct work {
     wg_sim sim, twin, fine;
     int n_sim, n_twin, n_fine; /* N each was built with (0: not built) */
     int nstate;
-    double *rec;               /* record x nstate Poincare states */
-    wg_period *stats;          /* record period statistics */
+    double *rec;               /* cap x nstate Poincare states */
+    wg_period *stats;          /* their period statistics */
+    int cap;                   /* rows: the record, or the transient's window */
     int nrec;                  /* sections stored by the current recording */
     wg_params hkey;            /* parameters hmax was found for */
     double hmax;               /* RK4 limit (wg_params_same_linear decides reuse) */
@@ -32,7 +34,8 @@ typedef struct work {
 void wg_sweep_opts_default(wg_sweep_opts *o)
 {
     *o = (wg_sweep_opts){.model = WG_MODEL_CONSISTENT, .stepper = WG_STEPPER_DEFAULT,
-                         .steps = 256, .transient = 300, .record = 128, .extend = 3,
+                         .steps = 256, .transient = 300, .settle = 64, .record = 128,
+                         .extend = 3,
                          .lle_periods = 300, .lle_d0 = 1e-7, .lle_tol = 0.01,
                          .tol_factor = 10.0, .tol_floor = 1e-9, .floquet = 0};
 }
@@ -99,8 +102,9 @@ static int work_init(work *w, const wg_sweep_opts *o, volatile sig_atomic_t *sto
     w->o = o;
     w->stop = stop;
     w->nstate = wg_model_nstate(o->model);
-    w->rec = malloc(sizeof(double) * (size_t)o->record * (size_t)w->nstate);
-    w->stats = malloc(sizeof(wg_period) * (size_t)o->record);
+    w->cap = o->record > 2 * o->settle + SETTLE_EVERY ? o->record : 2 * o->settle + SETTLE_EVERY;
+    w->rec = malloc(sizeof(double) * (size_t)w->cap * (size_t)w->nstate);
+    w->stats = malloc(sizeof(wg_period) * (size_t)w->cap);
     if (!w->rec || !w->stats) {
         work_fini(w);
         return WG_ENOMEM;
@@ -111,7 +115,7 @@ static int work_init(work *w, const wg_sweep_opts *o, volatile sig_atomic_t *sto
 static void on_record(void *ctx, const wg_section *sec)
 {
     work *w = ctx;
-    if (w->nrec >= w->o->record)
+    if (w->nrec >= w->cap)
         return;
     memcpy(w->rec + (size_t)w->nrec * w->nstate, sec->y, sizeof(double) * (size_t)w->nstate);
     w->stats[w->nrec++] = sec->stats;
@@ -211,6 +215,112 @@ static void point_sections(const work *w, const wg_params *p, wg_point *pt)
     }
 }
 
+/* Period tolerance from the one-period error at the last two sections
+ * stored. */
+static int window_tol(work *w, const wg_params *p, double *tol, char *why, size_t whylen)
+{
+    double err;
+    int rc = period_error(w, p, &err, why, whylen);
+    *tol = fmax(w->o->tol_floor, w->o->tol_factor * err);
+    return rc;
+}
+
+static double dist_max(const double *a, const double *b, int n)
+{
+    double d = 0.0;
+    for (int j = 0; j < n; j++)
+        d = fmax(d, fabs(a[j] - b[j]));
+    return d;
+}
+
+/* Largest distance between sections n apart, the later one in [i0, i1). */
+static double lag_max(const double *x, int d, int n, int i0, int i1)
+{
+    double r = 0.0;
+    for (int i = i0; i < i1; i++)
+        r = fmax(r, dist_max(x + (size_t)i * d, x + (size_t)(i - n) * d, d));
+    return r;
+}
+
+/* The period n the last o->settle sections stored repeat with, 0 if none.
+ * Every pair n apart within tol (wg_period_detect), and the trajectory
+ * within tol / 2 of the period-n orbit it tends to. That distance is at
+ * most r / (1 - rho^n), r the last lag-n residual and rho its decay per
+ * period, measured from the window's first eighth of pairs to its last:
+ * a slowly decaying mode (multiplier near -1 makes x_k+2 - x_k small while
+ * x_k is far from a period-1 orbit) is not taken for period 2, as a lag-1
+ * residual over tol means a distance over tol / 2. The residual must also
+ * not be growing: over the last eighth at most 1.25x its least over the
+ * earlier eighths (an orbit being slowly left, just past a period
+ * doubling). Residuals at round-off level pass. */
+static int window_period(const work *w, double tol)
+{
+    const int W = w->o->settle, d = w->nstate;
+    const double *x = w->rec + (size_t)(w->nrec - W) * d;
+    double resid;
+    int n = wg_period_detect(x, W, d, WG_PERIOD_MAX, tol, &resid);
+    if (n == 0)
+        return 0;
+    const int m = W - n;
+    double first = lag_max(x, d, n, n, n + m / 8), least = first, scale = 1.0;
+    for (int q = 1; q < 7; q++)
+        least = fmin(least, lag_max(x, d, n, n + q * m / 8, n + (q + 1) * m / 8));
+    double last = lag_max(x, d, n, n + 7 * m / 8, W);
+    for (int j = 0; j < d; j++)
+        scale = fmax(scale, fabs(x[(size_t)(W - 1) * d + j]));
+    if (last <= 1e-13 * scale)
+        return n;
+    if (!(last <= 1.25 * least && last < first))
+        return 0;
+    double rho = pow(last / first, 1.0 / (7 * m / 8));
+    return last / (1.0 - pow(rho, n)) <= 0.5 * tol ? n : 0;
+}
+
+/* A point's transient: o->transient periods, or fewer once the last
+ * o->settle Poincare sections repeat with a period n <= WG_PERIOD_MAX within
+ * the period tolerance (window_period), tested every SETTLE_EVERY periods.
+ * The tolerance is the record's rule, max(floor, factor x one-period error),
+ * the error taken when the window first fills and again at a candidate stop
+ * (which must pass with it). The stop is then put off to a multiple of n
+ * periods short of the full transient, so the state the record (and the
+ * next point of a chain) starts from is the full transient's, within tol:
+ * a period-n orbit is entered at the same one of its n phases. */
+static int transient(work *w, const wg_params *p, int *ran, char *why, size_t whylen)
+{
+    const int W = w->o->settle, T = w->o->transient;
+    *ran = T;
+    if (W <= 0 || T <= W)
+        return run_periods(&w->sim, T, NULL);
+    wg_sink sink = {w, NULL, on_record, NULL};
+    double tol = -1.0;
+    w->nrec = 0;
+    for (int done = 0; done < T;) {
+        int chunk = done < W ? W : T - done < SETTLE_EVERY ? T - done : SETTLE_EVERY;
+        if (w->nrec + chunk > w->cap) { /* keep the last W */
+            memmove(w->rec, w->rec + (size_t)(w->nrec - W) * w->nstate,
+                    sizeof(double) * (size_t)W * (size_t)w->nstate);
+            memmove(w->stats, w->stats + (w->nrec - W), sizeof(wg_period) * (size_t)W);
+            w->nrec = W;
+        }
+        int rc = run_periods(&w->sim, chunk, &sink);
+        if (rc)
+            return rc;
+        done += chunk;
+        if (tol < 0 && (rc = window_tol(w, p, &tol, why, whylen)))
+            return rc;
+        if (done < T && window_period(w, tol) > 0) {
+            if ((rc = window_tol(w, p, &tol, why, whylen)))
+                return rc;
+            int n = window_period(w, tol);
+            if (n > 0) {
+                *ran = done + (T - done) % n;
+                return run_periods(&w->sim, (T - done) % n, NULL);
+            }
+        }
+    }
+    return WG_OK;
+}
+
 /* Period with the strict tolerance, extending the transient while none is
  * found. Returns the period (0: none) or a negative status. */
 static int find_period(work *w, const wg_params *p, wg_point *pt, char *why, size_t whylen)
@@ -289,7 +399,7 @@ static int point_analyse(work *w, const wg_params *p, double *y, wg_point *pt, c
     if (rc)
         return rc;
     wg_sim_set_state(&w->sim, y, 0, 0.0);
-    rc = run_periods(&w->sim, w->o->transient, NULL);
+    rc = transient(w, p, &pt->transient, why, whylen);
     int n = rc ? rc : find_period(w, p, pt, why, whylen);
     if (n > 0) {
         pt->regime = WG_REGIME_PERIODIC;

@@ -78,8 +78,10 @@ void wg_equilibrium(int model, const wg_params *p, double *y);
 
 /* Largest step h for which classical RK4 is stable on the model's linear
  * part in its stiffest configuration (every contact engaged, k_p = 1 + k_a),
- * found from the spectral radius of the RK4 step matrix. Consistent form
- * only; returns 0 for the printed form (it has unstable modes by design). */
+ * the smallest h at which some h*lambda_i (lambda_i the eigenvalues of the
+ * linear part) leaves RK4's stability region |R(z)| <= 1 + 1e-8; about
+ * 30 us. Consistent form only; returns 0 for the printed form (it has
+ * unstable modes by design). */
 double wg_rk4_hmax(int model, const wg_params *p);
 
 /* True when a and b have the same linear part, so wg_rk4_hmax gives the

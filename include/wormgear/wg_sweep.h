@@ -19,6 +19,9 @@ typedef struct wg_sweep_opts {
     int model, stepper;  /* enum wg_model_kind, wg_stepper_kind */
     int steps;           /* N per mesh period; raised to 1.25x the RK4 limit */
     int transient;       /* periods run before recording (each point) */
+    int settle;          /* early stop: the transient ends once the last `settle`
+                            sections repeat with a period n <= WG_PERIOD_MAX within
+                            the period tolerance (0: always the full transient) */
     int record;          /* periods recorded for period detection, >= 64 */
     int extend;          /* extra transient blocks while no period is found */
     int lle_periods;     /* twin-trajectory periods for aperiodic points */
@@ -38,6 +41,8 @@ typedef struct wg_point {
     int converged;        /* period met tol (else inferred from LLE < 0) */
     int motion;           /* worst motion class over the recorded periods */
     int steps;            /* N used */
+    int transient;        /* periods of transient before the first record (fewer
+                             than the option's when it settled early) */
     int nsec;             /* Poincare samples stored (<= WG_POINT_NSEC) */
     double impacts;       /* mesh impacts per period */
     double min_xn, max_xn;
@@ -72,8 +77,9 @@ typedef struct wg_chain {
 /* Progress callback: one more point of chain `chain` is done. */
 typedef void (*wg_progress_fn)(void *ctx, int chain, int ndone);
 
-/* Defaults: rk4-event, N = 256, transient 300, record 128, extend 3,
- * LLE 300 periods d0 1e-7 tol 0.01, tol = max(1e-9, 10 err), no Floquet. */
+/* Defaults: rk4-event, N = 256, transient 300 (ending early once settled
+ * over 64 periods), record 128, extend 3, LLE 300 periods d0 1e-7 tol 0.01,
+ * tol = max(1e-9, 10 err), no Floquet. */
 void wg_sweep_opts_default(wg_sweep_opts *o);
 
 /* Value of point i (in run order) of a chain. */

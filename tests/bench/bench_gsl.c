@@ -113,8 +113,9 @@ int main(int argc, char **argv)
         {"realistic", "realistic", 0.5},           {"torsional", "torsional", 0.5},
     };
     gsl_set_error_handler_off();
-    printf("bench_gsl: N = %d, %ld steps (ours) / %ld (GSL, hand) x %d reps, medians\n\n", N, n,
-           ng, reps);
+    printf("bench_gsl: N = %d, %ld steps (ours) / %ld (GSL, hand) x %d reps, medians; kernels "
+           "for %s (WG_ISA=sse2|avx2|avx512 chooses)\n\n",
+           N, n, ng, reps, kernel_isa_name(kernel_isa_choose()));
     printf("| scene | omega | kernel (rk4) | bare kernel ns/step | rk4 ns/step | rk4-event ns/step "
            "| GSL rk4 ns/step (RHS calls) | hand RK4 ns/step | GSL / rk4 | GSL / rk4-event "
            "| hand / rk4 | rk4 / bare | chain bound ns | bare / bound | rk4 / bound |\n"

@@ -6,6 +6,8 @@
 #include "wormgear/wg_sim.h"
 #include "wormgear/wg_status.h"
 
+#include <time.h>
+
 static void test_deadzone(void)
 {
     ASSERT_NEAR(wg_deadzone(1.5, 1.0), 0.5, 0);
@@ -300,6 +302,69 @@ static void test_stability_limit(void)
     }
 }
 
+/* Random linear parts over the table's ranges: stiffness and damping
+ * log-uniform, some undamped, some rigid (torsional), geometry normalised. */
+static void random_linear(wg_params *p, unsigned *seed)
+{
+    wg_params_default(p);
+#define U01() ((double)rand_r(seed) / RAND_MAX)
+    for (int i = WG_P_K1X; i <= WG_P_K2Z; i++)
+        p->v[i] = pow(10.0, -3.0 + 7.0 * U01());
+    for (int i = WG_P_XI1X; i <= WG_P_XI2Z; i++)
+        p->v[i] = U01() < 0.1 ? 0.0 : pow(10.0, -3.0 + 4.0 * U01());
+    p->v[WG_P_XI_P] = U01() < 0.1 ? 0.0 : 2.0 * U01();
+    p->v[WG_P_XI_G] = U01() < 0.5 ? 0.0 : U01();
+    p->v[WG_P_K_A] = 0.95 * U01();
+    int rigid = U01() < 0.1;
+    p->v[WG_P_MU1] = rigid ? 0.0 : pow(10.0, -2.0 + 4.0 * U01());
+    p->v[WG_P_MU2] = rigid ? 0.0 : pow(10.0, -2.0 + 4.0 * U01());
+    double al = 0.5 * U01(), be = 1.5 * U01();
+    p->v[WG_P_A1] = cos(al) * sin(be);
+    p->v[WG_P_A2] = sin(al);
+    p->v[WG_P_A3] = cos(al) * cos(be);
+#undef U01
+}
+
+/* The eigenvalue limit against the slow spectral-radius bisection it
+ * replaced: the scenes, the table's corners and random linear parts. */
+static void test_stability_limit_methods(void)
+{
+    unsigned seed = (unsigned)time(NULL);
+    printf("seed %u\n", seed);
+    double worst = 0.0, tfast = 0.0, tslow = 0.0;
+    for (int i = 0; i < 120; i++) {
+        wg_params p;
+        if (i < 4) {
+            static const char *const mu[4][2] = {{"1", "1"}, {"0", "0"}, {"100", "0.01"}, {"0.01", "100"}};
+            wg_params_default(&p);
+            p.v[WG_P_MU1] = atof(mu[i][0]);
+            p.v[WG_P_MU2] = atof(mu[i][1]);
+            p.v[WG_P_XI_P] = i == 1 ? 0.0 : 2.0;
+        } else {
+            random_linear(&p, &seed);
+        }
+        char why[200];
+        if (wg_params_check(&p, why, sizeof why) != WG_OK)
+            continue;
+        struct timespec a, b, c;
+        clock_gettime(CLOCK_MONOTONIC, &a);
+        double hf = wg_rk4_hmax(WG_MODEL_CONSISTENT, &p);
+        clock_gettime(CLOCK_MONOTONIC, &b);
+        double hs = model_rk4_hmax_bisect(&p);
+        clock_gettime(CLOCK_MONOTONIC, &c);
+        tfast += (b.tv_sec - a.tv_sec) + 1e-9 * (b.tv_nsec - a.tv_nsec);
+        tslow += (c.tv_sec - b.tv_sec) + 1e-9 * (c.tv_nsec - b.tv_nsec);
+        double rel = fabs(hf - hs) / hs;
+        if (!(rel <= 1e-7))
+            printf("case %d: eigenvalues %.17g, bisection %.17g (rel %.2e)\n", i, hf, hs, rel);
+        ASSERT_TRUE(rel <= 1e-7);
+        worst = rel > worst ? rel : worst;
+    }
+    printf("stability limit, eigenvalues vs bisection: max relative difference %.2e; "
+           "%.1f us vs %.1f us per call\n", worst, 1e6 * tfast / 120, 1e6 * tslow / 120);
+}
+
 TEST_MAIN(TEST(test_deadzone), TEST(test_rhs_hand_computed), TEST(test_kernels_match_reference),
           TEST(test_stiffness_symmetry), TEST(test_printed_drifts_consistent_settles),
-          TEST(test_equilibrium_is_static), TEST(test_stability_limit))
+          TEST(test_equilibrium_is_static), TEST(test_stability_limit),
+          TEST(test_stability_limit_methods))

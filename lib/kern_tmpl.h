@@ -1,0 +1,476 @@
+/* kern_tmpl.h - the specialised RK4 steps of the consistent form, as a
+ * template instantiated once per instruction set (wg_kernel*.c):
+ *   KW     lanes per bearing vector: 2 (SSE2), 4 (AVX2) or 8 (AVX-512);
+ *   KSUF   suffix of the two tables this defines, kern_tab_KSUF and
+ *          krun_tab_KSUF (64 entries each, indexed by the KF_* bits).
+ *
+ * One generic step, always inlined, instantiated for every combination of
+ * the KF_* bits; the compiler removes the terms a scene does not need. The
+ * excitation comes in as three entries (stage 1, stages 2-3, stage 4), so
+ * the kernels call no libm. Dead zones are branch-free (min/max), or in
+ * zone-locked form g = w x - zc for the event-splitting stepper.
+ *
+ * Every width does the same roundings in the same order, so the three
+ * instruction sets give the same bits (test_model checks it): the six
+ * bearings sit in NB = 6/KW vectors (lanes past the sixth are zero and
+ * stay zero), every bearing operation is lane-wise, and the one sum across
+ * bearings is always ((x1 + z1) + y2) + ((y1 + x2) + z2) (hsumb). No FMA
+ * contraction: the build is ISO C11, where GCC keeps a*b + c two roundings.
+ *
+ * Full path: the mesh coordinate is carried as scalars through the stages,
+ * using linearity: with X = c.q and V = c.v (s included),
+ *   X_{j+1} = X_0 + a V_j,   V_{j+1} = V_0 + a (P_j - M F_j),
+ * where P_j = sum_i c_i (-d_i v_i - k_i g_i) - d_s v_s + f is the part of
+ * c.acc that does not depend on F, and M = c.m + 1. P_j is computed
+ * alongside F_j, so the F -> F dependency chain per stage is a handful of
+ * operations instead of a 7-term dot product. */
+#include "internal.h"
+
+#include <math.h>
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
+#define INLINE static inline __attribute__((always_inline))
+#define NB ((6 + KW - 1) / KW)
+#define KCAT2(a, b) a##_##b
+#define KCAT(a, b) KCAT2(a, b)
+
+typedef double v2d __attribute__((vector_size(16)));
+typedef double vb __attribute__((vector_size(8 * KW)));
+typedef long long vbi __attribute__((vector_size(8 * KW)));
+
+INLINE double dz(double x, double c)
+{
+    double t = x < c ? x : c;
+    t = t > -c ? t : -c;
+    return x - t;
+}
+
+INLINE vb vsplat(double x)
+{
+    vb r;
+    for (int l = 0; l < KW; l++)
+        r[l] = x;
+    return r;
+}
+
+/* Bearing vector b from a[0..5] (lanes past the sixth: zero), and back. */
+INLINE vb vload6(const double *restrict a, int b)
+{
+    vb r;
+#if KW == 2
+    __builtin_memcpy(&r, &a[2 * b], sizeof r);
+#elif KW == 4
+    if (b == 0)
+        __builtin_memcpy(&r, a, sizeof r);
+    else
+        r = (vb)_mm256_zextpd128_pd256(_mm_loadu_pd(&a[4]));
+#else
+    (void)b;
+    r = (vb)_mm512_maskz_loadu_pd(0x3f, a);
+#endif
+    return r;
+}
+
+INLINE void vstore6(double *restrict a, int b, vb v)
+{
+#if KW == 2
+    __builtin_memcpy(&a[2 * b], &v, sizeof v);
+#elif KW == 4
+    if (b == 0)
+        __builtin_memcpy(a, &v, sizeof v);
+    else
+        _mm_storeu_pd(&a[4], _mm256_castpd256_pd128((__m256d)v));
+#else
+    (void)b;
+    _mm512_mask_storeu_pd(a, 0x3f, (__m512d)v);
+#endif
+}
+
+/* x - clamp(x, -c, c) lane-wise, as dz(): min(x, c), then max(., 0 - c). */
+INLINE vb vdz(vb x, vb c)
+{
+#if KW == 2 && !defined(__SSE2__)
+    return (vb){dz(x[0], c[0]), dz(x[1], c[1])};
+#elif KW == 2
+    __m128d t = _mm_min_pd((__m128d)x, (__m128d)c);
+    t = _mm_max_pd(t, _mm_sub_pd(_mm_setzero_pd(), (__m128d)c));
+#elif KW == 4
+    __m256d t = _mm256_min_pd((__m256d)x, (__m256d)c);
+    t = _mm256_max_pd(t, _mm256_sub_pd(_mm256_setzero_pd(), (__m256d)c));
+#else
+    __m512d t = _mm512_min_pd((__m512d)x, (__m512d)c);
+    t = _mm512_max_pd(t, _mm512_sub_pd(_mm512_setzero_pd(), (__m512d)c));
+#endif
+#if KW != 2 || defined(__SSE2__)
+    return x - (vb)t;
+#endif
+}
+
+/* The sum over the six bearing lanes of p, always as
+ * ((x1 + z1) + y2) + ((y1 + x2) + z2). */
+INLINE double hsumb(const vb p[NB])
+{
+#if KW == 2
+    v2d t = p[0] + p[1] + p[2];
+#elif KW == 4
+    v2d t = __builtin_shufflevector(p[0], p[0], 0, 1) + __builtin_shufflevector(p[0], p[0], 2, 3) +
+            __builtin_shufflevector(p[1], p[1], 0, 1);
+#else
+    v2d t = __builtin_shufflevector(p[0], p[0], 0, 1) + __builtin_shufflevector(p[0], p[0], 2, 3) +
+            __builtin_shufflevector(p[0], p[0], 4, 5);
+#endif
+    return t[0] + t[1];
+}
+
+INLINE vb vabs(vb x) { return (vb)((vbi)x & ~(vbi)vsplat(-0.0)); }
+
+/* Every lane of q inside [lo, hi] (false for NaN). */
+INLINE int vinside(vb q, vb lo, vb hi)
+{
+    vbi in = (q >= lo) & (q <= hi);
+    long long all = in[0];
+    for (int l = 1; l < KW; l++)
+        all &= in[l];
+    return all != 0;
+}
+
+/* Per-kernel constants, loaded once per step (or per run of steps). */
+typedef struct vconst {
+    vb c[NB], m[NB], k[NB], d[NB], cd[NB], ck[NB], w[NB], zc[NB], bj;
+    double M, ds;
+} vconst;
+
+INLINE void vconst_load(vconst *V, const wg_kcoef *restrict K)
+{
+#pragma GCC unroll 3
+    for (int b = 0; b < NB; b++) {
+        V->c[b] = vload6(K->c, b);
+        V->m[b] = vload6(K->m, b);
+        V->k[b] = vload6(K->k, b);
+        V->d[b] = vload6(K->d, b);
+        V->cd[b] = V->c[b] * V->d[b];
+        V->ck[b] = V->c[b] * V->k[b];
+        V->w[b] = vload6(&K->w[1], b);
+        V->zc[b] = vload6(&K->zc[1], b);
+    }
+    V->bj = vsplat(K->bj);
+    double M = 1.0;
+    for (int i = 0; i < 6; i++)
+        M += K->c[i] * K->m[i];
+    V->M = M;
+    V->ds = K->d[6];
+}
+
+/* One stage: from bearing positions q, velocities v, s' vs and the mesh
+ * scalars X, V, the accelerations acc, s'' as6 and c.acc. */
+INLINE void stage_full(const vconst *restrict C, const wg_kcoef *restrict K,
+                       const wg_exc *restrict e, const vb q[NB], const vb v[NB], double vs,
+                       double X, double V, vb acc[NB], double *as6, double *cacc,
+                       const int LOCK, const int BJ, const int MB, const int KA, const int EM)
+{
+    double xn = X, dxn = V;
+    if (EM) {
+        xn -= e->te;
+        dxn += e->dte;
+    }
+    double g = !MB ? xn : LOCK ? K->w[0] * xn - K->zc[0] : dz(xn, K->b);
+    double F = K->dp * dxn + (KA ? e->kp * g : g);
+    vb base[NB], pb[NB];
+#pragma GCC unroll 3
+    for (int b = 0; b < NB; b++) {
+        vb gb = !BJ ? q[b] : LOCK ? C->w[b] * q[b] - C->zc[b] : vdz(q[b], C->bj);
+        base[b] = -(C->d[b] * v[b]) - C->k[b] * gb;
+        pb[b] = C->cd[b] * v[b] + C->ck[b] * gb;
+        acc[b] = base[b] - C->m[b] * vsplat(F);
+    }
+    double P = (e->fx - C->ds * vs) - hsumb(pb);
+    *as6 = (e->fx - F) - C->ds * vs;
+    *cacc = P - C->M * F;
+}
+
+/* The full path's state in registers: bearings and their rates as NB
+ * vectors each, s and s'. */
+typedef struct kst {
+    vb q[NB], v[NB];
+    double s, vs;
+} kst;
+
+INLINE kst kst_load(const double *restrict y)
+{
+    kst a;
+#pragma GCC unroll 3
+    for (int b = 0; b < NB; b++) {
+        a.q[b] = vload6(y, b);
+        a.v[b] = vload6(&y[7], b);
+    }
+    a.s = y[6];
+    a.vs = y[13];
+    return a;
+}
+
+INLINE void kst_store(double *restrict y, kst a)
+{
+#pragma GCC unroll 3
+    for (int b = 0; b < NB; b++) {
+        vstore6(y, b, a.q[b]);
+        vstore6(&y[7], b, a.v[b]);
+    }
+    y[6] = a.s;
+    y[13] = a.vs;
+}
+
+INLINE kst rk4_full_st(const vconst *restrict C, const wg_kcoef *restrict K,
+                       const wg_exc *restrict e, double h, kst y0, const int LOCK, const int BJ,
+                       const int MB, const int KA, const int EM)
+{
+    vb q[NB], v[NB], acc[NB], sq[NB], sv[NB], pq[NB], pv[NB];
+#pragma GCC unroll 3
+    for (int b = 0; b < NB; b++) {
+        q[b] = y0.q[b];
+        v[b] = y0.v[b];
+        pq[b] = C->c[b] * y0.q[b];
+        pv[b] = C->c[b] * y0.v[b];
+    }
+    double s0 = y0.s, vs0 = y0.vs;
+    double X0 = hsumb(pq) + s0, V0 = hsumb(pv) + vs0;
+    double X = X0, V = V0, vs = vs0, as6, cacc;
+    double ssv = 0.0, sas = 0.0;
+    static const double wt[4] = {1.0, 2.0, 2.0, 1.0};
+    const double at[4] = {0.5 * h, 0.5 * h, h, 0.0};
+#pragma GCC unroll 3
+    for (int b = 0; b < NB; b++)
+        sq[b] = sv[b] = vsplat(0.0);
+#pragma GCC unroll 4
+    for (int j = 0; j < 4; j++) {
+        stage_full(C, K, &e[(j + 1) / 2], q, v, vs, X, V, acc, &as6, &cacc, LOCK, BJ, MB, KA, EM);
+        vb w = vsplat(wt[j]), a = vsplat(at[j]);
+#pragma GCC unroll 3
+        for (int b = 0; b < NB; b++) {
+            sq[b] += w * v[b];
+            sv[b] += w * acc[b];
+        }
+        ssv += wt[j] * vs;
+        sas += wt[j] * as6;
+        if (j == 3)
+            break;
+        double Vn = V0 + at[j] * cacc;
+        X = X0 + at[j] * V;
+        V = Vn;
+#pragma GCC unroll 3
+        for (int b = 0; b < NB; b++) {
+            vb qn = y0.q[b] + a * v[b];
+            v[b] = y0.v[b] + a * acc[b];
+            q[b] = qn;
+        }
+        vs = vs0 + at[j] * as6;
+    }
+    vb h6 = vsplat(h / 6.0);
+    kst y1;
+#pragma GCC unroll 3
+    for (int b = 0; b < NB; b++) {
+        y1.q[b] = y0.q[b] + h6 * sq[b];
+        y1.v[b] = y0.v[b] + h6 * sv[b];
+    }
+    y1.s = s0 + h / 6.0 * ssv;
+    y1.vs = vs0 + h / 6.0 * sas;
+    return y1;
+}
+
+INLINE void rk4_full(const double *restrict y0, double *restrict y1, const wg_kcoef *restrict K,
+                     const wg_exc *restrict e, double h, const int LOCK, const int BJ,
+                     const int MB, const int KA, const int EM)
+{
+    vconst C;
+    vconst_load(&C, K);
+    kst_store(y1, rk4_full_st(&C, K, e, h, kst_load(y0), LOCK, BJ, MB, KA, EM));
+}
+
+/* Torsional path: only s and s' (indices 6 and 13) move. */
+INLINE void rhs_tors(double s, double v, double *ds, double *dv, const wg_kcoef *restrict K,
+                     const wg_exc *restrict e, const int LOCK, const int MB, const int KA,
+                     const int EM)
+{
+    double xn = s, dxn = v;
+    if (EM) {
+        xn -= e->te;
+        dxn += e->dte;
+    }
+    double g = !MB ? xn : LOCK ? K->w[0] * xn - K->zc[0] : dz(xn, K->b);
+    double F = K->dp * dxn + (KA ? e->kp * g : g);
+    *ds = v;
+    *dv = (e->fx - F) - K->d[6] * v;
+}
+
+INLINE void rk4_tors_st(double *s1, double *v1, double s, double v, const wg_kcoef *restrict K,
+                        const wg_exc *restrict e, double h, const int LOCK, const int MB,
+                        const int KA, const int EM)
+{
+    double a1, b1, a2, b2, a3, b3, a4, b4;
+    rhs_tors(s, v, &a1, &b1, K, &e[0], LOCK, MB, KA, EM);
+    rhs_tors(s + 0.5 * h * a1, v + 0.5 * h * b1, &a2, &b2, K, &e[1], LOCK, MB, KA, EM);
+    rhs_tors(s + 0.5 * h * a2, v + 0.5 * h * b2, &a3, &b3, K, &e[1], LOCK, MB, KA, EM);
+    rhs_tors(s + h * a3, v + h * b3, &a4, &b4, K, &e[2], LOCK, MB, KA, EM);
+    *s1 = s + h / 6.0 * ((a1 + a4) + 2.0 * (a2 + a3));
+    *v1 = v + h / 6.0 * ((b1 + b4) + 2.0 * (b2 + b3));
+}
+
+INLINE void rk4_tors(const double *restrict y0, double *restrict y1, const wg_kcoef *restrict K,
+                     const wg_exc *restrict e, double h, const int LOCK, const int MB,
+                     const int KA, const int EM)
+{
+    rk4_tors_st(&y1[6], &y1[13], y0[6], y0[13], K, e, h, LOCK, MB, KA, EM);
+}
+
+/* ---- runs of plain steps (wg_krun) ------------------------------------------ */
+
+/* The bookkeeping of accepted steps (wg_sim_run's after_step when nothing
+ * happens), on local copies. */
+typedef struct kloc {
+    double xn, dxn, tau, tc, mn, mx;
+    uint32_t k;
+} kloc;
+
+INLINE kloc kloc_load(const wg_krun *r)
+{
+    return (kloc){r->xn, r->dxn, r->tau, r->tau_c, r->min_xn, r->max_xn, r->k};
+}
+
+INLINE void kloc_store(wg_krun *r, kloc l)
+{
+    r->xn = l.xn, r->dxn = l.dxn, r->tau = l.tau, r->tau_c = l.tc;
+    r->min_xn = l.mn, r->max_xn = l.mx, r->k = l.k;
+}
+
+/* Accept a step ending at mesh contact (x, dx). */
+INLINE void kloc_accept(kloc *l, double h, double x, double dx)
+{
+    double dt = h - l->tc, t = l->tau + dt;
+    l->tc = (t - l->tau) - dt;
+    l->tau = t;
+    l->mn = dmin(l->mn, x);
+    l->mx = dmax(l->mx, x);
+    l->xn = x;
+    l->dxn = dx;
+    l->k++;
+}
+
+/* The mesh contact stays in its zone and x_n' keeps its sign. */
+INLINE int mesh_quiet(double lo, double hi, const kloc *l, double x, double dx)
+{
+    return x >= lo && x <= hi && (l->dxn < 0) == (dx < 0);
+}
+
+/* The hot loop of the full path: the kernel, the mesh contact summed as
+ * ct_contacts sums it (-te, then c_i y_i in index order, then s), the zone,
+ * finiteness and turning tests, then the step is accepted. One function so
+ * the state and the kernel constants stay in registers. */
+INLINE uint64_t run_full(const wg_kcoef *restrict K, wg_krun *restrict r, uint64_t n,
+                         const int LOCK, const int BJ, const int MB, const int KA, const int EM)
+{
+    vconst C;
+    vconst_load(&C, K);
+    kst y = kst_load(r->y);
+    kloc l = kloc_load(r);
+    const double *c = K->c, h = r->h, fin = r->fin, mlo = r->lo[0], mhi = r->hi[0];
+    const uint32_t last = r->N - 1;
+    vb lo[NB], hi[NB];
+#pragma GCC unroll 3
+    for (int b = 0; b < NB; b++) {
+        lo[b] = vload6(&r->lo[1], b);
+        hi[b] = vload6(&r->hi[1], b);
+    }
+    uint64_t i;
+    for (i = 0; i < n && l.k < last; i++) {
+        const wg_exc *e = &r->table[2 * l.k];
+        kst z = rk4_full_st(&C, K, e, h, y, LOCK, BJ, MB, KA, EM);
+        double x = -e[2].te, dx = e[2].dte;
+        for (int j = 0; j < 6; j++) {
+            x += c[j] * z.q[j / KW][j % KW];
+            dx += c[j] * z.v[j / KW][j % KW];
+        }
+        x += z.s;
+        dx += z.vs;
+        vb a = vsplat(0.0);
+        int in = 1;
+#pragma GCC unroll 3
+        for (int b = 0; b < NB; b++) {
+            a += vabs(z.q[b]) + vabs(z.v[b]);
+            in &= vinside(z.q[b], lo[b], hi[b]);
+        }
+        double sum = fabs(z.s) + fabs(z.vs);
+        for (int l2 = 0; l2 < KW; l2++)
+            sum += a[l2];
+        if (!(in && sum < fin && mesh_quiet(mlo, mhi, &l, x, dx)))
+            break;
+        y = z;
+        kloc_accept(&l, h, x, dx);
+    }
+    kst_store(r->y, y);
+    kloc_store(r, l);
+    return i;
+}
+
+/* The torsional path's loop: s and s' only (the bearings rest at zero). */
+INLINE uint64_t run_tors(const wg_kcoef *restrict K, wg_krun *restrict r, uint64_t n,
+                         const int LOCK, const int MB, const int KA, const int EM)
+{
+    kloc l = kloc_load(r);
+    double s = r->y[6], v = r->y[13], h = r->h, fin = r->fin, rest = 0.0;
+    const double mlo = r->lo[0], mhi = r->hi[0];
+    const uint32_t last = r->N - 1;
+    for (int j = 0; j < 14; j++)
+        rest += j == 6 || j == 13 ? 0.0 : fabs(r->y[j]);
+    uint64_t i;
+    for (i = 0; i < n && l.k < last; i++) {
+        const wg_exc *e = &r->table[2 * l.k];
+        double s1, v1;
+        rk4_tors_st(&s1, &v1, s, v, K, e, h, LOCK, MB, KA, EM);
+        double x = -e[2].te + s1, dx = e[2].dte + v1;
+        if (!(rest + fabs(s1) + fabs(v1) < fin && mesh_quiet(mlo, mhi, &l, x, dx)))
+            break;
+        s = s1, v = v1;
+        kloc_accept(&l, h, x, dx);
+    }
+    r->y[6] = s, r->y[13] = v;
+    kloc_store(r, l);
+    return i;
+}
+
+/* ---- the 64 instantiations and their tables ------------------------------------ */
+
+#define KNAME(B, L, J, M, A, E) kern_##B##L##J##M##A##E
+#define KERNEL(B, L, J, M, A, E)                                                              \
+    static void KNAME(B, L, J, M, A, E)(const double *restrict y0, double *restrict y1,        \
+                                        const void *restrict kc, const wg_exc *restrict e,     \
+                                        double h)                                              \
+    {                                                                                          \
+        if (B)                                                                                 \
+            rk4_full(y0, y1, kc, e, h, L, J, M, A, E);                                         \
+        else                                                                                   \
+            rk4_tors(y0, y1, kc, e, h, L, M, A, E);                                            \
+    }
+#define RNAME(B, L, J, M, A, E) krun_##B##L##J##M##A##E
+#define KRUN(B, L, J, M, A, E)                                                                \
+    static uint64_t RNAME(B, L, J, M, A, E)(const void *restrict kc, wg_krun *restrict r,      \
+                                            uint64_t n)                                        \
+    {                                                                                          \
+        return B ? run_full(kc, r, n, L, J, M, A, E) : run_tors(kc, r, n, L, M, A, E);         \
+    }
+#define K_E(B, L, J, M, A)                                                                    \
+    KERNEL(B, L, J, M, A, 0) KERNEL(B, L, J, M, A, 1) KRUN(B, L, J, M, A, 0) KRUN(B, L, J, M, A, 1)
+#define K_A(B, L, J, M) K_E(B, L, J, M, 0) K_E(B, L, J, M, 1)
+#define K_M(B, L, J) K_A(B, L, J, 0) K_A(B, L, J, 1)
+#define K_J(B, L) K_M(B, L, 0) K_M(B, L, 1)
+#define K_L(B) K_J(B, 0) K_J(B, 1)
+K_L(0)
+K_L(1)
+
+#define T_E(N, B, L, J, M, A) N(B, L, J, M, A, 0), N(B, L, J, M, A, 1),
+#define T_A(N, B, L, J, M) T_E(N, B, L, J, M, 0) T_E(N, B, L, J, M, 1)
+#define T_M(N, B, L, J) T_A(N, B, L, J, 0) T_A(N, B, L, J, 1)
+#define T_J(N, B, L) T_M(N, B, L, 0) T_M(N, B, L, 1)
+#define T_L(N, B) T_J(N, B, 0) T_J(N, B, 1)
+const wg_kernel_fn KCAT(kern_tab, KSUF)[KF_NKERNEL] = {T_L(KNAME, 0) T_L(KNAME, 1)};
+const wg_krun_fn KCAT(krun_tab, KSUF)[KF_NKERNEL] = {T_L(RNAME, 0) T_L(RNAME, 1)};

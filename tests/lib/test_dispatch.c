@@ -1,0 +1,229 @@
+/* Run-time dispatch of the kernels (white box): every instruction set this
+ * CPU runs (sse2, the x86-64 baseline, and avx2, avx512 when present) and
+ * both step paths of wg_sim_run (the run of plain steps in the kernel's own
+ * loop, and the general step it hands back to) agree within the step's
+ * truncation error -- one step of each of the 64 specialisations, and whole
+ * runs with impacts and located events. The kernels are written to give the
+ * same bits on every path (kern_tmpl.h); the test prints whether they did,
+ * and fails only past the truncation-error bound. */
+#include "test.h"
+#include "internal.h"
+#include "wormgear/wg_sim.h"
+#include "wormgear/wg_status.h"
+
+#include <stdlib.h>
+
+/* A state with every contact engaged somewhere interesting (test_model). */
+static void some_state(double *y)
+{
+    static const double v[14] = {1.3, -0.2, -1.7, 0.4, 1.05, -2.2, 1.9,
+                                 0.11, -0.3, 0.25, -0.07, 0.5, -0.41, 0.33};
+    memcpy(y, v, sizeof v);
+}
+
+static double maxdiff(const double *a, const double *b, int n)
+{
+    double d = 0;
+    for (int i = 0; i < n; i++)
+        d = fmax(d, fabs(a[i] - b[i]));
+    return d;
+}
+
+/* Parameters on which the flags f are exactly the kernel wg_sim selects. */
+static void params_for(unsigned f, wg_params *p)
+{
+    wg_params_default(p);
+    if (!(f & KF_EM))
+        p->v[WG_P_E_M] = 0;
+    if (!(f & KF_KA))
+        p->v[WG_P_K_A] = 0;
+    if (!(f & KF_MB))
+        p->v[WG_P_B] = 0;
+    if (!(f & KF_BJ))
+        p->v[WG_P_B_J] = 0;
+    if (!(f & KF_BEAR))
+        p->v[WG_P_MU1] = p->v[WG_P_MU2] = 0;
+}
+
+/* One step of length h with the sse2 kernel, and its local truncation error
+ * estimated by two half steps (Richardson: |y_h - y_h/2| 16/15). */
+static double truncation(wg_kernel_fn k, const wg_kcoef *kc, const wg_params *p,
+                         const double *y0, double h)
+{
+    wg_exc e[3], e1[3], e2[3];
+    double y1[16], ym[16], y2[16];
+    for (int j = 0; j < 3; j++) {
+        wg_exc_eval(p, 0.4 + 0.5 * h * j, 1.0, &e[j]);
+        wg_exc_eval(p, 0.4 + 0.25 * h * j, 1.0, &e1[j]);
+        wg_exc_eval(p, 0.4 + 0.5 * h + 0.25 * h * j, 1.0, &e2[j]);
+    }
+    k(y0, y1, kc, e, h);
+    k(y0, ym, kc, e1, 0.5 * h);
+    k(ym, y2, kc, e2, 0.5 * h);
+    return maxdiff(y1, y2, 14) * 16.0 / 15.0;
+}
+
+/* Every specialisation, every supported instruction set: one step from the
+ * same state equals the baseline's within 1e-3 of the step's truncation
+ * error (zones unlocked and locked alike). */
+static void test_kernels_agree_across_isas(void)
+{
+    int nsame = 0, ncmp = 0;
+    double worst = 0;
+    for (unsigned f = 0; f < KF_NKERNEL; f++) {
+        if (!(f & KF_BEAR) && (f & KF_BJ))
+            continue; /* b_j does not matter on the torsional path */
+        wg_params p;
+        params_for(f, &p);
+        wg_sim_config cfg = {WG_MODEL_CONSISTENT, (f & KF_LOCK) ? 1 : 0, 128};
+        wg_sim s;
+        char why[300];
+        ASSERT_EQ_INT(wg_sim_init(&s, &p, &cfg, why, sizeof why), WG_OK);
+        ASSERT_EQ_INT(s.core->kflags, f);
+        double y0[16] = {0}, yb[16] = {0}, y1[16] = {0};
+        some_state(y0);
+        if (!(f & KF_BEAR))
+            for (int i = 0; i < 6; i++)
+                y0[i] = y0[7 + i] = 0;
+        memcpy(yb, y0, sizeof yb);
+        wg_exc e[3];
+        double h = 0.02;
+        for (int j = 0; j < 3; j++)
+            wg_exc_eval(&p, 0.4 + 0.5 * h * j, 1.0, &e[j]);
+        wg_kernel_fn base = kernel_select(f, KISA_SSE2);
+        base(y0, yb, &s.core->kc, e, h);
+        double tol = 1e-3 * truncation(base, &s.core->kc, &p, y0, h);
+        for (int isa = KISA_SSE2 + 1; isa < KISA_N; isa++) {
+            if (!kernel_isa_supported(isa))
+                continue;
+            memcpy(y1, y0, sizeof y1);
+            kernel_select(f, isa)(y0, y1, &s.core->kc, e, h);
+            double d = maxdiff(y1, yb, 14);
+            if (d > tol)
+                fprintf(stderr, "flags %u %s: diff %.3g > tol %.3g\n", f,
+                        kernel_isa_name(isa), d, tol);
+            ASSERT_TRUE(d <= tol);
+            worst = fmax(worst, d);
+            nsame += memcmp(y1, yb, sizeof y1) == 0;
+            ncmp++;
+        }
+        wg_sim_fini(&s);
+    }
+    printf("kernels: %d comparisons with the sse2 baseline, %d bitwise equal, max diff %.3g\n",
+           ncmp, nsame, worst);
+}
+
+typedef struct runrec {
+    int nsec;
+    double ysec[8][WG_NSTATE_MAX];
+    int motion[8], impacts[8];
+    uint64_t nev;
+} runrec;
+
+static void on_sec(void *ctx, const wg_section *sec)
+{
+    runrec *r = ctx;
+    int i = r->nsec++ % 8;
+    memcpy(r->ysec[i], sec->y, sizeof r->ysec[i]);
+    r->motion[i] = sec->stats.motion;
+    r->impacts[i] = sec->stats.impacts;
+}
+
+static void on_ev(void *ctx, const wg_event *ev)
+{
+    (void)ev;
+    ((runrec *)ctx)->nev++;
+}
+
+static void on_step(void *ctx, const struct wg_sim *s)
+{
+    (void)ctx;
+    (void)s;
+}
+
+/* table3 at omega 0.7 (single-sided impacts every period: the run of plain
+ * steps stops and the general step splits), N steps per period, 60 periods;
+ * with `general` an on_step sink forces the general step throughout. */
+static void run_point(int isa, int N, int general, wg_sim *s, runrec *r)
+{
+    wg_params p;
+    wg_params_default(&p);
+    p.v[WG_P_OMEGA] = 0.7;
+    wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, N};
+    char why[300];
+    if (setenv("WG_ISA", kernel_isa_name(isa), 1) != 0)
+        abort();
+    ASSERT_EQ_INT(wg_sim_init(s, &p, &cfg, why, sizeof why), WG_OK);
+    unsetenv("WG_ISA");
+    ASSERT_EQ_INT(s->core->isa, isa);
+    memset(r, 0, sizeof *r);
+    wg_sink sink = {r, general ? on_step : NULL, on_sec, on_ev};
+    uint64_t done = 0;
+    ASSERT_EQ_INT(wg_sim_run(s, 60 * (uint64_t)N, &sink, &done), WG_OK);
+    ASSERT_TRUE(done == 60 * (uint64_t)N);
+}
+
+/* Whole runs: each instruction set, and the general step alone, against
+ * the baseline's run of plain steps. Sections, motion, impacts, events and
+ * located splits match; states within 1e-3 of the run's truncation error
+ * (the N = 128 run against N = 256). */
+static void test_runs_agree_across_paths(void)
+{
+    wg_sim s0, s2, s;
+    runrec r0, r2, r;
+    run_point(KISA_SSE2, 128, 0, &s0, &r0);
+    run_point(KISA_SSE2, 256, 0, &s2, &r2);
+    double tol = 1e-3 * maxdiff(s0.y, s2.y, 14);
+    ASSERT_TRUE(tol > 0);
+    ASSERT_TRUE(r0.nev > 60);          /* it does impact: events are located */
+    ASSERT_TRUE(s0.nsplit > 60);
+    ASSERT_TRUE(r0.motion[0] >= WG_MOTION_SINGLE);
+    int nsame = 0, nrun = 0;
+    for (int isa = 0; isa < KISA_N; isa++) {
+        for (int general = 0; general < 2; general++) {
+            if (!kernel_isa_supported(isa) || (isa == KISA_SSE2 && !general))
+                continue;
+            run_point(isa, 128, general, &s, &r);
+            double d = maxdiff(s.y, s0.y, 14);
+            for (int i = 0; i < 8; i++)
+                d = fmax(d, maxdiff(r.ysec[i], r0.ysec[i], 14));
+            if (d > tol)
+                fprintf(stderr, "%s%s: diff %.3g > tol %.3g\n", kernel_isa_name(isa),
+                        general ? " general step" : "", d, tol);
+            ASSERT_TRUE(d <= tol);
+            ASSERT_EQ_INT(r.nsec, r0.nsec);
+            ASSERT_TRUE(r.nev == r0.nev && s.nsplit == s0.nsplit && s.steps == s0.steps);
+            ASSERT_EQ_INT(memcmp(r.motion, r0.motion, sizeof r.motion), 0);
+            ASSERT_EQ_INT(memcmp(r.impacts, r0.impacts, sizeof r.impacts), 0);
+            ASSERT_TRUE(fabs(s.tau - s0.tau) <= 1e-12 * s0.tau);
+            nsame += memcmp(s.y, s0.y, sizeof s.y) == 0 && s.tau == s0.tau;
+            nrun++;
+            wg_sim_fini(&s);
+        }
+    }
+    printf("runs: %d paths against sse2's run of plain steps, %d bitwise equal; tol %.3g "
+           "(truncation %.3g); chosen by default here: %s\n",
+           nrun, nsame, tol, 1e3 * tol, kernel_isa_name(kernel_isa_choose()));
+    wg_sim_fini(&s0);
+    wg_sim_fini(&s2);
+}
+
+/* WG_ISA picks a supported set by name and falls back to the widest for an
+ * unknown or unsupported one. */
+static void test_isa_choice(void)
+{
+    int widest = kernel_isa_supported(KISA_AVX512) ? KISA_AVX512
+                 : kernel_isa_supported(KISA_AVX2) ? KISA_AVX2 : KISA_SSE2;
+    unsetenv("WG_ISA");
+    ASSERT_EQ_INT(kernel_isa_choose(), widest);
+    ASSERT_TRUE(kernel_isa_supported(KISA_SSE2));
+    setenv("WG_ISA", "sse2", 1);
+    ASSERT_EQ_INT(kernel_isa_choose(), KISA_SSE2);
+    setenv("WG_ISA", "mmx", 1);
+    ASSERT_EQ_INT(kernel_isa_choose(), widest);
+    unsetenv("WG_ISA");
+    ASSERT_STR(kernel_isa_name(KISA_AVX2), "avx2");
+}
+
+TEST_MAIN(TEST(test_kernels_agree_across_isas), TEST(test_runs_agree_across_paths),
+          TEST(test_isa_choice))
