@@ -34,7 +34,7 @@ typedef struct work {
 void wg_sweep_opts_default(wg_sweep_opts *o)
 {
     *o = (wg_sweep_opts){.model = WG_MODEL_CONSISTENT, .stepper = WG_STEPPER_DEFAULT,
-                         .steps = 256, .transient = 300, .settle = 64, .record = 128,
+                         .steps = 256, .transient = 300, .settle = 0, .record = 128,
                          .extend = 3,
                          .lle_periods = 300, .lle_d0 = 1e-7, .lle_tol = 0.01,
                          .tol_factor = 10.0, .tol_floor = 1e-9, .floquet = 0};
