@@ -265,6 +265,11 @@ static void summary(FILE *out, const wg_point *pt, double v, const at_opts *ao)
             pt->regime == WG_REGIME_PERIODIC && !pt->converged ? ", period from LLE < 0" : "");
     fprintf(out, "motion      %s, %.3g mesh impacts per period\n", wg_motion_name(pt->motion),
             pt->impacts);
+    fprintf(out, "bearings    impacts per period (largest |velocity|):");
+    for (int j = 0; j < WG_NBEARING; j++)
+        fprintf(out, " %s %.3g (%.3g)", wg_contact_name(WG_C_X1 + j), pt->bimpacts[j],
+                pt->bvmax[j]);
+    fprintf(out, "\n");
     fprintf(out, "x_n         min %.6f, max %.6f\n", pt->min_xn, pt->max_xn);
     fprintf(out, "numerics    N = %d, one-period error %.2e, period tolerance %.2e, residual "
                  "%.2e\n",

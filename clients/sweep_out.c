@@ -76,10 +76,15 @@ static void csv_point(FILE *f, const sweep_study *st, const sweep_group *g, cons
     else
         fprintf(f, ",,,");
     if (p->checked)
-        fprintf(f, ",%s,%d,%s\n", wg_regime_name(p->check_regime), p->check_period,
+        fprintf(f, ",%s,%d,%s", wg_regime_name(p->check_regime), p->check_period,
                 wg_motion_name(p->check_motion));
     else
-        fprintf(f, ",,,\n");
+        fprintf(f, ",,,");
+    for (int j = 0; j < WG_NBEARING; j++)
+        fprintf(f, ",%.6g", p->bimpacts[j]);
+    for (int j = 0; j < WG_NBEARING; j++)
+        fprintf(f, ",%.6g", p->bvmax[j]);
+    fputc('\n', f);
 }
 
 int out_points_csv(const char *path, const sweep_study *st, char *why, size_t whylen)
@@ -91,7 +96,11 @@ int out_points_csv(const char *path, const sweep_study *st, char *why, size_t wh
         fprintf(f, "%s,", out_pname(st->gparam));
     fprintf(f, "dir,index,%s,regime,period,converged,motion,impacts_per_period,min_xn,max_xn,"
                "lle_per_period,err,tol,resid,steps_per_period,floquet1_re,floquet1_im,"
-               "floquet1_abs,check2n_regime,check2n_period,check2n_motion\n",
+               "floquet1_abs,check2n_regime,check2n_period,check2n_motion,"
+               "x1_impacts_per_period,y1_impacts_per_period,z1_impacts_per_period,"
+               "x2_impacts_per_period,y2_impacts_per_period,z2_impacts_per_period,"
+               "x1_impact_vmax,y1_impact_vmax,z1_impact_vmax,x2_impact_vmax,y2_impact_vmax,"
+               "z2_impact_vmax\n",
             out_pname(st->param));
     for (int k = 0; k < st->ngroups; k++) {
         const wg_chain *c[2];

@@ -20,6 +20,7 @@ enum wg_model_kind {
 enum wg_contact {
     WG_C_MESH, WG_C_X1, WG_C_Y1, WG_C_Z1, WG_C_X2, WG_C_Y2, WG_C_Z2, WG_NCONTACT
 };
+enum { WG_NBEARING = WG_NCONTACT - WG_C_X1 }; /* the bearing contacts, x1 ... z2 */
 
 /* Contact event kinds (MODEL.md s5), for the mesh and for each bearing. */
 enum wg_event_kind {

@@ -53,6 +53,9 @@ typedef struct wg_point {
                              than the option's when it settled early) */
     int nsec;             /* Poincare samples stored (<= WG_POINT_NSEC) */
     double impacts;       /* mesh impacts per period */
+    double bimpacts[WG_NBEARING]; /* each bearing's impacts per period, x1 y1 z1 x2 y2 z2
+                                     (crossing +b_j upward or -b_j downward) */
+    double bvmax[WG_NBEARING];    /* their largest |velocity| over the recorded periods */
     double min_xn, max_xn;
     double lle;           /* largest exponent per mesh period, NAN if not run */
     double err;           /* one-period integration error estimate (max norm) */
