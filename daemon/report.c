@@ -50,7 +50,7 @@ static void interval_start(wgd *d, int64_t now)
     s->cpu_s = cpu_seconds();
     s->loop_sum_ns = s->loop_max_ns = 0;
     s->loops = 0;
-    d->st.sections = d->st.impacts = 0;
+    stream_stats_reset(&d->st);
 }
 
 void report_init(wgd *d)
@@ -108,6 +108,10 @@ static void compute(wgd *d, int64_t now)
     s->loop_max_us = s->loop_max_ns * 1e-3;
     s->impacts_per_period =
         d->st.sections ? (double)d->st.impacts / (double)d->st.sections : 0.0;
+    for (int j = 0; j < WG_NBEARING; j++) {
+        s->bearing_ipp[j] = d->st.sections ? (double)d->st.bimp[j] / (double)d->st.sections : 0.0;
+        s->bearing_vmax[j] = d->st.bvmax[j];
+    }
     int late = d->conf.mode == MODE_REALTIME && d->run == RUN_RUNNING &&
                (pace_lag_s(&d->pace) * 1e3 > d->conf.lag_warn_ms ||
                 d->pace.consecutive > 0);
@@ -136,8 +140,9 @@ static void fill_status(const wgd *d, wormgear_status_t *m, char *regime, unsign
         .cmds_dropped = (int64_t)d->in.dropped, .rx_dropped = (int64_t)lcmio_rx_dropped(),
         .cmds_accepted = (int64_t)s->cmds_accepted, .cmds_refused = (int64_t)s->cmds_refused,
         .motion = (char *)motion_name(d), .impacts_per_period = s->impacts_per_period,
-        .regime = (char *)regime_name(d, regime, rlen),
-        .ramp_active = (int8_t)d->sim.ramp.active,
+        .regime = (char *)regime_name(d, regime, rlen), .nbearing = WG_NBEARING,
+        .bearing_impacts_per_period = (double *)s->bearing_ipp,
+        .bearing_impact_vmax = (double *)s->bearing_vmax, .ramp_active = (int8_t)d->sim.ramp.active,
         .uptime_s = (double)(log_now_ns() - d->start_ns) * 1e-9};
 }
 

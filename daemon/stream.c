@@ -3,6 +3,7 @@
 
 #include "wgd.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -23,10 +24,19 @@ void stream_init(stream *s, int nstate, const wg_scale *scale, int state_on)
     stream_regime_reset(s);
 }
 
+void stream_stats_reset(stream *s)
+{
+    s->sections = s->impacts = 0;
+    memset(s->bimp, 0, sizeof s->bimp);
+    memset(s->bvmax, 0, sizeof s->bvmax);
+}
+
 void stream_regime_reset(stream *s)
 {
     wg_tracker_init(&s->trk, s->nstate, REGIME_TOL);
-    s->sections = s->impacts = 0; /* impacts per period: of the new orbit only */
+    stream_stats_reset(s); /* impacts per period: of the new orbit only */
+    memset(s->bcur, 0, sizeof s->bcur);
+    memset(s->bvcur, 0, sizeof s->bvcur);
 }
 
 const char *stream_regime(const stream *s, char *buf, unsigned len)
@@ -148,6 +158,11 @@ static void on_section(void *ctx, const wg_section *sec)
     memcpy(s->pc_y[i], sec->y, sizeof s->pc_y[i]);
     s->sections++;
     s->impacts += (uint64_t)sec->stats.impacts;
+    for (int j = 0; j < WG_NBEARING; j++) { /* the period just completed */
+        s->bimp[j] += s->bcur[j];
+        s->bvmax[j] = fmax(s->bvmax[j], s->bvcur[j]);
+        s->bcur[j] = 0, s->bvcur[j] = 0;
+    }
     s->motion = sec->stats.motion;
     s->last = sec->stats;
     wg_tracker_push(&s->trk, sec);
@@ -175,7 +190,14 @@ static void on_event(void *ctx, const wg_event *ev)
 {
     wgd *d = ctx;
     stream *s = &d->st;
-    if (ev->contact < 0 || ev->contact >= WG_NCONTACT || !contact_kept(s, ev->contact))
+    if (ev->contact < 0 || ev->contact >= WG_NCONTACT)
+        return;
+    int j = ev->contact - WG_C_X1; /* counted whatever is published */
+    if (j >= 0 && (ev->kind == WG_EV_DRIVE_IMPACT || ev->kind == WG_EV_BACK_IMPACT)) {
+        s->bcur[j]++;
+        s->bvcur[j] = fmax(s->bvcur[j], fabs(ev->velocity));
+    }
+    if (!contact_kept(s, ev->contact))
         return;
     int i = s->ct_n++;
     s->ct_tau[i] = ev->tau;

@@ -45,6 +45,10 @@ typedef struct stream {
     int8_t ct_contact[CT_MAX], ct_kind[CT_MAX];
     /* statistics for STATUS (reset by the reader) */
     uint64_t sections, impacts;
+    uint64_t bimp[WG_NBEARING];     /* bearing impacts in the completed periods */
+    double bvmax[WG_NBEARING];      /* their largest |velocity| */
+    uint64_t bcur[WG_NBEARING];     /* ... in the period under way */
+    double bvcur[WG_NBEARING];
     int motion;                     /* of the last completed period */
     wg_period last;
     wg_tracker trk;                 /* last Poincare points, for the regime on STATUS */
@@ -65,6 +69,10 @@ void stream_scope(struct wgd *d);
 
 /* Publish every non-empty batch now. */
 void stream_flush(struct wgd *d);
+
+/* Zero the interval's counts STATUS reads: sections, mesh impacts, the
+ * bearings' impacts and largest speeds (report.c, at each STATUS). */
+void stream_stats_reset(stream *s);
 
 /* Forget the tracked Poincare points and the impacts-per-period count
  * (after a parameter or state change: they describe the new orbit only). */

@@ -56,6 +56,7 @@ typedef struct stats {
     double ns_per_step;        /* smoothed cost of one step */
     /* last computed figures */
     double rtf, steps_per_s, cpu_share, loop_mean_us, loop_max_us, impacts_per_period;
+    double bearing_ipp[WG_NBEARING], bearing_vmax[WG_NBEARING]; /* per bearing, x1 ... z2 */
     int health;
     int64_t next_status_ns, next_params_ns, next_fg_ns, next_flush_ns, next_scope_ns;
     uint64_t cmds_accepted, cmds_refused, drops; /* drops: tick gaps and the like */

@@ -47,6 +47,8 @@ typedef struct fx {
     int pc_gaps;
     char health[16], regime[24], motion[24];
     double impacts_per_period;
+    int nbearing;
+    double bearing_ipp[WG_NBEARING], bearing_vmax[WG_NBEARING];
     double ack_tau;
     int nstatus;
     int64_t myseq;
@@ -160,6 +162,10 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
     snprintf(F.regime, sizeof F.regime, "%s", m->regime);
     snprintf(F.motion, sizeof F.motion, "%s", m->motion);
     F.impacts_per_period = m->impacts_per_period;
+    F.nbearing = m->nbearing;
+    for (int j = 0; j < m->nbearing && j < WG_NBEARING; j++)
+        F.bearing_ipp[j] = m->bearing_impacts_per_period[j],
+        F.bearing_vmax[j] = m->bearing_impact_vmax[j];
 }
 
 /* A daemon without its loop: engine, lcm (memq), streams, commands, report. */
