@@ -3,6 +3,35 @@
 
 #include <stdlib.h>
 
+void rig_imp_init(rig_imp *m)
+{
+    *m = (rig_imp){.last = -1};
+}
+
+void rig_imp_heard(rig_imp *m, int64_t p)
+{
+    m->last = p > m->last ? p : m->last;
+}
+
+void rig_imp_lose(rig_imp *m, int64_t p)
+{
+    if (m->nlost < RIG_IMP_LOST_MAX) {
+        m->lost[m->nlost][0] = m->last;
+        m->lost[m->nlost][1] = p;
+    }
+    m->nlost++;
+}
+
+int rig_imp_lost(const rig_imp *m, int64_t p0, int64_t p1)
+{
+    if (m->nlost > RIG_IMP_LOST_MAX)
+        return 1;
+    for (int i = 0; i < m->nlost; i++)
+        if (m->lost[i][0] <= p1 && m->lost[i][1] >= p0)
+            return 1;
+    return 0;
+}
+
 int rig_imp_push(rig_imp *m, int64_t p)
 {
     if (m->n == m->cap) {
@@ -45,5 +74,5 @@ long rig_imp_count(rig_imp *m, int64_t p0, int64_t p1)
 void rig_imp_fini(rig_imp *m)
 {
     free(m->period);
-    *m = (rig_imp){0};
+    rig_imp_init(m);
 }

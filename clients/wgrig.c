@@ -251,14 +251,18 @@ static void on_poincare(rig *r, const wormgear_poincare_t *m)
 
 static void on_contact(rig *r, const wormgear_contact_t *m)
 {
-    if (bus_seq_note(&r->ct_seq, m->seq) > 0 && r->col.active &&
-        !r->col.ramp && m->n > 0) {
+    int gap = bus_seq_note(&r->ct_seq, m->seq) > 0;
+    if (gap && m->n > 0) /* what was lost lies between the last event heard and this one */
+        rig_imp_lose(&r->imp, m->period[0]);
+    if (gap && r->col.active && !r->col.ramp && m->n > 0) {
         /* lost impacts: record again, from periods after every event the
          * lost message can have held */
         r->rec.n = 0;
         r->col.breaks++;
         r->col.after_period = m->period[m->n - 1];
     }
+    if (m->n > 0)
+        rig_imp_heard(&r->imp, m->period[m->n - 1]);
     for (int i = 0; i < m->n; i++) {
         if (m->contact[i] != WG_C_MESH ||
             (m->kind[i] != WG_EV_DRIVE_IMPACT && m->kind[i] != WG_EV_BACK_IMPACT))
@@ -556,9 +560,15 @@ static int write_impacts(rig *r, wg_chain *ch[2], window *win[2], char *why, siz
         for (int i = 0; ch[d] && i < ch[d]->ndone; i++) {
             const wg_point *p = &ch[d]->pts[i];
             const window *w = &win[d][i];
+            /* empty when CONTACT messages were lost inside the window (after
+             * its recording ended: no way to record it again) */
+            int lost = w->n && rig_imp_lost(&r->imp, w->p0, w->p1);
             double ci = w->n ? (double)rig_imp_count(&r->imp, w->p0, w->p1) / w->n : NAN;
-            fprintf(f, "%s,%d,%.10g,%.6g,%.6g,%d,%s,%s,%d\n", d ? "down" : "up", i, p->value,
-                    p->impacts, ci, w->n, wg_motion_name(p->motion), wg_regime_name(p->regime),
+            char cs[32] = "";
+            if (!lost)
+                snprintf(cs, sizeof cs, "%.6g", ci);
+            fprintf(f, "%s,%d,%.10g,%.6g,%s,%d,%s,%s,%d\n", d ? "down" : "up", i, p->value,
+                    p->impacts, cs, w->n, wg_motion_name(p->motion), wg_regime_name(p->regime),
                     p->period);
             if (x && y && w->n)
                 x[n] = p->value, y[n++] = p->impacts;
@@ -749,6 +759,7 @@ int main(int argc, char **argv)
     rig *r = calloc(1, sizeof *r);
     if (!r)
         return 1;
+    rig_imp_init(&r->imp);
     char *cmdline = cli_join_args(argc, argv);
     int rc = parse_opts(argc, argv, &r->o);
     struct sigaction sa = {.sa_handler = on_signal};

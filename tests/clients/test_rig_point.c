@@ -5,6 +5,7 @@
  * an aperiodic one (extend rounds, LLE, classification). */
 #include "test.h"
 #include "rig_ana.h"
+#include "rig_imp.h"
 
 #include "wormgear/wg_status.h"
 
@@ -98,5 +99,31 @@ static void test_period1_impacting(void) { compare_at(0.9, 1); }
 static void test_period2(void) { compare_at(1.2, 2); }
 static void test_aperiodic(void) { compare_at(1.4, -1); }
 
-TEST_MAIN(TEST(test_period1_no_impact), TEST(test_period1_impacting), TEST(test_period2),
+/* Impacts by period, and the windows a lost CONTACT message may touch. */
+static void test_impacts_lost(void)
+{
+    rig_imp m;
+    rig_imp_init(&m);
+    for (int64_t p = 10; p < 20; p++) {
+        ASSERT_EQ_INT(rig_imp_push(&m, p), 0);
+        rig_imp_heard(&m, p);
+    }
+    ASSERT_EQ_INT(rig_imp_count(&m, 12, 15), 4);
+    ASSERT_EQ_INT(rig_imp_lost(&m, 0, 1000), 0);
+    rig_imp_lose(&m, 30); /* lost between period 19 and 30 */
+    ASSERT_EQ_INT(rig_imp_lost(&m, 12, 18), 0);
+    ASSERT_EQ_INT(rig_imp_lost(&m, 19, 19), 1);
+    ASSERT_EQ_INT(rig_imp_lost(&m, 25, 40), 1);
+    ASSERT_EQ_INT(rig_imp_lost(&m, 31, 40), 0);
+    rig_imp_fini(&m);
+    ASSERT_EQ_INT(m.last, -1);
+    rig_imp_lose(&m, 5); /* before anything was heard: from the start */
+    ASSERT_EQ_INT(rig_imp_lost(&m, 0, 0), 1);
+    for (int i = 0; i < RIG_IMP_LOST_MAX + 1; i++)
+        rig_imp_lose(&m, 1000 + i);
+    ASSERT_EQ_INT(rig_imp_lost(&m, 5000, 6000), 1); /* too many: all of it */
+    rig_imp_fini(&m);
+}
+
+TEST_MAIN(TEST(test_impacts_lost), TEST(test_period1_no_impact), TEST(test_period1_impacting), TEST(test_period2),
           TEST(test_aperiodic))

@@ -66,7 +66,8 @@ for wd in 0.5/up 0.5/down 1.5/down 1.7/up 1.7/down; do
     }
 done
 # impacts per period: CONTACT events agree with the POINCARE statistics
-awk -F, 'NR > 1 && $6 > 0 { d = $4 - $5; if (d < 0) d = -d; if (d > 1e-9) bad++ } END { exit bad > 0 }' \
+# (an empty CONTACT column: messages lost inside that window, said so, not compared)
+awk -F, 'NR > 1 && $6 > 0 && $5 != "" { d = $4 - $5; if (d < 0) d = -d; if (d > 1e-9) bad++ } END { exit bad > 0 }' \
     "$tmp/live-impacts.csv" || fail "CONTACT and POINCARE impacts differ: $(cat "$tmp/live-impacts.csv")"
 expect 0 "$C" status
 has out "mode realtime (rate 0.01)"       # --fast restored the mode
