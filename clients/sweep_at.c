@@ -8,13 +8,9 @@
 #include "wormgear/wg_snapshot.h"
 #include "wormgear/wg_status.h"
 
-#include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 /* Buffers filled while the orbit is replayed. */
 typedef struct views {
@@ -64,41 +60,12 @@ static void views_free(views *w)
     free(w->sx), free(w->sy), free(w->t), free(w->x), free(w->v);
 }
 
-/* At most WG_SNAPSHOT_MAX bytes of the regular file path into buf: the
- * length, or -1 with why. */
-static long read_snapshot(const char *path, char *buf, char *why, size_t whylen)
-{
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOFOLLOW | O_CLOEXEC);
-    struct stat st;
-    if (fd < 0 || fstat(fd, &st) || !S_ISREG(st.st_mode) || st.st_size > WG_SNAPSHOT_MAX) {
-        snprintf(why, whylen, "%s: %s", path,
-                 fd < 0 ? strerror(errno) : !S_ISREG(st.st_mode) ? "not a regular file"
-                 : "too large for a snapshot (at most 8192 bytes)");
-        if (fd >= 0)
-            close(fd);
-        return -1;
-    }
-    ssize_t n = read(fd, buf, WG_SNAPSHOT_MAX + 1);
-    close(fd);
-    if (n < 0 || n > WG_SNAPSHOT_MAX) {
-        snprintf(why, whylen, "%s: %s", path, n < 0 ? strerror(errno) : "too large");
-        return -1;
-    }
-    return (long)n;
-}
-
 int at_state_load(const char *path, const char *scene, int model, wg_params *p, double *y,
                   char *why, size_t whylen)
 {
-    char *text = malloc(WG_SNAPSHOT_MAX + 1), sname[WG_SNAPSHOT_SCENE_MAX], w[320];
+    char sname[WG_SNAPSHOT_SCENE_MAX], w[320];
     wg_snapshot snap;
-    long n = text ? read_snapshot(path, text, why, whylen) : -1;
-    int rc = n < 0 ? 1 : wg_snapshot_parse(text, (size_t)n, &snap, sname, sizeof sname, w,
-                                           sizeof w);
-    free(text);
-    if (n >= 0 && rc)
-        snprintf(why, whylen, "%s: %s", path, w);
-    if (rc)
+    if (wg_snapshot_load(path, &snap, sname, sizeof sname, why, whylen))
         return 1;
     if (strcmp(sname, scene) || snap.model != model) {
         snprintf(why, whylen, "%s: a snapshot of scene %s (%s model); this run is scene %s (%s "
@@ -118,7 +85,7 @@ int at_state_load(const char *path, const char *scene, int model, wg_params *p, 
         return 1;
     }
     uint32_t N = (uint32_t)snap.steps_per_period;
-    rc = wg_sim_run(&sim, (N - snap.k) % N, NULL, NULL); /* on to psi = 0 */
+    int rc = wg_sim_run(&sim, (N - snap.k) % N, NULL, NULL); /* on to psi = 0 */
     if (rc)
         snprintf(why, whylen, "%s: running to the next section: %s", path, wg_status_str(rc));
     else

@@ -58,4 +58,14 @@ int wg_snapshot_format(const wg_snapshot *snap, const char *scene, char *buf, si
 int wg_snapshot_parse(const char *text, size_t len, wg_snapshot *snap, char *scene,
                       size_t scenelen, char *why, size_t whylen);
 
+/* Read the snapshot file path and parse it (as wg_snapshot_parse). Only a
+ * regular file of at most WG_SNAPSHOT_MAX bytes is read: judged before it
+ * is opened (a FIFO or device is never opened), opened without following a
+ * link or blocking, judged again once open. WG_OK; WG_EIO with why saying
+ * what is there ("PATH is a FIFO, not a regular file", its size, the
+ * error); or parse's codes, why prefixed with the path. No message quotes
+ * the file's content. */
+int wg_snapshot_load(const char *path, wg_snapshot *snap, char *scene, size_t scenelen,
+                     char *why, size_t whylen);
+
 #endif
