@@ -63,4 +63,8 @@ int64_t cli_mono_ns(void);
 /* The wall clock in microseconds since the epoch (LCM's utime). */
 int64_t cli_wall_us(void);
 
+/* Call fn on SIGINT and SIGTERM (no SA_RESTART: a blocking wait returns
+ * EINTR, so the program sees its stop flag at once). */
+void cli_on_stop_signals(void (*fn)(int));
+
 #endif

@@ -4,6 +4,7 @@
  * branch points and grazings located, over a sweep's bifurcation diagram.
  * Exit 0 ok, 1 runtime error, 2 usage error, 130 interrupted (what is done
  * is written). */
+#include "cli.h"
 #include "cont_out.h"
 #include "plot.h"
 #include "plot_cont.h"
@@ -326,16 +327,6 @@ static int write_all(const opts *o, const wg_scene *sc, const ctx *c, const wg_c
     return rc ? 1 : 0;
 }
 
-static void install_signals(void)
-{
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
-}
-
 static int load_scene(opts *o, wg_scene *sc)
 {
     char why[640];
@@ -395,7 +386,7 @@ int main(int argc, char **argv)
         rc = load_scene(&o, &sc);
     if (!rc) {
         o.co.model = sc.model;
-        install_signals();
+        cli_on_stop_signals(on_signal);
         rc = run(&o, &sc);
     }
     plot_fini();

@@ -710,9 +710,8 @@ int main(int argc, char **argv)
     if (!rc) {
         if (!isatty(STDOUT_FILENO))
             m->o.plain = 1;
-        struct sigaction sa = {.sa_handler = on_signal};
-        sigaction(SIGINT, &sa, NULL);
-        sigaction(SIGTERM, &sa, NULL);
+        cli_on_stop_signals(on_signal);
+        struct sigaction sa = {.sa_handler = on_signal}; /* a resize wakes the loop too */
         sigaction(SIGWINCH, &sa, NULL);
         signal(SIGPIPE, SIG_IGN);
         term_size(m);

@@ -762,9 +762,7 @@ int main(int argc, char **argv)
     rig_imp_init(&r->imp);
     char *cmdline = cli_join_args(argc, argv);
     int rc = parse_opts(argc, argv, &r->o);
-    struct sigaction sa = {.sa_handler = on_signal};
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    cli_on_stop_signals(on_signal);
     r->t0 = cli_mono_s();
     wg_chain chains[2];
     window *win[2] = {NULL, NULL};

@@ -344,16 +344,6 @@ static int new_chain(wg_chain *c, const wg_params *base, const opts *o, int dir,
     return c->pts ? 0 : -1;
 }
 
-static void install_signals(void)
-{
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
-}
-
 static int run_all(wg_chain *cs, int n, const opts *o, int size, double *wall)
 {
     long total = 0;
@@ -624,7 +614,7 @@ int main(int argc, char **argv)
     }
     if (!rc) {
         o.so.model = sc.model;
-        install_signals();
+        cli_on_stop_signals(on_signal);
         char *cmd = cli_join_args(argc, argv);
         if (o.table_from)
             rc = rank == 0 ? do_table(&o, &sc, cmd) : 0;
