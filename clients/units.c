@@ -8,7 +8,7 @@
 
 /* How a parameter converts. The bearing rows scale with the body's mass
  * M_i = m_e / mu_i = K_m / (omega_n^2 mu_i). */
-enum kind { K_NONE, K_HZ, K_UM, K_N, K_DEG, K_CMESH, K_KBEAR, K_CBEAR, K_MASS };
+enum kind { K_NONE, K_HZ, K_UM, K_N, K_DEG, K_CMESH, K_KBEAR, K_CBEAR, K_MASS, K_MM, K_INERTIA };
 
 static const struct rule {
     enum kind kind;
@@ -40,6 +40,10 @@ static const struct rule {
     [WG_P_XI2X] = {K_CBEAR, 2, "N s/m = 2 xi K_m / (mu2 omega_n)"},
     [WG_P_XI2Y] = {K_CBEAR, 2, "N s/m = 2 xi K_m / (mu2 omega_n)"},
     [WG_P_XI2Z] = {K_CBEAR, 2, "N s/m = 2 xi K_m / (mu2 omega_n)"},
+    [WG_P_RHO1] = {K_MM, 1, "mm = rho1 b_c (worm lever arm R1)"},
+    [WG_P_RHO2] = {K_MM, 2, "mm = rho2 b_c (wheel lever arm R2)"},
+    [WG_P_J1] = {K_INERTIA, 1, "kg m^2 = j1 m_e R1^2 (worm inertia I1; m_e = K_m / omega_n^2)"},
+    [WG_P_J2] = {K_INERTIA, 2, "kg m^2 = j2 m_e R2^2 (wheel inertia I2)"},
 };
 
 int units_scale_ok(const units_scale *s)
@@ -64,10 +68,13 @@ int units_param(int id, const wg_params *p, const units_scale *s, double *v, con
         return -1;
     const struct rule *r = &rules[id];
     double x = p->v[id], wn = s->omega_n_rad_s, km = s->mesh_stiffness_N_m;
-    double mu = r->body ? p->v[r->body == 1 ? WG_P_MU1 : WG_P_MU2] : 1.0;
-    if (r->body && !(mu > 0))
+    int bearing = r->kind == K_KBEAR || r->kind == K_CBEAR || r->kind == K_MASS;
+    double mu = bearing ? p->v[r->body == 1 ? WG_P_MU1 : WG_P_MU2] : 1.0;
+    double arm = r->body ? p->v[r->body == 1 ? WG_P_RHO1 : WG_P_RHO2] * s->length_m : 0.0;
+    if (bearing && !(mu > 0))
         return -1; /* a rigid body: no mass, no bearing */
-    static const char *const name[] = {"", "Hz", "µm", "N", "deg", "N s/m", "N/m", "N s/m", "kg"};
+    static const char *const name[] = {"", "Hz", "µm", "N", "deg", "N s/m", "N/m", "N s/m", "kg",
+                                       "mm", "kg m^2"};
     switch (r->kind) {
     case K_HZ: *v = x * wn / TWO_PI; break;
     case K_UM: *v = x * s->length_m * 1e6; break;
@@ -77,6 +84,8 @@ int units_param(int id, const wg_params *p, const units_scale *s, double *v, con
     case K_KBEAR: *v = x * km / mu; break;
     case K_CBEAR: *v = 2 * x * km / (mu * wn); break;
     case K_MASS: *v = km / (wn * wn * x); break;
+    case K_MM: *v = x * s->length_m * 1e3; break;
+    case K_INERTIA: *v = x * km / (wn * wn) * arm * arm; break;
     default: return -1;
     }
     *unit = name[r->kind];

@@ -31,7 +31,8 @@ static const char *const scope_fields[] = {
     "n:dx_n:x_n rate (dimensionless)", "n:F:dynamic mesh force / (K_m b_c)",
     "n:fb_x1:worm bearing force x / (K_m b_c)", "n:fb_y1:worm bearing force y / (K_m b_c)",
     "n:fb_z1:worm bearing force z / (K_m b_c)", "n:fb_x2:wheel bearing force x / (K_m b_c)",
-    "n:fb_y2:wheel bearing force y / (K_m b_c)", "n:fb_z2:wheel bearing force z / (K_m b_c)", NULL};
+    "n:fb_y2:wheel bearing force y / (K_m b_c)", "n:fb_z2:wheel bearing force z / (K_m b_c)",
+    "n:theta1:worm angle [rad], 0 to 2 pi", "n:theta2:wheel angle [rad], 0 to 2 pi", NULL};
 static const char *const poincare_fields[] = {
     "i:period:index of the period that just ended", "n:tau:simulation time (dimensionless)",
     "n:t_s:simulated time [s]", "n:omega:meshing frequency / omega_n",
@@ -230,6 +231,8 @@ void msg_scope(jbuf *b, const wormgear_state_t *m, int i)
     kf(b, "fb_x2", m->fb_x2[i]);
     kf(b, "fb_y2", m->fb_y2[i]);
     kf(b, "fb_z2", m->fb_z2[i]);
+    kf(b, "theta1", m->theta1[i]);
+    kf(b, "theta2", m->theta2[i]);
     jb_raw(b, "}");
 }
 

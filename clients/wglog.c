@@ -129,9 +129,9 @@ static int rows_state(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
     fx k = factors(r);
     if (f && c->msgs == 0)
         head(f, r->physical ? "step0,decimation,i,tau,t_s,f_mesh_hz,x_n_um,dx_n_m_s,F_N,fb_x1_N,"
-                              "fb_y1_N,fb_z1_N,fb_x2_N,fb_y2_N,fb_z2_N"
+                              "fb_y1_N,fb_z1_N,fb_x2_N,fb_y2_N,fb_z2_N,theta1_rad,theta2_rad"
                             : "step0,decimation,i,tau,t_s,omega,xn,dxn,force,fb_x1,fb_y1,fb_z1,"
-                              "fb_x2,fb_y2,fb_z2");
+                              "fb_x2,fb_y2,fb_z2,theta1,theta2");
     for (int i = 0; f && i < m.n; i++) {
         lead(f, ev->timestamp, m.utime, m.seq);
         ci(f, m.step0), ci(f, m.decimation), ci(f, i);
@@ -139,6 +139,7 @@ static int rows_state(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
         cd(f, m.dxn[i] * k.v), cd(f, m.force[i] * k.f), cd(f, m.fb_x1[i] * k.f);
         cd(f, m.fb_y1[i] * k.f), cd(f, m.fb_z1[i] * k.f), cd(f, m.fb_x2[i] * k.f);
         cd(f, m.fb_y2[i] * k.f), cd(f, m.fb_z2[i] * k.f);
+        cd(f, m.theta1[i]), cd(f, m.theta2[i]);
         fputc('\n', f);
     }
     int n = m.n;

@@ -50,7 +50,9 @@ static void usage(FILE *f)
             "  --model consistent|printed  equations (default: the scene's, consistent)\n"
             "  --poincare FILE|-         CSV of the Poincare section (psi = 0), one row a period\n"
             "  --events FILE|-           CSV of contact events: tau,contact,kind,velocity\n"
-            "  --trace FILE|-            CSV of every step: tau,omega,x_n,dx_n,F\n"
+            "  --trace FILE|-            CSV of every step: tau,omega,x_n,dx_n,F,theta1,theta2\n"
+            "                            (theta1, theta2: worm and wheel angles in rad, [0, 2 pi);\n"
+            "                            the Poincare CSV ends with them too)\n"
             "  --units dimensionless|physical  CSV units (default dimensionless); physical:\n"
             "                            s, Hz, um, m/s, N (column names get unit suffixes)\n"
             "  -h, --help                this text\n\n"
@@ -176,12 +178,13 @@ static void write_headers(run *r)
                 ph ? "x_n_um" : "x_n", ph ? "dx_n_m_s" : "dx_n", ph ? "F_N" : "F");
         for (int i = 0; i < 14; i++)
             fprintf(r->fp, ",%s%s", pc_cols[i], ph ? (i < 7 ? "_um" : "_m_s") : "");
-        fputc('\n', r->fp);
+        fprintf(r->fp, "%s\n", ph ? ",theta1_rad,theta2_rad" : ",theta1,theta2");
     }
     if (r->fe)
         fprintf(r->fe, "%s,contact,kind,%s\n", ph ? "t_s" : "tau", ph ? "velocity_m_s" : "velocity");
     if (r->ft)
-        fprintf(r->ft, "%s\n", ph ? "t_s,f_mesh_hz,x_n_um,dx_n_m_s,F_N" : "tau,omega,x_n,dx_n,F");
+        fprintf(r->ft, "%s\n", ph ? "t_s,f_mesh_hz,x_n_um,dx_n_m_s,F_N,theta1_rad,theta2_rad"
+                                 : "tau,omega,x_n,dx_n,F,theta1,theta2");
 }
 
 /* Scale factors for physical output. */
@@ -223,7 +226,9 @@ static void on_section(void *ctx, const wg_section *sec)
             sec->out.F * sc_f(r));
     for (int i = 0; i < 14; i++)
         fprintf(r->fp, ",%.15g", y[i] * (i < 7 ? sc_x(r) : sc_v(r)));
-    fputc('\n', r->fp);
+    double th[2]; /* at the section psi = 0, after period + 1 whole periods */
+    wg_angles(r->sc->model, &r->sc->p, sec->stats.period + 1, 0.0, sec->y, th);
+    fprintf(r->fp, ",%.15g,%.15g\n", th[0], th[1]);
 }
 
 static void on_event(void *ctx, const wg_event *ev)
@@ -241,9 +246,12 @@ static void on_step(void *ctx, const wg_sim *s)
     if ((long)s->period < r->o->transient)
         return;
     wg_outputs o;
+    double th[2];
     wg_sim_outputs(s, &o);
-    fprintf(r->ft, "%.15g,%.15g,%.15g,%.15g,%.15g\n", s->tau * sc_t(r), s->p.v[WG_P_OMEGA] * sc_w(r),
-            o.xn * sc_x(r), o.dxn * sc_v(r), o.F * sc_f(r));
+    wg_sim_angles(s, th);
+    fprintf(r->ft, "%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g\n", s->tau * sc_t(r),
+            s->p.v[WG_P_OMEGA] * sc_w(r), o.xn * sc_x(r), o.dxn * sc_v(r), o.F * sc_f(r), th[0],
+            th[1]);
 }
 
 static void summary(const run *r, const wg_sim *s, double wall)

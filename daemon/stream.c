@@ -66,7 +66,8 @@ static void flush_state(wgd *d)
     wormgear_state_t m = {.step0 = s->st_step0, .decimation = s->decimation, .n = s->st_n,
                           .tau = c[0], .t_s = c[1], .omega = c[2], .xn = c[3], .dxn = c[4],
                           .force = c[5], .fb_x1 = c[6], .fb_y1 = c[7], .fb_z1 = c[8],
-                          .fb_x2 = c[9], .fb_y2 = c[10], .fb_z2 = c[11]};
+                          .fb_x2 = c[9], .fb_y2 = c[10], .fb_z2 = c[11], .theta1 = c[12],
+                          .theta2 = c[13]};
     lcmio_pub_state(&d->io, &m);
     s->st_n = 0;
 }
@@ -134,6 +135,10 @@ static void on_step(void *ctx, const wg_sim *sim)
     c[5][i] = o.F;
     for (int j = 0; j < 6; j++)
         c[6 + j][i] = o.fb[j];
+    double th[2];
+    wg_sim_angles(sim, th);
+    c[12][i] = th[0];
+    c[13][i] = th[1];
     if (s->st_n == ST_MAX)
         flush_state(d);
 }

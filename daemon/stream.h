@@ -15,7 +15,7 @@
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_sim.h"
 
-enum { ST_MAX = 400, PC_MAX = 200, CT_MAX = 1024, ST_NCOL = 12 };
+enum { ST_MAX = 400, PC_MAX = 200, CT_MAX = 1024, ST_NCOL = 14 };
 
 struct wgd;
 
@@ -26,7 +26,7 @@ typedef struct stream {
     int st_n, decimation;
     uint64_t countdown;             /* steps until the next sample */
     int64_t st_step0;
-    double st[ST_NCOL][ST_MAX];     /* tau t_s omega xn dxn F fb[6] */
+    double st[ST_NCOL][ST_MAX];     /* tau t_s omega xn dxn F fb[6] theta1 theta2 */
     /* POINCARE */
     int pc_n, nstate;
     int64_t pc_period[PC_MAX];

@@ -4,6 +4,8 @@
 
 #include "wormgear/wg_sim.h"
 
+#define TWO_PI 6.283185307179586
+
 /* One RK4 step of a specialised kernel: y0 -> y1 over h, with the
  * excitation at the step's start, middle and end (e[0..2]). */
 typedef void (*wg_kernel_fn)(const double *restrict y0, double *restrict y1,
@@ -73,6 +75,7 @@ typedef struct wg_sim_core {
     wg_krun_fn krun;      /* its run of plain steps (NULL: printed form) */
     unsigned kflags;      /* which specialisation (for reports) */
     int isa;              /* which instruction set's kernels (KISA_*) */
+    int wrap_pending;     /* 1 from psi wrapping to 0 until period counts it (on_step) */
     wg_exc *table;        /* 2N+1 excitation entries at half steps */
     wg_params hkey;       /* parameters hkey_hmax was computed for (cache) */
     double hkey_hmax;     /* 0: no cached value */

@@ -131,6 +131,35 @@ void wg_outputs_eval(int model, const wg_params *p, const wg_exc *e, const doubl
     }
 }
 
+/* x in [0, 2 pi). */
+static double wrap_angle(double x)
+{
+    x -= TWO_PI * floor(x / TWO_PI);
+    return x >= TWO_PI ? 0.0 : x;
+}
+
+void wg_angles(int model, const wg_params *p, uint64_t period, double psi, const double *y,
+               double th[2])
+{
+    double z1 = p->v[WG_P_Z1], z2 = p->v[WG_P_Z2];
+    double e1, e2;
+    if (model == WG_MODEL_PRINTED) {
+        e1 = y[6] / p->v[WG_P_RHO1];
+        e2 = -y[7] / p->v[WG_P_RHO2];
+    } else {
+        double a1 = p->v[WG_P_A1], a3 = p->v[WG_P_A3];
+        double w1 = a1 / p->v[WG_P_J1], w3 = a3 / p->v[WG_P_J2];
+        double D = a1 * w1 + a3 * w3;
+        double s = D > 0.0 ? y[6] / D : 0.0;
+        e1 = s * w1 / p->v[WG_P_RHO1];
+        e2 = -s * w3 / p->v[WG_P_RHO2];
+    }
+    /* period mod z: whole turns of the mesh phase within one revolution */
+    double k1 = (double)(period % (uint64_t)z1), k2 = (double)(period % (uint64_t)z2);
+    th[0] = wrap_angle((TWO_PI * k1 + psi) / z1 + e1);
+    th[1] = wrap_angle((TWO_PI * k2 + psi) / z2 + e2);
+}
+
 /* Inverse of the dead zone on its outer branches: g(x; c) = v. */
 static double deadzone_inv(double v, double c)
 {

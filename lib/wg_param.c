@@ -12,6 +12,7 @@
 #define R WG_PF_RAMP
 #define A (WG_PF_ANGLE | WG_PF_RAMP)
 #define G WG_PF_GEOM
+#define BODY WG_PF_BODY
 
 /* Defaults: the table3 scene of MODEL.md s4 (a_i from alpha_n = 20 deg,
  * z1 = 3, m = 4 mm, d1 = 44 mm). */
@@ -50,6 +51,18 @@ static const wg_param_info table[WG_NPARAM] = {
     [WG_P_XI2X] = {"xi2x", "1", 0.0, 10.0, 0.18390, R, "wheel bearing damping x"},
     [WG_P_XI2Y] = {"xi2y", "1", 0.0, 10.0, 0.18390, R, "wheel bearing damping y"},
     [WG_P_XI2Z] = {"xi2z", "1", 0.0, 10.0, 0.18390, R, "wheel bearing damping z"},
+    /* Body data of table3 (MODEL.md s3: R1 = 22 mm, R2 = 74 mm, I1 = 1.733e-4,
+     * I2 = 1.331e-2 kg m^2, m_e = 1.9651 kg, b_c = 0.1 mm, d2 = 148 mm = m z2). */
+    [WG_P_Z1] = {"z1", "1", 1, 12, 3, BODY | WG_PF_INT, "worm starts (theta1 output only)"},
+    [WG_P_Z2] = {"z2", "1", 4, 1000, 37, BODY | WG_PF_INT, "wheel teeth (theta2 output only)"},
+    [WG_P_RHO1] = {"rho1", "1", 1.0, 1e7, 220.0, BODY,
+                   "worm lever arm R1 / b_c (theta1 output only)"},
+    [WG_P_RHO2] = {"rho2", "1", 1.0, 1e7, 740.0, BODY,
+                   "wheel lever arm R2 / b_c (theta2 output only)"},
+    [WG_P_J1] = {"j1", "1", 1e-6, 1e6, 0.18221, BODY,
+                 "worm inertia I1 / (m_e R1^2) (theta outputs only)"},
+    [WG_P_J2] = {"j2", "1", 1e-6, 1e6, 1.2369, BODY,
+                 "wheel inertia I2 / (m_e R2^2) (theta outputs only)"},
 };
 
 const wg_param_info *wg_param_info_get(int id)
@@ -93,11 +106,13 @@ int wg_param_check(int id, double v, char *why, size_t whylen)
             snprintf(why, whylen, "parameter id %d does not exist", id);
         return WG_EUNKNOWN;
     }
-    if (!isfinite(v) || v < r->min || v > r->max) {
+    int whole = !(r->flags & WG_PF_INT) || (isfinite(v) && v == floor(v));
+    if (!isfinite(v) || v < r->min || v > r->max || !whole) {
         char num[32], range[80];
         if (why && whylen)
-            snprintf(why, whylen, "%s = %s out of range %s", r->name,
-                     wg_num_format(v, num, sizeof num), range_text(r, range, sizeof range));
+            snprintf(why, whylen, "%s = %s %s %s", r->name, wg_num_format(v, num, sizeof num),
+                     whole ? "out of range" : "must be a whole number in",
+                     range_text(r, range, sizeof range));
         return WG_ERANGE;
     }
     return WG_OK;

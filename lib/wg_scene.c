@@ -25,7 +25,7 @@ enum phys_id {
     PH_LENGTH, PH_ALPHA, PH_STARTS, PH_MODULE, PH_D1, PH_R1, PH_R2, PH_M1, PH_I1, PH_M2, PH_I2,
     PH_RIGID, PH_KM, PH_XIP, PH_CM, PH_XIG, PH_KA, PH_PHI1, PH_TE, PH_PHI2, PH_BACKLASH,
     PH_CLEAR, PH_TG, PH_TE_AMP, PH_PHI, PH_KB, PH_KB1, PH_KB2, PH_ZB, PH_CB1, PH_CB2, PH_FMESH,
-    NPHYS
+    PH_TEETH, NPHYS
 };
 
 #define NA NAN
@@ -62,6 +62,8 @@ static const wg_param_info phys[NPHYS] = {
     [PH_CB1] = {"worm_bearing_damping_Ns_m", "N s/m", 0, 1e9, NA, 0, "worm bearing damping"},
     [PH_CB2] = {"wheel_bearing_damping_Ns_m", "N s/m", 0, 1e9, NA, 0, "wheel bearing damping"},
     [PH_FMESH] = {"mesh_frequency_hz", "Hz", 0, 1e7, NA, 0, "mesh frequency (sets omega)"},
+    [PH_TEETH] = {"wheel_teeth", "1", 4, 1000, NA, 0,
+                  "wheel teeth z2 (default 2 R2 / module, rounded)"},
 };
 
 int wg_scene_nphys(void) { return NPHYS; }
@@ -300,6 +302,13 @@ static int convert(loader *L)
     p->v[WG_P_PHI] = ph[PH_PHI];
     if (!isnan(ph[PH_FMESH]))
         p->v[WG_P_OMEGA] = TWO_PI * ph[PH_FMESH] / wn;
+    /* Body data for theta1, theta2 (the a_i above fix D = 1 with these). */
+    p->v[WG_P_Z1] = ph[PH_STARTS];
+    p->v[WG_P_Z2] = isnan(ph[PH_TEETH]) ? round(2.0 * ph[PH_R2] / ph[PH_MODULE]) : ph[PH_TEETH];
+    p->v[WG_P_RHO1] = R1 / bc;
+    p->v[WG_P_RHO2] = R2 / bc;
+    p->v[WG_P_J1] = ph[PH_I1] / (me * R1 * R1);
+    p->v[WG_P_J2] = ph[PH_I2] / (me * R2 * R2);
     wg_scale *s = &L->sc->scale;
     s->omega_n_rad_s = wn;
     s->length_m = bc;
@@ -328,6 +337,9 @@ static int derived_source(const loader *L, int id)
         [WG_P_XI1X] = {PH_CB1, PH_ZB, -1}, [WG_P_XI1Y] = {PH_CB1, PH_ZB, -1},
         [WG_P_XI1Z] = {PH_CB1, PH_ZB, -1}, [WG_P_XI2X] = {PH_CB2, PH_ZB, -1},
         [WG_P_XI2Y] = {PH_CB2, PH_ZB, -1}, [WG_P_XI2Z] = {PH_CB2, PH_ZB, -1},
+        [WG_P_Z1] = {PH_STARTS, -1},       [WG_P_Z2] = {PH_TEETH, PH_R2, PH_MODULE},
+        [WG_P_RHO1] = {PH_R1, PH_D1, -1},  [WG_P_RHO2] = {PH_R2, -1},
+        [WG_P_J1] = {PH_I1, PH_R1, PH_D1},  [WG_P_J2] = {PH_I2, PH_R2, -1},
     };
     for (int k = 0; k < 3 && src[id][k] > 0; k++)
         if (L->ph_line[src[id][k]])

@@ -9,7 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define TWO_PI 6.283185307179586
 #define ABSURD 1e9    /* |sum of state| beyond this is a blow-up */
 
 static const char *const stepper_names[] = {"default", "rk4", "rk4-event"};
@@ -516,6 +515,13 @@ void wg_sim_outputs(const wg_sim *s, wg_outputs *o)
     wg_outputs_eval(s->cfg.model, &s->p, &e, s->y, o);
 }
 
+void wg_sim_angles(const wg_sim *s, double th[2])
+{
+    /* an on_step sink sees the step that ends a period before it is counted */
+    wg_angles(s->cfg.model, &s->p, s->period + (uint64_t)s->core->wrap_pending, wg_sim_psi(s),
+              s->y, th);
+}
+
 const char *wg_sim_kernel_name(const wg_sim *s, char *buf, size_t len)
 {
     if (s->cfg.model == WG_MODEL_PRINTED) {
@@ -754,7 +760,7 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
         s->steps++;
         after_step(s, q0, v0, q1, v1, h, &b, sink);
         if (++s->k == N)
-            s->k = 0;
+            s->k = 0, s->core->wrap_pending = 1;
         if (ramp_ends)
             ramp_finish(s);
         else if (s->ramp.active && s->ramp.id == WG_P_OMEGA)
@@ -766,6 +772,7 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
             sink->on_step(sink->ctx, s);
         if (s->k == 0) {
             s->period++;
+            s->core->wrap_pending = 0;
             emit_section(s, sink);
             period_start(s, q1[0]);
         }

@@ -1,4 +1,4 @@
-/* wg_snapshot.c - the snapshot file format (format 2), text <-> wg_snapshot.
+/* wg_snapshot.c - the snapshot file format (format 3; 2 read), text <-> wg_snapshot.
  *
  * One walk over the fields (walk()) defines the order and the keys; the
  * writer and the reader are two visitors of it, so they cannot disagree. */
@@ -63,16 +63,17 @@ static int walk_ramp(visit *v, wg_ramp *r)
                          v->field(v, "ramp.duration", K_REAL, &r->dur));
 }
 
-/* Every field after the first line, in order: 0, or 1 at the first the
- * visitor refused. */
-static int walk(visit *v, wg_snapshot *w, char *scene)
+/* Every field after the first line of a format `fmt` file, in order: 0,
+ * or 1 at the first the visitor refused. */
+static int walk(visit *v, wg_snapshot *w, char *scene, int fmt)
 {
     if (v->field(v, "scene", K_SCENE, scene) || v->field(v, "model", K_MODEL, &w->model) ||
         v->field(v, "stepper", K_STEPPER, &w->stepper) ||
         v->field(v, "steps_per_period", K_INT, &w->steps_per_period))
         return 1;
     char key[32];
-    for (int i = 0; i < WG_NPARAM; i++) {
+    int np = fmt >= 3 ? WG_NPARAM : WG_NPARAM_DYN; /* format 2: no body rows */
+    for (int i = 0; i < np; i++) {
         snprintf(key, sizeof key, "param %s", wg_param_info_get(i)->name);
         if (v->field(v, key, K_REAL, &w->p.v[i]))
             return 1;
@@ -257,13 +258,15 @@ static int say(char *why, size_t whylen, int rc, const char *msg)
     return rc;
 }
 
-/* The first line: format 2, or why not. */
-static int check_head(const char *text, size_t len, char *why, size_t whylen)
+/* The first line: format 3 or 2 (*fmt), or why not. */
+static int check_head(const char *text, size_t len, int *fmt, char *why, size_t whylen)
 {
-    static const char want[] = HEAD "2\n", old[] = HEAD "1\n";
+    static const char want[] = HEAD "3\n", two[] = HEAD "2\n", old[] = HEAD "1\n";
     size_t hl = sizeof HEAD - 1;
     if (len >= sizeof want - 1 && memcmp(text, want, sizeof want - 1) == 0)
-        return WG_OK;
+        return *fmt = 3, WG_OK;
+    if (len >= sizeof two - 1 && memcmp(text, two, sizeof two - 1) == 0)
+        return *fmt = 2, WG_OK;
     if (len >= sizeof old - 1 && memcmp(text, old, sizeof old - 1) == 0)
         return say(why, whylen, WG_EINVAL,
                    "a format 1 snapshot (an earlier wormgeard's, without a checksum): it "
@@ -271,9 +274,9 @@ static int check_head(const char *text, size_t len, char *why, size_t whylen)
                    "'param' lines) and save a new snapshot");
     if (len >= hl && memcmp(text, HEAD, hl) == 0)
         return say(why, whylen, WG_EINVAL,
-                   "a snapshot of an unknown format: this build reads format 2");
+                   "a snapshot of an unknown format: this build reads formats 3 and 2");
     return say(why, whylen, WG_EINVAL,
-               "not a wormgeard snapshot: the first line is not '" HEAD "2'");
+               "not a wormgeard snapshot: the first line is not '" HEAD "3'");
 }
 
 /* The last line is the checksum of every byte before it; *body its start. */
@@ -307,16 +310,17 @@ int wg_snapshot_parse(const char *text, size_t len, wg_snapshot *snap, char *sce
         snprintf(why, whylen, "longer than any snapshot (%d bytes)", WG_SNAPSHOT_MAX);
         return WG_EINVAL;
     }
-    int rc = check_head(text, len, why, whylen);
+    int fmt = 0, rc = check_head(text, len, &fmt, why, whylen);
     if (rc || (rc = check_sum(text, len, &body, why, whylen)))
         return rc;
     wg_snapshot w;
     memset(&w, 0, sizeof w);
+    wg_params_default(&w.p); /* format 2's body rows */
     const char *first = memchr(text, '\n', len) + 1; /* check_head saw it */
     reader r = {{read_field}, first, text + body, 1, why, whylen};
     if (first > r.end)
         return say(why, whylen, WG_EINVAL, "no fields between the first and the last line");
-    if (walk(&r.v, &w, sc))
+    if (walk(&r.v, &w, sc, fmt))
         return WG_EINVAL;
     if (r.p != r.end) {
         r.line++;
@@ -375,7 +379,7 @@ int wg_snapshot_format(const wg_snapshot *snap, const char *scene, char *buf, si
     scene_text(scene, sc);
     writer o = {{write_field}, buf, cap, 0};
     put(&o, HEAD "%d\n", WG_SNAPSHOT_FORMAT);
-    walk(&o.v, &w, sc);
+    walk(&o.v, &w, sc, WG_SNAPSHOT_FORMAT);
     if (o.n + SUMLINE >= cap || o.n + SUMLINE > WG_SNAPSHOT_MAX)
         return say(why, whylen, WG_ERANGE, "snapshot longer than the buffer given");
     int rc = checksum_hex(buf, o.n, hex);

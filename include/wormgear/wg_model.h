@@ -7,6 +7,8 @@
 #ifndef WG_MODEL_H
 #define WG_MODEL_H
 
+#include <stdint.h>
+
 #include "wg_param.h"
 
 enum { WG_NDOF_MAX = 8, WG_NSTATE_MAX = 16 };
@@ -69,6 +71,20 @@ void wg_rhs(int model, const wg_params *p, const wg_exc *e, const double *y, dou
 /* Mesh displacement, velocity, force and bearing forces at state y. */
 void wg_outputs_eval(int model, const wg_params *p, const wg_exc *e, const double *y,
                      wg_outputs *o);
+
+/* Rotation angles of the worm (th[0] = theta1) and the wheel (th[1] =
+ * theta2) in rad, wrapped to [0, 2 pi): derived outputs (MODEL.md s2), each
+ * in the sense its body turns in operation and zero at the start of the run.
+ * The rigid rotation is the mesh phase over the body's teeth,
+ * (2 pi (period mod z) + psi) / z with `period` the completed mesh periods;
+ * the elastic part splits the torsional coordinate s as the mesh force
+ * accelerates the two inertias, theta1_e = s (a1/j1) / (rho1 D) and
+ * theta2_e = -s (a3/j2) / (rho2 D), D = a1^2/j1 + a3^2/j2, so that
+ * a1 rho1 theta1_e - a3 rho2 theta2_e = s (the worm leads and the wheel lags
+ * under load). The printed form's th1, th2 give th1/rho1 and -th2/rho2. Uses
+ * only the body rows z1, z2, rho1, rho2, j1, j2 and a1, a3 of p. */
+void wg_angles(int model, const wg_params *p, uint64_t period, double psi, const double *y,
+               double th[2]);
 
 /* True when the scene has rigid bearings (mu1 = mu2 = 0): only s moves. */
 int wg_params_torsional(const wg_params *p);

@@ -15,14 +15,22 @@ enum wg_param_id {
     WG_P_A1, WG_P_A2, WG_P_A3, WG_P_MU1, WG_P_MU2,
     WG_P_K1X, WG_P_K1Y, WG_P_K1Z, WG_P_K2X, WG_P_K2Y, WG_P_K2Z,
     WG_P_XI1X, WG_P_XI1Y, WG_P_XI1Z, WG_P_XI2X, WG_P_XI2Y, WG_P_XI2Z,
+    /* Body data (WG_PF_BODY): only the derived angles theta1, theta2 use
+     * them (wg_angles); they never change the dynamics. */
+    WG_P_Z1, WG_P_Z2, WG_P_RHO1, WG_P_RHO2, WG_P_J1, WG_P_J2,
     WG_NPARAM
 };
+
+/* The rows before the body data: the parameters of the equations. */
+enum { WG_NPARAM_DYN = WG_P_Z1 };
 
 /* Row flags. */
 enum {
     WG_PF_RAMP = 1u << 0,  /* may be ramped at run time */
     WG_PF_ANGLE = 1u << 1, /* an angle in radians */
-    WG_PF_GEOM = 1u << 2   /* geometry/mass ratio: changes the linear modes */
+    WG_PF_GEOM = 1u << 2,  /* geometry/mass ratio: changes the linear modes */
+    WG_PF_BODY = 1u << 3,  /* body data for derived outputs: no effect on the motion */
+    WG_PF_INT = 1u << 4    /* a whole number (teeth) */
 };
 
 typedef struct wg_param_info {
@@ -45,8 +53,10 @@ const wg_param_info *wg_param_info_get(int id);
 /* Id of the parameter called `name`, or -1. */
 int wg_param_lookup(const char *name);
 
-/* WG_OK if v is finite and in the row's range; else WG_ERANGE with
- * "name = v out of range [min, max]" written to why (may be NULL). */
+/* WG_OK if v is finite and in the row's range (and a whole number for a
+ * WG_PF_INT row); else WG_ERANGE with "name = v out of range [min, max]"
+ * (or "... must be a whole number in [min, max]") written to why (may be
+ * NULL). */
 int wg_param_check(int id, double v, char *why, size_t whylen);
 
 /* Parse `text` (strtod, whole string, finite) and range-check it.

@@ -201,6 +201,12 @@ double wg_sim_xn(const wg_sim *sim);
 /* Outputs (x_n, x_n', F, bearing forces) at the current state. */
 void wg_sim_outputs(const wg_sim *sim, wg_outputs *o);
 
+/* theta1, theta2 (rad, [0, 2 pi)) at the current state and phase: wg_angles
+ * with the run's completed periods (the rigid part is 0 at the start of a
+ * run). Also right inside on_step on the step that ends a period, where
+ * sim->period does not count that period yet. */
+void wg_sim_angles(const wg_sim *sim, double th[2]);
+
 /* Kernel specialisation as text, e.g. "full+bj+b+ka+em" or "torsional+b". */
 const char *wg_sim_kernel_name(const wg_sim *sim, char *buf, size_t len);
 

@@ -2,14 +2,15 @@
  * name of its scene as text, for the daemon's save/restore and for any tool
  * that reads a saved state.
  *
- * Format 2: one "key = value" per line (LF), every field exactly once, in
+ * Format 3: one "key = value" per line (LF), every field exactly once, in
  * this order:
- *   # wormgeard snapshot, format 2
+ *   # wormgeard snapshot, format 3
  *   scene = table3                1-63 printable ASCII characters
  *   model = consistent            consistent | printed
  *   stepper = rk4-event           rk4 | rk4-event
  *   steps_per_period = 128
  *   param omega = 0x1.599999999999ap+0     every parameter, in the table's order
+ *                                 (format 2: without the body rows z1 ... j2)
  *   y 0 = ...                     the model's 14 or 16 state values
  *   k, tau, tau_c, period, steps
  *   ramp = none | NAME            with a NAME: ramp.from, ramp.to, ramp.tau0,
@@ -23,8 +24,9 @@
  * leading zero, space or CR, no missing, extra, repeated or reordered line.
  * The last line is the BLAKE2b-256 (libsodium's crypto_generichash, no key)
  * of every byte before it, so `head -n -1 FILE | b2sum -l 256` shows it.
- * Format 1 (earlier releases: no checksum) is refused, since it cannot be
- * verified. The parser checks syntax; whether the values make a run is
+ * Format 2 (before the body data joined the table) is read too, its body
+ * rows taken from the table's defaults; format 1 (earlier releases: no
+ * checksum) is refused, since it cannot be verified. The parser checks syntax; whether the values make a run is
  * wg_sim_restore's to decide. Neither function prints, and no message ever
  * quotes the text it was given. */
 #ifndef WG_SNAPSHOT_H
@@ -35,12 +37,12 @@
 #include "wg_sim.h"
 
 enum {
-    WG_SNAPSHOT_FORMAT = 2,     /* the version written and read */
+    WG_SNAPSHOT_FORMAT = 3,     /* the version written (3 and 2 are read) */
     WG_SNAPSHOT_MAX = 8192,     /* bytes: no snapshot is longer (they are ~2 kB) */
     WG_SNAPSHOT_SCENE_MAX = 64  /* scene name buffer, NUL included */
 };
 
-/* Write snap, taken in scene `scene`, as format 2 into buf (cap bytes;
+/* Write snap, taken in scene `scene`, as format 3 into buf (cap bytes;
  * WG_SNAPSHOT_MAX always suffices), NUL-terminated. Scene bytes outside
  * printable ASCII are written as '?', beyond 63 dropped. Returns the length
  * (without the NUL), or WG_ERANGE if cap is too small, or WG_EINVAL with why
@@ -50,7 +52,7 @@ enum {
 int wg_snapshot_format(const wg_snapshot *snap, const char *scene, char *buf, size_t cap,
                        char *why, size_t whylen);
 
-/* Read len bytes of text (no NUL needed) as format 2 into *snap and scene
+/* Read len bytes of text (no NUL needed) as format 3 or 2 into *snap and scene
  * (scenelen bytes, NUL-terminated; WG_SNAPSHOT_SCENE_MAX holds any). WG_OK,
  * or WG_EINVAL with why ("line 12: expected 'param xi_p = <hex float>'",
  * "checksum mismatch: ...", "a format 1 snapshot ...") and snap and scene

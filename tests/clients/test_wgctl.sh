@@ -50,9 +50,12 @@ has out "^  phi1  = 1.613 *rad  92.4181 deg$"
 has out "^  mu1   = 2.7442 *-    0.716056 kg$"
 has out "^  k1x   = 21.198 *-    1.5447.e+10 N/m$"
 has out "^  a1    = 0.24724948462317603 -$"
+has out "^  z2    = 37 *-$"
+has out "^  rho1  = 220 *-    22 mm$"
+has out "^  j1    = 0.18221 *-    0.0001732[0-9]* kg m^2$"
 # no unit column reads "1" any more
 hasnt out "= [^ ]* *1$"
-[ "$(grep -c '^  [a-z_0-9]* *= ' "$tmp/out")" -eq 29 ] || fail "get: not 29 parameter lines"
+[ "$(grep -c '^  [a-z_0-9]* *= ' "$tmp/out")" -eq 35 ] || fail "get: not 35 parameter lines"
 expect 0 "$C" get omega b_j
 [ "$(wc -l <"$tmp/out")" -eq 2 ] || fail "get omega b_j: not two lines: $(cat "$tmp/out")"
 has out "^  omega = 1 "

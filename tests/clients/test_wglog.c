@@ -44,15 +44,15 @@ static void write_states(lcm_eventlog_t *l)
 {
     static const int64_t seqs[] = {0, 1, 2, 4, 5}; /* 3 is missing */
     for (int k = 0; k < 5; k++) {
-        double v[13][3];
+        double v[14][3];
         for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 13; j++)
+            for (int j = 0; j < 14; j++)
                 v[j][i] = j == 3 ? xn_of(seqs[k], i) : sqrt(2.0) * (j + 1) + i;
         wormgear_state_t m = {.utime = 1000 + k, .seq = seqs[k], .step0 = 30 * seqs[k],
                               .decimation = 10, .n = 3, .tau = v[0], .t_s = v[1],
                               .omega = v[2], .xn = v[3], .dxn = v[4], .force = v[5],
                               .fb_x1 = v[6], .fb_y1 = v[7], .fb_z1 = v[8], .fb_x2 = v[9],
-                              .fb_y2 = v[10], .fb_z2 = v[11]};
+                              .fb_y2 = v[10], .fb_z2 = v[11], .theta1 = v[12], .theta2 = v[13]};
         PUT(wormgear_state_t, l, "RIG1_STATE", 1000000 + 20000 * k, &m);
     }
 }
@@ -229,6 +229,12 @@ static void test_export(void)
         ASSERT_TRUE(strtod(c, NULL) == xn_of(seq, i)); /* bit-exact */
     }
     ASSERT_TRUE(cell(path, 16, 0, c, sizeof c) < 0); /* 15 samples, no more */
+    ASSERT_EQ_INT(cell(path, 0, 18, c, sizeof c), 0);
+    ASSERT_STR(c, "theta1");
+    ASSERT_EQ_INT(cell(path, 0, 19, c, sizeof c), 0);
+    ASSERT_STR(c, "theta2");
+    ASSERT_EQ_INT(cell(path, 2, 19, c, sizeof c), 0);
+    ASSERT_TRUE(strtod(c, NULL) == sqrt(2.0) * 14 + 1);
     snprintf(path, sizeof path, "%s/csv/RIG1_POINCARE.csv", dir);
     ASSERT_EQ_INT(cell(path, 0, 15, c, sizeof c), 0);
     ASSERT_STR(c, "x1"); /* the state by name, not y0 ... y13 */
@@ -282,6 +288,10 @@ static void test_physical(void)
     ASSERT_TRUE(strtod(c, NULL) == xn_of(0, 1) * (1e-4 * 1e6)); /* x_n b_c in um */
     ASSERT_EQ_INT(cell(path, 2, 11, c, sizeof c), 0);
     ASSERT_TRUE(strtod(c, NULL) == (sqrt(2.0) * 6 + 1) * (2e9 * 1e-4)); /* F K_m b_c in N */
+    ASSERT_EQ_INT(cell(path, 0, 18, c, sizeof c), 0);
+    ASSERT_STR(c, "theta1_rad");
+    ASSERT_EQ_INT(cell(path, 2, 18, c, sizeof c), 0);
+    ASSERT_TRUE(strtod(c, NULL) == sqrt(2.0) * 13 + 1); /* radians either way */
     snprintf(path, sizeof path, "%s/phys/RIG1_POINCARE.csv", dir);
     ASSERT_EQ_INT(cell(path, 0, 15, c, sizeof c), 0);
     ASSERT_STR(c, "x1_um");

@@ -31,7 +31,7 @@ for opt in --scene --set --periods --transient --steps-per-period --stepper --mo
     grep -q -- "$opt" "$tmp/help" || { echo "FAIL --help lacks $opt"; fail=1; }
 done
 for p in omega xi_p xi_g k_a phi1 e_m phi2 f_m f_e phi b b_j a1 a2 a3 mu1 mu2 \
-         k1x k1y k1z k2x k2y k2z xi1x xi1y xi1z xi2x xi2y xi2z; do
+         k1x k1y k1z k2x k2y k2z xi1x xi1y xi1z xi2x xi2y xi2z z1 z2 rho1 rho2 j1 j2; do
     grep -qE "^  $p +[^ ]+ +\[" "$tmp/help" || { echo "FAIL --help lacks parameter $p"; fail=1; }
 done
 
@@ -40,9 +40,19 @@ done
     --events "$tmp/e.csv" --trace "$tmp/t.csv"
 check "run with outputs exits 0" test $? -eq 0
 check "poincare header" test "$(head -1 "$tmp/p.csv")" = \
-    "period,tau,omega,x_n,dx_n,F,x1,y1,z1,x2,y2,z2,s,dx1,dy1,dz1,dx2,dy2,dz2,ds"
+    "period,tau,omega,x_n,dx_n,F,x1,y1,z1,x2,y2,z2,s,dx1,dy1,dz1,dx2,dy2,dz2,ds,theta1,theta2"
 check "events header" test "$(head -1 "$tmp/e.csv")" = "tau,contact,kind,velocity"
-check "trace header" test "$(head -1 "$tmp/t.csv")" = "tau,omega,x_n,dx_n,F"
+check "trace header" test "$(head -1 "$tmp/t.csv")" = "tau,omega,x_n,dx_n,F,theta1,theta2"
+# theta1, theta2 in [0, 2 pi); over the 12 recorded periods (z1 = 3, z2 = 37) the
+# worm turns 4 times and the wheel 12/37 of a turn, up to the elastic change
+check "trace angles in [0, 2 pi)" \
+    bash -c "awk -F, 'NR>1 && (\$6 < 0 || \$6 >= 6.283185307179586 || \$7 < 0 || \$7 >= 6.283185307179586) { bad=1 } END { exit bad }' '$tmp/t.csv'"
+check "trace angles: the worm 4 turns, the wheel 12/37 turn in 12 periods" \
+    bash -c "awk -F, 'function w(d) { while (d > 3.141592653589793) d -= 6.283185307179586; while (d <= -3.141592653589793) d += 6.283185307179586; return d }
+        NR==2 { a=\$6; b=\$7 } NR>2 { t1 += w(\$6-a); t2 += w(\$7-b); a=\$6; b=\$7 }
+        END { t1 /= 6.283185307179586; t2 /= 6.283185307179586; exit !(t1 > 3.98 && t1 < 4.01 && t2 > 0.32 && t2 < 0.329) }' '$tmp/t.csv'"
+check "poincare theta1 at a section: 2 pi (period mod 3) / 3 + a small elastic part" \
+    bash -c "awk -F, 'NR>1 { r = 6.283185307179586 * (\$1 % 3) / 3; d = \$21 - r; if (d > 3.14) d -= 6.283185307179586; if (d < -0.001 || d > 0.05) bad=1 } END { exit bad }' '$tmp/p.csv'"
 check "one poincare row per recorded period" test "$(tail -n +2 "$tmp/p.csv" | wc -l)" -eq 12
 check "period column counts from the run start" test "$(sed -n 2p "$tmp/p.csv" | cut -d, -f1)" = 6
 check "trace has every recorded step" test "$(tail -n +2 "$tmp/t.csv" | wc -l)" -eq $((12 * 128))
@@ -67,6 +77,7 @@ expect_exit 2 "allowed values are default, rk4, rk4-event" --stepper euler
 expect_exit 2 "allowed values are consistent, printed" --model fancy
 expect_exit 2 "omega = 99 out of range \[0.01, 10\]" --set omega=99
 expect_exit 2 "unknown parameter 'nope'" --set nope=1
+expect_exit 2 "z2 = 37.5 must be a whole number in \[4, 1000\]" --set z2=37.5
 expect_exit 2 "must be an integer in \[8, 65536\]" --steps-per-period 4
 expect_exit 2 "need N >= " --set omega=0.05 --steps-per-period 64
 expect_exit 2 "supports the rk4 stepper only" --model printed --stepper rk4-event

@@ -55,7 +55,7 @@ int main(int argc, char **argv)
     for (int i = 0; i < 2; i++)
         for (int k = 0; k < 14; k++)
             yv[i][k] = i + k / 3.0;
-    wormgear_state_t st = {1, 42, 7, 10, 3, a, a, a, a, a, a, a, a, a, a, a, a};
+    wormgear_state_t st = {1, 42, 7, 10, 3, a, a, a, a, a, a, a, a, a, a, a, a, a, a};
     ENC(wormgear_state_t, "state_t", &st);
     int64_t per[2] = {5, 6};
     int8_t mot[2] = {1, 2}, kind[2] = {1, 2};

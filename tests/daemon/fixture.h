@@ -42,7 +42,7 @@ typedef struct fx {
     int64_t seq_next[3], seq_gaps;  /* STATE POINCARE CONTACT */
     int nsamples, npc, nct;
     int nct_by[WG_NCONTACT], ct_every;   /* CONTACT events per contact; last bearing_every */
-    double *tau, *omega, *xn;        /* STATE samples */
+    double *tau, *omega, *xn, *th1, *th2; /* STATE samples */
     int64_t pc_last_period;
     int pc_gaps;
     char health[16], regime[24], motion[24];
@@ -127,6 +127,8 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, const wormgear_st
         F.tau[F.nsamples] = m->tau[i];
         F.omega[F.nsamples] = m->omega[i];
         F.xn[F.nsamples] = m->xn[i];
+        F.th1[F.nsamples] = m->theta1[i];
+        F.th2[F.nsamples] = m->theta2[i];
     }
 }
 
@@ -171,9 +173,9 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
 /* A daemon without its loop: engine, lcm (memq), streams, commands, report. */
 static inline wgd *setup(int steps_per_period)
 {
-    static double tau[MAXS], omega[MAXS], xn[MAXS];
+    static double tau[MAXS], omega[MAXS], xn[MAXS], th1[MAXS], th2[MAXS];
     memset(&F, 0, sizeof F);
-    F.tau = tau, F.omega = omega, F.xn = xn;
+    F.tau = tau, F.omega = omega, F.xn = xn, F.th1 = th1, F.th2 = th2;
     F.pc_last_period = -1;
     wgd *d = calloc(1, sizeof *d);
     conf_defaults(&d->conf);

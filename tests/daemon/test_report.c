@@ -27,6 +27,40 @@ static void test_stream_seq(void)
     teardown(d);
 }
 
+/* STATE carries theta1, theta2: the library's angles of the sample's state,
+ * turning z2/z1 : 1 over whole wheel turns; a set of body data (z2) changes
+ * them and nothing else. */
+static void test_state_angles(void)
+{
+    wgd *d = setup(128);
+    ASSERT_EQ_INT(set1(d, "omega", 0.7), WG_OK);
+    stream_set_decimation(&d->st, 1);
+    run(d, 128 * 37 * 2);
+    stream_flush(d);
+    drain(d);
+    ASSERT_EQ_INT(F.nsamples, 128 * 37 * 2);
+    double th[2], turn[2] = {0, 0};
+    wg_sim_angles(&d->sim, th);
+    ASSERT_TRUE(F.th1[F.nsamples - 1] == th[0] && F.th2[F.nsamples - 1] == th[1]);
+    for (int i = 1; i < F.nsamples; i++) {
+        double d1 = F.th1[i] - F.th1[i - 1], d2 = F.th2[i] - F.th2[i - 1];
+        ASSERT_TRUE(F.th1[i] >= 0 && F.th1[i] < 2 * M_PI && F.th2[i] >= 0 && F.th2[i] < 2 * M_PI);
+        turn[0] += d1 - 2 * M_PI * round(d1 / (2 * M_PI));
+        turn[1] += d2 - 2 * M_PI * round(d2 / (2 * M_PI));
+    }
+    /* 74 periods less one step: 74/3 and 74/37 turns, up to the elastic parts */
+    ASSERT_NEAR(turn[0] / (2 * M_PI), 74.0 / 3, 0.02);
+    ASSERT_NEAR(turn[1] / (2 * M_PI), 2.0, 0.005);
+    double y[WG_NSTATE_MAX];
+    memcpy(y, d->sim.y, sizeof y);
+    ASSERT_EQ_INT(set1(d, "z2", 41), WG_OK);
+    ASSERT_TRUE(memcmp(y, d->sim.y, sizeof y) == 0);
+    wg_sim_angles(&d->sim, th);
+    double rigid2 = 2 * M_PI * (double)(d->sim.period % 41) / 41;
+    ASSERT_NEAR(th[1], rigid2, 0.01);
+    teardown(d);
+}
+
 /* STATUS reports the regime from the tracked Poincare points. */
 static void test_status_regime(void)
 {
@@ -173,5 +207,5 @@ static void test_status_bearing_impacts(void)
     teardown(d);
 }
 
-TEST_MAIN(TEST(test_status_bearing_impacts), TEST(test_contacts_setting), TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set),
+TEST_MAIN(TEST(test_state_angles), TEST(test_status_bearing_impacts), TEST(test_contacts_setting), TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set),
           TEST(test_line_matches_status))

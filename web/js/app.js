@@ -19,7 +19,7 @@ const S = {
   fox: null, params: null, status: null, bridge: null, statusWall: 0, connected: false,
   scope: { t: new Float64Array(RING), step: new Float64Array(RING), x: new Float64Array(RING),
     dx: new Float64Array(RING), F: new Float64Array(RING), utime: new Float64Array(RING), n: 0 },
-  impacts: [], newScope: false, newestUtime: 0, myIds: new Set(), reqSeq: 0,
+  impacts: [], newScope: false, newestUtime: 0, myIds: new Set(), reqSeq: 0, theta: null,
 };
 const T = (window.wgTest = { scope: 0, poincare: 0, contacts: 0, acks: [], frameIntervals: [],
   latencies: [], work: [], frames: 0, status: null, params: null, errors: [] });
@@ -30,6 +30,7 @@ function pushScope(m) {
   s.t[i] = m.t_s; s.step[i] = m.step; s.x[i] = m.x_n; s.dx[i] = m.dx_n; s.F[i] = m.F; s.utime[i] = m.utime;
   if (s.n > 0 && m.step < s.step[(s.n - 1) % RING]) s.n = 0, S.impacts = []; // reset or restart
   s.n++; S.newScope = true; S.newestUtime = m.utime; T.scope++;
+  if (m.theta1 !== undefined) S.theta = [m.theta1, m.theta2];
 }
 
 function onPoincare(m) {
@@ -275,6 +276,7 @@ function updateStatus() {
     ["daemon CPU", `${fmt(st.cpu_share * 100)} %`], ["bridge CPU", br ? `${fmt(br.cpu_share * 100)} %` : "–"],
     ["ω", om], ["regime", st.regime], ["motion", st.motion], ["impacts / period", fmt(st.impacts_per_period)],
     ["simulated time", `${fmt(st.t_s, 6)} s (τ ${fmt(st.tau, 7)})`],
+    ["worm θ1, wheel θ2", S.theta ? S.theta.map((a) => `${(a * 180 / Math.PI).toFixed(2)}°`).join(", ") : "–"],
     ["drops", `daemon ${st.msgs_dropped}, LCM gaps ${br?.lcm_gaps ?? "–"}, bridge queues ${br?.queue_drops ?? "–"}`],
     ["scope", br ? `${fmt(br.scope_in_hz)} → ${fmt(br.scope_hz)} samples/s` : "–"],
   ] : [["daemon", "no STATUS yet"]];

@@ -28,6 +28,9 @@ try {
   for (const id of ["#plot-xn", "#plot-f", "#plot-phase", "#plot-poincare"])
     await page.waitForFunction((s) => +document.querySelector(s).dataset.samples > 0, id, { timeout: 5000 });
   console.log(`ok data: x_n ${await samples("#plot-xn")} samples, poincare ${await samples("#plot-poincare")} points`);
+  await page.waitForFunction(() => /worm θ1, wheel θ2\s*\d+\.\d\d°, \d+\.\d\d°/.test(document.querySelector("#status").textContent),
+    null, { timeout: 5000 });
+  console.log(`ok angles shown: ${(await page.textContent("#status")).match(/worm θ1, wheel θ2\s*[^a-z]*/)[0].trim()}`);
 
   // Ramp omega 0.5 -> 1.6 with the ramp control (first jump to 0.5 with set).
   await page.selectOption("#set-name", "omega");

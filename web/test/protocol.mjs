@@ -45,7 +45,7 @@ check("out of range: the value stays 1.3", r.params.find((p) => p.id === "s2").p
 r.client.getParameters([], "g");
 await until(() => r.params.some((p) => p.id === "g"), 3000, "getParameters");
 const g = r.params.find((p) => p.id === "g");
-check("getParameters returns the whole table", g.parameters.length === 29 && g.parameters.every((p) => p.type === "float64"), `${g.parameters.length} parameters`);
+check("getParameters returns the whole table", g.parameters.length === 35 && g.parameters.every((p) => p.type === "float64"), `${g.parameters.length} parameters`);
 
 // clientPublish: pause and resume on /cmd, ACKs on /ack.
 const cmd = r.client.advertise({ topic: "/cmd", encoding: "json", schemaName: "wormgear.Command" });
@@ -64,6 +64,8 @@ check("a refused command: ACK and status error", !p3.accepted && r.statuses.some
 // Message times: the simulated time, in ns.
 const sc = r.msgs.get("/scope").at(-1);
 check("/scope message time = t_s", Math.abs(Number(sc.ts) / 1e9 - sc.obj.t_s) < 1e-6, `${sc.ts} ns vs t_s ${sc.obj.t_s}`);
+check("/scope carries theta1, theta2 in [0, 2 pi)", [sc.obj.theta1, sc.obj.theta2].every((a) => a >= 0 && a < 2 * Math.PI),
+  `theta1 ${sc.obj.theta1}, theta2 ${sc.obj.theta2}`);
 
 // A read-only bridge refuses commands.
 const ro = record(process.env.WG_RO_URL);

@@ -32,7 +32,7 @@ public class DecodeTest {
         double a2 = 1.0 / 7 + 2;
         wormgear.state_t st = new wormgear.state_t(bin(d, "state_t"));
         fingerprint(d, "state_t", wormgear.state_t.LCM_FINGERPRINT);
-        check("state_t", st.seq == 42 && st.n == 3 && st.xn[2] == a2 && st.fb_z2[2] == a2);
+        check("state_t", st.seq == 42 && st.n == 3 && st.xn[2] == a2 && st.fb_z2[2] == a2 && st.theta2[2] == a2);
         wormgear.poincare_t pc = new wormgear.poincare_t(bin(d, "poincare_t"));
         fingerprint(d, "poincare_t", wormgear.poincare_t.LCM_FINGERPRINT);
         check("poincare_t", pc.seq == 43 && pc.nstate == 14 && pc.y[1][13] == 1 + 13 / 3.0
