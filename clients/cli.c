@@ -2,6 +2,8 @@
  * cli.h). */
 #include "cli.h"
 
+#include "wormgear/wg_param.h"
+
 #include <math.h>
 #include <signal.h>
 #include <stdarg.h>
@@ -152,4 +154,19 @@ void cli_on_stop_signals(void (*fn)(int))
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
+}
+
+int cli_vary_param(const char *name)
+{
+    int id = wg_param_lookup(name);
+    return id < 0 ? -1 : (wg_param_info_get(id)->flags & WG_PF_BODY) ? -2 : id;
+}
+
+int cli_vary_param_error(const char *prog, const char *opt, const char *name, int code)
+{
+    if (code == -2)
+        return cli_usage_error(prog, "%s '%s': body data, used only for the theta1, theta2 "
+                               "outputs; it does not change the motion, so there is nothing "
+                               "to vary (vary a parameter of the equations)", opt, name);
+    return cli_usage_error(prog, "%s '%s': not a parameter (wgsim --help lists them)", opt, name);
 }

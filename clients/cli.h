@@ -63,6 +63,16 @@ int64_t cli_mono_ns(void);
 /* The wall clock in microseconds since the epoch (LCM's utime). */
 int64_t cli_wall_us(void);
 
+/* The id of the parameter NAME as something a sweep, map, continuation or
+ * rig varies: a row of the table that changes the motion. -1 for a name
+ * the table lacks, -2 for body data (z1 ... j2: the theta outputs only, the
+ * motion would not change). */
+int cli_vary_param(const char *name);
+
+/* cli_usage_error for a bad parameter to vary: "OPT 'NAME': unknown ...
+ * (wgctl params lists them)" or "... body data ...". */
+int cli_vary_param_error(const char *prog, const char *opt, const char *name, int code);
+
 /* Call fn on SIGINT and SIGTERM (no SA_RESTART: a blocking wait returns
  * EINTR, so the program sees its stop flag at once). */
 void cli_on_stop_signals(void (*fn)(int));

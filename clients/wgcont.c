@@ -120,7 +120,10 @@ static int parse_numbers(int c, const char *a, opts *o)
 static int parse_word(int c, const char *a, opts *o)
 {
     switch (c) {
-    case 'p': return (o->co.param = wg_param_lookup(a)) < 0 ? bad("--param: unknown parameter", a) : 0;
+    case 'p':
+        return (o->co.param = cli_vary_param(a)) < 0 ? cli_vary_param_error("wgcont", "--param", a,
+                                                                             o->co.param)
+                                                      : 0;
     case 'M':
         if (strcmp(a, "map") && strcmp(a, "flow"))
             return bad("--monodromy: map or flow, got", a);

@@ -621,9 +621,8 @@ static int check_param(rig *r)
     r->so.settle = 0; /* the daemon runs the whole transient: no early stop */
     if (r->o.tol > 0)
         r->so.tol_floor = r->o.tol, r->so.tol_factor = 0;
-    if ((r->pid = wg_param_lookup(r->o.param)) < 0)
-        return cli_usage_error(PROG, "--param '%s': a parameter name (wgctl params lists them)",
-                               r->o.param);
+    if ((r->pid = cli_vary_param(r->o.param)) < 0)
+        return cli_vary_param_error(PROG, "--param", r->o.param, r->pid);
     if (wg_param_check(r->pid, r->o.from, why, sizeof why) ||
         wg_param_check(r->pid, r->o.to, why, sizeof why))
         return fprintf(stderr, "wgrig: --from/--to: %s\n", why), 2;

@@ -128,7 +128,7 @@ static int parse_values(const char *arg, opts *o)
     if (!eq)
         return -1;
     *eq = 0;
-    if ((o->gparam = wg_param_lookup(buf)) < 0)
+    if ((o->gparam = cli_vary_param(buf)) < 0)
         return -1;
     o->ngvals = 0;
     for (char *t = strtok_r(eq + 1, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
@@ -151,7 +151,7 @@ static int parse_map(const char *arg, opts *o)
     if (!c2)
         return -1;
     *eq = *c1 = *c2 = 0;
-    if ((o->mparam = wg_param_lookup(buf)) < 0 || cli_num(eq + 1, -DBL_MAX, DBL_MAX, &o->mfrom) ||
+    if ((o->mparam = cli_vary_param(buf)) < 0 || cli_num(eq + 1, -DBL_MAX, DBL_MAX, &o->mfrom) ||
         cli_num(c1 + 1, -DBL_MAX, DBL_MAX, &o->mto) || cli_int(c2 + 1, 1, 100000, &o->mrows))
         return -1;
     return wg_param_check(o->mparam, o->mfrom, NULL, 0) || wg_param_check(o->mparam, o->mto, NULL, 0);
@@ -209,9 +209,11 @@ static int parse_range(int c, const char *a, opts *o)
     case 'n': bad = cli_int(a, 1, 1000000, &o->points), need = "--points: need 1..1e6, got"; break;
     case 'd': bad = cli_num(a, DBL_TRUE_MIN, DBL_MAX, &o->step), need = "--step: need > 0, got"; break;
     case 'D': return parse_dir(a, o);
-    case 'p': bad = (o->param = wg_param_lookup(a)) < 0, need = "--param: unknown parameter"; break;
-    case 'V': bad = parse_values(a, o), need = "--values: need NAME=v1,v2,... in range, got"; break;
-    case 'M': bad = parse_map(a, o), need = "--map: need NAME=A:B:M in range, got"; break;
+    case 'p':
+        return (o->param = cli_vary_param(a)) < 0 ? cli_vary_param_error(PROG, "--param", a, o->param)
+                                                   : 0;
+    case 'V': bad = parse_values(a, o), need = "--values: need NAME=v1,v2,... (a parameter of the equations) in range, got"; break;
+    case 'M': bad = parse_map(a, o), need = "--map: need NAME=A:B:M (a parameter of the equations) in range, got"; break;
     case 'Z': o->at_state = a; return 0;
     case 'A':
         o->at_set = 1, bad = cli_num(a, -DBL_MAX, DBL_MAX, &o->at), need = "--at: not a number:";

@@ -47,7 +47,10 @@ check "Ctrl-C: exit 130 and partial csv + figure" \
 "$cont" --from 0.5 --to 0.6 --format gif >/dev/null 2>&1; r3=$?
 "$cont" --from 0.5 --to 0.6 --param nope >/dev/null 2>&1; r4=$?
 "$cont" --from 0.5 --to 0.6 --period 3 --sweep-points 0 --quiet --out "$dir/p3" 2>"$dir/p3.err"; r5=$?
+"$cont" --from 10 --to 20 --param z2 >/dev/null 2>"$dir/z2.err"; r6=$?
 check "usage errors exit 2" '[ $r1 -eq 2 ] && [ $r2 -eq 2 ] && [ $r3 -eq 2 ] && [ $r4 -eq 2 ]'
+check "--param z2 (body data): exit 2, one refusal saying it does not change the motion" \
+  '[ $r6 -eq 2 ] && grep -q "^wgcont: --param .z2.: body data, .*does not change the motion" "$dir/z2.err" && [ "$(grep -c "^wgcont:" "$dir/z2.err")" -eq 1 ]'
 check "a period-3 start on a period-1 attractor: exit 1, the period named" \
   '[ $r5 -eq 1 ] && grep -q "has period 1, not 3" "$dir/p3.err"'
 

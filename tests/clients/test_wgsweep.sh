@@ -83,6 +83,10 @@ check "--format gif: usage error" '[ $rc -eq 2 ] && grep -q "png, svg or pdf" "$
 
 "$sweep" --param nope >/dev/null 2>&1; rc=$?
 check "unknown parameter exits 2" '[ $rc -eq 2 ]'
+"$sweep" --param j1 >/dev/null 2>"$dir/j1.err"; rc=$?
+check "--param j1 (body data) exits 2, saying why" '[ $rc -eq 2 ] && grep -q "body data" "$dir/j1.err"'
+"$sweep" --map z1=1:3:3 >/dev/null 2>&1; rc=$?
+check "--map over body data exits 2" '[ $rc -eq 2 ]'
 "$sweep" --values xi_p=9 >/dev/null 2>&1; rc=$?
 check "out-of-range value exits 2" '[ $rc -eq 2 ]'
 exit $fail
