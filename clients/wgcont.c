@@ -8,6 +8,7 @@
 #include "cont_out.h"
 #include "plot.h"
 #include "plot_cont.h"
+#include "plot_text.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_status.h"
 #include "wormgear/wg_sweep.h"
@@ -265,17 +266,6 @@ static int run_sweep(const wg_params *p, const wg_cont_opts *co, const opts *o, 
 
 /* ---- outputs ------------------------------------------------------------------- */
 
-static void xlabel(int param, char *buf, size_t len)
-{
-    const wg_param_info *r = wg_param_info_get(param);
-    if (param == WG_P_OMEGA)
-        snprintf(buf, len, "ω = mesh frequency / ω_n  (1)");
-    else if (param == WG_P_XI_P)
-        snprintf(buf, len, "ξ_p = mesh damping ratio  (1)");
-    else
-        snprintf(buf, len, "%s  (%s)", r->name, r->unit);
-}
-
 /* Caption: scene, damping, N, the run; the parameters set away from the
  * scene; what the figure holds. */
 static void captions(const opts *o, const wg_scene *sc, const ctx *c, char cap[3][400])
@@ -312,7 +302,7 @@ static int write_all(const opts *o, const wg_scene *sc, const ctx *c, const wg_c
     snprintf(path, sizeof path, "%s-bifurcations.csv", o->out);
     rc |= cont_write_bifs(path, &c->r, o->co.param, nstate, why, sizeof why);
     captions(o, sc, c, cap);
-    xlabel(o->co.param, xl, sizeof xl);
+    plot_text_plabel(o->co.param, xl, sizeof xl);
     snprintf(title, sizeof title, "Continuation of periodic orbits in %s: scene %s", c->pname,
              sc->name);
     plot_cont pc = {title, {cap[0], cap[1], cap[2]}, xl, fmin(o->co.from, o->co.to),

@@ -8,6 +8,7 @@
  * Exit 0, 1 runtime error (no daemon, stalled), 2 usage error, 130 Ctrl-C. */
 #include "cli.h"
 #include "plot.h"
+#include "plot_text.h"
 #include "rig_ana.h"
 #include "rig_imp.h"
 #include "sweep_md.h"
@@ -18,6 +19,7 @@
 #include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_poincare_t.h"
 #include "lcmtypes/wormgear_status_t.h"
+#include "wormgear/wg_scene.h"
 #include "wormgear/wg_status.h"
 
 #include <getopt.h>
@@ -56,6 +58,8 @@ typedef struct rig {
     opts o;
     wg_sweep_opts so;
     wg_params base;
+    wg_params scene_p;        /* the figures' reference: the scene's own values */
+    units_scale us;           /* the daemon's scale (PARAMS): the figures' Hz and µm */
     int pid, model, stepper, steps, nstate, have_params, have_status;
     char scene[64], mode[16], orig_mode[16];
     double rate, orig_rate, omega_n, orig;
@@ -285,6 +289,7 @@ static void on_params(rig *r, const wormgear_params_t *m)
     r->steps = m->steps_per_period;
     r->nstate = wg_model_nstate(r->model);
     r->omega_n = m->omega_n_rad_s;
+    r->us = plot_text_scale(m->omega_n_rad_s, m->length_m, m->mesh_stiffness_N_m);
     snprintf(r->scene, sizeof r->scene, "%s", m->scene);
     r->have_params = 1;
 }
@@ -545,7 +550,8 @@ static int run_ramp(rig *r, wg_chain *ch, window *win)
 
 /* ---- outputs --------------------------------------------------------------------------- */
 
-static int write_impacts(rig *r, wg_chain *ch[2], window *win[2], char *why, size_t whylen)
+static int write_impacts(rig *r, const sweep_study *st, wg_chain *ch[2], window *win[2],
+                         char *why, size_t whylen)
 {
     char path[1024];
     snprintf(path, sizeof path, "%s-impacts.csv", r->o.out);
@@ -554,8 +560,8 @@ static int write_impacts(rig *r, wg_chain *ch[2], window *win[2], char *why, siz
         return -1;
     fprintf(f, "dir,index,%s,impacts_per_period,contact_impacts_per_period,periods,motion,regime,"
                "period\n", r->o.param);
-    int n = 0, cap = (ch[0] ? ch[0]->ndone : 0) + (ch[1] ? ch[1]->ndone : 0);
-    double *x = calloc((size_t)cap + 1, sizeof *x), *y = calloc((size_t)cap + 1, sizeof *y);
+    int n = 0, npts = (ch[0] ? ch[0]->ndone : 0) + (ch[1] ? ch[1]->ndone : 0);
+    double *x = calloc((size_t)npts + 1, sizeof *x), *y = calloc((size_t)npts + 1, sizeof *y);
     for (int d = 0; d < 2; d++)
         for (int i = 0; ch[d] && i < ch[d]->ndone; i++) {
             const wg_point *p = &ch[d]->pts[i];
@@ -574,11 +580,16 @@ static int write_impacts(rig *r, wg_chain *ch[2], window *win[2], char *why, siz
                 x[n] = p->value, y[n++] = p->impacts;
         }
     int rc = out_close(f, path, why, whylen);
-    char title[160];
-    snprintf(title, sizeof title, "%s: mesh impacts per period vs %s (rig: up, then back down)", r->scene,
-             r->o.param);
-    plot_xy px = {.title = title, .xlabel = r->o.param, .ylabel = "mesh impacts per period  (-)",
-                  .x = x, .y = y, .n = n}; /* a polyline: up, then down */
+    char title[160], xl[96], x2l[96], cap[2][400] = {"", ""};
+    snprintf(title, sizeof title, "%s: mesh impacts per period vs %s (rig: up, then back down)%s",
+             r->scene, plot_text_psym(r->pid), st->partial ? " (partial)" : "");
+    const wg_params *p = ch[0] ? &ch[0]->base : ch[1] ? &ch[1]->base : &r->base;
+    plot_text_caption(cap, r->scene, p, &r->scene_p, r->pid, -1, &r->so, r->steps, r->steps);
+    plot_xy px = {.title = title, .xlabel = plot_text_plabel(r->pid, xl, sizeof xl),
+                  .ylabel = "mesh impacts per period  (-)", .x = x, .y = y, .n = n,
+                  .x2 = plot_text_pscale(r->pid, p, &r->us, x2l, sizeof x2l),
+                  .pg = {NULL, {cap[0], cap[1], "counted from POINCARE over each point's "
+                                "recorded periods; the line runs up, then back down", NULL}}};
     snprintf(path, sizeof path, "%s-impacts.png", r->o.out);
     if (!rc && n > 0)
         rc = plot_xy_write(path, &px, why, whylen);
@@ -591,7 +602,8 @@ static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, c
     char why[512] = "", path[1024];
     sweep_study st = {.scene = r->scene, .command = cmdline, .param = r->pid, .gparam = -1,
                       .ngroups = 1, .b = r->base.v[WG_P_B], .o = &r->so, .partial = partial,
-                      .wall_s = cli_mono_s() - r->t0, .threads = 1, .ranks = 1};
+                      .wall_s = cli_mono_s() - r->t0, .threads = 1, .ranks = 1,
+                      .scene_p = &r->scene_p, .us = r->us};
     st.g[0] = (sweep_group){0, ch[0], ch[1]};
     int rc = 0;
     snprintf(path, sizeof path, "%s.csv", r->o.out);
@@ -603,7 +615,7 @@ static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, c
     snprintf(path, sizeof path, "%s.md", r->o.out);
     rc = rc ? rc : md_write(path, &st, why, sizeof why);
     rc = rc ? rc : out_pngs(r->o.out, &st, NULL, why, sizeof why);
-    rc = rc ? rc : write_impacts(r, ch, win, why, sizeof why);
+    rc = rc ? rc : write_impacts(r, &st, ch, win, why, sizeof why);
     if (rc)
         fprintf(stderr, "wgrig: %s\n", why);
     return rc ? 1 : 0;
@@ -674,6 +686,11 @@ static int setup(rig *r)
     if ((rc = check_param(r)) || (rc = open_bus(r)))
         return rc;
     r->orig = r->base.v[r->pid];
+    /* captions say what differs from the scene: its file when this host has
+     * it, else the daemon's values as the rig found them */
+    wg_scene sc;
+    char why[300];
+    r->scene_p = wg_scene_open(&sc, r->scene, why, sizeof why) == WG_OK ? sc.p : r->base;
     r->so.steps = r->steps, r->so.model = r->model, r->so.stepper = r->stepper; /* the daemon's */
     if ((rc = record_cap(r, &cap)))
         return rc;
