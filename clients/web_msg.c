@@ -40,6 +40,18 @@ static const char *const poincare_fields[] = {
     "n:F:mesh force at the section / (K_m b_c)", "n:min_x_n:min x_n over the period",
     "n:max_x_n:max x_n over the period", "s:motion:no_impact | single_sided | double_sided",
     "i:motion_code:0 | 1 | 2", "i:impacts:mesh impacts in the period",
+    "i:x1_impacts:worm bearing x impacts in the period (either side)",
+    "i:y1_impacts:worm bearing y impacts in the period (either side)",
+    "i:z1_impacts:worm bearing z impacts in the period (either side)",
+    "i:x2_impacts:wheel bearing x impacts in the period (either side)",
+    "i:y2_impacts:wheel bearing y impacts in the period (either side)",
+    "i:z2_impacts:wheel bearing z impacts in the period (either side)",
+    "n:x1_vmax:largest |impact velocity| of bearing x1 in the period (0: none)",
+    "n:y1_vmax:largest |impact velocity| of bearing y1 in the period (0: none)",
+    "n:z1_vmax:largest |impact velocity| of bearing z1 in the period (0: none)",
+    "n:x2_vmax:largest |impact velocity| of bearing x2 in the period (0: none)",
+    "n:y2_vmax:largest |impact velocity| of bearing y2 in the period (0: none)",
+    "n:z2_vmax:largest |impact velocity| of bearing z2 in the period (0: none)",
     "s:regime:the daemon's latest regime (STATUS)", NULL};
 static const char *const contact_fields[] = {
     "n:t_s:simulated time of the crossing [s]", "n:tau:its dimensionless time",
@@ -251,6 +263,13 @@ void msg_poincare(jbuf *b, const wormgear_poincare_t *m, int i, const char *regi
     ks(b, "motion", msg_motion_name(m->motion[i]));
     ki(b, "motion_code", m->motion[i]);
     ki(b, "impacts", m->impacts[i]);
+    for (int j = 0; j < m->nbearing && j < 6; j++) {
+        static const char *const bn[6][2] = {{"x1_impacts", "x1_vmax"}, {"y1_impacts", "y1_vmax"},
+                                             {"z1_impacts", "z1_vmax"}, {"x2_impacts", "x2_vmax"},
+                                             {"y2_impacts", "y2_vmax"}, {"z2_impacts", "z2_vmax"}};
+        ki(b, bn[j][0], m->bearing_impacts[i][j]);
+        kn(b, bn[j][1], m->bearing_vmax[i][j]);
+    }
     ks(b, "regime", regime);
     jb_raw(b, "}");
 }

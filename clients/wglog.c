@@ -163,6 +163,10 @@ static void poincare_head(const log_run *r, FILE *f, int nstate)
         else
             fprintf(f, ",y%d", k); /* a state this build does not know */
     }
+    for (int j = 0; j < WG_NBEARING; j++)
+        fprintf(f, ",%s_impacts", wg_contact_name(WG_C_X1 + j));
+    for (int j = 0; j < WG_NBEARING; j++)
+        fprintf(f, ",%s_vmax%s", wg_contact_name(WG_C_X1 + j), r->physical ? "_m_s" : "");
     fputc('\n', f);
 }
 
@@ -184,6 +188,10 @@ static int rows_poincare(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
         csc(f, wg_motion_name(m.motion[i])), ci(f, m.impacts[i]);
         for (int j = 0; j < c->ncols; j++)
             j < m.nstate ? cd(f, m.y[i][j] * (2 * j < m.nstate ? k.x : k.v)) : (void)fputc(',', f);
+        for (int j = 0; j < WG_NBEARING; j++) /* empty: a sender without them */
+            j < m.nbearing ? ci(f, m.bearing_impacts[i][j]) : (void)fputc(',', f);
+        for (int j = 0; j < WG_NBEARING; j++)
+            j < m.nbearing ? cd(f, m.bearing_vmax[i][j] * k.v) : (void)fputc(',', f);
         fputc('\n', f);
     }
     int n = m.n;

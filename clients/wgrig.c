@@ -231,7 +231,10 @@ static void collect_one(rig *r, const wormgear_poincare_t *m, int i)
         write_section(r, m, i, "settle");
         return;
     }
-    wg_period st = {(uint64_t)m->period[i], m->min_xn[i], m->max_xn[i], m->motion[i], m->impacts[i]};
+    wg_period st = {(uint64_t)m->period[i], m->min_xn[i], m->max_xn[i], m->motion[i], m->impacts[i],
+                    {0}, {0}};
+    for (int j = 0; j < m->nbearing && j < WG_NBEARING; j++)
+        st.bimpacts[j] = m->bearing_impacts[i][j], st.bvmax[j] = m->bearing_vmax[i][j];
     if (c->ramp) {
         if (m->tau[i] > c->end_tau) {
             c->active = 0;

@@ -19,8 +19,11 @@ void stream_init(stream *s, int nstate, const wg_scale *scale, int state_on)
     s->decimation = 1;
     s->countdown = 0;
     s->ct_mesh = 1, s->ct_every = 1;
-    for (int i = 0; i < PC_MAX; i++)
+    for (int i = 0; i < PC_MAX; i++) {
         s->pc_rows[i] = s->pc_y[i];
+        s->pc_bimp_rows[i] = s->pc_bimp[i];
+        s->pc_bvmax_rows[i] = s->pc_bvmax[i];
+    }
     stream_regime_reset(s);
 }
 
@@ -35,8 +38,6 @@ void stream_regime_reset(stream *s)
 {
     wg_tracker_init(&s->trk, s->nstate, REGIME_TOL);
     stream_stats_reset(s); /* impacts per period: of the new orbit only */
-    memset(s->bcur, 0, sizeof s->bcur);
-    memset(s->bvcur, 0, sizeof s->bvcur);
 }
 
 const char *stream_regime(const stream *s, char *buf, unsigned len)
@@ -79,7 +80,9 @@ static void flush_poincare(wgd *d)
     wormgear_poincare_t m = {.nstate = s->nstate, .n = s->pc_n, .period = s->pc_period,
                              .tau = c[0], .t_s = c[1], .omega = c[2], .xn = c[3], .dxn = c[4],
                              .force = c[5], .min_xn = c[6], .max_xn = c[7],
-                             .motion = s->pc_motion, .impacts = s->pc_impacts, .y = s->pc_rows};
+                             .motion = s->pc_motion, .impacts = s->pc_impacts, .y = s->pc_rows,
+                             .nbearing = WG_NBEARING, .bearing_impacts = s->pc_bimp_rows,
+                             .bearing_vmax = s->pc_bvmax_rows};
     lcmio_pub_poincare(&d->io, &m);
     s->pc_n = 0;
 }
@@ -164,9 +167,10 @@ static void on_section(void *ctx, const wg_section *sec)
     s->sections++;
     s->impacts += (uint64_t)sec->stats.impacts;
     for (int j = 0; j < WG_NBEARING; j++) { /* the period just completed */
-        s->bimp[j] += s->bcur[j];
-        s->bvmax[j] = fmax(s->bvmax[j], s->bvcur[j]);
-        s->bcur[j] = 0, s->bvcur[j] = 0;
+        s->pc_bimp[i][j] = sec->stats.bimpacts[j];
+        s->pc_bvmax[i][j] = sec->stats.bvmax[j];
+        s->bimp[j] += (uint64_t)sec->stats.bimpacts[j];
+        s->bvmax[j] = fmax(s->bvmax[j], sec->stats.bvmax[j]);
     }
     s->motion = sec->stats.motion;
     s->last = sec->stats;
@@ -197,11 +201,6 @@ static void on_event(void *ctx, const wg_event *ev)
     stream *s = &d->st;
     if (ev->contact < 0 || ev->contact >= WG_NCONTACT)
         return;
-    int j = ev->contact - WG_C_X1; /* counted whatever is published */
-    if (j >= 0 && (ev->kind == WG_EV_DRIVE_IMPACT || ev->kind == WG_EV_BACK_IMPACT)) {
-        s->bcur[j]++;
-        s->bvcur[j] = fmax(s->bvcur[j], fabs(ev->velocity));
-    }
     if (!contact_kept(s, ev->contact))
         return;
     int i = s->ct_n++;

@@ -35,6 +35,10 @@ typedef struct stream {
     int32_t pc_impacts[PC_MAX];
     double pc_y[PC_MAX][WG_NSTATE_MAX];
     double *pc_rows[PC_MAX];
+    int32_t pc_bimp[PC_MAX][WG_NBEARING]; /* bearing impacts and largest speeds */
+    double pc_bvmax[PC_MAX][WG_NBEARING];
+    int32_t *pc_bimp_rows[PC_MAX];
+    double *pc_bvmax_rows[PC_MAX];
     /* CONTACT */
     int ct_mesh, ct_every;          /* published: mesh events; every Nth of a bearing's (0: none) */
     uint64_t ct_seen[WG_NCONTACT];  /* events per contact, published or not */
@@ -47,8 +51,6 @@ typedef struct stream {
     uint64_t sections, impacts;
     uint64_t bimp[WG_NBEARING];     /* bearing impacts in the completed periods */
     double bvmax[WG_NBEARING];      /* their largest |velocity| */
-    uint64_t bcur[WG_NBEARING];     /* ... in the period under way */
-    double bvcur[WG_NBEARING];
     int motion;                     /* of the last completed period */
     wg_period last;
     wg_tracker trk;                 /* last Poincare points, for the regime on STATUS */

@@ -157,6 +157,8 @@ static void period_start(wg_sim *s, double xn)
     s->core->cur.motion = s->core->zone[0] == 1 ? WG_MOTION_NO_IMPACT
                     : s->core->zone[0] == 0 ? WG_MOTION_SINGLE : WG_MOTION_DOUBLE;
     s->core->cur.impacts = 0;
+    memset(s->core->cur.bimpacts, 0, sizeof s->core->cur.bimpacts);
+    memset(s->core->cur.bvmax, 0, sizeof s->core->cur.bvmax);
 }
 
 int wg_sim_check_params(wg_sim *s, const wg_params *p, char *why, size_t whylen)
@@ -390,6 +392,11 @@ static int period_stats_ok(const wg_period *p, const char *name, char *why, size
     if (p->impacts < 0)
         return refuse(WG_EINVAL, why, whylen, "snapshot %s.impacts = %d, must be >= 0", name,
                       p->impacts);
+    for (int j = 0; j < WG_NBEARING; j++)
+        if (p->bimpacts[j] < 0 || !(p->bvmax[j] >= 0 && p->bvmax[j] < ABSURD))
+            return refuse(WG_EINVAL, why, whylen, "snapshot %s.%s bearing statistics: impacts "
+                          ">= 0 and a finite impact speed >= 0 (|v| < %g)", name,
+                          wg_contact_name(WG_C_X1 + j), ABSURD);
     if (!(fabs(p->min_xn) < ABSURD && fabs(p->max_xn) < ABSURD && p->min_xn <= p->max_xn))
         return refuse(WG_EINVAL, why, whylen, "snapshot %s.min_xn = %s, %s.max_xn = %s: both "
                       "finite (|x| < %g) with min_xn <= max_xn", name,
@@ -624,6 +631,10 @@ static void after_step(wg_sim *s, const double *q0, const double *v0, const doub
                 s->core->cur.motion = WG_MOTION_SINGLE;
             if (ev->kind == WG_EV_BACK_IMPACT)
                 s->core->cur.motion = WG_MOTION_DOUBLE;
+        } else if (ev->kind == WG_EV_DRIVE_IMPACT || ev->kind == WG_EV_BACK_IMPACT) {
+            int j = ev->contact - WG_C_X1; /* a bearing's impact, either side */
+            s->core->cur.bimpacts[j]++;
+            s->core->cur.bvmax[j] = dmax(s->core->cur.bvmax[j], fabs(ev->velocity));
         }
         if (sink && sink->on_event)
             sink->on_event(sink->ctx, ev);

@@ -42,15 +42,25 @@ typedef struct visit {
     int (*field)(struct visit *v, const char *key, int kind, void *at);
 } visit;
 
-static int walk_period(visit *v, const char *name, wg_period *p)
+static int walk_period(visit *v, const char *name, wg_period *p, int fmt)
 {
-    char k[5][24];
+    char k[5][24], b[32];
     static const char *const part[] = {"period", "min_xn", "max_xn", "motion", "impacts"};
     for (int i = 0; i < 5; i++)
         snprintf(k[i], sizeof k[i], "%s.%s", name, part[i]);
-    return v->field(v, k[0], K_U64, &p->period) || v->field(v, k[1], K_REAL, &p->min_xn) ||
-           v->field(v, k[2], K_REAL, &p->max_xn) || v->field(v, k[3], K_MOTION, &p->motion) ||
-           v->field(v, k[4], K_INT, &p->impacts);
+    if (v->field(v, k[0], K_U64, &p->period) || v->field(v, k[1], K_REAL, &p->min_xn) ||
+        v->field(v, k[2], K_REAL, &p->max_xn) || v->field(v, k[3], K_MOTION, &p->motion))
+        return 1;
+    for (int j = 0; j < WG_NBEARING && fmt >= 3; j++) { /* format 2: none (read as 0) */
+        const char *c = wg_contact_name(WG_C_X1 + j);
+        snprintf(b, sizeof b, "%s.%s.impacts", name, c);
+        if (v->field(v, b, K_INT, &p->bimpacts[j]))
+            return 1;
+        snprintf(b, sizeof b, "%s.%s.vmax", name, c);
+        if (v->field(v, b, K_REAL, &p->bvmax[j]))
+            return 1;
+    }
+    return v->field(v, k[4], K_INT, &p->impacts);
 }
 
 static int walk_ramp(visit *v, wg_ramp *r)
@@ -86,7 +96,7 @@ static int walk(visit *v, wg_snapshot *w, char *scene, int fmt)
     return v->field(v, "k", K_U32, &w->k) || v->field(v, "tau", K_REAL, &w->tau) ||
            v->field(v, "tau_c", K_REAL, &w->tau_c) || v->field(v, "period", K_U64, &w->period) ||
            v->field(v, "steps", K_U64, &w->steps) || walk_ramp(v, &w->ramp) ||
-           walk_period(v, "cur", &w->cur) || walk_period(v, "last", &w->last);
+           walk_period(v, "cur", &w->cur, fmt) || walk_period(v, "last", &w->last, fmt);
 }
 
 /* ---- values as text --------------------------------------------------------- */

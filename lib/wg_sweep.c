@@ -25,8 +25,6 @@ typedef struct work {
     wg_period *stats;          /* their period statistics */
     int cap;                   /* rows: the record, or the transient's window */
     int nrec;                  /* sections stored by the current recording */
-    long bimp[WG_NBEARING];    /* its bearing impacts, per bearing axis x1 ... z2 */
-    double bvmax[WG_NBEARING]; /* and their largest |velocity| */
     wg_params hkey;            /* parameters hmax was found for */
     double hmax;               /* RK4 limit (wg_params_same_linear decides reuse) */
     int hvalid;
@@ -128,26 +126,11 @@ static int run_periods(wg_sim *s, long periods, const wg_sink *sink)
     return wg_sim_run(s, (uint64_t)periods * (uint64_t)s->cfg.steps_per_period, sink, NULL);
 }
 
-/* A bearing's impact (either side) during a recording. */
-static void on_record_event(void *ctx, const wg_event *ev)
-{
-    work *w = ctx;
-    int j = ev->contact - WG_C_X1;
-    if (j < 0 || j >= WG_NBEARING ||
-        (ev->kind != WG_EV_DRIVE_IMPACT && ev->kind != WG_EV_BACK_IMPACT))
-        return;
-    w->bimp[j]++;
-    w->bvmax[j] = fmax(w->bvmax[j], fabs(ev->velocity));
-}
-
-/* Record o->record periods into w->rec / w->stats, and the bearings'
- * impacts over them. */
+/* Record o->record periods into w->rec / w->stats. */
 static int record(work *w)
 {
-    wg_sink sink = {w, NULL, on_record, on_record_event};
+    wg_sink sink = {w, NULL, on_record, NULL};
     w->nrec = 0;
-    memset(w->bimp, 0, sizeof w->bimp);
-    memset(w->bvmax, 0, sizeof w->bvmax);
     return run_periods(&w->sim, w->o->record, &sink);
 }
 
@@ -205,7 +188,9 @@ void wg_record_stats(const wg_record *r, wg_point *pt)
     pt->min_xn = INFINITY;
     pt->max_xn = -INFINITY;
     pt->motion = 0;
-    long imp = 0;
+    long imp = 0, bimp[WG_NBEARING] = {0};
+    for (int j = 0; j < WG_NBEARING; j++)
+        pt->bvmax[j] = 0.0;
     for (int i = 0; i < r->n; i++) {
         const wg_period *st = &r->stats[i];
         pt->min_xn = fmin(pt->min_xn, st->min_xn);
@@ -213,8 +198,14 @@ void wg_record_stats(const wg_record *r, wg_point *pt)
         if (st->motion > pt->motion)
             pt->motion = st->motion;
         imp += st->impacts;
+        for (int j = 0; j < WG_NBEARING; j++) {
+            bimp[j] += st->bimpacts[j];
+            pt->bvmax[j] = fmax(pt->bvmax[j], st->bvmax[j]);
+        }
     }
     pt->impacts = r->n ? (double)imp / r->n : 0.0;
+    for (int j = 0; j < WG_NBEARING; j++)
+        pt->bimpacts[j] = r->n ? (double)bimp[j] / r->n : 0.0;
 }
 
 /* Store the last Poincare x_n, x_n' (recomputed from the stored states). */
@@ -431,11 +422,7 @@ static int point_analyse(work *w, const wg_params *p, double *y, wg_point *pt, c
         return n;
     }
     wg_record r = record_of(w);
-    wg_record_stats(&r, pt);
-    for (int j = 0; j < WG_NBEARING; j++) { /* over the last recording's periods */
-        pt->bimpacts[j] = w->nrec ? (double)w->bimp[j] / w->nrec : 0.0;
-        pt->bvmax[j] = w->bvmax[j];
-    }
+    wg_record_stats(&r, pt); /* over the last recording's periods */
     point_sections(w, p, pt);
     memcpy(y, w->sim.y, sizeof(double) * (size_t)w->nstate);
     memcpy(pt->y_end, y, sizeof(double) * (size_t)w->nstate);

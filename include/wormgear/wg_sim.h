@@ -50,6 +50,8 @@ typedef struct wg_period {
     double max_xn;
     int motion;          /* enum wg_motion */
     int impacts;         /* mesh drive + back impacts in the period */
+    int bimpacts[WG_NBEARING]; /* each bearing's impacts (either side), x1 ... z2 */
+    double bvmax[WG_NBEARING]; /* ... and its largest |impact velocity| (0: none) */
 } wg_period;
 
 /* Poincare sample: the state at psi = 0 (mod 2 pi), once per period. */

@@ -16,7 +16,9 @@
  *   ramp = none | NAME            with a NAME: ramp.from, ramp.to, ramp.tau0,
  *                                 ramp.duration (an inactive ramp's old fields
  *                                 are not state: they read back as 0)
- *   cur.period, cur.min_xn, cur.max_xn, cur.motion, cur.impacts, and last.*
+ *   cur.period, cur.min_xn, cur.max_xn, cur.motion, then per bearing
+ *   cur.x1.impacts, cur.x1.vmax ... cur.z2.vmax (format 2: none, read as
+ *   0), cur.impacts, and last.*
  *   blake2b-256 = <64 lowercase hex digits>
  * Reals are C99 hex floats as printf's %a writes them (a restore is
  * bit-exact), counters are decimal, motions are names. The parser accepts

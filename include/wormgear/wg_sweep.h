@@ -140,7 +140,8 @@ int wg_record_period_error(wg_sim *fine, const wg_record *r, double *err);
  * loose one when the LLE says the orbit converges; then the regime. */
 void wg_record_classify(const wg_sweep_opts *o, const wg_record *r, wg_point *pt);
 
-/* min/max x_n, worst motion class and mean impacts per period over r. */
+/* min/max x_n, worst motion class, mean mesh impacts per period, and each
+ * bearing's mean impacts per period and largest impact speed over r. */
 void wg_record_stats(const wg_record *r, wg_point *pt);
 
 /* ---- transitions (the paper's Table 3) ---------------------------------- */

@@ -72,9 +72,12 @@ static void write_others(lcm_eventlog_t *l)
     int8_t mot[2] = {1, 1};
     int32_t imp[2] = {1, 2};
     y[1][13] = -1.0 / 3.0;
+    int32_t bi[2][6] = {{0, 0, 0, 1, 0, 1}, {0, 0, 0, 2, 0, 1}}, *bir[2] = {bi[0], bi[1]};
+    double bv[2][6] = {{0, 0, 0, 0.25, 0, 0.5}, {0}}, *bvr[2] = {bv[0], bv[1]};
     wormgear_poincare_t p = {.seq = 0, .nstate = 14, .n = 2, .period = per, .tau = d2,
                              .t_s = d2, .omega = d2, .xn = d2, .dxn = d2, .force = d2,
-                             .min_xn = d2, .max_xn = d2, .motion = mot, .impacts = imp, .y = rows};
+                             .min_xn = d2, .max_xn = d2, .motion = mot, .impacts = imp, .y = rows,
+                             .nbearing = 6, .bearing_impacts = bir, .bearing_vmax = bvr};
     PUT(wormgear_poincare_t, l, "RIG1_POINCARE", 1100000, &p);
     int8_t cc[2] = {0, 4}, kk[2] = {1, 2};
     wormgear_contact_t c = {.seq = 0, .n = 2, .tau = d2, .t_s = d2, .velocity = d2,
@@ -244,6 +247,14 @@ static void test_export(void)
     ASSERT_STR(c, "ds");
     ASSERT_EQ_INT(cell(path, 2, 28, c, sizeof c), 0);
     ASSERT_TRUE(strtod(c, NULL) == -1.0 / 3.0);
+    ASSERT_EQ_INT(cell(path, 0, 32, c, sizeof c), 0);
+    ASSERT_STR(c, "x2_impacts");
+    ASSERT_EQ_INT(cell(path, 2, 32, c, sizeof c), 0);
+    ASSERT_STR(c, "2");
+    ASSERT_EQ_INT(cell(path, 0, 40, c, sizeof c), 0);
+    ASSERT_STR(c, "z2_vmax");
+    ASSERT_EQ_INT(cell(path, 1, 40, c, sizeof c), 0);
+    ASSERT_TRUE(strtod(c, NULL) == 0.5);
     ASSERT_EQ_INT(cell(path, 1, 13, c, sizeof c), 0);
     ASSERT_STR(c, "single_sided"); /* motion by name */
     ASSERT_EQ_INT(cell(path, 1, 8, c, sizeof c), 0);

@@ -63,6 +63,13 @@ for wd in 0.5/up 0.5/down 1.5/down 1.7/up 1.7/down; do
             $1 == d && $3 == w { dm = $9 - m; dM = $10 - M; if (dm < 0) dm = -dm; if (dM < 0) dM = -dM
                                  exit !(dm < 1e-6 && dM < 1e-6) }' "$tmp/live.csv" "$tmp/off.csv" ||
             fail "omega $w $d: x_n extremes differ by more than 1e-6"
+        # each bearing's impacts per period (from POINCARE's period statistics)
+        la=$(awk -F, -v w=$w -v d=$d 'NR == 1 { for (i = 1; i <= NF; i++) if ($i ~ /^[xyz][12]_impacts_per_period$/) c[++n] = i; next }
+            $1 == d && $3 == w { for (k = 1; k <= n; k++) printf "%s ", $c[k] }' "$tmp/live.csv")
+        lb=$(awk -F, -v w=$w -v d=$d 'NR == 1 { for (i = 1; i <= NF; i++) if ($i ~ /^[xyz][12]_impacts_per_period$/) c[++n] = i; next }
+            $1 == d && $3 == w { for (k = 1; k <= n; k++) printf "%s ", $c[k] }' "$tmp/off.csv")
+        echo "omega $w $d: bearing impacts per period [$la]"
+        [ -n "$la" ] && [ "$la" = "$lb" ] || fail "omega $w $d: bearing impacts live [$la] != offline [$lb]"
     }
 done
 # impacts per period: CONTACT events agree with the POINCARE statistics

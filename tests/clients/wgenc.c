@@ -60,7 +60,9 @@ int main(int argc, char **argv)
     int64_t per[2] = {5, 6};
     int8_t mot[2] = {1, 2}, kind[2] = {1, 2};
     int32_t imp[2] = {1, 2};
-    wormgear_poincare_t pc = {1, 43, 14, 2, per, a, a, a, a, a, a, a, a, mot, imp, y};
+    int32_t bi[2][6] = {{0}, {0, 0, 0, 3, 0, 1}}, *bir[2] = {bi[0], bi[1]};
+    double bv[2][6] = {{0}, {0, 0, 0, 0.5, 0, 0.25}}, *bvr[2] = {bv[0], bv[1]};
+    wormgear_poincare_t pc = {1, 43, 14, 2, per, a, a, a, a, a, a, a, a, mot, imp, y, 6, bir, bvr};
     ENC(wormgear_poincare_t, "poincare_t", &pc);
     wormgear_contact_t ct = {1, 44, 10, 2, a, a, a, per, mot, kind};
     ENC(wormgear_contact_t, "contact_t", &ct);

@@ -41,6 +41,9 @@ typedef struct fx {
     int64_t params_cmd_seq;
     int64_t seq_next[3], seq_gaps;  /* STATE POINCARE CONTACT */
     int nsamples, npc, nct;
+    long pc_bimp[WG_NBEARING];          /* POINCARE: bearing impacts, largest speeds */
+    double pc_bvmax[WG_NBEARING];
+    int pc_nbearing;
     int nct_by[WG_NCONTACT], ct_every;   /* CONTACT events per contact; last bearing_every */
     double *tau, *omega, *xn, *th1, *th2; /* STATE samples */
     int64_t pc_last_period;
@@ -140,6 +143,11 @@ static void on_pc(const lcm_recv_buf_t *rb, const char *ch, const wormgear_poinc
         if (F.pc_last_period >= 0 && m->period[i] != F.pc_last_period + 1)
             F.pc_gaps++;
         F.pc_last_period = m->period[i];
+        for (int j = 0; j < m->nbearing && j < WG_NBEARING; j++) {
+            F.pc_bimp[j] += m->bearing_impacts[i][j];
+            F.pc_bvmax[j] = fmax(F.pc_bvmax[j], m->bearing_vmax[i][j]);
+        }
+        F.pc_nbearing = m->nbearing;
     }
     F.npc += m->n;
 }

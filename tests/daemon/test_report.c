@@ -192,10 +192,28 @@ static void test_status_bearing_impacts(void)
     wormgear_cmd_t c = {.op = "contacts", .name = "none"};
     ASSERT_EQ_INT(send(d, &c), WG_OK);
     run(d, 128 * 600);
+    stream_flush(d);
+    drain(d);
     stream_stats_reset(&d->st); /* a new STATUS interval, past the transient */
+    memset(F.pc_bimp, 0, sizeof F.pc_bimp);
+    memset(F.pc_bvmax, 0, sizeof F.pc_bvmax);
+    uint64_t ev0[WG_NBEARING], ev1;
+    for (int j = 0; j < WG_NBEARING; j++)
+        ev0[j] = d->sim.nevents[WG_C_X1 + j][WG_EV_DRIVE_IMPACT] +
+                 d->sim.nevents[WG_C_X1 + j][WG_EV_BACK_IMPACT];
     run(d, 128 * 200);
     report_status(d);
+    stream_flush(d);
     drain(d);
+    /* POINCARE carries each period's bearing impacts: exactly the library's
+     * events over the 200 periods, and the same largest speeds as STATUS */
+    ASSERT_EQ_INT(F.pc_nbearing, WG_NBEARING);
+    for (int j = 0; j < WG_NBEARING; j++) {
+        ev1 = d->sim.nevents[WG_C_X1 + j][WG_EV_DRIVE_IMPACT] +
+              d->sim.nevents[WG_C_X1 + j][WG_EV_BACK_IMPACT];
+        ASSERT_EQ_INT(F.pc_bimp[j], (long)(ev1 - ev0[j]));
+        ASSERT_TRUE(F.pc_bvmax[j] == F.bearing_vmax[j] || F.bearing_vmax[j] == 0);
+    }
     ASSERT_EQ_INT(F.nbearing, WG_NBEARING);
     ASSERT_STR(F.motion, "no_impact");
     ASSERT_NEAR(F.impacts_per_period, 0, 0);

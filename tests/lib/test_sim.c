@@ -266,8 +266,54 @@ static void test_zero_backlash_events(void)
     wg_sim_fini(&s);
 }
 
+/* The period statistics count each bearing's impacts (either side) and its
+ * largest impact speed: exactly the events the sink sees in that period. */
+typedef struct bstat {
+    long cur[WG_NBEARING], periods, impacts, mismatches;
+    double vcur[WG_NBEARING];
+} bstat;
+
+static void on_bev(void *ctx, const wg_event *ev)
+{
+    bstat *b = ctx;
+    int j = ev->contact - WG_C_X1;
+    if (j >= 0 && (ev->kind == WG_EV_DRIVE_IMPACT || ev->kind == WG_EV_BACK_IMPACT)) {
+        b->cur[j]++;
+        b->vcur[j] = fmax(b->vcur[j], fabs(ev->velocity));
+    }
+}
+
+static void on_bsec(void *ctx, const wg_section *sec)
+{
+    bstat *b = ctx;
+    for (int j = 0; j < WG_NBEARING; j++) {
+        b->mismatches += sec->stats.bimpacts[j] != b->cur[j] || sec->stats.bvmax[j] != b->vcur[j];
+        b->impacts += b->cur[j];
+        b->cur[j] = 0, b->vcur[j] = 0;
+    }
+    b->periods++;
+}
+
+static void test_period_bearing_stats(void)
+{
+    wg_params p;
+    wg_params_default(&p);
+    p.v[WG_P_OMEGA] = 1.2; /* xi_p 0.08: every bearing rattles */
+    wg_sim s = test_sim_make(&p, WG_STEPPER_RK4_EVENT, 128);
+    ASSERT_EQ_INT(wg_sim_run(&s, 128 * 300, NULL, NULL), WG_OK); /* whole periods */
+    bstat b = {{0}, 0, 0, 0, {0}};
+    wg_sink sink = {&b, NULL, on_bsec, on_bev};
+    ASSERT_EQ_INT(wg_sim_run(&s, 128 * 100, &sink, NULL), WG_OK);
+    ASSERT_EQ_INT(b.periods, 100);
+    ASSERT_EQ_INT(b.mismatches, 0);
+    ASSERT_TRUE(b.impacts >= 600); /* each of the six at least once a period */
+    printf("  100 periods: %ld bearing impacts, each period's statistics equal to its events\n",
+           b.impacts);
+    wg_sim_fini(&s);
+}
+
 TEST_MAIN(TEST(test_sections_fall_on_periods), TEST(test_kernel_choice_skips_terms),
           TEST(test_torsional_is_full_limit), TEST(test_blowup_is_caught_state_kept),
           TEST(test_set_params_is_atomic), TEST(test_ramp_never_stores_nonfinite),
           TEST(test_deterministic), TEST(test_motion_classes),
-          TEST(test_zero_backlash_events))
+          TEST(test_zero_backlash_events), TEST(test_period_bearing_stats))

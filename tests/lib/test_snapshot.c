@@ -390,6 +390,9 @@ static const textcase texts[] = {
     {"param j1 = ", "param j1 = 0x0p+0\n", "j1 = 0 out of range [1e-06, 1000000]"},
     {"param j2 = ", "", "line 40: expected 'param j2 = "},
     {"ramp = ", "ramp = bogus\n", "ramp must be none or a parameter name"},
+    {"cur.x2.vmax = ", "cur.x2.vmax = -0x1p+0\n", "cur.x2 bearing statistics"},
+    {"last.z1.impacts = ", "last.z1.impacts = -1\n", "last.z1.impacts must be an integer"},
+    {"cur.y2.impacts = ", "", "expected 'cur.y2.impacts = "},
     {"ramp.to = ", "ramp.to = 0x1.f4p+9\n", "ramp target: omega = 1000 out of range"},
     {"model = ", "model = printed\n", "expected 'y 14 = "},
     {"stepper = ", "stepper = default\n", "stepper must be rk4 or rk4-event"},
@@ -445,6 +448,17 @@ static void test_format2_reads(void)
         edit(two, body[i], "", tmp);
         strcpy(two, tmp);
     }
+    /* and no per-bearing period statistics */
+    static const char *const axis[] = {"x1", "y1", "z1", "x2", "y2", "z2"};
+    for (int c = 0; c < 2; c++)
+        for (int j = 0; j < 6; j++)
+            for (int k = 0; k < 2; k++) {
+                char key[32];
+                snprintf(key, sizeof key, "%s.%s.%s = ", c ? "last" : "cur", axis[j],
+                         k ? "vmax" : "impacts");
+                edit(two, key, "", tmp);
+                strcpy(two, tmp);
+            }
     size_t len = edit(two, "# wormgeard", "# wormgeard snapshot, format 2\n", tmp);
     wg_snapshot w;
     ASSERT_EQ_INT(wg_snapshot_parse(tmp, len, &w, scene, sizeof scene, why, sizeof why), WG_OK);

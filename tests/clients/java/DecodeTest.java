@@ -36,7 +36,8 @@ public class DecodeTest {
         wormgear.poincare_t pc = new wormgear.poincare_t(bin(d, "poincare_t"));
         fingerprint(d, "poincare_t", wormgear.poincare_t.LCM_FINGERPRINT);
         check("poincare_t", pc.seq == 43 && pc.nstate == 14 && pc.y[1][13] == 1 + 13 / 3.0
-                                && pc.impacts[1] == 2 && pc.period[1] == 6);
+                                && pc.impacts[1] == 2 && pc.period[1] == 6 && pc.nbearing == 6
+                                && pc.bearing_impacts[1][3] == 3 && pc.bearing_vmax[1][5] == 0.25);
         wormgear.contact_t ct = new wormgear.contact_t(bin(d, "contact_t"));
         fingerprint(d, "contact_t", wormgear.contact_t.LCM_FINGERPRINT);
         check("contact_t", ct.seq == 44 && ct.bearing_every == 10 && ct.n == 2 && ct.kind[1] == 2 && ct.velocity[1] == 1.0 / 7 + 1);
