@@ -32,10 +32,12 @@ check "--format svg and pdf" 'grep -q "<svg" "$dir/f.svg" && [ "$(magic "$dir/f.
 check "--param xi_p: header and a period doubling in xi_p" \
   'head -1 "$dir/xi-bifurcations.csv" | grep -q "^type,xi_p," && grep -q "^period_doubling,0.0" "$dir/xi-bifurcations.csv"'
 
-# Ctrl-C: a long run interrupted after a second writes what it has
-"$cont" --from 0.1 --to 2.5 --sweep-points 241 --quiet --out "$dir/int" &
+# Ctrl-C: a long run interrupted once it has 50 branch points (its progress
+# line says so; at most 120 s, however slow the build or busy the machine)
+"$cont" --from 0.1 --to 2.5 --sweep-points 241 --out "$dir/int" 2>"$dir/int.err" &
 pid=$!
-sleep 1.5
+i=0
+until grep -q "point 50 at" "$dir/int.err" || [ $i -ge 1200 ]; do sleep 0.1; i=$((i + 1)); done
 kill -INT $pid
 wait $pid
 rc=$?

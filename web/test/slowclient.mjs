@@ -58,7 +58,11 @@ check("stalled client's queue is bounded and drops the oldest", bq.drops > 0 && 
 // machine's load); what is checked is what a stall could do to them: the
 // normal client still served, the bridge not spinning on the stalled one.
 check("normal client keeps being served (>= 50 % of its rate alone)", stalled.rate >= 0.5 * base.rate, `${stalled.rate.toFixed(0)} vs ${base.rate.toFixed(0)} msg/s`);
-check("normal client's latency holds (p99 < alone p99 + 50 ms)", pct(stalledLat, 0.99) < pct(baseLat, 0.99) + 50);
+// A bridge that waited on the stalled socket would hold the normal client
+// for whole seconds; a loaded machine adds tens to hundreds of ms (ASan at
+// load 5: 114 -> 268 ms), so the bound is a second.
+check("normal client's latency holds (p99 < alone p99 + 1 s)", pct(stalledLat, 0.99) < pct(baseLat, 0.99) + 1000,
+  `p99 ${pct(stalledLat, 0.99).toFixed(1)} vs ${pct(baseLat, 0.99).toFixed(1)} ms alone`);
 // The daemon never sees the bridge's clients (LCM is fire-and-forget): a
 // stall could slow it only by the bridge eating the CPU it needs.
 if (base.rtf < 0.9) console.log("note: the daemon could not keep real time even before the stall (a loaded machine or a sanitizer build)");
