@@ -157,6 +157,7 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
     a->rc = m->status;
     a->cmd_seq = m->cmd_seq;
     a->steps = m->steps;
+    a->utime = m->utime;
     a->tau = m->tau;
     a->t_s = m->t_s;
     snprintf(a->code, sizeof a->code, "%s", m->code);

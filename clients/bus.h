@@ -25,6 +25,7 @@ typedef struct bus_ack {
     int accepted;
     int rc;                   /* the wire's status: 0 or a negative wg_status */
     int64_t cmd_seq, steps;
+    int64_t utime;            /* the daemon's wall clock when it sent the ACK, us */
     double tau, t_s;
     char code[32];
     char op[16];

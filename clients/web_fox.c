@@ -338,10 +338,14 @@ static int client_index(const fox *f, unsigned id)
 }
 
 /* Answer a setParameters: the values asked for when applied, else the
- * daemon's current ones. */
+ * daemon's current ones. The table itself follows PARAMS alone: the ACK
+ * comes before the PARAMS the set causes, and that PARAMS is what pushes
+ * the change to the parameter subscribers. */
 static void answer_setparams(fox *f, int ci, const fox_pending *p, int applied)
 {
     uint64_t mask = 0;
+    double kept[FOX_MAX_PARAMS];
+    memcpy(kept, f->pvalue, sizeof kept);
     for (int k = 0; k < p->n; k++) {
         int i = fox_param_index(f, p->name[k]);
         if (i >= 0) {
@@ -351,6 +355,7 @@ static void answer_setparams(fox *f, int ci, const fox_pending *p, int applied)
         }
     }
     fox_param_values(f, ci, 0, mask, p->id);
+    memcpy(f->pvalue, kept, sizeof kept);
 }
 
 void fox_ack(fox *f, const wormgear_ack_t *a, const char *client_id)

@@ -70,6 +70,24 @@ static void ack(wgd *d, const char *client, int64_t seq, const char *op, int rc,
     }
 }
 
+/* ---- changes: PARAMS after the ACK ---------------------------------------- */
+
+/* Note what a command changed; report_change runs after its ACK. */
+static void changed(wgd *d, int what, const char *reason)
+{
+    d->changed = (change){.due = 1, .what = what, .reason = reason};
+}
+
+/* The noted change, reported (regime restart, decimation, PARAMS) with the
+ * client and seq of the command that made it. */
+static void report_changed(wgd *d, const char *client, int64_t seq)
+{
+    change c = d->changed;
+    d->changed.due = 0;
+    if (c.due)
+        report_change(d, c.what, c.reason, client, seq);
+}
+
 /* ---- parameters ------------------------------------------------------------ */
 
 /* Ids of the named parameters: EINVAL (count, duplicates) or EUNKNOWN. */
@@ -104,10 +122,10 @@ static wg_params with_values(const wgd *d, const int *ids, const double *values,
     return p;
 }
 
-/* Apply n values at once (atomic) and tell the streams; why gets the
- * answer's text. */
-static int apply_set(wgd *d, const int *ids, const double *values, int n, const char *client,
-                     int64_t seq, char *why, size_t len)
+/* Apply n values at once (atomic) and note the change for after the ACK;
+ * why gets the answer's text. */
+static int apply_set(wgd *d, const int *ids, const double *values, int n, char *why,
+                     size_t len)
 {
     wg_params p = with_values(d, ids, values, n);
     int ramp = d->sim.ramp.active ? d->sim.ramp.id : -1;
@@ -122,7 +140,7 @@ static int apply_set(wgd *d, const int *ids, const double *values, int n, const 
     if (ramp >= 0 && k < len)
         snprintf(why + k, len - k, " (cancelled the ramp of %s at %.9g)",
                  wg_param_info_get(ramp)->name, d->sim.p.v[ramp]);
-    report_change(d, REPORT_ORBIT | REPORT_RATE, "set", client, seq);
+    changed(d, REPORT_ORBIT | REPORT_RATE, "set");
     return WG_OK;
 }
 
@@ -157,7 +175,7 @@ static int op_set(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
             return rc;
     if (c->at_section && d->sim.k != 0)
         return defer_set(d, c, ids, why, len);
-    return apply_set(d, ids, c->values, c->nparams, c->client, c->seq, why, len);
+    return apply_set(d, ids, c->values, c->nparams, why, len);
 }
 
 /* Apply and ACK the set waiting for the section (phase index 0). */
@@ -168,8 +186,9 @@ static void sync_apply(wgd *d)
         return;
     j->active = 0;
     char why[ACK_TEXT];
-    int rc = apply_set(d, j->ids, j->values, j->n, j->client, j->seq, why, sizeof why);
+    int rc = apply_set(d, j->ids, j->values, j->n, why, sizeof why);
     ack(d, j->client, j->seq, "set", rc, why);
+    report_changed(d, j->client, j->seq);
 }
 
 /* Refuse a set waiting for the section (reset, restore, shutdown). */
@@ -281,7 +300,7 @@ static int op_ramp(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
                      "%.6g s simulated before its end: %s stays at %.9g", old, was.v1, left_s,
                      old, d->sim.p.v[was.id]);
     }
-    report_change(d, REPORT_ORBIT, "ramp", c->client, c->seq);
+    changed(d, REPORT_ORBIT, "ramp");
     return WG_OK;
 }
 
@@ -317,7 +336,7 @@ static int op_reset(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     cmd_step_cancel(d, WG_ESTATE, "cancelled by reset");
     sync_cancel(d, WG_ESTATE, "set at the next section cancelled by reset");
     engine_reset(d, params);
-    report_change(d, REPORT_ORBIT | REPORT_RATE, "reset", c->client, c->seq);
+    changed(d, REPORT_ORBIT | REPORT_RATE, "reset");
     snprintf(why, len, "reset to the scene's initial state%s",
              params ? " and parameters" : " (parameters kept)");
     return WG_OK;
@@ -436,7 +455,7 @@ static int op_restore(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     cmd_step_cancel(d, WG_ESTATE, "cancelled by restore");
     sync_cancel(d, WG_ESTATE, "set at the next section cancelled by restore");
     engine_restore(d);
-    report_change(d, REPORT_ORBIT | REPORT_RATE, "restore", c->client, c->seq);
+    changed(d, REPORT_ORBIT | REPORT_RATE, "restore");
     snprintf(why, len, "restored %s: tau %.9g, step %" PRIu64 "%s%s", c->name, d->sim.tau,
              d->sim.steps, strcmp(s.scene, d->scene.name) ? ", taken with scene " : "",
              strcmp(s.scene, d->scene.name) ? s.scene : "");
@@ -507,6 +526,7 @@ static void dispatch(wgd *d, const wormgear_cmd_t *c)
         rc = ops[i].fn(d, c, why, len);
     if (rc != CMD_PENDING)
         ack(d, c->client, c->seq, c->op, rc, why);
+    report_changed(d, c->client, c->seq); /* PARAMS right behind the ACK */
 }
 
 /* ---- decoding --------------------------------------------------------------- */

@@ -6,7 +6,7 @@
 #include <dirent.h>
 #include <stdio.h>
 #include <string.h>
-#include <sys/select.h>
+#include <poll.h>
 #include <sys/time.h>
 #include <unistd.h>
 
@@ -48,12 +48,11 @@ int lcmio_fileno(const lcmio *io) { return lcm_get_fileno(io->lcm); }
 
 static int readable(int fd)
 {
-    fd_set set;
-    struct timeval tv = {0, 0};
-    FD_ZERO(&set);
-    FD_SET(fd, &set);
-    return select(fd + 1, &set, NULL, NULL, &tv) > 0;
+    struct pollfd p = {.fd = fd, .events = POLLIN};
+    return poll(&p, 1, 0) > 0 && (p.revents & (POLLIN | POLLHUP | POLLERR)); /* as select */
 }
+
+int lcmio_waiting(const lcmio *io) { return readable(lcm_get_fileno(io->lcm)); }
 
 int lcmio_drain(lcmio *io, int max)
 {

@@ -48,6 +48,9 @@ void lcmio_fini(lcmio *io);
 /* File descriptor to watch for incoming messages. */
 int lcmio_fileno(const lcmio *io);
 
+/* 1 when a message waits to be handled (one poll, no wait), else 0. */
+int lcmio_waiting(const lcmio *io);
+
 /* Handle every message already waiting, at most max; returns the count. */
 int lcmio_drain(lcmio *io, int max);
 

@@ -14,9 +14,11 @@
 #include <sys/timerfd.h>
 #include <unistd.h>
 
-/* The most stepping one handler does before the loop polls again: a
- * command waits at most about this long behind the integrator. */
-enum { WORK_CHUNK_NS = 1000000 };
+/* The most stepping one handler does before the loop polls again, and
+ * the slices it runs in: between slices a message waiting on the LCM
+ * descriptor (one poll, ~1.4 us here) ends the chunk, so a command waits
+ * at most about one slice behind the integrator, not a whole chunk. */
+enum { WORK_CHUNK_NS = 1000000, WORK_SLICE_NS = 100000 };
 
 static int arm_timer(wgd *d)
 {
@@ -39,10 +41,11 @@ static int64_t thread_cpu_ns(void)
     return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
 }
 
-/* Steps one chunk of work may run, from the measured cost of a step. */
-static uint64_t chunk(const wgd *d)
+/* Steps a chunk (a slice) of work may run, from the measured cost of a
+ * step. */
+static uint64_t chunk(const wgd *d, int64_t ns)
 {
-    return pace_fast_chunk(d->stat.ns_per_step, WORK_CHUNK_NS);
+    return pace_fast_chunk(d->stat.ns_per_step, ns);
 }
 
 static int running_in(const wgd *d, int mode)
@@ -72,14 +75,11 @@ static void sync_work(wgd *d)
         ev_idle_stop(d->loop, &d->work_w);
 }
 
-/* One chunk of the most urgent work: commands waiting, a step job, owed
- * ticks, realtime steps due, fast mode. */
-static void work_chunk(wgd *d)
+/* At most n steps of the most urgent stepping: a step job, owed ticks,
+ * realtime steps due, fast mode. 0 when there was none to do. */
+static int step_slice(wgd *d, uint64_t n)
 {
-    uint64_t n = chunk(d);
-    if (inbox_waiting(&d->in)) {
-        cmd_process(d, WORK_CHUNK_NS);
-    } else if (d->step.active) {
+    if (d->step.active) {
         cmd_step_progress(d, n);
     } else if (d->owed.ticks && running_in(d, MODE_LOCKSTEP)) {
         cmd_tick_progress(d, n);
@@ -89,6 +89,26 @@ static void work_chunk(wgd *d)
         d->owed.realtime = done < n ? 0 : d->owed.realtime - done;
     } else if (running_in(d, MODE_FAST)) {
         cmd_run(d, n);
+    } else {
+        return 0;
+    }
+    return 1;
+}
+
+/* One chunk of the most urgent work: commands waiting, else stepping, in
+ * slices; a message on the LCM descriptor ends the chunk early (the
+ * higher-priority LCM watcher runs next, the work watcher after it). */
+static void work_chunk(wgd *d)
+{
+    if (inbox_waiting(&d->in)) {
+        cmd_process(d, WORK_CHUNK_NS);
+        return;
+    }
+    uint64_t left = chunk(d, WORK_CHUNK_NS), slice = chunk(d, WORK_SLICE_NS);
+    while (left && step_slice(d, left < slice ? left : slice)) {
+        left -= left < slice ? left : slice;
+        if (left && lcmio_waiting(&d->io))
+            break;
     }
 }
 

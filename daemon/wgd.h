@@ -45,6 +45,14 @@ typedef struct syncjob {
     int64_t seq;
 } syncjob;
 
+/* What the command being handled changed (cmd.c): reported once its ACK
+ * is out, so the ACK leaves first and PARAMS right behind it. */
+typedef struct change {
+    int due;
+    int what;                  /* REPORT_ORBIT | REPORT_RATE */
+    const char *reason;        /* "set", "ramp", "reset", "restore" */
+} change;
+
 /* Accumulators and derived figures for STATUS (report.c). */
 typedef struct stats {
     int64_t t_ns;              /* start of the current STATUS interval */
@@ -96,6 +104,7 @@ typedef struct wgd {
     char fault_msg[320];
     stepjob step;
     syncjob sync;
+    change changed;
     backlog owed;
     /* transport and outputs */
     inbox in;                  /* CMD messages received, not yet handled (cmd.c) */

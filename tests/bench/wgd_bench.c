@@ -1,11 +1,14 @@
 /* wgd_bench - figures for docs/daemon.md, not a pass/fail test:
- * command->ACK latency (p50/p99/max) and the daemon's CPU share at physical
- * real time (table3, omega = 2.5, N = 128, publishing on).
+ * command->ACK latency (p50/p99/max; get, set xi_p, a set of every parameter
+ * in turn) and the daemon's CPU share at physical real time (table3,
+ * omega = 2.5, N = 128, publishing on).
  * usage: netns.sh wgd_bench WORMGEARD [SECONDS] [NCMDS] */
 #include "cli.h"
 #include "bus.h"
 
+#include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_status_t.h"
+#include "wormgear/wg_param.h"
 
 #include <signal.h>
 #include <stdio.h>
@@ -16,6 +19,8 @@
 
 typedef struct bench {
     bus c;
+    wg_params cur; /* the daemon's parameters (from PARAMS) */
+    int have_params;
     wormgear_status_t last;
     int nstatus;
     char health[16];
@@ -33,6 +38,8 @@ static void on_status(const lcm_recv_buf_t *r, const char *ch, const wormgear_st
         B.last.regime = NULL;
     B.nstatus++;
 }
+
+static const char *set_name(const char *op) { return !strcmp(op, "set") ? "set xi_p" : op; }
 
 static double cpu_ticks(pid_t pid)
 {
@@ -59,29 +66,77 @@ static int cmp(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* n commands 5 ms apart: op "get" (transport and loop only) or "set" (one
- * parameter, through wg_sim_set_params and its RK4 stability check). */
-static void latency(const char *op, int n)
+/* Sorted copy's p50 / p99 / max of n values (n > 0), into out. */
+static void pcts(double *v, int n, double out[3])
 {
-    double *lat = calloc((size_t)n, sizeof *lat);
+    qsort(v, (size_t)n, sizeof *v, cmp);
+    out[0] = v[n / 2], out[1] = v[(int)(n * 0.99)], out[2] = v[n - 1];
+}
+
+/* The daemon's parameter values, from its PARAMS (each get brings one). */
+static void on_params(const lcm_recv_buf_t *r, const char *ch, const wormgear_params_t *m,
+                      void *u)
+{
+    (void)r, (void)ch, (void)u;
+    for (int i = 0; i < m->n; i++) {
+        int id = wg_param_lookup(m->name[i]);
+        if (id >= 0)
+            B.cur.v[id] = m->value[i];
+    }
+    B.have_params = 1;
+}
+
+/* The value command i of the "every parameter" pass sets parameter id to:
+ * its current value moved by a relative 1e-6 up, then back (a zero moves to
+ * 1e-6 of its range and back), so every set is a change and in range. */
+static double next_value(int id, int i)
+{
+    const wg_param_info *r = wg_param_info_get(id);
+    double v = B.cur.v[id];
+    int up = i / WG_NPARAM % 2 == 0;
+    double w = v != 0.0 ? v * (up ? 1 + 1e-6 : 1 / (1 + 1e-6)) : up ? 1e-6 * r->max : 0.0;
+    return w < r->min ? r->min : w > r->max ? r->max : w;
+}
+
+/* n commands 5 ms apart: op "get" (transport and loop only), "set" of xi_p
+ * (through wg_sim_set_params and its RK4 stability check) or, with every,
+ * a set of each parameter in turn. Prints the command -> ACK latency and
+ * its two halves on the one wall clock of this host: client send -> the
+ * daemon's ACK send (the forward path and the daemon's work), and that ->
+ * this client has it (the return path). */
+static void latency(const char *op, int every, int n)
+{
+    double *lat = calloc((size_t)n * 3, sizeof *lat), *fwd = lat + n, *back = lat + 2 * n;
     int got = 0;
     char *name[1] = {"xi_p"};
     for (int i = 0; i < n; i++) {
-        double v = i % 2 ? 0.08 : 0.0800001;
+        int id = every ? i % WG_NPARAM : WG_P_XI_P;
+        double v = every ? next_value(id, i) : i % 2 ? 0.08 : 0.0800001;
         int set = !strcmp(op, "set");
+        name[0] = (char *)wg_param_info_get(id)->name;
         wormgear_cmd_t c = {.op = (char *)op, .nparams = set, .names = name, .values = &v,
                             .unit = "", .name = ""};
         double t0 = cli_mono_ns() * 1e-3;
         bus_send(&B.c, &c);
-        if (bus_wait_ack(&B.c, 1000) == 0 && B.c.ack.accepted)
-            lat[got++] = cli_mono_ns() * 1e-3 - t0;
+        if (bus_wait_ack(&B.c, 1000) == 0 && B.c.ack.accepted) {
+            double t1 = cli_mono_ns() * 1e-3;
+            int64_t wall = cli_wall_us();
+            lat[got] = t1 - t0;
+            fwd[got] = (double)(B.c.ack.utime - c.utime);
+            back[got++] = (double)(wall - B.c.ack.utime);
+            if (set)
+                B.cur.v[id] = v;
+        }
         bus_wait(&B.c, 5, NULL, NULL); /* 5 ms apart */
     }
-    qsort(lat, (size_t)got, sizeof *lat, cmp);
-    if (got)
+    double a[3], f[3], b[3];
+    if (got) {
+        pcts(lat, got, a), pcts(fwd, got, f), pcts(back, got, b);
         printf("command->ACK latency (%s, %d of %d answered): p50 %.0f us, p99 %.0f us, "
-               "max %.0f us\n", !strcmp(op, "set") ? "set xi_p" : op, got, n, lat[got / 2],
-               lat[(int)(got * 0.99)], lat[got - 1]);
+               "max %.0f us\n  send->daemon's ACK p50 %.0f / p99 %.0f us; ACK->client p50 %.0f "
+               "/ p99 %.0f us\n", every ? "set, every parameter in turn" : set_name(op), got, n,
+               a[0], a[1], a[2], f[0], f[1], b[0], b[1]);
+    }
     free(lat);
 }
 
@@ -123,8 +178,15 @@ int main(int argc, char **argv)
            "/ %.0f us max, cpu_share %.3f, health %s, dropped %lld\n", B.last.steps_per_s,
            B.last.rtf, B.last.lag_s * 1e3, (long long)B.last.overruns, B.last.loop_mean_us,
            B.last.loop_max_us, B.last.cpu_share, B.health, (long long)B.last.msgs_dropped);
-    latency("get", ncmd);
-    latency("set", ncmd);
+    wormgear_params_t_subscription_t *sp =
+        wormgear_params_t_subscribe(B.c.lcm, "BENCH_PARAMS", on_params, NULL);
+    latency("get", 0, ncmd);
+    latency("set", 0, ncmd);
+    if (B.have_params)
+        latency("set", 1, ncmd);
+    else
+        printf("no PARAMS came: the every-parameter pass is skipped\n");
+    wormgear_params_t_unsubscribe(B.c.lcm, sp);
     wormgear_status_t_unsubscribe(B.c.lcm, s);
     bus_close(&B.c);
     kill(pid, SIGTERM);
