@@ -139,6 +139,25 @@ int la_solve(int n, double *a, double *r);
 static inline double dmin(double a, double b) { return a < b ? a : b; }
 static inline double dmax(double a, double b) { return a > b ? a : b; }
 
+/* ---- snapshot fields (wg_sim_check.c) -------------------------------------- */
+
+#define ABSURD 1e9 /* |sum of state| beyond this is a blow-up */
+
+/* Finite and not absurd: one sum catches NaN, Inf and runaway values. */
+int sim_finite_state(const double *y, int n);
+
+/* vsnprintf into why, then rc. */
+int sim_refuse(int rc, char *why, size_t whylen, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+
+/* A snapshot's phase, state, time, counters and period statistics: WG_OK,
+ * or WG_EINVAL with why naming the field and what is allowed. */
+int sim_snapshot_fields_ok(const wg_snapshot *w, char *why, size_t whylen);
+
+/* An active ramp's start and current value agree with its line: WG_OK or
+ * WG_EINVAL with why. */
+int sim_ramp_now_ok(const wg_snapshot *w, char *why, size_t whylen);
+
 /* ---- contacts (wg_contact.c) ---------------------------------------------- */
 
 /* Phase within one step: psi(t), omega(t) for 0 <= t <= h, piecewise

@@ -4,12 +4,9 @@
 #include "wormgear/wg_status.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-#define ABSURD 1e9    /* |sum of state| beyond this is a blow-up */
 
 static const char *const stepper_names[] = {"default", "rk4", "rk4-event"};
 
@@ -43,14 +40,6 @@ int wg_stepper_choose(int model, int stepper, int *chosen, char *why, size_t why
     return WG_OK;
 }
 
-/* Finite and not absurd: one sum catches NaN, Inf and runaway values. */
-static int finite_state(const double *y, int n)
-{
-    double sum = 0.0;
-    for (int j = 0; j < n; j++)
-        sum += fabs(y[j]);
-    return sum < ABSURD;
-}
 
 /* ---- parameters --------------------------------------------------------- */
 
@@ -347,115 +336,15 @@ void wg_sim_snapshot(const wg_sim *s, wg_snapshot *w)
 
 /* ---- restore: every field checked as the live path would ------------------ */
 
-#define TAU_MAX 1e15     /* tau of a snapshot: ~1000 years of table3's physical time */
-#define TAU_C_REL 1e-12  /* |tau_c| <= TAU_C_REL (1 + tau): Kahan's term is ulps of tau */
-
-static int refuse(int rc, char *why, size_t whylen, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
-
-static int refuse(int rc, char *why, size_t whylen, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(why, whylen, fmt, ap);
-    va_end(ap);
-    return rc;
-}
-
 static int restore_config(const wg_sim *s, const wg_snapshot *w, char *why, size_t whylen)
 {
     if (w->model == s->cfg.model && w->stepper == s->cfg.stepper &&
         w->steps_per_period == s->cfg.steps_per_period)
         return WG_OK;
-    return refuse(WG_ESTATE, why, whylen, "snapshot taken with model %s, stepper %s, N = %d; "
-                  "this run has model %s, stepper %s, N = %d", wg_model_name(w->model),
-                  wg_stepper_name(w->stepper), w->steps_per_period, wg_model_name(s->cfg.model),
-                  wg_stepper_name(s->cfg.stepper), s->cfg.steps_per_period);
-}
-
-/* Phase, state, time and counters. */
-static int restore_time(const wg_snapshot *w, char *why, size_t whylen)
-{
-    char a[32], b[32];
-    if (w->k >= (uint32_t)w->steps_per_period)
-        return refuse(WG_EINVAL, why, whylen, "snapshot k = %u out of range [0, %d)", w->k,
-                      w->steps_per_period);
-    if (!finite_state(w->y, wg_model_nstate(w->model)))
-        return refuse(WG_EINVAL, why, whylen, "snapshot state is not finite (or |y| >= %g)",
-                      ABSURD);
-    if (!(w->tau >= 0.0 && w->tau <= TAU_MAX))
-        return refuse(WG_EINVAL, why, whylen, "snapshot tau = %s out of range [0, %g]",
-                      wg_num_format(w->tau, a, sizeof a), TAU_MAX);
-    double cmax = TAU_C_REL * (1.0 + w->tau);
-    if (!(fabs(w->tau_c) <= cmax))
-        return refuse(WG_EINVAL, why, whylen, "snapshot tau_c = %s out of range: |tau_c| <= "
-                      "%g (1 + tau) = %s (Kahan's compensation term)",
-                      wg_num_format(w->tau_c, a, sizeof a), TAU_C_REL,
-                      wg_num_format(cmax, b, sizeof b));
-    if (w->period > w->steps)
-        return refuse(WG_EINVAL, why, whylen, "snapshot period = %llu exceeds steps = %llu "
-                      "(each period takes steps)", (unsigned long long)w->period,
-                      (unsigned long long)w->steps);
-    return WG_OK;
-}
-
-static int period_stats_ok(const wg_period *p, const char *name, char *why, size_t whylen)
-{
-    char a[32], b[32];
-    if (p->motion < WG_MOTION_NO_IMPACT || p->motion > WG_MOTION_DOUBLE)
-        return refuse(WG_EINVAL, why, whylen, "snapshot %s.motion = %d is not a motion class "
-                      "(0 no impact, 1 single-sided, 2 double-sided)", name, p->motion);
-    if (p->impacts < 0)
-        return refuse(WG_EINVAL, why, whylen, "snapshot %s.impacts = %d, must be >= 0", name,
-                      p->impacts);
-    for (int j = 0; j < WG_NBEARING; j++)
-        if (p->bimpacts[j] < 0 || !(p->bvmax[j] >= 0 && p->bvmax[j] < ABSURD))
-            return refuse(WG_EINVAL, why, whylen, "snapshot %s.%s bearing statistics: impacts "
-                          ">= 0 and a finite impact speed >= 0 (|v| < %g)", name,
-                          wg_contact_name(WG_C_X1 + j), ABSURD);
-    if (!(fabs(p->min_xn) < ABSURD && fabs(p->max_xn) < ABSURD && p->min_xn <= p->max_xn))
-        return refuse(WG_EINVAL, why, whylen, "snapshot %s.min_xn = %s, %s.max_xn = %s: both "
-                      "finite (|x| < %g) with min_xn <= max_xn", name,
-                      wg_num_format(p->min_xn, a, sizeof a), name,
-                      wg_num_format(p->max_xn, b, sizeof b), ABSURD);
-    return WG_OK;
-}
-
-static int restore_stats(const wg_snapshot *w, char *why, size_t whylen)
-{
-    if (w->cur.period != w->period)
-        return refuse(WG_EINVAL, why, whylen, "snapshot cur.period = %llu, must equal period = "
-                      "%llu (the period in progress)", (unsigned long long)w->cur.period,
-                      (unsigned long long)w->period);
-    int rc = period_stats_ok(&w->cur, "cur", why, whylen);
-    return rc ? rc : period_stats_ok(&w->last, "last", why, whylen);
-}
-
-/* An active ramp's time and current value agree with the ramp line: omega
- * is on it, another parameter at most one step behind (it is updated at the
- * start of a step). */
-static int ramp_now_ok(const wg_snapshot *w, char *why, size_t whylen)
-{
-    const wg_ramp *r = &w->ramp;
-    char a[32], b[32], c[32], d[32], e[32];
-    double el = w->tau - r->tau0;
-    if (!(r->tau0 >= 0.0 && el >= 0.0 && el <= r->dur))
-        return refuse(WG_EINVAL, why, whylen, "snapshot ramp tau0 = %s: must be in [tau - "
-                      "duration, tau] = [%s, %s] (started, not ended)",
-                      wg_num_format(r->tau0, a, sizeof a),
-                      wg_num_format(w->tau - r->dur, b, sizeof b),
-                      wg_num_format(w->tau, c, sizeof c));
-    double om = r->id == WG_P_OMEGA ? dmin(r->v0, r->v1) : w->p.v[WG_P_OMEGA];
-    double step = TWO_PI / (om * w->steps_per_period), v = w->p.v[r->id];
-    double line = r->v0 + (r->v1 - r->v0) * el / r->dur;
-    double tol = fabs(r->v1 - r->v0) * step / r->dur + 1e-12 * (fabs(r->v0) + fabs(r->v1));
-    if (fabs(v - line) <= tol)
-        return WG_OK;
-    return refuse(WG_EINVAL, why, whylen, "snapshot %s = %s is not on the ramp: %s at tau - "
-                  "tau0 = %s (from %s to %s, within one step)", wg_param_info_get(r->id)->name,
-                  wg_num_format(v, a, sizeof a), wg_num_format(line, b, sizeof b),
-                  wg_num_format(el, c, sizeof c), wg_num_format(r->v0, d, sizeof d),
-                  wg_num_format(r->v1, e, sizeof e));
+    return sim_refuse(WG_ESTATE, why, whylen, "snapshot taken with model %s, stepper %s, N = %d; "
+                      "this run has model %s, stepper %s, N = %d", wg_model_name(w->model),
+                      wg_stepper_name(w->stepper), w->steps_per_period, wg_model_name(s->cfg.model),
+                      wg_stepper_name(s->cfg.stepper), s->cfg.steps_per_period);
 }
 
 /* The ramp record as wg_sim_ramp would have left it; *hlo its stability
@@ -465,12 +354,12 @@ static int restore_ramp(wg_sim *s, const wg_snapshot *w, double *hlo, char *why,
     const wg_ramp *r = &w->ramp;
     char msg[256];
     if (r->active != 0 && r->active != 1)
-        return refuse(WG_EINVAL, why, whylen, "snapshot ramp active = %d, must be 0 or 1",
-                      r->active);
+        return sim_refuse(WG_EINVAL, why, whylen, "snapshot ramp active = %d, must be 0 or 1",
+                          r->active);
     if (!r->active)
         return WG_OK;
     int rc = ramp_check(s, &w->p, r->id, &r->v0, r->v1, r->dur, hlo, msg, sizeof msg);
-    return rc ? refuse(rc, why, whylen, "snapshot %s", msg) : ramp_now_ok(w, why, whylen);
+    return rc ? sim_refuse(rc, why, whylen, "snapshot %s", msg) : sim_ramp_now_ok(w, why, whylen);
 }
 
 static int restore_check(wg_sim *s, const wg_snapshot *w, double *hlo, char *why,
@@ -479,11 +368,9 @@ static int restore_check(wg_sim *s, const wg_snapshot *w, double *hlo, char *why
     char msg[256];
     int rc = restore_config(s, w, why, whylen);
     if (!rc)
-        rc = restore_time(w, why, whylen);
-    if (!rc)
-        rc = restore_stats(w, why, whylen);
+        rc = sim_snapshot_fields_ok(w, why, whylen);
     if (!rc && (rc = wg_sim_check_params(s, &w->p, msg, sizeof msg)))
-        return refuse(rc, why, whylen, "snapshot: %s", msg);
+        return sim_refuse(rc, why, whylen, "snapshot: %s", msg);
     return rc ? rc : restore_ramp(s, w, hlo, why, whylen);
 }
 
@@ -769,14 +656,14 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
                     }
                 }
             }
-            if (!finite_state(y1, nst)) { /* undo the zone updates and counts */
+            if (!sim_finite_state(y1, nst)) { /* undo the zone updates and counts */
                 s->nsplit = splits_before;
                 memcpy(s->core->zone, zsave, sizeof zsave);
                 for (int j = 0; j < WG_NCONTACT; j++)
                     ct_set_lock(s, j, s->core->zone[j]);
             }
         }
-        if (!finite_state(y1, nst)) {
+        if (!sim_finite_state(y1, nst)) {
             rc = WG_ENONFINITE;
             break;
         }
