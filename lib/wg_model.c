@@ -154,10 +154,13 @@ void wg_angles(int model, const wg_params *p, uint64_t period, double psi, const
         e1 = s * w1 / p->v[WG_P_RHO1];
         e2 = -s * w3 / p->v[WG_P_RHO2];
     }
-    /* period mod z: whole turns of the mesh phase within one revolution */
-    double k1 = (double)(period % (uint64_t)z1), k2 = (double)(period % (uint64_t)z2);
-    th[0] = wrap_angle((TWO_PI * k1 + psi) / z1 + e1);
-    th[1] = wrap_angle((TWO_PI * k2 + psi) / z2 + e2);
+    /* period mod z: whole turns of the mesh phase within one revolution (a
+     * table row is a whole number >= 1; anything else counts as 1 tooth) */
+    uint64_t n1 = z1 >= 1 && z1 <= 1e6 ? (uint64_t)z1 : 1;
+    uint64_t n2 = z2 >= 1 && z2 <= 1e6 ? (uint64_t)z2 : 1;
+    double k1 = (double)(period % n1), k2 = (double)(period % n2);
+    th[0] = wrap_angle((TWO_PI * k1 + psi) / (double)n1 + e1);
+    th[1] = wrap_angle((TWO_PI * k2 + psi) / (double)n2 + e2);
 }
 
 /* Inverse of the dead zone on its outer branches: g(x; c) = v. */

@@ -159,6 +159,12 @@ static void test_long_runs(void)
         ASSERT_NEAR(th[0], (TWO_PI * (double)(big[i] % 3) + 1.0) / 3, 1e-15);
         ASSERT_NEAR(th[1], (TWO_PI * (double)(big[i] % 37) + 1.0) / 37, 1e-15);
     }
+    /* rows the table would refuse (a caller's own wg_params) never divide by
+     * zero: a count below 1 or not a number is taken as 1 */
+    wg_params q = p;
+    q.v[WG_P_Z1] = 0, q.v[WG_P_Z2] = NAN;
+    wg_angles(WG_MODEL_CONSISTENT, &q, 12345, 1.0, y, th);
+    ASSERT_TRUE(th[0] == 1.0 && th[1] == 1.0);
     /* a huge elastic part still wraps into [0, 2 pi) */
     y[6] = -1e6;
     for (double psi = 0; psi < TWO_PI; psi += 0.1) {
