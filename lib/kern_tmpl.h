@@ -163,12 +163,11 @@ INLINE void vconst_load(vconst *V, const wg_kcoef *restrict K)
     V->ds = K->d[6];
 }
 
-/* One stage: from bearing positions q, velocities v, s' vs and the mesh
- * scalars X, V, the accelerations acc, s'' as6 and c.acc. */
-INLINE void stage_full(const vconst *restrict C, const wg_kcoef *restrict K,
-                       const wg_exc *restrict e, const vb q[NB], const vb v[NB], double vs,
-                       double X, double V, vb acc[NB], double *as6, double *cacc,
-                       const int LOCK, const int BJ, const int MB, const int KA, const int EM)
+/* The dynamic mesh force F = 2 xi_p x_n' + k_p g(x_n; b) from the mesh
+ * scalars X, V before the transmission error (MODEL.md s2): the full and the
+ * torsional stages share it. */
+INLINE double mesh_force(const wg_kcoef *restrict K, const wg_exc *restrict e, double X,
+                         double V, const int LOCK, const int MB, const int KA, const int EM)
 {
     double xn = X, dxn = V;
     if (EM) {
@@ -176,7 +175,17 @@ INLINE void stage_full(const vconst *restrict C, const wg_kcoef *restrict K,
         dxn += e->dte;
     }
     double g = !MB ? xn : LOCK ? K->w[0] * xn - K->zc[0] : dz(xn, K->b);
-    double F = K->dp * dxn + (KA ? e->kp * g : g);
+    return K->dp * dxn + (KA ? e->kp * g : g);
+}
+
+/* One stage: from bearing positions q, velocities v, s' vs and the mesh
+ * scalars X, V, the accelerations acc, s'' as6 and c.acc. */
+INLINE void stage_full(const vconst *restrict C, const wg_kcoef *restrict K,
+                       const wg_exc *restrict e, const vb q[NB], const vb v[NB], double vs,
+                       double X, double V, vb acc[NB], double *as6, double *cacc,
+                       const int LOCK, const int BJ, const int MB, const int KA, const int EM)
+{
+    double F = mesh_force(K, e, X, V, LOCK, MB, KA, EM);
     vb base[NB], pb[NB];
 #pragma GCC unroll 3
     for (int b = 0; b < NB; b++) {
@@ -292,13 +301,7 @@ INLINE void rhs_tors(double s, double v, double *ds, double *dv, const wg_kcoef 
                      const wg_exc *restrict e, const int LOCK, const int MB, const int KA,
                      const int EM)
 {
-    double xn = s, dxn = v;
-    if (EM) {
-        xn -= e->te;
-        dxn += e->dte;
-    }
-    double g = !MB ? xn : LOCK ? K->w[0] * xn - K->zc[0] : dz(xn, K->b);
-    double F = K->dp * dxn + (KA ? e->kp * g : g);
+    double F = mesh_force(K, e, s, v, LOCK, MB, KA, EM);
     *ds = v;
     *dv = (e->fx - F) - K->d[6] * v;
 }
