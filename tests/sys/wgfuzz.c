@@ -583,7 +583,8 @@ static double hostile_value(void)
 static const char *hostile_name(void)
 {
     static const char *n[] = {"omega", "xi_p", "k_a", "phi1", "a1", "mu1", "k1x", "b", "b_j",
-                              "f_m", "nope", "", "OMEGA", "omega ", "xi_p\x01", "e_m", "phi"};
+                              "f_m", "nope", "", "OMEGA", "omega ", "xi_p\x01", "e_m", "phi",
+                              "z1", "z2", "rho1", "j2"}; /* body rows: whole numbers, > 0 */
     return n[rndi(sizeof n / sizeof n[0])];
 }
 
