@@ -72,25 +72,31 @@ void wg_tracker_init(wg_tracker *t, int dim, double tol)
     t->tol = tol;
 }
 
+/* Row of the i-th oldest stored section (the rows are a ring from head). */
+static int tracker_row(const wg_tracker *t, int i)
+{
+    int k = t->head + i;
+    return k >= WG_TRACK_LEN ? k - WG_TRACK_LEN : k;
+}
+
 void wg_tracker_push(wg_tracker *t, const wg_section *sec)
 {
-    if (t->n == WG_TRACK_LEN) {
-        memmove(t->pts[0], t->pts[1], sizeof t->pts[0] * (WG_TRACK_LEN - 1));
-        memmove(t->imp, t->imp + 1, sizeof t->imp[0] * (WG_TRACK_LEN - 1));
-        memmove(t->mot, t->mot + 1, sizeof t->mot[0] * (WG_TRACK_LEN - 1));
-        t->n--;
+    int k;
+    if (t->n == WG_TRACK_LEN) { /* overwrite the oldest */
+        k = t->head;
+        t->head = tracker_row(t, 1);
+        t->impacts -= t->imp[k];
+    } else {
+        k = tracker_row(t, t->n++);
     }
-    memcpy(t->pts[t->n], sec->y, sizeof(double) * (size_t)t->dim);
-    t->imp[t->n] = sec->stats.impacts;
-    t->mot[t->n] = sec->stats.motion;
-    t->n++;
-    t->impacts = 0;
+    memcpy(t->pts[k], sec->y, sizeof(double) * (size_t)t->dim);
+    t->imp[k] = sec->stats.impacts;
+    t->mot[k] = sec->stats.motion;
+    t->impacts += t->imp[k];
     t->motion = 0;
-    for (int i = 0; i < t->n; i++) {
-        t->impacts += t->imp[i];
+    for (int i = 0; i < t->n; i++) /* stored rows, in any order */
         if (t->mot[i] > t->motion)
             t->motion = t->mot[i];
-    }
 }
 
 int wg_tracker_period(const wg_tracker *t, double *resid)
@@ -105,7 +111,8 @@ int wg_tracker_period(const wg_tracker *t, double *resid)
     for (int n = 1; n <= WG_PERIOD_MAX && t->n - n >= n && t->n - n >= 8; n++) {
         double r = 0.0;
         for (int i = t->n - 1; i >= n && r <= t->tol; i--)
-            r = fmax(r, dist_inf(t->pts[i], t->pts[i - n], t->dim));
+            r = fmax(r, dist_inf(t->pts[tracker_row(t, i)], t->pts[tracker_row(t, i - n)],
+                                 t->dim));
         if (r <= t->tol) {
             if (resid)
                 *resid = r;

@@ -53,8 +53,8 @@ int wg_period_detect(const double *pts, int npts, int dim, int nmax, double tol,
 /* Streaming period detection for a live run (daemon STATUS): the last
  * WG_TRACK_LEN Poincare states and period statistics, no allocation. */
 typedef struct wg_tracker {
-    double pts[WG_TRACK_LEN][WG_NSTATE_MAX];
-    int dim, n;
+    double pts[WG_TRACK_LEN][WG_NSTATE_MAX]; /* a ring: the oldest at head */
+    int dim, n, head;
     double tol;
     int motion;      /* worst motion class over the stored periods */
     long impacts;    /* mesh impacts over the stored periods */

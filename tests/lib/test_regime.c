@@ -92,6 +92,55 @@ static void test_tracker(void)
     ASSERT_EQ_INT(t.motion, WG_MOTION_SINGLE);
 }
 
+/* The tracker's ring holds the last WG_TRACK_LEN sections in order: after
+ * every push, through several wraps and a change of period, its period and
+ * residual are wg_period_detect's on a flat copy of the last sections, and
+ * its impact sum and worst motion are those of the same sections. */
+static void test_tracker_ring(void)
+{
+    enum { N = 400 };
+    static double all[N * 3];
+    pattern(all, 150, 3, 1e-11);
+    pattern(all + 150 * 3, 130, 5, 1e-11);
+    pattern(all + 280 * 3, N - 280, 4, 1e-7); /* noise over tol: no period */
+    wg_tracker t;
+    wg_tracker_init(&t, 3, 1e-9);
+    wg_section sec = {0};
+    int checked = 0, periods[6] = {0};
+    for (int i = 0; i < N; i++) {
+        memcpy(sec.y, all + i * 3, sizeof(double) * 3);
+        sec.stats.impacts = (i * 7) % 5;
+        sec.stats.motion = i % 37 == 0 ? WG_MOTION_DOUBLE : i % 2 ? WG_MOTION_SINGLE
+                                                                  : WG_MOTION_NO_IMPACT;
+        wg_tracker_push(&t, &sec);
+        int n = i + 1 < WG_TRACK_LEN ? i + 1 : WG_TRACK_LEN, first = i + 1 - n;
+        ASSERT_EQ_INT(t.n, n);
+        long imp = 0;
+        int mot = 0;
+        for (int j = first; j <= i; j++) {
+            imp += (j * 7) % 5;
+            int m = j % 37 == 0 ? WG_MOTION_DOUBLE : j % 2 ? WG_MOTION_SINGLE
+                                                         : WG_MOTION_NO_IMPACT;
+            mot = m > mot ? m : mot;
+        }
+        ASSERT_EQ_INT(t.impacts, imp);
+        ASSERT_EQ_INT(t.motion, mot);
+        if (n < 16)
+            continue;
+        double rt, rd;
+        int pt = wg_tracker_period(&t, &rt);
+        int pd = wg_period_detect(all + first * 3, n, 3, WG_PERIOD_MAX, 1e-9, &rd);
+        ASSERT_EQ_INT(pt, pd);
+        if (pt > 0) /* the residual is defined (a bound) only when a period is found */
+            ASSERT_TRUE(rt == rd);
+        periods[pt < 5 ? pt : 5]++;
+        checked++;
+    }
+    ASSERT_EQ_INT(checked, N - 15);
+    /* each regime of the input was seen: 3, 5, none */
+    ASSERT_TRUE(periods[3] > 0 && periods[5] > 0 && periods[0] > 0);
+}
+
 /* ---- eigenvalues --------------------------------------------------------- */
 
 /* Companion matrix of the monic polynomial with the given roots (pairs of
@@ -247,5 +296,6 @@ static void test_henon_saddle_multipliers(void)
 
 TEST_MAIN(TEST(test_period_exact), TEST(test_period_tolerance), TEST(test_period_doubling_split),
           TEST(test_period_quasiperiodic), TEST(test_period_too_few_points), TEST(test_tracker),
+          TEST(test_tracker_ring),
           TEST(test_eig_companion), TEST(test_eig_general), TEST(test_lle_logistic),
           TEST(test_lle_henon), TEST(test_henon_saddle_multipliers))
