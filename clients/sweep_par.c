@@ -11,10 +11,26 @@ int par_init(int *argc, char ***argv, int *rank, int *size)
     return 0;
 }
 
-int par_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
-            volatile sig_atomic_t *stop, wg_progress_fn progress, void *ctx)
+typedef struct counter {
+    par_progress_fn fn;
+    void *ctx;
+    long done;
+} counter;
+
+/* wg_chains_run calls this under its lock, one point at a time. */
+static void count(void *ctx, int chain, int ndone)
 {
-    return wg_chains_run(cs, n, o, threads, stop, progress, ctx);
+    (void)chain, (void)ndone;
+    counter *c = ctx;
+    if (c->fn)
+        c->fn(c->ctx, ++c->done);
+}
+
+int par_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
+            volatile sig_atomic_t *stop, par_progress_fn progress, void *ctx)
+{
+    counter c = {progress, ctx, 0};
+    return wg_chains_run(cs, n, o, threads, stop, count, &c);
 }
 
 int par_any(int flag) { return flag != 0; }

@@ -305,11 +305,10 @@ typedef struct progress {
     int tty, quiet, lastpct;
 } progress;
 
-static void on_progress(void *ctx, int chain, int ndone)
+static void on_progress(void *ctx, long done)
 {
-    (void)chain, (void)ndone;
     progress *p = ctx;
-    p->done++;
+    p->done = done;
     if (p->quiet)
         return;
     double t = cli_mono_s(), el = t - p->t0;
@@ -346,12 +345,12 @@ static int new_chain(wg_chain *c, const wg_params *base, const opts *o, int dir,
     return c->pts ? 0 : -1;
 }
 
-static int run_all(wg_chain *cs, int n, const opts *o, int size, double *wall)
+static int run_all(wg_chain *cs, int n, const opts *o, double *wall)
 {
     long total = 0;
     for (int i = 0; i < n; i++)
         total += cs[i].npts;
-    progress pg = {total / size, 0, cli_mono_s(), 0.0, isatty(2), o->quiet, -1};
+    progress pg = {total, 0, cli_mono_s(), 0.0, isatty(2), o->quiet, -1};
     int rc = par_run(cs, n, &o->so, o->threads, &g_stop, on_progress, &pg);
     *wall = cli_mono_s() - pg.t0;
     return rc;
@@ -411,7 +410,7 @@ static int write_map(const opts *o, const char *scene, const wg_chain *rows, int
 }
 
 /* 2-D map: one up chain per row value. */
-static int do_map(const opts *o, const wg_scene *sc, int rank, int size)
+static int do_map(const opts *o, const wg_scene *sc, int rank)
 {
     wg_chain *rows = calloc((size_t)o->mrows, sizeof *rows);
     int rc = rows ? 0 : 1;
@@ -422,7 +421,7 @@ static int do_map(const opts *o, const wg_scene *sc, int rank, int size)
     }
     double wall = 0.0;
     if (!rc)
-        rc = run_all(rows, o->mrows, o, size, &wall);
+        rc = run_all(rows, o->mrows, o, &wall);
     int partial = par_any(g_stop);
     if (rank == 0 && rows) {
         for (int r = 0; r < o->mrows; r++)
@@ -510,7 +509,7 @@ static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank
         fprintf(stderr, "wgsweep: out of memory\n");
         rc = 1;
     } else {
-        rc = run_all(cs, n, o, size, &st.wall_s);
+        rc = run_all(cs, n, o, &st.wall_s);
     }
     st.partial = par_any(g_stop);
     if (rank == 0 && cs) {
@@ -623,7 +622,7 @@ int main(int argc, char **argv)
         else if (o.at_set)
             rc = rank == 0 ? do_at(&o, &sc) : 0;
         else if (o.mparam >= 0)
-            rc = do_map(&o, &sc, rank, size);
+            rc = do_map(&o, &sc, rank);
         else
             rc = do_study(&o, &sc, cmd, rank, size);
         free(cmd);

@@ -26,9 +26,12 @@ check "the last line names every file written" 'grep -q "; wrote $dir/w.csv, $di
 check "threads: identical csv" 'cmp -s "$dir/s1.csv" "$dir/s2.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/s2-poincare.csv"'
 
 if [ -n "$mpiexec" ]; then
-  "$mpiexec" --allow-run-as-root --oversubscribe -np 2 "$sweep" $common --threads 1 \
+  "$mpiexec" --allow-run-as-root --oversubscribe -np 2 "$sweep" ${common/--quiet/} --threads 1 \
       --values xi_p=0.08,0.10 --out "$dir/m2" >/dev/null 2>"$dir/mpi.err"
   check "mpi -np 2: identical csv" 'cmp -s "$dir/s1.csv" "$dir/m2.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/m2-poincare.csv"'
+  # one progress bar for the whole run (rank 0's, counting both ranks' points)
+  check "mpi -np 2: one progress bar over both ranks" \
+    'grep "points, " "$dir/mpi.err" | tail -1 | grep -q " 24/24 points" && ! grep -q "/12 points" "$dir/mpi.err" && [ $(grep -c "100% 24/24 points" "$dir/mpi.err") -eq 1 ]'
 fi
 
 "$sweep" --from 1.17 --to 1.22 --points 6 --transient 200 --quiet --no-png --dir up --verify-steps --out "$dir/v" >/dev/null
