@@ -84,6 +84,8 @@ typedef struct mon {
     double ramp_from, ramp_to, ramp_tau0, ramp_dur;
     int ramp_active;
     mon_trace tr;                 /* STATE samples */
+    double theta1, theta2;        /* worm and wheel angles of the latest sample, rad */
+    int have_theta;
     mon_sections pc;              /* POINCARE sections */
     double ys[WG_TRACK_LEN * WG_NSTATE_MAX]; /* last consecutive states (stride ydim) */
     int ny, ydim;
@@ -100,7 +102,8 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: wgmon [options]\n"
             "Live dashboard of a running wormgeard: pacing, parameters, x_n trace, Poincare\n"
-            "scatter, impacts, motion and regime, senders and dropped messages. Keys: q quit,\n"
+            "scatter, impacts, motion and regime, senders and dropped messages; the worm and\n"
+            "wheel angles theta1/2 (deg) when the time line has room. Keys: q quit,\n"
             "c clear, space freeze/unfreeze the display.\n\n"
             "  --url URL          LCM URL (default $WORMGEAR_URL or %s)\n"
             "  --prefix P         channel prefix (default $WORMGEAR_PREFIX or %s)\n"
@@ -299,6 +302,11 @@ static void on_state(mon *m, const wormgear_state_t *s)
     m->tr.decimation = s->decimation;
     for (int i = 0; i < s->n; i++)
         mon_trace_push(&m->tr, s->step0 + (int64_t)i * s->decimation, s->xn[i], t);
+    if (s->n > 0) {
+        m->theta1 = s->theta1[s->n - 1];
+        m->theta2 = s->theta2[s->n - 1];
+        m->have_theta = 1;
+    }
 }
 
 static void on_poincare(mon *m, const wormgear_poincare_t *p)
@@ -459,6 +467,11 @@ static void draw_header(mon *m, mon_text *f, double now)
     draw_senders(m, f);
     mon_text_put(f, 0, "time    t %.6f s  tau %.3f  period %lld  N %d %s", s->t_s, s->tau,
                  (long long)s->period, s->N, m->stepper);
+    char th[48]; /* worm, wheel (MODEL.md s2): in [0, 360), 0 at the start */
+    snprintf(th, sizeof th, "  theta1/2 %.1f/%.1f deg", m->theta1 * (180.0 / M_PI),
+             m->theta2 * (180.0 / M_PI));
+    if (m->have_theta && f->col + mon_text_width(th) <= f->cols) /* only if it fits */
+        mon_text_put(f, 0, "%s", th);
     mon_text_nl(f);
     mon_text_put(f, 0, "pace    rtf %.4f  lag %.3f ms  ", s->rtf, s->lag_s * 1e3);
     mon_text_put(f, s->overruns ? 33 : 0, "overruns %lld", (long long)s->overruns);

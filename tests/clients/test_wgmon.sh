@@ -57,6 +57,10 @@ cat "$tmp/out"
 has out "daemon  table3  realtime x0.01  running  ok"
 has out "params  omega 0.7 (3554 Hz) xi_p 0.08"
 has out "motion  daemon: single_sided"
+# the angles of the latest STATE sample, in degrees in [0, 360)
+sed -n 's|^time .* theta1/2 \([0-9.]*\)/\([0-9.]*\) deg.*|\1 \2|p' "$tmp/out" >"$tmp/th"
+awk 'NF == 2 && $1 >= 0 && $1 < 360 && $2 >= 0 && $2 < 360 { ok = 1 } END { exit !ok }' "$tmp/th" ||
+    fail "no worm/wheel angles in [0, 360) deg on the time line: $(grep -A1 '^time' "$tmp/out")"
 has out "Poincare section"
 has out "msgs    STATUS"
 # ---- the regime change: omega 0.7 (impacts) -> 0.5 (no impact)
