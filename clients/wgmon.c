@@ -87,8 +87,7 @@ typedef struct mon {
     double theta1, theta2;        /* worm and wheel angles of the latest sample, rad */
     int have_theta;
     mon_sections pc;              /* POINCARE sections */
-    double ys[WG_TRACK_LEN * WG_NSTATE_MAX]; /* last consecutive states (stride ydim) */
-    int ny, ydim;
+    wg_tracker trk;               /* last consecutive sections: the local period */
     long contacts[WG_NCONTACT][WG_NEVKIND]; /* CONTACT events in the session */
     int rows, cols, frozen;
     struct termios tio;
@@ -246,7 +245,7 @@ static int seq_note(mon *m, int k, int64_t seq, int64_t utime)
     if (rc == BUS_RESTART && k == CH_STATUS)
         ask_params(m);
     if (rc != BUS_IN_ORDER && k == CH_POINCARE)
-        m->ny = 0; /* the period detection needs consecutive sections */
+        wg_tracker_init(&m->trk, m->trk.dim, m->o.tol); /* it needs consecutive ones */
     return 1;
 }
 
@@ -313,15 +312,15 @@ static void on_poincare(mon *m, const wormgear_poincare_t *p)
 {
     double t = cli_mono_s();
     int dim = p->nstate > WG_NSTATE_MAX ? WG_NSTATE_MAX : p->nstate;
-    if (dim != m->ydim)
-        m->ny = 0, m->ydim = dim;
+    if (dim >= 1 && dim != m->trk.dim)
+        wg_tracker_init(&m->trk, dim, m->o.tol);
     for (int i = 0; i < p->n; i++) {
         mon_sections_push(&m->pc, t, p->xn[i], p->dxn[i], p->impacts[i], p->motion[i]);
-        if (m->ny == WG_TRACK_LEN)
-            memmove(m->ys, m->ys + dim, sizeof(double) * (size_t)(dim * (WG_TRACK_LEN - 1))), m->ny--;
-        for (int k = 0; k < dim; k++)
-            m->ys[m->ny * dim + k] = p->y[i][k];
-        m->ny++;
+        if (dim < 1)
+            continue;
+        wg_section sec = {.stats = {.impacts = p->impacts[i], .motion = p->motion[i]}};
+        memcpy(sec.y, p->y[i], sizeof(double) * (size_t)dim);
+        wg_tracker_push(&m->trk, &sec);
     }
 }
 
@@ -367,7 +366,7 @@ static void on_raw(const lcm_recv_buf_t *rb, const char *channel, void *u)
 static void clear_plots(mon *m)
 {
     m->tr.n = m->pc.n = 0;
-    m->ny = 0;
+    wg_tracker_init(&m->trk, m->trk.dim, m->o.tol);
     memset(m->contacts, 0, sizeof m->contacts);
 }
 
@@ -518,18 +517,16 @@ static void draw_motion(mon *m, mon_text *f, double now)
         mon_text_put(f, 0, " (periods none/single/double %ld/%ld/%ld)", mot[0], mot[1], mot[2]);
     mon_text_nl(f);
     double resid = 0;
-    int per = m->ny >= 16 ? wg_period_detect(m->ys, m->ny, m->ydim, WG_PERIOD_MAX,
-                                             m->o.tol, &resid)
-                          : -1;
+    int per = m->trk.n >= 16 ? wg_tracker_period(&m->trk, &resid) : -1;
     mon_text_put(f, 0, "regime  daemon: %s  local: ", m->st.regime);
     if (per > 0)
         mon_text_put(f, 32, "period-%d", per);
     else if (per == 0)
         mon_text_put(f, 35, "aperiodic (no period <= %d)", WG_PERIOD_MAX);
     else
-        mon_text_put(f, 0, "(collecting %d/16 sections)", m->ny);
+        mon_text_put(f, 0, "(collecting %d/16 sections)", m->trk.n);
     if (per >= 0)
-        mon_text_put(f, 0, " over %d sections, resid %.2g, tol %.2g", m->ny, resid, m->o.tol);
+        mon_text_put(f, 0, " over %d sections, resid %.2g, tol %.2g", m->trk.n, resid, m->o.tol);
     mon_text_nl(f);
 }
 
@@ -667,7 +664,7 @@ static int run(mon *m)
             pump(m, fmin(end, cli_mono_s() + 0.05));
         /* a little data for the plots, PARAMS and the local period detection */
         for (end = cli_mono_s() + 1.5; m->have_status && !g_quit && cli_mono_s() < end &&
-                                  (m->ny < 24 || !m->have_params || m->tr.n < 1000);)
+                                  (m->trk.n < 24 || !m->have_params || m->tr.n < 1000);)
             pump(m, fmin(end, cli_mono_s() + 0.05));
         next = cli_mono_s();
     }

@@ -106,23 +106,10 @@ int wg_tracker_period(const wg_tracker *t, double *resid)
             *resid = INFINITY;
         return 0;
     }
-    /* rows of pts are WG_NSTATE_MAX apart: compare the first dim values */
-    double best = INFINITY;
-    for (int n = 1; n <= WG_PERIOD_MAX && t->n - n >= n && t->n - n >= 8; n++) {
-        double r = 0.0;
-        for (int i = t->n - 1; i >= n && r <= t->tol; i--)
-            r = fmax(r, dist_inf(t->pts[tracker_row(t, i)], t->pts[tracker_row(t, i - n)],
-                                 t->dim));
-        if (r <= t->tol) {
-            if (resid)
-                *resid = r;
-            return n;
-        }
-        best = fmin(best, r);
-    }
-    if (resid)
-        *resid = best;
-    return 0;
+    double flat[WG_TRACK_LEN * WG_NSTATE_MAX]; /* the ring in order, rows dim apart */
+    for (int i = 0; i < t->n; i++)
+        memcpy(flat + (size_t)i * t->dim, t->pts[tracker_row(t, i)], sizeof(double) * (size_t)t->dim);
+    return wg_period_detect(flat, t->n, t->dim, WG_PERIOD_MAX, t->tol, resid);
 }
 
 /* ---- wg_sim as a Poincare map -------------------------------------------- */

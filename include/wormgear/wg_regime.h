@@ -67,7 +67,8 @@ void wg_tracker_init(wg_tracker *t, int dim, double tol);
 /* Add one Poincare section (the oldest drops out when full). */
 void wg_tracker_push(wg_tracker *t, const wg_section *sec);
 
-/* Period of the stored sections (0: none found or fewer than 16 stored). */
+/* Period of the stored sections, oldest first, by wg_period_detect (0: none
+ * found, or fewer than 16 stored; then *resid is INFINITY). */
 int wg_tracker_period(const wg_tracker *t, double *resid);
 
 /* Adapter: wg_map over sm (fn = wg_simmap_step, dim = sim's nstate). */
