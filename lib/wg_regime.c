@@ -107,8 +107,9 @@ int wg_tracker_period(const wg_tracker *t, double *resid)
         return 0;
     }
     double flat[WG_TRACK_LEN * WG_NSTATE_MAX]; /* the ring in order, rows dim apart */
+    const size_t row = sizeof(double) * (size_t)t->dim;
     for (int i = 0; i < t->n; i++)
-        memcpy(flat + (size_t)i * t->dim, t->pts[tracker_row(t, i)], sizeof(double) * (size_t)t->dim);
+        memcpy(flat + (size_t)i * t->dim, t->pts[tracker_row(t, i)], row);
     return wg_period_detect(flat, t->n, t->dim, WG_PERIOD_MAX, t->tol, resid);
 }
 
