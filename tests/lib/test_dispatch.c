@@ -6,44 +6,9 @@
  * runs with impacts and located events. The kernels are written to give the
  * same bits on every path (kern_tmpl.h); the test prints whether they did,
  * and fails only past the truncation-error bound. */
-#include "test.h"
-#include "internal.h"
-#include "wormgear/wg_sim.h"
-#include "wormgear/wg_status.h"
+#include "kern_fix.h"
 
 #include <stdlib.h>
-
-/* A state with every contact engaged somewhere interesting (test_model). */
-static void some_state(double *y)
-{
-    static const double v[14] = {1.3, -0.2, -1.7, 0.4, 1.05, -2.2, 1.9,
-                                 0.11, -0.3, 0.25, -0.07, 0.5, -0.41, 0.33};
-    memcpy(y, v, sizeof v);
-}
-
-static double maxdiff(const double *a, const double *b, int n)
-{
-    double d = 0;
-    for (int i = 0; i < n; i++)
-        d = fmax(d, fabs(a[i] - b[i]));
-    return d;
-}
-
-/* Parameters on which the flags f are exactly the kernel wg_sim selects. */
-static void params_for(unsigned f, wg_params *p)
-{
-    wg_params_default(p);
-    if (!(f & KF_EM))
-        p->v[WG_P_E_M] = 0;
-    if (!(f & KF_KA))
-        p->v[WG_P_K_A] = 0;
-    if (!(f & KF_MB))
-        p->v[WG_P_B] = 0;
-    if (!(f & KF_BJ))
-        p->v[WG_P_B_J] = 0;
-    if (!(f & KF_BEAR))
-        p->v[WG_P_MU1] = p->v[WG_P_MU2] = 0;
-}
 
 /* One step of length h with the sse2 kernel, and its local truncation error
  * estimated by two half steps (Richardson: |y_h - y_h/2| 16/15). */
@@ -71,20 +36,12 @@ static void test_kernels_agree_across_isas(void)
     int nsame = 0, ncmp = 0;
     double worst = 0;
     for (unsigned f = 0; f < KF_NKERNEL; f++) {
-        if (!(f & KF_BEAR) && (f & KF_BJ))
-            continue; /* b_j does not matter on the torsional path */
+        if (kfix_skip(f))
+            continue;
         wg_params p;
-        params_for(f, &p);
-        wg_sim_config cfg = {WG_MODEL_CONSISTENT, (f & KF_LOCK) ? 1 : 0, 128};
         wg_sim s;
-        char why[300];
-        ASSERT_EQ_INT(wg_sim_init(&s, &p, &cfg, why, sizeof why), WG_OK);
-        ASSERT_EQ_INT(s.core->kflags, f);
-        double y0[16] = {0}, yb[16] = {0}, y1[16] = {0};
-        some_state(y0);
-        if (!(f & KF_BEAR))
-            for (int i = 0; i < 6; i++)
-                y0[i] = y0[7 + i] = 0;
+        double y0[16], yb[16], y1[16] = {0};
+        kfix_setup(f, &p, &s, y0);
         memcpy(yb, y0, sizeof yb);
         wg_exc e[3];
         double h = 0.02;

@@ -1,10 +1,7 @@
 /* Model equations: dead zone, hand-computed RHS terms, every specialised
  * kernel against the reference RHS, symmetric stiffness (consistent) vs the
  * printed form's asymmetry and drift, equilibrium, RK4 stability limit. */
-#include "test.h"
-#include "internal.h"
-#include "wormgear/wg_sim.h"
-#include "wormgear/wg_status.h"
+#include "kern_fix.h"
 
 #include <time.h>
 
@@ -16,14 +13,6 @@ static void test_deadzone(void)
     ASSERT_NEAR(wg_deadzone(-1.0, 1.0), 0.0, 0);
     ASSERT_NEAR(wg_deadzone(2.0, 0.0), 2.0, 0);
     ASSERT_NEAR(wg_deadzone(-2.0, 0.0), -2.0, 0);
-}
-
-/* A generic state with every contact engaged somewhere interesting. */
-static void some_state(double *y)
-{
-    static const double v[14] = {1.3, -0.2, -1.7, 0.4, 1.05, -2.2, 1.9,
-                                 0.11, -0.3, 0.25, -0.07, 0.5, -0.41, 0.33};
-    memcpy(y, v, sizeof v);
 }
 
 static void test_rhs_hand_computed(void)
@@ -95,30 +84,12 @@ static void ref_step(int model, const wg_params *p, const wg_exc *e, const doubl
 static void test_kernels_match_reference(void)
 {
     for (unsigned f = 0; f < 64; f++) {
+        if (kfix_skip(f))
+            continue;
         wg_params p;
-        wg_params_default(&p);
-        if (!(f & KF_EM))
-            p.v[WG_P_E_M] = 0;
-        if (!(f & KF_KA))
-            p.v[WG_P_K_A] = 0;
-        if (!(f & KF_MB))
-            p.v[WG_P_B] = 0;
-        if (!(f & KF_BJ))
-            p.v[WG_P_B_J] = 0;
-        if (!(f & KF_BEAR))
-            p.v[WG_P_MU1] = p.v[WG_P_MU2] = 0;
-        if (!(f & KF_BEAR) && (f & KF_BJ))
-            continue; /* b_j does not matter on the torsional path */
-        wg_sim_config cfg = {WG_MODEL_CONSISTENT, (f & KF_LOCK) ? 1 : 0, 128};
         wg_sim s;
-        char why[300];
-        ASSERT_EQ_INT(wg_sim_init(&s, &p, &cfg, why, sizeof why), WG_OK);
-        ASSERT_EQ_INT(s.core->kflags, f);
-        double y0[16] = {0}, y1[16] = {0}, yr[16];
-        some_state(y0);
-        if (!(f & KF_BEAR))
-            for (int i = 0; i < 6; i++)
-                y0[i] = y0[7 + i] = 0;
+        double y0[16], y1[16], yr[16];
+        kfix_setup(f, &p, &s, y0);
         memcpy(y1, y0, sizeof y1);
         wg_exc e[3];
         double h = 0.01;
@@ -141,9 +112,7 @@ static void test_kernels_match_reference(void)
         }
         s.core->kernel(y0, y1, &s.core->kc, e, h);
         ref_step(WG_MODEL_CONSISTENT, &p, e, y0, yr, h, 14);
-        double err = 0;
-        for (int i = 0; i < 14; i++)
-            err = fmax(err, fabs(y1[i] - yr[i]));
+        double err = maxdiff(y1, yr, 14);
         if (err > 1e-13)
             fprintf(stderr, "kernel flags %u: max diff %.3g\n", f, err);
         ASSERT_TRUE(err <= 1e-13);
