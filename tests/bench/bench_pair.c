@@ -1,0 +1,118 @@
+/* bench_pair - is the table3 step bound by its dependency chain or by the
+ * machine's throughput? The full kernel (full+bj+b+ka+em, kern_tmpl.h, one
+ * instruction set per build of this file: KW = 2 sse2, 4 avx2, 8 avx512)
+ * runs in a loop that keeps the state in registers, first one trajectory,
+ * then two independent ones interleaved in the same loop body. If the step
+ * were latency-bound, two would cost about what one costs (ratio near 2);
+ * if throughput-bound, twice as much (ratio near 1). No bookkeeping (that
+ * is wg_krun's: compare bench_step), the excitation from a 64-entry table.
+ * Thread CPU time, medians of REPS repetitions interleaved.
+ * usage: bench_pair_{sse2,avx2,avx512} [steps per repetition (2e6)] [reps (7)] */
+#ifndef KW
+#define KW 2
+#endif
+#define KSUF bench
+#include "kern_tmpl.h"
+
+#include "bench_common.h"
+#include "wormgear/wg_sim.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define FULL 0, 1, 1, 1, 1 /* LOCK, BJ, MB, KA, EM */
+
+__attribute__((noinline)) static void one(const wg_kcoef *K, const wg_exc *e, double h,
+                                          double *y, long n)
+{
+    vconst C;
+    vconst_load(&C, K);
+    kst a = kst_load(y);
+    for (long i = 0; i < n; i++)
+        a = rk4_full_st(&C, K, e + 3 * (i & 63), h, a, FULL);
+    kst_store(y, a);
+}
+
+__attribute__((noinline)) static void two(const wg_kcoef *K, const wg_exc *e, double h,
+                                          double *y, double *y2, long n)
+{
+    vconst C;
+    vconst_load(&C, K);
+    kst a = kst_load(y), b = kst_load(y2);
+    for (long i = 0; i < n; i++) {
+        kst a1 = rk4_full_st(&C, K, e + 3 * (i & 63), h, a, FULL);
+        kst b1 = rk4_full_st(&C, K, e + 3 * ((i + 32) & 63), h, b, FULL);
+        a = a1;
+        b = b1;
+    }
+    kst_store(y, a);
+    kst_store(y2, b);
+}
+
+int main(int argc, char **argv)
+{
+    long n = argc > 1 ? (long)atof(argv[1]) : 2000000;
+    int reps = argc > 2 ? atoi(argv[2]) : 7;
+    if (n < 1000 || reps < 1 || reps > 64) {
+        fprintf(stderr, "usage: bench_pair [steps >= 1000] [reps 1..64]\n");
+        return 2;
+    }
+#if KW == 4
+    if (!__builtin_cpu_supports("avx2")) {
+        printf("bench_pair: this CPU has no AVX2\n");
+        return 0;
+    }
+#elif KW == 8
+    if (!__builtin_cpu_supports("avx512f")) {
+        printf("bench_pair: this CPU has no AVX-512F\n");
+        return 0;
+    }
+#endif
+    wg_params p;
+    wg_params_default(&p);
+    p.v[WG_P_OMEGA] = 0.5; /* table3's non-impacting point */
+    wg_sim s;
+    char why[300];
+    wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4, 128};
+    if (wg_sim_init(&s, &p, &cfg, why, sizeof why)) {
+        fprintf(stderr, "bench_pair: %s\n", why);
+        return 1;
+    }
+    if (s.core->kflags != (KF_BEAR | KF_BJ | KF_MB | KF_KA | KF_EM)) {
+        fprintf(stderr, "bench_pair: table3 did not select the full kernel\n");
+        return 1;
+    }
+    wg_exc e[3 * 64 + 3];
+    double h = 2.0 * 3.14159265358979 / (128 * 0.5);
+    for (int i = 0; i < 3 * 64 + 3; i++)
+        wg_exc_eval(&p, 0.5 * h * i, 0.5, &e[i]);
+    double y[16] = {0}, y2[16];
+    wg_sim_run(&s, 128 * 50, NULL, NULL); /* a state on the orbit */
+    memcpy(y, s.y, sizeof(double) * 14);
+    memcpy(y2, y, sizeof y2);
+    y2[6] += 1e-3;
+    double t1[64], t2[64], ratio[64];
+    for (int r = 0; r < reps; r++) {
+        double a = bench_now_ns();
+        one(&s.core->kc, e, h, y, 2 * n);
+        double b = bench_now_ns();
+        two(&s.core->kc, e, h, y, y2, n);
+        double c = bench_now_ns();
+        t1[r] = (b - a) / (2.0 * n);
+        t2[r] = (c - b) / (2.0 * n);
+        ratio[r] = t1[r] / t2[r];
+    }
+    if (!(y[6] == y[6]) || !(y2[6] == y2[6])) {
+        fprintf(stderr, "bench_pair: the trajectories blew up\n");
+        return 1;
+    }
+    printf("bench_pair (KW = %d): %ld steps x %d reps, thread CPU time, medians\n", KW, 2 * n,
+           reps);
+    printf("one trajectory      %.1f ns/step\n", bench_median(t1, reps));
+    printf("two interleaved     %.1f ns/step\n", bench_median(t2, reps));
+    printf("throughput gain     %.2fx (2: latency-bound, 1: throughput-bound)\n",
+           bench_median(ratio, reps));
+    wg_sim_fini(&s);
+    return 0;
+}
