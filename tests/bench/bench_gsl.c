@@ -6,8 +6,8 @@
  * orbit; the ratios are taken per repetition and the median is reported.
  * Steps are h = 2 pi/(omega N), N = 128; GSL's local time restarts every
  * mesh period, as ours does. Also: the bare kernel (no driver bookkeeping)
- * and the dependency-chain bound, calibrated by timing dependent adds in
- * the same repetition. Times are thread CPU time (bench_common.h).
+ * and the dependency-chain bound: the operations on the step's critical path
+ * (tools/chainbound.py) priced at latencies timed in the same repetition. Times are thread CPU time (bench_common.h).
  * usage: bench_gsl [our steps per rep (2e6)] [reps (9)] */
 #include "bench_common.h"
 #include "wormgear/wg_scene.h"
@@ -67,32 +67,51 @@ static void bare_steps(const wg_sim *s, double *y, uint32_t *k, long n)
     *k = kk;
 }
 
-/* Calibration of the dependency-chain bound on this machine, now: ns per
- * dependent double add (3 cycles on Zen 2/3, the VM's CPU), timed in the
- * same repetition as the kernels, so frequency and CPU sharing cancel.
- * CHAIN_* are the latency-weighted critical paths of one RK4 step of the
- * kernels in lib/wg_kernel.c, in cycles (docs/performance.md
- * counts them: add/sub/mul 3, min/max/xor/shuffle 1). */
-enum { CHAIN_FULL = 118, CHAIN_TORS = 95 };
+/* The dependency-chain bound on this machine, now: the critical path of one
+ * RK4 step of the kernel, traced through its dataflow by tools/chainbound.py
+ * (so many add/sub, multiplies and other single operations -- min, max,
+ * logic, shuffles -- one after the other), each priced at its latency on
+ * this CPU, timed as a chain of dependent operations in the same repetition
+ * as the kernels, so frequency and CPU sharing cancel. The latencies differ
+ * between CPUs (Zen 2/3: add 3 cycles, mul 3, min 1; this VM's Zen 5: add 2,
+ * mul 3, min 2), so they are measured, not assumed. */
+enum { CHAIN_FULL_ADD = 24, CHAIN_FULL_MUL = 12, CHAIN_FULL_OTHER = 4 };
+enum { CHAIN_TORS_ADD = 22, CHAIN_TORS_MUL = 8, CHAIN_TORS_OTHER = 0 };
 
-static double dep_add_ns(long m)
+typedef struct oplat {
+    double add, mul, other; /* ns per dependent operation */
+} oplat;
+
+/* One dependent operation, eight times, that the compiler cannot fold. */
+#if defined(__x86_64__)
+#define DEP8(insn, x, k)                                                                  \
+    __asm__(insn " %1, %0\n\t" insn " %1, %0\n\t" insn " %1, %0\n\t" insn " %1, %0\n\t"    \
+            insn " %1, %0\n\t" insn " %1, %0\n\t" insn " %1, %0\n\t" insn " %1, %0"        \
+            : "+x"(x) : "x"(k))
+#else
+#error "bench_gsl times x86-64 instructions"
+#endif
+
+static oplat dep_ns(long m)
 {
     volatile double seed = 1.0;
-    double x = seed, c = seed * 1e-300;
+    double x = seed, c = seed * 1e-300, y = seed, k = seed * (1.0 + 1e-15), z = seed;
+    oplat r;
     double t0 = bench_now_ns();
-    for (long i = 0; i < m / 8; i++) {
-        x += c;
-        x += c;
-        x += c;
-        x += c;
-        x += c;
-        x += c;
-        x += c;
-        x += c;
-    }
-    double t = (bench_now_ns() - t0) / (double)(m / 8 * 8);
-    seed = x;
-    return t;
+    for (long i = 0; i < m / 8; i++)
+        DEP8("addsd", x, c);
+    double t1 = bench_now_ns();
+    for (long i = 0; i < m / 8; i++)
+        DEP8("mulsd", y, k);
+    double t2 = bench_now_ns();
+    for (long i = 0; i < m / 8; i++)
+        DEP8("minsd", z, k);
+    double t3 = bench_now_ns(), ops = (double)(m / 8 * 8);
+    seed = x + y + z;
+    r.add = (t1 - t0) / ops;
+    r.mul = (t2 - t1) / ops;
+    r.other = (t3 - t2) / ops;
+    return r;
 }
 
 typedef struct row {
@@ -118,8 +137,9 @@ int main(int argc, char **argv)
            N, n, ng, reps, kernel_isa_name(kernel_isa_choose()));
     printf("| scene | omega | kernel (rk4) | bare kernel ns/step | rk4 ns/step | rk4-event ns/step "
            "| GSL rk4 ns/step (RHS calls) | hand RK4 ns/step | GSL / rk4 | GSL / rk4-event "
-           "| hand / rk4 | rk4 / bare | chain bound ns | bare / bound | rk4 / bound |\n"
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+           "| hand / rk4 | rk4 / bare | chain bound ns (add+mul+other on the path; their ns) "
+           "| bare / bound | rk4 / bound | rk4-event / bound |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     char why[600], kname[64];
     for (unsigned r = 0; r < sizeof rows / sizeof rows[0]; r++) {
         wg_scene sc;
@@ -151,9 +171,13 @@ int main(int argc, char **argv)
         double yk[WG_NSTATE_MAX];
         uint32_t kk = 0;
         memcpy(yk, s[0].y, sizeof yk);
+        double la[MAXREP], lm[MAXREP], lo[MAXREP];
         double t[5][MAXREP], rg[MAXREP], rge[MAXREP], rh[MAXREP], rb[MAXREP];
-        double bound[MAXREP], bb[MAXREP], br[MAXREP];
-        int chain = s[0].core->kflags & KF_BEAR ? CHAIN_FULL : CHAIN_TORS;
+        double bound[MAXREP], bb[MAXREP], br[MAXREP], bre[MAXREP];
+        const int full = (s[0].core->kflags & KF_BEAR) != 0;
+        const int na = full ? CHAIN_FULL_ADD : CHAIN_TORS_ADD;
+        const int nm = full ? CHAIN_FULL_MUL : CHAIN_TORS_MUL;
+        const int no = full ? CHAIN_FULL_OTHER : CHAIN_TORS_OTHER;
         uint64_t calls0 = g.o.nrhs;
         for (int i = 0; i < reps; i++) {
             for (int st = 0; st < 2; st++) {
@@ -174,9 +198,12 @@ int main(int argc, char **argv)
             bare_steps(&s[0], yk, &kk, n);
             t[4][i] = (bench_now_ns() - t0) / (double)n;
             rb[i] = t[0][i] / t[4][i];
-            bound[i] = chain / 3.0 * dep_add_ns(20000000);
+            oplat L = dep_ns(20000000);
+            la[i] = L.add, lm[i] = L.mul, lo[i] = L.other;
+            bound[i] = na * L.add + nm * L.mul + no * L.other;
             bb[i] = t[4][i] / bound[i];
             br[i] = t[0][i] / bound[i];
+            bre[i] = t[1][i] / bound[i];
             rg[i] = t[2][i] / t[0][i];
             rge[i] = t[2][i] / t[1][i];
             rh[i] = t[3][i] / t[0][i];
@@ -185,12 +212,13 @@ int main(int argc, char **argv)
         if (!isfinite(g.y[0]) || !isfinite(yh[0]) || !isfinite(yk[0]))
             fprintf(stderr, "bench_gsl: GSL or hand RK4 went non-finite on %s\n", rows[r].label);
         printf("| %s | %.2f | %s | %.1f | %.1f | %.1f | %.0f (%.0f) | %.0f | **%.2fx** | %.2fx | "
-               "%.2fx | %.2fx | %.1f (%d cyc) | %.2fx | **%.2fx** |\n",
+               "%.2fx | %.2fx | %.1f (%d+%d+%d; %.2f/%.2f/%.2f) | %.2fx | **%.2fx** | **%.2fx** |\n",
                rows[r].label, rows[r].omega, kname, bench_median(t[4], reps), bench_median(t[0], reps),
                bench_median(t[1], reps), bench_median(t[2], reps), calls,
                bench_median(t[3], reps), bench_median(rg, reps), bench_median(rge, reps),
-               bench_median(rh, reps), bench_median(rb, reps), bench_median(bound, reps), chain,
-               bench_median(bb, reps), bench_median(br, reps));
+               bench_median(rh, reps), bench_median(rb, reps), bench_median(bound, reps), na, nm,
+               no, bench_median(la, reps), bench_median(lm, reps), bench_median(lo, reps),
+               bench_median(bb, reps), bench_median(br, reps), bench_median(bre, reps));
         fflush(stdout);
         gsl_odeiv2_step_free(g.st);
         wg_sim_fini(&s[0]);
