@@ -52,8 +52,9 @@ typedef struct ct_trace {
  * Kahan time, the period's min/max x_n, k + 1. The run stops before a step
  * that completes a period (k = N - 1), changes a contact's zone (contact j
  * stays when lo[j] <= x <= hi[j]), turns x_n' round (the extremum needs
- * the Hermite refinement), or whose state sum |y| is not below `fin`;
- * the caller takes that step. */
+ * the Hermite refinement), or that might bring the state near `fin` (every
+ * |y_i| must stay below fin / 16, so their sum stays below fin); the caller
+ * takes that step. */
 typedef struct wg_krun {
     double y[WG_NSTATE_MAX];     /* in/out: state */
     double xn, dxn;              /* in/out: mesh contact of y */
