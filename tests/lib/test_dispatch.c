@@ -165,6 +165,59 @@ static void test_runs_agree_across_paths(void)
     wg_sim_fini(&s2);
 }
 
+/* Near the blow-up bound the run of plain steps refuses every step (some
+ * |y_i| >= fin / 16) and the general step takes it: a run from a state of
+ * order 1e8 (its sum still below ABSURD) gives the same bits with and
+ * without the run of plain steps, and reaches the refused range; from 6e8
+ * both declare the blow-up at the same step (a run of plain steps that
+ * accepted a step the general step's sum test refuses would go further). */
+static void test_large_state_handover(void)
+{
+    wg_params p;
+    wg_params_default(&p);
+    p.v[WG_P_OMEGA] = 0.7;
+    wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, 128};
+    double y0[WG_NSTATE_MAX] = {0}, yend[2][WG_NSTATE_MAX], peak = 0;
+    y0[6] = 2e8;
+    for (int general = 0; general < 2; general++) {
+        wg_sim s;
+        char why[300];
+        ASSERT_EQ_INT(wg_sim_init(&s, &p, &cfg, why, sizeof why), WG_OK);
+        wg_sim_set_state(&s, y0, 0, 0.0);
+        runrec r;
+        memset(&r, 0, sizeof r);
+        wg_sink sink = {&r, general ? on_step : NULL, on_sec, on_ev};
+        for (int per = 0; per < 8; per++) {
+            ASSERT_EQ_INT(wg_sim_run(&s, 128, &sink, NULL), WG_OK);
+            for (int j = 0; j < 14; j++)
+                peak = fmax(peak, fabs(s.y[j]));
+        }
+        memcpy(yend[general], s.y, sizeof yend[general]);
+        wg_sim_fini(&s);
+    }
+    /* past the bound: both paths declare the blow-up at the same step */
+    uint64_t done[2] = {0, 0};
+    y0[6] = 6e8;
+    for (int general = 0; general < 2; general++) {
+        wg_sim s;
+        char why[300];
+        ASSERT_EQ_INT(wg_sim_init(&s, &p, &cfg, why, sizeof why), WG_OK);
+        wg_sim_set_state(&s, y0, 0, 0.0);
+        runrec r;
+        memset(&r, 0, sizeof r);
+        wg_sink sink = {&r, general ? on_step : NULL, on_sec, on_ev};
+        ASSERT_EQ_INT(wg_sim_run(&s, 128 * 8, &sink, &done[general]), WG_ENONFINITE);
+        wg_sim_fini(&s);
+    }
+    ASSERT_TRUE(done[0] == done[1] && done[0] > 0);
+    printf("large state: peak |y_i| %.3g (refused above %.3g), fast and general runs %s; "
+           "from 6e8 both stop at step %llu\n", peak, ABSURD * (1 - 1e-9) / 16,
+           memcmp(yend[0], yend[1], sizeof yend[0]) ? "differ" : "equal",
+           (unsigned long long)done[0]);
+    ASSERT_TRUE(peak >= ABSURD * (1 - 1e-9) / 16);
+    ASSERT_EQ_INT(memcmp(yend[0], yend[1], sizeof yend[0]), 0);
+}
+
 /* WG_ISA picks a supported set by name and falls back to the widest for an
  * unknown or unsupported one. */
 static void test_isa_choice(void)
@@ -183,4 +236,4 @@ static void test_isa_choice(void)
 }
 
 TEST_MAIN(TEST(test_kernels_agree_across_isas), TEST(test_runs_agree_across_paths),
-          TEST(test_isa_choice))
+          TEST(test_large_state_handover), TEST(test_isa_choice))
