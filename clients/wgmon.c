@@ -366,6 +366,7 @@ static void on_raw(const lcm_recv_buf_t *rb, const char *channel, void *u)
 static void clear_plots(mon *m)
 {
     m->tr.n = m->pc.n = 0;
+    m->have_theta = 0;
     wg_tracker_init(&m->trk, m->trk.dim, m->o.tol);
     memset(m->contacts, 0, sizeof m->contacts);
 }
