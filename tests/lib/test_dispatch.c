@@ -171,44 +171,50 @@ static void test_runs_agree_across_paths(void)
  * without the run of plain steps, and reaches the refused range; from 6e8
  * both declare the blow-up at the same step (a run of plain steps that
  * accepted a step the general step's sum test refuses would go further). */
-static void test_large_state_handover(void)
+/* table3 at omega 0.7 from s = s0 (everything else at rest), up to 8 periods
+ * one at a time, the run of plain steps on or (general) forced off: the
+ * status of the first run that fails (or WG_OK), steps done, the largest
+ * |y_i| after each period, the final state. */
+static int run_large(double s0, int general, uint64_t *done, double *peak, double *yend)
 {
     wg_params p;
     wg_params_default(&p);
     p.v[WG_P_OMEGA] = 0.7;
     wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, 128};
-    double y0[WG_NSTATE_MAX] = {0}, yend[2][WG_NSTATE_MAX], peak = 0;
-    y0[6] = 2e8;
+    double y0[WG_NSTATE_MAX] = {0};
+    y0[6] = s0;
+    wg_sim s;
+    char why[300];
+    ASSERT_EQ_INT(wg_sim_init(&s, &p, &cfg, why, sizeof why), WG_OK);
+    wg_sim_set_state(&s, y0, 0, 0.0);
+    runrec r;
+    memset(&r, 0, sizeof r);
+    wg_sink sink = {&r, general ? on_step : NULL, on_sec, on_ev};
+    int rc = WG_OK;
+    *done = 0;
+    for (int per = 0; per < 8 && rc == WG_OK; per++) {
+        uint64_t d = 0;
+        rc = wg_sim_run(&s, 128, &sink, &d);
+        *done += d;
+        for (int j = 0; j < 14; j++)
+            *peak = fmax(*peak, fabs(s.y[j]));
+    }
+    memcpy(yend, s.y, sizeof(double) * WG_NSTATE_MAX);
+    wg_sim_fini(&s);
+    return rc;
+}
+
+static void test_large_state_handover(void)
+{
+    double yend[2][WG_NSTATE_MAX], ylast[WG_NSTATE_MAX], peak = 0, blown = 0;
+    uint64_t done[2];
     for (int general = 0; general < 2; general++) {
-        wg_sim s;
-        char why[300];
-        ASSERT_EQ_INT(wg_sim_init(&s, &p, &cfg, why, sizeof why), WG_OK);
-        wg_sim_set_state(&s, y0, 0, 0.0);
-        runrec r;
-        memset(&r, 0, sizeof r);
-        wg_sink sink = {&r, general ? on_step : NULL, on_sec, on_ev};
-        for (int per = 0; per < 8; per++) {
-            ASSERT_EQ_INT(wg_sim_run(&s, 128, &sink, NULL), WG_OK);
-            for (int j = 0; j < 14; j++)
-                peak = fmax(peak, fabs(s.y[j]));
-        }
-        memcpy(yend[general], s.y, sizeof yend[general]);
-        wg_sim_fini(&s);
+        ASSERT_EQ_INT(run_large(2e8, general, &done[general], &peak, yend[general]), WG_OK);
+        ASSERT_TRUE(done[general] == 8 * 128);
     }
     /* past the bound: both paths declare the blow-up at the same step */
-    uint64_t done[2] = {0, 0};
-    y0[6] = 6e8;
-    for (int general = 0; general < 2; general++) {
-        wg_sim s;
-        char why[300];
-        ASSERT_EQ_INT(wg_sim_init(&s, &p, &cfg, why, sizeof why), WG_OK);
-        wg_sim_set_state(&s, y0, 0, 0.0);
-        runrec r;
-        memset(&r, 0, sizeof r);
-        wg_sink sink = {&r, general ? on_step : NULL, on_sec, on_ev};
-        ASSERT_EQ_INT(wg_sim_run(&s, 128 * 8, &sink, &done[general]), WG_ENONFINITE);
-        wg_sim_fini(&s);
-    }
+    for (int general = 0; general < 2; general++)
+        ASSERT_EQ_INT(run_large(6e8, general, &done[general], &blown, ylast), WG_ENONFINITE);
     ASSERT_TRUE(done[0] == done[1] && done[0] > 0);
     printf("large state: peak |y_i| %.3g (refused above %.3g), fast and general runs %s; "
            "from 6e8 both stop at step %llu\n", peak, ABSURD * (1 - 1e-9) / 16,
