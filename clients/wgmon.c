@@ -301,10 +301,11 @@ static void on_state(mon *m, const wormgear_state_t *s)
     m->tr.decimation = s->decimation;
     for (int i = 0; i < s->n; i++)
         mon_trace_push(&m->tr, s->step0 + (int64_t)i * s->decimation, s->xn[i], t);
-    if (s->n > 0) {
-        m->theta1 = s->theta1[s->n - 1];
-        m->theta2 = s->theta2[s->n - 1];
-        m->have_theta = 1;
+    if (s->n > 0) { /* the latest sample's angles, if they are angles: [0, 2 pi) */
+        double a = s->theta1[s->n - 1], b = s->theta2[s->n - 1];
+        m->have_theta = a >= 0 && a < 2 * M_PI && b >= 0 && b < 2 * M_PI;
+        m->theta1 = a;
+        m->theta2 = b;
     }
 }
 

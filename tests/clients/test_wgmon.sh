@@ -1,18 +1,21 @@
 #!/bin/sh
-# test_wgmon.sh WORMGEARD WGMON WGCTL LCM_LOGGER LCM_LOGPLAYER - the live
+# test_wgmon.sh WORMGEARD WGMON WGCTL LCM_LOGGER LCM_LOGPLAYER WGSPOOF - the live
 # monitor headless (--once, --frames) and interactive under tmux (draws,
 # resizes, quits on q): usage errors, no daemon, a regime change after
 # `wgctl set`, the period-2 orbit at physical real time at 80, 150 and 200
 # columns (two points in the scatter, both axes labelled, a stroboscopic
 # trace with its time axis) and scrolling at rate 0.01, a daemon restart, a
-# log replayed into the live bus and alone. Run through netns.sh.
-D=$1 M=$2 C=$3 LOGGER=$4 PLAYER=$5
+# log replayed into the live bus and alone, a hostile sender (angles that are
+# not angles, sections with no or too wide a state). Run through netns.sh.
+D=$1 M=$2 C=$3 LOGGER=$4 PLAYER=$5 SPOOF=$6
 code=0
 tmp=$(mktemp -d) || exit 1
 pid=
 sock=wgmon-test-$$
+spid=
 cleanup() {
     [ -n "$pid" ] && kill -KILL "$pid" 2>/dev/null
+    [ -n "$spid" ] && kill -KILL "$spid" 2>/dev/null
     command -v tmux >/dev/null && tmux -L "$sock" kill-server 2>/dev/null
     rm -rf "$tmp"
 }
@@ -134,6 +137,21 @@ expect 0 "$M" --url "udpm://239.255.76.67:$((20001 + $$ % 20000))?ttl=0" --once 
 kill $ppid 2>/dev/null; wait $ppid 2>/dev/null
 has out "daemon  table3 .* REPLAY"
 has out "source  REPLAY: sent [0-9.]* s ago (a log played back"
+
+# ---- a hostile sender: angles that are not angles (NaN, +-inf, 1e308, < 0,
+# >= 2 pi) and sections with no state or too wide a one. The monitor draws
+# frames, and never shows an angle outside [0, 360) degrees.
+"$SPOOF" "$WORMGEAR_URL" MONS_ 6 >"$tmp/spoof.out" 2>&1 &
+spid=$!
+expect 0 "$M" --prefix MONS_ --frames 6 --fps 4 --size 100x30
+kill "$spid" 2>/dev/null; wait "$spid" 2>/dev/null; spid=
+[ "$(grep -c '^wormgear monitor' "$tmp/out")" -eq 6 ] || fail "hostile sender: not 6 frames"
+has out "daemon  spoof  realtime"
+grep '^time' "$tmp/out" | grep -qi 'nan\|inf' && fail "hostile sender: NaN/inf shown: $(grep '^time' "$tmp/out")"
+sed -n 's|^time .* theta1/2 \([0-9.-]*\)/\([0-9.-]*\) deg.*|\1 \2|p' "$tmp/out" >"$tmp/th"
+awk '$1 < 0 || $1 >= 360 || $2 < 0 || $2 >= 360 { bad = 1 } END { exit bad }' "$tmp/th" ||
+    fail "hostile sender: an angle outside [0, 360) shown: $(cat "$tmp/th")"
+[ -s "$tmp/th" ] || fail "hostile sender: its valid angles (1.5, 3.0 rad) never shown"
 
 # ---- interactive, in a tmux pane: draws, follows a resize, quits on q
 if command -v tmux >/dev/null; then

@@ -1,0 +1,131 @@
+/* wgspoof - test helper: a hostile sender on the bus a monitor listens to.
+ * For SECONDS it publishes, every 20 ms, on PREFIX{STATUS,STATE,POINCARE}:
+ * a plausible STATUS, STATE samples whose angles are not angles (NaN, +-inf,
+ * 1e308, -7, beyond 2 pi; the last sample of every other message a valid
+ * 1.5 rad and 3.0 rad), and POINCARE sections with no state (nstate 0) or
+ * a wider state than any model has (nstate 40). Clients must draw on without
+ * crashing and show no angle outside [0, 360) degrees.
+ * usage: wgspoof URL PREFIX SECONDS */
+#include "lcmtypes/wormgear_poincare_t.h"
+#include "lcmtypes/wormgear_state_t.h"
+#include "lcmtypes/wormgear_status_t.h"
+
+#include <lcm/lcm.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static double now_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_REALTIME, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static void channel(char *out, size_t n, const char *prefix, const char *suffix)
+{
+    snprintf(out, n, "%s%s", prefix, suffix);
+}
+
+static int publish_status(lcm_t *l, const char *ch, int64_t seq)
+{
+    double zero6[6] = {0};
+    wormgear_status_t s = {0};
+    s.utime = (int64_t)(now_s() * 1e6);
+    s.seq = seq;
+    s.scene = "spoof";
+    s.mode = "realtime";
+    s.rate = 1.0;
+    s.run = "running";
+    s.health = "ok";
+    s.fault = "";
+    s.steps_per_period = 128;
+    s.rtf = 1.0;
+    s.motion = "no_impact";
+    s.nbearing = 6;
+    s.bearing_impacts_per_period = zero6;
+    s.bearing_impact_vmax = zero6;
+    s.regime = "unknown";
+    s.uptime_s = 1.0;
+    return wormgear_status_t_publish(l, ch, &s);
+}
+
+static int publish_state(lcm_t *l, const char *ch, int64_t seq)
+{
+    enum { N = 8 };
+    static const double bad1[N] = {NAN, INFINITY, -INFINITY, 1e308, -7.0, 7.0, -1e-300, 1.5};
+    static const double bad2[N] = {-INFINITY, NAN, 6.2831853071795865, -1e308, 1e3, -0.0, 99.0,
+                                   3.0};
+    double z[N] = {0}, t1[N], t2[N];
+    memcpy(t1, bad1, sizeof t1);
+    memcpy(t2, bad2, sizeof t2);
+    if (seq % 2) { /* every other message ends on a bad sample too */
+        t1[N - 1] = NAN;
+        t2[N - 1] = 1e308;
+    }
+    wormgear_state_t s = {0};
+    s.utime = (int64_t)(now_s() * 1e6);
+    s.seq = seq;
+    s.step0 = seq * N;
+    s.decimation = 1;
+    s.n = N;
+    s.tau = s.t_s = s.omega = s.xn = s.dxn = s.force = z;
+    s.fb_x1 = s.fb_y1 = s.fb_z1 = s.fb_x2 = s.fb_y2 = s.fb_z2 = z;
+    s.theta1 = t1;
+    s.theta2 = t2;
+    return wormgear_state_t_publish(l, ch, &s);
+}
+
+static int publish_poincare(lcm_t *l, const char *ch, int64_t seq)
+{
+    enum { N = 2, WIDE = 40 };
+    int64_t period[N] = {seq, seq + 1};
+    double z[N] = {0}, row[WIDE] = {0}, *rows[N] = {row, row}, brow[6] = {0};
+    double *brows[N] = {brow, brow};
+    int32_t irow[6] = {0}, *irows[N] = {irow, irow}, imp[N] = {0};
+    int8_t mot[N] = {0};
+    wormgear_poincare_t p = {0};
+    p.utime = (int64_t)(now_s() * 1e6);
+    p.seq = seq;
+    p.nstate = seq % 2 ? WIDE : 0;
+    p.n = N;
+    p.period = period;
+    p.tau = p.t_s = p.omega = p.xn = p.dxn = p.force = p.min_xn = p.max_xn = z;
+    p.motion = mot;
+    p.impacts = imp;
+    p.y = rows;
+    p.nbearing = 6;
+    p.bearing_impacts = irows;
+    p.bearing_vmax = brows;
+    return wormgear_poincare_t_publish(l, ch, &p);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc != 4) {
+        fprintf(stderr, "usage: wgspoof URL PREFIX SECONDS\n");
+        return 2;
+    }
+    lcm_t *l = lcm_create(argv[1]);
+    if (!l) {
+        fprintf(stderr, "wgspoof: no LCM on %s\n", argv[1]);
+        return 1;
+    }
+    char cs[128], ct[128], cp[128];
+    channel(cs, sizeof cs, argv[2], "STATUS");
+    channel(ct, sizeof ct, argv[2], "STATE");
+    channel(cp, sizeof cp, argv[2], "POINCARE");
+    double end = now_s() + atof(argv[3]);
+    int rc = 0;
+    for (int64_t seq = 0; now_s() < end && rc == 0; seq++) {
+        rc |= publish_status(l, cs, seq) | publish_state(l, ct, seq) | publish_poincare(l, cp, seq);
+        struct timespec ts = {0, 20000000};
+        nanosleep(&ts, NULL);
+    }
+    lcm_destroy(l);
+    if (rc)
+        fprintf(stderr, "wgspoof: a publish failed\n");
+    return rc ? 1 : 0;
+}
