@@ -22,7 +22,7 @@ const S = {
   impacts: [], newScope: false, newestUtime: 0, myIds: new Set(), reqSeq: 0, theta: null,
 };
 const T = (window.wgTest = { scope: 0, poincare: 0, contacts: 0, acks: [], frameIntervals: [],
-  latencies: [], work: [], frames: 0, status: null, params: null, errors: [] });
+  latencies: [], work: [], frames: 0, status: null, params: null, errors: [], badAngles: 0 });
 
 // ---- incoming messages
 function pushScope(m) {
@@ -30,8 +30,13 @@ function pushScope(m) {
   s.t[i] = m.t_s; s.step[i] = m.step; s.x[i] = m.x_n; s.dx[i] = m.dx_n; s.F[i] = m.F; s.utime[i] = m.utime;
   if (s.n > 0 && m.step < s.step[(s.n - 1) % RING]) s.n = 0, S.impacts = []; // reset or restart
   s.n++; S.newScope = true; S.newestUtime = m.utime; T.scope++;
-  if (m.theta1 !== undefined) S.theta = [m.theta1, m.theta2];
+  if (m.theta1 !== undefined) { // shown only when both are angles, [0, 2π) (a NaN arrives as null)
+    const ok = isAngle(m.theta1) && isAngle(m.theta2);
+    S.theta = ok ? [m.theta1, m.theta2] : null;
+    if (!ok) T.badAngles++;
+  }
 }
+function isAngle(a) { return typeof a === "number" && a >= 0 && a < 2 * Math.PI; }
 
 function onPoincare(m) {
   T.poincare++;

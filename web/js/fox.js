@@ -40,8 +40,11 @@ export function connect(url, on) {
       case "status": on.status?.(m); break;
       case "advertise":
         for (const ch of m.channels) {
-          // A re-advertised channel keeps its id: drop our old subscription.
-          for (const [id, t] of subs) if (t === ch.topic) subs.delete(id);
+          // wgweb re-advertises its channels, same ids, when the daemon
+          // restarts, and keeps their subscriptions: ours stays valid. A
+          // topic on another id is a new channel: subscribe to that one.
+          const old = byTopic.get(ch.topic);
+          if (old && old.id !== ch.id) for (const [id, t] of subs) if (t === ch.topic) subs.delete(id);
           byTopic.set(ch.topic, ch);
         }
         on.advertise?.(m.channels);

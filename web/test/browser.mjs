@@ -3,8 +3,14 @@
 // data, checks every plot holds samples (data-samples), ramps omega with the
 // ramp control and then sets omega = 1.2 with the set control, checks the
 // daemon's PARAMS (as the page received it) show 1.2, and keeps a
-// screenshot. Prints "ok ..." lines; exit 0 on success, 1 on a failure.
+// screenshot. Then, with the daemon paused (SIGSTOP), a hostile sender
+// (WG_SPOOF: tests/clients/wgspoof) publishes on the daemon's channels for
+// 4 s: angles that are NaN, +-inf, 1e308, negative, 2 pi and beyond; the
+// status table may show only "–" or the one valid pair it sends (1.5 rad,
+// 3.0 rad = 85.94°, 171.89°). Prints "ok ..." lines; exit 0 on success, 1
+// on a failure.
 import { chromium } from "playwright-core";
+import { spawn } from "node:child_process";
 import assert from "node:assert/strict";
 
 const url = process.argv[2].replace(/^ws/, "http");
@@ -57,6 +63,8 @@ try {
   await page.waitForTimeout(+(process.env.SETTLE_MS ?? 2500));
   await page.screenshot({ path: shot, fullPage: true });
   console.log(`ok screenshot ${shot}`);
+
+  if (process.env.WG_SPOOF) await spoofed(page);
   assert.deepEqual(errors, [], "no page errors");
 } catch (e) {
   console.log("FAIL", e.message);
@@ -65,3 +73,38 @@ try {
   await browser.close();
 }
 process.exit(status);
+
+// The hostile sender's phase (see the top): every θ text shown while only
+// wgspoof publishes must be "–" or its one valid pair.
+async function spoofed(page) {
+  const env = process.env, pid = +env.WG_DAEMON_PID;
+  const thetaText = () => page.$eval("#status", (el) => {
+    const row = [...el.querySelectorAll("tr")].find((tr) => tr.cells[0].textContent.startsWith("worm θ1"));
+    return row ? row.cells[1].textContent : null;
+  });
+  process.kill(pid, "SIGSTOP");
+  const spoof = spawn(env.WG_SPOOF, [env.WORMGEAR_URL, env.WORMGEAR_PREFIX, "4"], { stdio: "inherit" });
+  const exited = new Promise((r) => spoof.on("exit", (code) => r(code)));
+  try {
+    const n0 = await page.evaluate(() => window.wgTest.scope);
+    await page.waitForFunction((n) => window.wgTest.scope > n + 20, n0, { timeout: 3000 });
+    await page.waitForTimeout(300); // the status table is redrawn every 250 ms
+    const shown = new Map();
+    for (let i = 0; i < 80; i++) {
+      const t = await thetaText();
+      shown.set(t, (shown.get(t) ?? 0) + 1);
+      await page.waitForTimeout(25);
+    }
+    const code = await exited;
+    const bad = [...shown.keys()].filter((t) => t !== "–" && t !== "85.94°, 171.89°");
+    const rejected = await page.evaluate(() => window.wgTest.badAngles);
+    console.log(`ok? spoofed: shown ${JSON.stringify([...shown])}; ${rejected} samples refused; wgspoof exit ${code}`);
+    assert.equal(code, 0, "wgspoof ran");
+    assert.ok(rejected > 0, "the page saw wgspoof's angles");
+    assert.deepEqual(bad, [], "only angles in [0, 360)° are shown");
+    console.log("ok spoofed: no angle that is not an angle was shown");
+  } finally {
+    spoof.kill("SIGKILL");
+    process.kill(pid, "SIGCONT");
+  }
+}
