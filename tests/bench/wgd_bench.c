@@ -88,13 +88,17 @@ static void on_params(const lcm_recv_buf_t *r, const char *ch, const wormgear_pa
 
 /* The value command i of the "every parameter" pass sets parameter id to:
  * its current value moved by a relative 1e-6 up, then back (a zero moves to
- * 1e-6 of its range and back), so every set is a change and in range. */
+ * 1e-6 of its range and back; a whole number, a tooth count, by one), so
+ * every set is a change and in range. */
 static double next_value(int id, int i)
 {
     const wg_param_info *r = wg_param_info_get(id);
     double v = B.cur.v[id];
     int up = i / WG_NPARAM % 2 == 0;
-    double w = v != 0.0 ? v * (up ? 1 + 1e-6 : 1 / (1 + 1e-6)) : up ? 1e-6 * r->max : 0.0;
+    double w = r->flags & WG_PF_INT ? (up ? v + 1 : v - 1)
+               : v != 0.0        ? v * (up ? 1 + 1e-6 : 1 / (1 + 1e-6))
+               : up              ? 1e-6 * r->max
+                                 : 0.0;
     return w < r->min ? r->min : w > r->max ? r->max : w;
 }
 
@@ -107,8 +111,8 @@ static double next_value(int id, int i)
 static void latency(const char *op, int every, int n)
 {
     double *lat = calloc((size_t)n * 3, sizeof *lat), *fwd = lat + n, *back = lat + 2 * n;
-    int got = 0;
-    char *name[1] = {"xi_p"};
+    int got = 0, refused = 0;
+    char *name[1] = {"xi_p"}, refused_names[256] = "";
     for (int i = 0; i < n; i++) {
         int id = every ? i % WG_NPARAM : WG_P_XI_P;
         double v = every ? next_value(id, i) : i % 2 ? 0.08 : 0.0800001;
@@ -118,7 +122,8 @@ static void latency(const char *op, int every, int n)
                             .unit = "", .name = ""};
         double t0 = cli_mono_ns() * 1e-3;
         bus_send(&B.c, &c);
-        if (bus_wait_ack(&B.c, 1000) == 0 && B.c.ack.accepted) {
+        int acked = bus_wait_ack(&B.c, 1000) == 0;
+        if (acked && B.c.ack.accepted) {
             double t1 = cli_mono_ns() * 1e-3;
             int64_t wall = cli_wall_us();
             lat[got] = t1 - t0;
@@ -126,16 +131,25 @@ static void latency(const char *op, int every, int n)
             back[got++] = (double)(wall - B.c.ack.utime);
             if (set)
                 B.cur.v[id] = v;
+        } else if (acked) { /* a refusal: counted, not timed */
+            size_t k = strlen(refused_names);
+            refused++;
+            if (!strstr(refused_names, name[0]))
+                snprintf(refused_names + k, sizeof refused_names - k, "%s%s", k ? " " : "",
+                         name[0]);
         }
         bus_wait(&B.c, 5, NULL, NULL); /* 5 ms apart */
     }
     double a[3], f[3], b[3];
     if (got) {
         pcts(lat, got, a), pcts(fwd, got, f), pcts(back, got, b);
-        printf("command->ACK latency (%s, %d of %d answered): p50 %.0f us, p99 %.0f us, "
+        printf("command->ACK latency (%s, %d of %d accepted): p50 %.0f us, p99 %.0f us, "
                "max %.0f us\n  send->daemon's ACK p50 %.0f / p99 %.0f us; ACK->client p50 %.0f "
                "/ p99 %.0f us\n", every ? "set, every parameter in turn" : set_name(op), got, n,
                a[0], a[1], a[2], f[0], f[1], b[0], b[1]);
+        if (refused || got + refused < n)
+            printf("  %d refused (%s), %d unanswered within 1 s\n", refused,
+                   refused ? refused_names : "none", n - got - refused);
     }
     free(lat);
 }
