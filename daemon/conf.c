@@ -84,6 +84,9 @@ static const key keys[] = {
     {"start_paused", LIVE, K_BOOL, S(start_paused), 0, 1, NULL, "no", "start paused"},
     {"mlock", RESTART, K_BOOL, S(mlock), 0, 1, NULL, "no",
      "mlockall(MCL_CURRENT|MCL_FUTURE) at start"},
+    {"rt_priority", RESTART, K_INT, S(rt_priority), 0, 99, NULL, "0",
+     "SCHED_FIFO priority of every daemon thread, for a rig whose host is busy (needs "
+     "CAP_SYS_NICE or an RLIMIT_RTPRIO; a refusal is a warning); 0 = the normal scheduler"},
     {"foreground", LIVE, K_BOOL, S(foreground), 0, 1, NULL, "no",
      "print a one-line status on stdout each second (-F)"},
     {"verbose", APPLY(CONF_APPLY_VERBOSE), K_BOOL, S(verbose), 0, 1, NULL, "no",

@@ -6,7 +6,7 @@
  * also a long option (`steps_per_period` -> `--steps-per-period`). Errors
  * name the file, line, key and the allowed values or range. Each key is
  * live or restart-only (scene, url, prefix, steps_per_period, stepper,
- * mlock; the [params] overrides too); a live key may name an apply hook
+ * mlock, rt_priority; the [params] overrides too); a live key may name an apply hook
  * that a reload calls when its value changes. */
 #ifndef WGD_CONF_H
 #define WGD_CONF_H
@@ -51,6 +51,7 @@ typedef struct conf {
     int accept_commands;      /* 0: refuse every command except get */
     int start_paused;
     int mlock;                /* mlockall at start */
+    int rt_priority;          /* SCHED_FIFO priority of every thread, 0: off */
     int foreground;           /* one-line status on stdout each second */
     int verbose;
     int log_prefix;           /* "<N>" priority prefixes on log lines */

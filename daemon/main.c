@@ -11,6 +11,8 @@
 #include "wormgear/wg_status.h"
 
 #include <errno.h>
+#include <pthread.h>
+#include <sched.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,10 +25,27 @@ static int m_engine(wgd *d)
     return rc == WG_OK ? 0 : rc == WG_ENOMEM ? 1 : 2; /* bad scene/params: config error */
 }
 
+/* Real-time scheduling before LCM starts its receive thread, which inherits
+ * it (as does every later thread): a command waits for no CPU hog. */
+static void rt_sched(wgd *d)
+{
+    struct sched_param sp = {.sched_priority = d->conf.rt_priority};
+    int e = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
+    if (e)
+        log_msg(&d->log, LOG_WARNING, "rt_priority %d: SCHED_FIFO refused: %s (needs CAP_SYS_NICE "
+                "or ulimit -r; under systemd: CPUSchedulingPolicy=fifo, RestrictRealtime=no); "
+                "running on the normal scheduler", d->conf.rt_priority, strerror(e));
+    else
+        log_msg(&d->log, LOG_INFO, "rt_priority %d: every thread runs SCHED_FIFO",
+                d->conf.rt_priority);
+}
+
 static int m_lcm(wgd *d)
 {
     if (d->conf.mlock && mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
         log_msg(&d->log, LOG_WARNING, "mlockall: %s (raise LimitMEMLOCK=)", strerror(errno));
+    if (d->conf.rt_priority > 0 && !d->conf.check_only)
+        rt_sched(d);
     if (lcmio_init(&d->io, d->conf.url, d->conf.prefix, d->init_why, sizeof d->init_why))
         return 1;
     d->io_ok = 1;

@@ -2,7 +2,8 @@
  * command->ACK latency (p50/p99/max; get, set xi_p, a set of every parameter
  * in turn) and the daemon's CPU share at physical real time (table3,
  * omega = 2.5, N = 128, publishing on).
- * usage: netns.sh wgd_bench WORMGEARD [SECONDS] [NCMDS] */
+ * usage: netns.sh wgd_bench WORMGEARD [SECONDS] [NCMDS] [DAEMON OPTION]...
+ * (the options are appended to the daemon's command line: --rt-priority 10) */
 #include "cli.h"
 #include "bus.h"
 
@@ -157,7 +158,7 @@ static void latency(const char *op, int every, int n)
 int main(int argc, char **argv)
 {
     if (argc < 2) {
-        fprintf(stderr, "usage: wgd_bench WORMGEARD [SECONDS] [NCMDS]\n");
+        fprintf(stderr, "usage: wgd_bench WORMGEARD [SECONDS] [NCMDS] [DAEMON OPTION]...\n");
         return 2;
     }
     int secs = argc > 2 ? atoi(argv[2]) : 10, ncmd = argc > 3 ? atoi(argv[3]) : 500;
@@ -165,9 +166,14 @@ int main(int argc, char **argv)
     snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", 20000 + getpid() % 20000);
     pid_t pid = fork();
     if (pid == 0) {
-        execl(argv[1], argv[1], "--url", url, "--prefix", "BENCH_", "--set", "omega=2.5",
-              "--steps-per-period", "128", "--mode", "realtime", "--rate", "1", "--status-hz",
-              "1", (char *)NULL);
+        char *dargv[64] = {argv[1], "--url", url, "--prefix", "BENCH_", "--set", "omega=2.5",
+                           "--steps-per-period", "128", "--mode", "realtime", "--rate", "1",
+                           "--status-hz", "1"};
+        int k = 15;
+        for (int i = 4; i < argc && k < 63; i++) /* the daemon's own options */
+            dargv[k++] = argv[i];
+        dargv[k] = NULL;
+        execv(argv[1], dargv);
         _exit(127);
     }
     if (bus_open(&B.c, url, "BENCH_", "wgd_bench", why, sizeof why))
