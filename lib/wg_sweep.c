@@ -330,7 +330,9 @@ static int transient(work *w, const wg_params *p, int *ran, char *why, size_t wh
 }
 
 /* Period with the strict tolerance, extending the transient while none is
- * found. Returns the period (0: none) or a negative status. */
+ * found; an extension is a transient of its own (with o->settle, it too
+ * ends once its window has settled, at the full extension's phase).
+ * Returns the period (0: none) or a negative status. */
 static int find_period(work *w, const wg_params *p, wg_point *pt, char *why, size_t whylen)
 {
     for (int attempt = 0;; attempt++) {
@@ -345,7 +347,8 @@ static int find_period(work *w, const wg_params *p, wg_point *pt, char *why, siz
         int n = wg_period_detect(w->rec, w->nrec, w->nstate, WG_PERIOD_MAX, pt->tol, &pt->resid);
         if (n || attempt >= w->o->extend || (w->stop && *w->stop))
             return n;
-        if ((rc = run_periods(&w->sim, w->o->transient, NULL)))
+        int ran;
+        if ((rc = transient(w, p, &ran, why, whylen)))
             return rc;
     }
 }
