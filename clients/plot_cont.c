@@ -220,7 +220,8 @@ static void legend(cairo_t *cr, const plot_cont *pc, double y)
 int plot_continuation(const char *path, const plot_cont *pc, char *why, size_t whylen)
 {
     cairo_surface_t *s;
-    cairo_t *cr = pd_canvas(path, pc->format, W, H, &s);
+    /* a second x scale takes a row of numbers and its label under the axis */
+    cairo_t *cr = pd_canvas(path, pc->format, W, H + (pc->x2.k > 0 ? 46 : 0), &s);
     plot_page pg = {pc->format, {pc->caption[0], pc->caption[1], pc->caption[2], NULL}};
     pd_page_head(cr, W, pc->title, &pg);
     legend(cr, pc, 118);
@@ -244,8 +245,13 @@ int plot_continuation(const char *path, const plot_cont *pc, char *why, size_t w
                       yb[] = "min x_n over the orbit  (b_c)";
     pd_axes(cr, &top, pc->xlabel, yt, 0);
     pd_axes(cr, &bot, pc->xlabel, yb, 1);
+    pd_scale2(cr, &bot, &pc->x2, 1);
+    pd_scale2(cr, &top, &pc->y2, 2);
+    pd_scale2(cr, &bot, &pc->y2, 2);
     pd_doc d;
     pd_doc_init(&d, pc->title, &pg);
-    pd_words(&d, "x axis", pc->xlabel), pd_words(&d, "y axis", yt), pd_words(&d, "lower panel", yb);
+    pd_words(&d, "x axis", pc->xlabel), pd_words(&d, "x axis, second scale", pc->x2.label);
+    pd_words(&d, "y axis", yt), pd_words(&d, "lower panel", yb);
+    pd_words(&d, "y axis, second scale", pc->y2.label);
     return pd_finish(s, cr, path, pc->format, &d, why, whylen);
 }

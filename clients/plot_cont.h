@@ -5,6 +5,7 @@
 
 #include <stddef.h>
 #include "cont_out.h"
+#include "plot.h"
 #include "wormgear/wg_sweep.h"
 
 typedef struct plot_cont {
@@ -17,6 +18,8 @@ typedef struct plot_cont {
     const wg_point *up, *down; /* the sweep (may be NULL / 0 points) */
     int nup, ndown;
     const char *format;        /* "png", "svg" or "pdf" */
+    plot_scale2 x2;            /* under the parameter's numbers (Hz for omega; k 0: none) */
+    plot_scale2 y2;            /* right of x_n (um; k 0: none) */
 } plot_cont;
 
 /* Two panels over the parameter: the Poincare x_n of every branch point

@@ -295,7 +295,7 @@ static void captions(const opts *o, const wg_scene *sc, const ctx *c, char cap[3
 
 static int write_all(const opts *o, const wg_scene *sc, const ctx *c, const wg_chain *sw)
 {
-    char path[1024], why[512], cap[3][400], xl[96], title[160];
+    char path[1024], why[512], cap[3][400], xl[96], x2l[96], title[160];
     int nstate = wg_model_nstate(sc->model), rc = 0;
     snprintf(path, sizeof path, "%s-branch.csv", o->out);
     rc |= cont_write_branch(path, &c->r, o->co.param, nstate, why, sizeof why);
@@ -308,7 +308,12 @@ static int write_all(const opts *o, const wg_scene *sc, const ctx *c, const wg_c
     plot_cont pc = {title, {cap[0], cap[1], cap[2]}, xl, fmin(o->co.from, o->co.to),
                     fmax(o->co.from, o->co.to), sc->p.v[WG_P_B], &c->r,
                     sw ? sw[0].pts : NULL, sw ? sw[1].pts : NULL, sw ? sw[0].ndone : 0,
-                    sw ? sw[1].ndone : 0, o->format};
+                    sw ? sw[1].ndone : 0, o->format, {0, NULL, 0}, {0, NULL, 0}};
+    units_scale us = plot_text_scale(sc->scale.omega_n_rad_s, sc->scale.length_m,
+                                     sc->scale.mesh_stiffness_N_m);
+    pc.x2 = plot_text_pscale(o->co.param, &sc->p, &us, x2l, sizeof x2l); /* Hz for omega */
+    if (units_scale_ok(&us))
+        pc.y2 = (plot_scale2){units_um_per_x(&us), PLOT_XN_UM, 0};
     snprintf(path, sizeof path, "%s.%s", o->out, o->format);
     if (!rc)
         rc |= plot_continuation(path, &pc, why, sizeof why);

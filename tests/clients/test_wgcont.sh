@@ -1,7 +1,7 @@
 #!/bin/bash
 # wgcont end to end: the branch and bifurcation CSVs (header type,PARAM),
 # the period doubling of table3 located and switched onto, a figure in each
-# format, another parameter than omega, Ctrl-C writing what is done, usage
+# format (with its Hz and µm scales), another parameter than omega, Ctrl-C writing what is done, usage
 # errors, and wgsweep --exact adding its "exact (continuation)" column.
 # usage: test_wgcont.sh WGCONT WGSWEEP
 set -u
@@ -27,6 +27,8 @@ check "progress on stderr names the doubling" 'grep -q "period_doubling at omega
 "$cont" --from 1.18 --to 1.22 --sweep-points 0 --format svg --quiet --out "$dir/f" &&
 "$cont" --from 1.18 --to 1.22 --sweep-points 0 --format pdf --quiet --out "$dir/f"
 check "--format svg and pdf" 'grep -q "<svg" "$dir/f.svg" && [ "$(magic "$dir/f.pdf" 4)" = "%PDF" ]'
+check "the figure's second scales: mesh frequency in Hz under omega, x_n in µm" \
+  'grep -q "^x axis, second scale: mesh frequency  (Hz)\$" "$dir/f.svg" && grep -q "^y axis, second scale: x_n  (µm)" "$dir/f.svg"'
 
 "$cont" --set omega=1.2 --param xi_p --from 0.1 --to 0.07 --sweep-points 0 --quiet --out "$dir/xi"
 check "--param xi_p: header and a period doubling in xi_p" \
