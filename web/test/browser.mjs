@@ -5,7 +5,7 @@
 // daemon's PARAMS (as the page received it) show 1.2, and keeps a
 // screenshot. Then, with the daemon paused (SIGSTOP), a hostile sender
 // (WG_SPOOF: tests/clients/wgspoof) publishes on the daemon's channels for
-// 4 s: angles that are NaN, +-inf, 1e308, negative, 2 pi and beyond; the
+// 6 s: angles that are NaN, +-inf, 1e308, negative, 2 pi and beyond; the
 // status table may show only "–" or the one valid pair it sends (1.5 rad,
 // 3.0 rad = 85.94°, 171.89°). Prints "ok ..." lines; exit 0 on success, 1
 // on a failure.
@@ -83,11 +83,11 @@ async function spoofed(page) {
     return row ? row.cells[1].textContent : null;
   });
   process.kill(pid, "SIGSTOP");
-  const spoof = spawn(env.WG_SPOOF, [env.WORMGEAR_URL, env.WORMGEAR_PREFIX, "4"], { stdio: "inherit" });
+  const spoof = spawn(env.WG_SPOOF, [env.WORMGEAR_URL, env.WORMGEAR_PREFIX, "6"], { stdio: "inherit" });
   const exited = new Promise((r) => spoof.on("exit", (code) => r(code)));
   try {
     const n0 = await page.evaluate(() => window.wgTest.scope);
-    await page.waitForFunction((n) => window.wgTest.scope > n + 20, n0, { timeout: 3000 });
+    await page.waitForFunction((n) => window.wgTest.scope > n + 20, n0, { timeout: 4000 });
     await page.waitForTimeout(300); // the status table is redrawn every 250 ms
     const shown = new Map();
     for (let i = 0; i < 80; i++) {
