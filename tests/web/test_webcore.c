@@ -94,6 +94,14 @@ static void test_jbuf(void)
     cJSON *j = cJSON_Parse(jb_text(&b));
     ASSERT_TRUE(j != NULL);
     cJSON_Delete(j);
+    /* strings off the bus: well-formed UTF-8 (2, 3, 4 bytes, C1 U+009B
+     * included) kept; a stray byte, a truncated sequence, an overlong form,
+     * a surrogate and a lead byte past U+10FFFF become U+FFFD; DEL escaped */
+    jb_reset(&b);
+    jb_str(&b, "a\xff" "b \xc2\x9b \xe2\x82\xac \xf0\x9f\x98\x80 \xe2\x82 \xc0\xaf \xed\xa0\x80 "
+               "\xf5\x80\x80\x80 \x7f");
+    ASSERT_STR(jb_text(&b), "\"a\\ufffdb \xc2\x9b \xe2\x82\xac \xf0\x9f\x98\x80 \\ufffd\\ufffd "
+                            "\\ufffd\\ufffd \\ufffd\\ufffd\\ufffd \\ufffd\\ufffd\\ufffd\\ufffd \\u007f\"");
     jb_free(&b);
 }
 

@@ -105,8 +105,9 @@ function row(name) { return S.params?.params.find((p) => p.name === name); }
 
 function fillControls() {
   const all = S.params.params, ramp = all.filter((p) => p.rampable);
-  $("set-name").innerHTML = all.map((p) => `<option>${p.name}</option>`).join("");
-  $("ramp-name").innerHTML = ramp.map((p) => `<option>${p.name}</option>`).join("");
+  // names come off the bus: options as text, never as HTML
+  $("set-name").replaceChildren(...all.map((p) => new Option(p.name)));
+  $("ramp-name").replaceChildren(...ramp.map((p) => new Option(p.name)));
   showParam();
 }
 
@@ -285,7 +286,13 @@ function updateStatus() {
     ["drops", `daemon ${st.msgs_dropped}, LCM gaps ${br?.lcm_gaps ?? "–"}, bridge queues ${br?.queue_drops ?? "–"}`],
     ["scope", br ? `${fmt(br.scope_in_hz)} → ${fmt(br.scope_hz)} samples/s` : "–"],
   ] : [["daemon", "no STATUS yet"]];
-  $("status").innerHTML = rows.map(([k, v]) => `<tr><td>${k}</td><td>${v}</td></tr>`).join("");
+  // every value is text: a STATUS string (fault, regime, ...) is whatever a
+  // sender on the multicast group put there, never markup
+  $("status").replaceChildren(...rows.map((r) => {
+    const tr = document.createElement("tr");
+    for (const x of r) tr.insertCell().textContent = String(x);
+    return tr;
+  }));
 }
 
 function updateCaption() {

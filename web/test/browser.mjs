@@ -7,7 +7,9 @@
 // (WG_SPOOF: tests/clients/wgspoof) publishes on the daemon's channels for
 // 6 s: angles that are NaN, +-inf, 1e308, negative, 2 pi and beyond; the
 // status table may show only "–" or the one valid pair it sends (1.5 rad,
-// 3.0 rad = 85.94°, 171.89°). Prints "ok ..." lines; exit 0 on success, 1
+// 3.0 rad = 85.94°, 171.89°), and its STATUS strings' markup (an <img>
+// whose onerror would set window.wgPwned, a <b id=wgpwn>) only as text.
+// Prints "ok ..." lines; exit 0 on success, 1
 // on a failure.
 import { chromium } from "playwright-core";
 import { spawn } from "node:child_process";
@@ -95,6 +97,11 @@ async function spoofed(page) {
       shown.set(t, (shown.get(t) ?? 0) + 1);
       await page.waitForTimeout(25);
     }
+    const markup = await page.evaluate(() => ({
+      pwned: window.wgPwned, injected: document.getElementById("wgpwn") !== null,
+      shownAsText: document.querySelector("#status").textContent.includes("<b id=wgpwn>P9</b>"),
+      img: document.querySelectorAll("#status img").length,
+    }));
     const code = await exited;
     const bad = [...shown.keys()].filter((t) => t !== "–" && t !== "85.94°, 171.89°");
     const rejected = await page.evaluate(() => window.wgTest.badAngles);
@@ -102,6 +109,9 @@ async function spoofed(page) {
     assert.equal(code, 0, "wgspoof ran");
     assert.ok(rejected > 0, "the page saw wgspoof's angles");
     assert.deepEqual(bad, [], "only angles in [0, 360)° are shown");
+    console.log(`ok? markup in STATUS strings: ${JSON.stringify(markup)}`);
+    assert.deepEqual(markup, { pwned: undefined, injected: false, shownAsText: true, img: 0 },
+      "STATUS strings shown as text, never run as markup");
     console.log("ok spoofed: no angle that is not an angle was shown");
   } finally {
     spoof.kill("SIGKILL");
