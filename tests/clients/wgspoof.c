@@ -3,8 +3,13 @@
  * a plausible STATUS, STATE samples whose angles are not angles (NaN, +-inf,
  * 1e308, -7, beyond 2 pi; the last sample of every other message a valid
  * 1.5 rad and 3.0 rad), and POINCARE sections with no state (nstate 0) or
- * a wider state than any model has (nstate 40). Clients must draw on without
- * crashing and show no angle outside [0, 360) degrees.
+ * a wider state than any model has (nstate 40). Its STATUS strings are
+ * hostile too: markup (an <img> whose onerror sets window.wgPwned, a <b
+ * id=wgpwn>) for a dashboard that would take them as HTML, and terminal
+ * escapes (clear screen, window title, a C1 CSI) and a byte that is not
+ * UTF-8 for a terminal that would obey them. Clients must draw on without
+ * crashing, show no angle outside [0, 360) degrees, and show those strings
+ * as text.
  * usage: wgspoof URL PREFIX SECONDS */
 #include "lcmtypes/wormgear_poincare_t.h"
 #include "lcmtypes/wormgear_state_t.h"
@@ -40,14 +45,15 @@ static int publish_status(lcm_t *l, const char *ch, int64_t seq)
     s.rate = 1.0;
     s.run = "running";
     s.health = "ok";
-    s.fault = "";
+    s.fault = "<img src=x onerror=\"window.wgPwned=1\"> \033[2J\033]0;pwned\007 \xc2\x9b"
+              "31m \xff";
     s.steps_per_period = 128;
     s.rtf = 1.0;
     s.motion = "no_impact";
     s.nbearing = 6;
     s.bearing_impacts_per_period = zero6;
     s.bearing_impact_vmax = zero6;
-    s.regime = "unknown";
+    s.regime = "<b id=wgpwn>P9</b>\033[31m";
     s.uptime_s = 1.0;
     return wormgear_status_t_publish(l, ch, &s);
 }
