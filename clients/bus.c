@@ -160,9 +160,9 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
     a->utime = m->utime;
     a->tau = m->tau;
     a->t_s = m->t_s;
-    snprintf(a->code, sizeof a->code, "%s", m->code);
-    snprintf(a->op, sizeof a->op, "%s", m->op);
-    snprintf(a->message, sizeof a->message, "%s", m->message);
+    cli_text(a->code, sizeof a->code, m->code); /* any sender's text: shown as text */
+    cli_text(a->op, sizeof a->op, m->op);
+    cli_text(a->message, sizeof a->message, m->message);
 }
 
 int bus_open(bus *c, const char *url, const char *prefix, const char *name, char *why,

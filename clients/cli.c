@@ -170,3 +170,40 @@ int cli_vary_param_error(const char *prog, const char *opt, const char *name, in
                                "to vary (vary a parameter of the equations)", opt, name);
     return cli_usage_error(prog, "%s '%s': not a parameter (wgsim --help lists them)", opt, name);
 }
+
+int cli_utf8_len(const char *s)
+{
+    const unsigned char *p = (const unsigned char *)s;
+    unsigned c = p[0];
+    int n = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
+    unsigned lo = c == 0xE0 ? 0xA0 : c == 0xF0 ? 0x90 : 0x80;
+    unsigned hi = c == 0xED ? 0x9F : c == 0xF4 ? 0x8F : 0xBF;
+    for (int i = 1; i < n; i++, lo = 0x80, hi = 0xBF)
+        if (p[i] < lo || p[i] > hi)
+            return 0;
+    return n;
+}
+
+char *cli_text(char *dst, size_t n, const char *s)
+{
+    size_t o = 0;
+    if (n == 0)
+        return dst;
+    for (const char *p = s ? s : ""; *p;) {
+        unsigned char c = (unsigned char)*p;
+        int len = c < 0x80 ? 1 : cli_utf8_len(p);
+        int ok = c < 0x80 ? c >= 0x20 && c != 0x7F
+                          : len > 0 && !(c == 0xC2 && (unsigned char)p[1] < 0xA0);
+        size_t w = ok ? (size_t)len : 1;
+        if (o + w >= n)
+            break;
+        if (ok)
+            memmove(dst + o, p, w); /* dst may be s: cleaned in place */
+        else
+            dst[o] = '?';
+        o += w;
+        p += len > 0 ? len : 1; /* a C1 control: one '?' for its two bytes */
+    }
+    dst[o] = 0;
+    return dst;
+}

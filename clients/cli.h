@@ -10,6 +10,7 @@
 #define WG_CLI_H
 
 #include <getopt.h>
+#include <stddef.h>
 #include <stdint.h>
 
 /* The exit code of a usage error, in every client. */
@@ -76,5 +77,16 @@ int cli_vary_param_error(const char *prog, const char *opt, const char *name, in
 /* Call fn on SIGINT and SIGTERM (no SA_RESTART: a blocking wait returns
  * EINTR, so the program sees its stop flag at once). */
 void cli_on_stop_signals(void (*fn)(int));
+
+/* Bytes of the well-formed UTF-8 sequence of 2 to 4 bytes at p (RFC 3629:
+ * no overlong form, no surrogate, nothing past U+10FFFF), 0 if none. */
+int cli_utf8_len(const char *p);
+
+/* A copy of s (NULL: "") that is safe to show on a terminal: a control
+ * character (C0, DEL, C1 U+0080..U+009F: escapes a terminal would obey)
+ * and each byte that is not part of well-formed UTF-8 become '?'; cut at a
+ * character to fit n bytes. Strings off the bus are whatever a sender put
+ * there. dst may be s (never longer than s). Returns dst. */
+char *cli_text(char *dst, size_t n, const char *s);
 
 #endif

@@ -1,5 +1,6 @@
 /* web_json.c - the JSON text buffer. */
 #include "web_json.h"
+#include "cli.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -89,20 +90,6 @@ void jb_fmt(jbuf *b, const char *fmt, ...)
     b->len += (size_t)n;
 }
 
-/* Bytes of the well-formed UTF-8 sequence at p (RFC 3629: no overlong
- * form, no surrogate, nothing past U+10FFFF), 0 if there is none. */
-static int utf8_len(const unsigned char *p)
-{
-    unsigned c = p[0];
-    int n = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
-    unsigned lo = c == 0xE0 ? 0xA0 : c == 0xF0 ? 0x90 : 0x80;
-    unsigned hi = c == 0xED ? 0x9F : c == 0xF4 ? 0x8F : 0xBF;
-    for (int i = 1; i < n; i++, lo = 0x80, hi = 0xBF)
-        if (p[i] < lo || p[i] > hi)
-            return 0;
-    return n;
-}
-
 /* A JSON string: quotes, backslashes and control characters escaped, and a
  * byte that is not part of well-formed UTF-8 (strings off the bus are
  * whatever a sender put there) as U+FFFD, so the text is always UTF-8. */
@@ -119,7 +106,7 @@ void jb_str(jbuf *b, const char *s)
             jb_fmt(b, "\\u%04x", c);
         } else if (c < 0x80) {
             jb_mem(b, p, 1);
-        } else if ((n = utf8_len((const unsigned char *)p)) > 0) {
+        } else if ((n = cli_utf8_len(p)) > 0) {
             jb_mem(b, p, (size_t)n);
             p += n - 1;
         } else {

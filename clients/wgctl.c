@@ -139,6 +139,23 @@ static int parse_opts(int argc, char **argv, opts *o, char **pos, int *npos)
 
 /* s as a JSON string literal (quotes, backslashes and control characters
  * escaped). */
+/* The strings of a message as text, in place: whoever sent it chose them,
+ * and a terminal would obey an escape among them (cli_text). */
+#define CLEAN(s) ((s) ? (void)cli_text((s), strlen(s) + 1, (s)) : (void)0)
+
+static void clean_params(wormgear_params_t *p)
+{
+    CLEAN(p->scene), CLEAN(p->model), CLEAN(p->stepper);
+    for (int i = 0; i < p->n; i++)
+        CLEAN(p->name[i]), CLEAN(p->unit[i]);
+}
+
+static void clean_status(wormgear_status_t *s)
+{
+    CLEAN(s->scene), CLEAN(s->mode), CLEAN(s->run), CLEAN(s->health), CLEAN(s->fault);
+    CLEAN(s->motion), CLEAN(s->regime);
+}
+
 static void json_str(FILE *f, const char *s)
 {
     fputc('"', f);
@@ -294,8 +311,11 @@ static void on_params(const lcm_recv_buf_t *rb, const char *ch, const wormgear_p
     (void)rb;
     (void)ch;
     ctl *t = u;
-    if (!t->params && m->cmd_seq == t->c.seq && strcmp(m->cmd_client, t->c.client) == 0)
+    if (!t->params && m->cmd_seq == t->c.seq && strcmp(m->cmd_client, t->c.client) == 0) {
         t->params = wormgear_params_t_copy(m);
+        if (t->params)
+            clean_params(t->params);
+    }
 }
 
 static int get_done(void *u)
@@ -337,14 +357,20 @@ static void print_params_json(const ctl *t, const wormgear_params_t *p)
            "\"mesh_stiffness_N_m\":%.17g,\"steps_per_period\":%d,\"params\":{",
            p->tau, p->omega_n_rad_s, p->length_m, p->mesh_stiffness_N_m, p->steps_per_period);
     for (int i = 0, k = 0; i < p->n; i++)
-        if (wanted(t, p->name[i]))
-            printf("%s\"%s\":%.17g", k++ ? "," : "", p->name[i], p->value[i]);
+        if (wanted(t, p->name[i])) {
+            printf("%s", k++ ? "," : "");
+            json_str(stdout, p->name[i]);
+            printf(":%.17g", p->value[i]);
+        }
     printf("},\"physical\":{");
     for (int i = 0, k = 0; i < p->n; i++) {
         double x;
         const char *u;
-        if (wanted(t, p->name[i]) && !units_param(wg_param_lookup(p->name[i]), &v, &sc, &x, &u))
-            printf("%s\"%s\":{\"value\":%.17g,\"unit\":\"%s\"}", k++ ? "," : "", p->name[i], x, u);
+        if (wanted(t, p->name[i]) && !units_param(wg_param_lookup(p->name[i]), &v, &sc, &x, &u)) {
+            printf("%s", k++ ? "," : "");
+            json_str(stdout, p->name[i]);
+            printf(":{\"value\":%.17g,\"unit\":\"%s\"}", x, u);
+        }
     }
     printf("},\"ramp\":%s}\n", p->ramp_active ? "true" : "false");
 }
@@ -412,8 +438,11 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
     (void)rb;
     (void)ch;
     ctl *t = u;
-    if (!t->status)
+    if (!t->status) {
         t->status = wormgear_status_t_copy(m);
+        if (t->status)
+            clean_status(t->status);
+    }
 }
 
 static int status_done(void *u) { return ((ctl *)u)->status != NULL; }
@@ -423,19 +452,27 @@ static void print_status(const ctl *t, const wormgear_status_t *s)
     if (t->o.json) {
         printf("{\"scene\":");
         json_str(stdout, s->scene);
-        printf(",\"mode\":\"%s\",\"rate\":%.17g,\"run\":\"%s\",\"health\":\"%s\",\"fault\":",
-               s->mode, s->rate, s->run, s->health);
+        printf(",\"mode\":");
+        json_str(stdout, s->mode);
+        printf(",\"rate\":%.17g,\"run\":", s->rate);
+        json_str(stdout, s->run);
+        printf(",\"health\":");
+        json_str(stdout, s->health);
+        printf(",\"fault\":");
         json_str(stdout, s->fault);
         printf(",\"tau\":%.17g,\"t_s\":%.17g,\"omega\":%.17g,\"steps\":%lld,\"period\":%lld,"
                "\"rtf\":%.6g,\"lag_s\":%.6g,\"overruns\":%lld,\"loop_mean_us\":%.6g,"
                "\"loop_max_us\":%.6g,\"steps_per_s\":%.6g,\"cpu_share\":%.6g,"
                "\"msgs_dropped\":%lld,\"cmds_accepted\":%lld,\"cmds_refused\":%lld,"
-               "\"motion\":\"%s\",\"impacts_per_period\":%.6g,\"regime\":\"%s\",\"seq\":%lld}\n",
+               "\"motion\":",
                s->tau, s->t_s, s->omega, (long long)s->steps, (long long)s->period, s->rtf,
                s->lag_s, (long long)s->overruns, s->loop_mean_us, s->loop_max_us,
                s->steps_per_s, s->cpu_share, (long long)s->msgs_dropped,
-               (long long)s->cmds_accepted, (long long)s->cmds_refused, s->motion,
-               s->impacts_per_period, s->regime, (long long)s->seq);
+               (long long)s->cmds_accepted, (long long)s->cmds_refused);
+        json_str(stdout, s->motion);
+        printf(",\"impacts_per_period\":%.6g,\"regime\":", s->impacts_per_period);
+        json_str(stdout, s->regime);
+        printf(",\"seq\":%lld}\n", (long long)s->seq);
         return;
     }
     printf("scene %s, mode %s (rate %g), %s, health %s%s%s\n", s->scene, s->mode, s->rate,

@@ -249,7 +249,8 @@ static int seq_note(mon *m, int k, int64_t seq, int64_t utime)
     return 1;
 }
 
-#define CPY(dst, src) snprintf((dst), sizeof(dst), "%s", (src) ? (src) : "")
+/* A STATUS string as text for the terminal: no escape it would obey */
+#define CPY(dst, src) cli_text((dst), sizeof(dst), (src))
 
 /* Ask the daemon to republish PARAMS now (instead of at its 1 Hz); the
  * ACK is not awaited. */

@@ -293,7 +293,7 @@ static void on_params(rig *r, const wormgear_params_t *m)
     r->nstate = wg_model_nstate(r->model);
     r->omega_n = m->omega_n_rad_s;
     r->us = plot_text_scale(m->omega_n_rad_s, m->length_m, m->mesh_stiffness_N_m);
-    snprintf(r->scene, sizeof r->scene, "%s", m->scene);
+    cli_text(r->scene, sizeof r->scene, m->scene); /* into captions and CSVs: text only */
     r->have_params = 1;
 }
 
@@ -690,10 +690,12 @@ static int setup(rig *r)
         return rc;
     r->orig = r->base.v[r->pid];
     /* captions say what differs from the scene: its file when this host has
-     * it, else the daemon's values as the rig found them */
+     * it, else the daemon's values as the rig found them. The name is the
+     * daemon's (off the bus): looked up as a scene name, never as a path. */
     wg_scene sc;
     char why[300];
-    r->scene_p = wg_scene_open(&sc, r->scene, why, sizeof why) == WG_OK ? sc.p : r->base;
+    int plain = r->scene[0] && !strchr(r->scene, '/') && strcmp(r->scene, "..") != 0;
+    r->scene_p = plain && wg_scene_open(&sc, r->scene, why, sizeof why) == WG_OK ? sc.p : r->base;
     r->so.steps = r->steps, r->so.model = r->model, r->so.stepper = r->stepper; /* the daemon's */
     if ((rc = record_cap(r, &cap)))
         return rc;

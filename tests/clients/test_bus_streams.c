@@ -1,10 +1,12 @@
 /* test_bus_streams.c - telling senders apart on one channel (bus.h): in
  * order, a gap, a daemon restart, a replay played into a live bus (the
  * symptom of issue 12 item 8: "restarted x20, dropped 6539493"), two live
- * senders on one clock, sender ids, and eviction when too many lines. */
+ * senders on one clock, sender ids, and eviction when too many lines; and
+ * strings off the bus made safe to show on a terminal (cli_text). */
 #include "test.h"
 
 #include "bus.h"
+#include "cli.h"
 
 /* Feed one message at receive time now_s (the wall clock moves with it). */
 static int note(bus_streams *b, int64_t seq, double utime_s, double now_s, int64_t sender,
@@ -125,5 +127,21 @@ static void test_eviction(void)
     ASSERT_EQ_INT(b.s[0].id, 3);
 }
 
+/* Escapes a terminal would obey (ESC, BEL, the C1 CSI U+009B, DEL) and
+ * bytes outside well-formed UTF-8 become '?'; text, UTF-8 (µ, €, 😀)
+ * included, stays; the copy is cut at a character; cleaning in place works. */
+static void test_text_clean(void)
+{
+    char out[64];
+    ASSERT_STR(cli_text(out, sizeof out, "x_n 1.5 \xc2\xb5m \xe2\x82\xac \xf0\x9f\x98\x80"),
+               "x_n 1.5 \xc2\xb5m \xe2\x82\xac \xf0\x9f\x98\x80");
+    ASSERT_STR(cli_text(out, sizeof out, "a\033[2Jb\007c\xc2\x9b" "31m\x7f\xff\xc0\xaf\xed\xa0\x80."),
+               "a?[2Jb?c?31m???????.");
+    ASSERT_STR(cli_text(out, 4, "ab\xc2\xb5"), "ab"); /* no half of µ */
+    ASSERT_STR(cli_text(out, sizeof out, NULL), "");
+    char in[] = "<b>\033]0;t\007</b>";
+    ASSERT_STR(cli_text(in, sizeof in, in), "<b>?]0;t?</b>");
+}
+
 TEST_MAIN(TEST(test_in_order_and_gap), TEST(test_restart), TEST(test_replay_into_live),
-          TEST(test_two_live_senders), TEST(test_sender_ids), TEST(test_eviction))
+          TEST(test_two_live_senders), TEST(test_sender_ids), TEST(test_eviction), TEST(test_text_clean))

@@ -1,9 +1,11 @@
 #!/bin/sh
-# test_wgctl.sh WORMGEARD WGCTL - what a new user reads from wgctl: units
-# ("-" for dimensionless, the physical equivalent beside), `get NAME...`,
-# and the question to ask when no daemon answers. Run through netns.sh
+# test_wgctl.sh WORMGEARD WGCTL WGSPOOF - what a new user reads from wgctl:
+# units ("-" for dimensionless, the physical equivalent beside), `get
+# NAME...`, and the question to ask when no daemon answers; and `status`
+# from a hostile sender (tests/clients/wgspoof.c): its strings' escapes
+# never reach the terminal, and --json stays JSON. Run through netns.sh
 # (host-local URL only).
-D=$1 C=$2
+D=$1 C=$2 SPOOF=$3
 code=0
 tmp=$(mktemp -d) || exit 1
 pid=
@@ -64,4 +66,22 @@ expect 0 "$C" --json get omega
 has out '"params":{"omega":1},"physical":{"omega":{"value":5077.20'
 has out '"length_m":0.0001'
 kill -TERM "$pid"; wait "$pid"; pid=
+
+# ---- status from a hostile sender: STATUS strings with markup, quotes,
+# ESC, BEL, a C1 CSI and a byte that is not UTF-8
+"$SPOOF" "$WORMGEAR_URL" UCTS_ 4 >"$tmp/spoof.out" 2>&1 &
+spid=$!
+expect 0 "$C" --prefix UCTS_ status
+cp "$tmp/out" "$tmp/human"
+expect 0 "$C" --prefix UCTS_ --json status
+cp "$tmp/out" "$tmp/json"
+kill "$spid" 2>/dev/null; wait "$spid" 2>/dev/null
+has human '^scene spoof, mode realtime .*health ok: <img src=x onerror="window.wgPwned=1"> ?\[2J?\]0;pwned? ?31m ?$'
+has human "regime <b id=wgpwn>P9</b>?\[31m$"
+for f in human json; do
+    LC_ALL=C grep -q "$(printf '[\033\007\377]')" "$tmp/$f" && fail "status ($f): an escape or a non-UTF-8 byte printed"
+    LC_ALL=C grep -q "$(printf '\302\233')" "$tmp/$f" && fail "status ($f): a C1 CSI printed"
+done
+python3 -c 'import json, sys; s = json.load(open(sys.argv[1])); assert s["regime"] == "<b id=wgpwn>P9</b>?[31m", s["regime"]; assert s["fault"].startswith("<img src=x onerror=\"window"), s["fault"]' "$tmp/json" ||
+    fail "status --json: not JSON, or the strings changed: $(cat "$tmp/json")"
 exit $code

@@ -139,8 +139,11 @@ has out "daemon  table3 .* REPLAY"
 has out "source  REPLAY: sent [0-9.]* s ago (a log played back"
 
 # ---- a hostile sender: angles that are not angles (NaN, +-inf, 1e308, < 0,
-# >= 2 pi) and sections with no state or too wide a one. The monitor draws
-# frames, and never shows an angle outside [0, 360) degrees.
+# >= 2 pi), sections with no state or too wide a one, and STATUS strings
+# with terminal escapes (ESC, BEL, the C1 CSI) and a byte that is not
+# UTF-8. The monitor draws frames, never shows an angle outside [0, 360)
+# degrees, and (plain output: it writes no escape of its own) passes none
+# of those bytes to the terminal, showing the strings as text.
 "$SPOOF" "$WORMGEAR_URL" MONS_ 6 >"$tmp/spoof.out" 2>&1 &
 spid=$!
 expect 0 "$M" --prefix MONS_ --frames 6 --fps 4 --size 100x30
@@ -152,6 +155,10 @@ sed -n 's|^time .* theta1/2 \([0-9.-]*\)/\([0-9.-]*\) deg.*|\1 \2|p' "$tmp/out" 
 awk '$1 < 0 || $1 >= 360 || $2 < 0 || $2 >= 360 { bad = 1 } END { exit bad }' "$tmp/th" ||
     fail "hostile sender: an angle outside [0, 360) shown: $(cat "$tmp/th")"
 [ -s "$tmp/th" ] || fail "hostile sender: its valid angles (1.5, 3.0 rad) never shown"
+LC_ALL=C grep -q "$(printf '[\033\007\377]')" "$tmp/out" &&
+    fail "hostile sender: an escape or a non-UTF-8 byte reached the terminal"
+LC_ALL=C grep -q "$(printf '\302\233')" "$tmp/out" && fail "hostile sender: a C1 CSI reached the terminal"
+has out "(<img src=x onerror=\"window.wgPwned=1\"> ?\[2J?\]0;pwned? ?31m ?)"
 
 # ---- interactive, in a tmux pane: draws, follows a resize, quits on q
 if command -v tmux >/dev/null; then
