@@ -41,6 +41,7 @@ enum { T_UNKNOWN = -1 };
 
 typedef struct chan {
     char *name;
+    char shown[96];           /* the name as text for the terminal (cli_text) */
     int type;                 /* index in types[], or T_UNKNOWN */
     int64_t hash;
     long msgs, samples, bad;
@@ -416,6 +417,7 @@ static chan *find_chan(log_run *r, const lcm_eventlog_event_t *ev)
     }
     chan *c = &r->ch[r->nch++];
     *c = (chan){.name = strdup(ev->channel), .type = T_UNKNOWN};
+    cli_text(c->shown, sizeof c->shown, ev->channel); /* any sender named it */
     c->hash = ev->datalen >= 8 ? be64(ev->data) : 0;
     c->type = ev->datalen >= 8 ? type_of(c->hash) : T_UNKNOWN;
     c->t0 = ev->timestamp;
@@ -530,13 +532,13 @@ static void summary(log_run *r, FILE *f)
     for (int i = 0; i < r->nch; i++) {
         const chan *c = &r->ch[i];
         double s = (c->t1 - c->t0) * 1e-6, rate = c->msgs > 1 && s > 0 ? (c->msgs - 1) / s : 0;
-        fprintf(f, "%-24s %-11s %8ld %9ld %11lld %9.2f %5ld %8ld %8ld %6ld %7ld\n", c->name,
+        fprintf(f, "%-24s %-11s %8ld %9ld %11lld %9.2f %5ld %8ld %8ld %6ld %7ld\n", c->shown,
                 c->type == T_UNKNOWN ? "unknown" : types[c->type].name, c->msgs, c->samples, c->bytes,
                 rate, c->seq.gaps, c->seq.missing, c->seq.restarts, c->bad, c->seq.senders);
     }
     for (int i = 0; i < r->nch; i++)
         if (r->ch[i].notes[0])
-            fprintf(f, "note: %s: %s\n", r->ch[i].name, r->ch[i].notes);
+            fprintf(f, "note: %s: %s\n", r->ch[i].shown, r->ch[i].notes);
 }
 
 static int close_all(log_run *r)
@@ -545,13 +547,13 @@ static int close_all(log_run *r)
     for (int i = 0; i < r->nch; i++) {
         chan *c = &r->ch[i];
         if (c->csv && (ferror(c->csv) | fclose(c->csv))) {
-            fprintf(stderr, "wglog: error writing the CSV of %s\n", c->name);
+            fprintf(stderr, "wglog: error writing the CSV of %s\n", c->shown);
             rc = 1;
         }
         c->csv = NULL;
         if (r->export_ && c->type == T_UNKNOWN && !r->quiet)
             fprintf(stderr, "wglog: %s: not a wormgear type (fingerprint %016llx), skipped\n",
-                    c->name, (unsigned long long)c->hash);
+                    c->shown, (unsigned long long)c->hash);
     }
     return rc;
 }

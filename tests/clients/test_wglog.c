@@ -102,6 +102,7 @@ static void write_others(lcm_eventlog_t *l)
     wormgear_tick_t t = {.seq = 0, .nsteps = 5};
     PUT(wormgear_tick_t, l, "RIG1_TICK", 1300000, &t);
     put(l, "OTHER", 1300001, "not an lcm message", 18);
+    put(l, "EVIL\033]0;pwned\007\033[2J", 1300002, "x", 1); /* escapes in a channel name */
 }
 
 /* A log played into a live bus: RIG2_STATUS carries the live daemon (seq
@@ -178,7 +179,9 @@ static void test_summary(void)
     ASSERT_CONTAINS(out, "RIG1_POINCARE");
     ASSERT_CONTAINS(out, "RIG1_TICK");
     ASSERT_CONTAINS(out, "OTHER");
-    ASSERT_CONTAINS(out, "25 events");
+    ASSERT_CONTAINS(out, "26 events");
+    ASSERT_CONTAINS(out, "EVIL?]0;pwned??[2J "); /* shown as text, */
+    ASSERT_TRUE(strchr(out, '\033') == NULL && strchr(out, '\007') == NULL); /* never obeyed */
     /* the replay is one more sender: no gap, no restart */
     long senders = 0;
     s = strstr(out, "RIG2_STATUS ");
