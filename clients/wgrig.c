@@ -72,6 +72,7 @@ typedef struct rig {
     double phase_value;
     bus_seq pc_seq, ct_seq;   /* POINCARE, CONTACT: .missing = dropped */
     long refusals, timeouts, skipped;
+    long bad_params;          /* PARAMS no daemon sends, ignored */
     rig_imp imp;              /* mesh impacts from CONTACT */
     double t0;
     int done, total;
@@ -279,8 +280,36 @@ static void on_contact(rig *r, const wormgear_contact_t *m)
     }
 }
 
+/* Why m is not a PARAMS a daemon sends (any sender on the group can
+ * publish one), or NULL: the scale positive and finite, N in range, a
+ * model and stepper this build knows, finite values. */
+static const char *params_odd(const wormgear_params_t *m, char *why, size_t len)
+{
+    units_scale s = {m->omega_n_rad_s, m->length_m, m->mesh_stiffness_N_m};
+    if (!units_scale_ok(&s))
+        return snprintf(why, len, "its scale is not positive and finite"), why;
+    if (m->steps_per_period < WG_STEPS_MIN || m->steps_per_period > WG_STEPS_MAX)
+        return snprintf(why, len, "steps_per_period %d outside [%d, %d]", m->steps_per_period,
+                        WG_STEPS_MIN, WG_STEPS_MAX), why;
+    if (strcmp(m->model, wg_model_name(WG_MODEL_PRINTED)) &&
+        strcmp(m->model, wg_model_name(WG_MODEL_CONSISTENT)))
+        return snprintf(why, len, "an unknown model"), why;
+    if (wg_stepper_lookup(m->stepper) < WG_STEPPER_DEFAULT)
+        return snprintf(why, len, "an unknown stepper"), why;
+    for (int i = 0; i < m->n; i++)
+        if (!isfinite(m->value[i]))
+            return snprintf(why, len, "a value that is not a number"), why;
+    return NULL;
+}
+
 static void on_params(rig *r, const wormgear_params_t *m)
 {
+    char why[96];
+    if (params_odd(m, why, sizeof why)) {
+        if (r->bad_params++ < 3)
+            fprintf(stderr, "wgrig: ignored a PARAMS message no daemon sends (%s)\n", why);
+        return;
+    }
     wg_params_default(&r->base);
     for (int i = 0; i < m->n; i++) {
         int id = wg_param_lookup(m->name[i]);

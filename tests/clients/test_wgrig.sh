@@ -1,13 +1,14 @@
 #!/bin/sh
-# test_wgrig.sh WORMGEARD WGRIG WGSWEEP WGCTL - a live stepwise sweep of the real
+# test_wgrig.sh WORMGEARD WGRIG WGSWEEP WGCTL WGSPOOF - a live stepwise sweep of the real
 # daemon (fast mode) against the offline sweep of the same scene, N and grid:
 # the same regime, period, motion, impacts and x_n extremes at omega = 0.5
 # and 1.7 both ways and 1.5 down (points whose attractor does not depend on
 # the phase at which the daemon applies the step: 0.7, 0.9, 1.1, 1.3 and 1.5
 # up have coexisting orbits or long transients, and land on either); the outputs exist; the
-# CONTACT impacts equal the POINCARE statistics; a ramp; refusals; usage.
+# CONTACT impacts equal the POINCARE statistics; a ramp (beside a hostile
+# sender whose PARAMS the rig ignores); refusals; usage.
 # Run through netns.sh (host-local URL only).
-D=$1 R=$2 S=$3 C=$4
+D=$1 R=$2 S=$3 C=$4 SPOOF=$5
 code=0
 tmp=$(mktemp -d) || exit 1
 pid=
@@ -80,8 +81,15 @@ expect 0 "$C" status
 has out "mode realtime (rate 0.01)"       # --fast restored the mode
 has out "^omega     0\.5$"                  # and the original omega (no --keep)
 
-# ---- a ramp up and down, 1 s of simulated time each way (physical real time)
+# ---- a ramp up and down, 1 s of simulated time each way (physical real time),
+# with a hostile sender on the same channels (tests/clients/wgspoof.c): its
+# PARAMS (scale NaN, N = 0, unknown model, a NaN value) are ignored, said
+# so, and the ramp is what it is without it
+"$SPOOF" "$WORMGEAR_URL" RIGT_ 30 params >"$tmp/spoof.out" 2>&1 &
+spid=$!
 expect 0 "$R" --from 0.5 --to 1.0 --ramp 0.5s --bins 6 --fast --out "$tmp/ramp"
+kill "$spid" 2>/dev/null; wait "$spid" 2>/dev/null
+has err "ignored a PARAMS message no daemon sends (its scale is not positive and finite)"
 has err "12/12 points"
 [ "$(grep -c '^up' "$tmp/ramp.csv")" -eq 6 ] || fail "ramp: not 6 up bins"
 awk -F, '$1 == "up" && $3 == 0.5 && $7 == "no_impact" { ok = 1 } END { exit !ok }' "$tmp/ramp.csv" ||

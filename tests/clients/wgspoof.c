@@ -9,8 +9,11 @@
  * escapes (clear screen, window title, a C1 CSI) and a byte that is not
  * UTF-8 for a terminal that would obey them. Clients must draw on without
  * crashing, show no angle outside [0, 360) degrees, and show those strings
- * as text.
- * usage: wgspoof URL PREFIX SECONDS */
+ * as text. With "params", also PARAMS no daemon sends: a scale that is not
+ * a number, N = 0, an unknown model and stepper, a value NaN, escapes in
+ * a name.
+ * usage: wgspoof URL PREFIX SECONDS [params] */
+#include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_poincare_t.h"
 #include "lcmtypes/wormgear_state_t.h"
 #include "lcmtypes/wormgear_status_t.h"
@@ -108,10 +111,24 @@ static int publish_poincare(lcm_t *l, const char *ch, int64_t seq)
     return wormgear_poincare_t_publish(l, ch, &p);
 }
 
+static int publish_params(lcm_t *l, const char *ch, int64_t seq)
+{
+    char *names[2] = {"omega", "xi_p\033[2J"}, *units[2] = {"-", "-"};
+    double val[2] = {NAN, 0.1};
+    int8_t ramp[2] = {1, 0};
+    wormgear_params_t p = {.utime = (int64_t)(now_s() * 1e6), .seq = seq, .reason = "get",
+                           .cmd_client = "", .cmd_seq = -1, .scene = "../../etc/passwd",
+                           .model = "<b>", .stepper = "zzz", .steps_per_period = 0,
+                           .omega_n_rad_s = NAN, .length_m = -1, .mesh_stiffness_N_m = 2e9,
+                           .n = 2, .name = names, .unit = units, .value = val, .min = val,
+                           .max = val, .def = val, .rampable = ramp, .ramp_param = ""};
+    return wormgear_params_t_publish(l, ch, &p);
+}
+
 int main(int argc, char **argv)
 {
-    if (argc != 4) {
-        fprintf(stderr, "usage: wgspoof URL PREFIX SECONDS\n");
+    if (argc != 4 && !(argc == 5 && !strcmp(argv[4], "params"))) {
+        fprintf(stderr, "usage: wgspoof URL PREFIX SECONDS [params]\n");
         return 2;
     }
     lcm_t *l = lcm_create(argv[1]);
@@ -119,14 +136,18 @@ int main(int argc, char **argv)
         fprintf(stderr, "wgspoof: no LCM on %s\n", argv[1]);
         return 1;
     }
-    char cs[128], ct[128], cp[128];
+    char cs[128], ct[128], cp[128], cq[128];
+    int params = argc == 5;
     channel(cs, sizeof cs, argv[2], "STATUS");
     channel(ct, sizeof ct, argv[2], "STATE");
     channel(cp, sizeof cp, argv[2], "POINCARE");
+    channel(cq, sizeof cq, argv[2], "PARAMS");
     double end = now_s() + atof(argv[3]);
     int rc = 0;
     for (int64_t seq = 0; now_s() < end && rc == 0; seq++) {
         rc |= publish_status(l, cs, seq) | publish_state(l, ct, seq) | publish_poincare(l, cp, seq);
+        if (params)
+            rc |= publish_params(l, cq, seq);
         struct timespec ts = {0, 20000000};
         nanosleep(&ts, NULL);
     }
