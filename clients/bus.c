@@ -1,6 +1,8 @@
 /* bus.c - the daemon on LCM, for the clients (see bus.h). */
 #include "bus.h"
 #include "cli.h"
+#include "wormgear/wg_model.h"
+#include "wormgear/wg_sim.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -261,3 +263,33 @@ int bus_wait(bus *c, int timeout_ms, int (*done)(void *ctx), void *ctx)
 static int ack_done(void *ctx) { return ((bus *)ctx)->ack.got; }
 
 int bus_wait_ack(bus *c, int timeout_ms) { return bus_wait(c, timeout_ms, ack_done, c); }
+
+const char *bus_params_odd(const wormgear_params_t *m, char *why, size_t len)
+{
+    const double sc[3] = {m->omega_n_rad_s, m->length_m, m->mesh_stiffness_N_m};
+    for (int k = 0; k < 3; k++)
+        if (!(isfinite(sc[k]) && sc[k] > 0))
+            return snprintf(why, len, "its scale is not positive and finite"), why;
+    if (m->steps_per_period < WG_STEPS_MIN || m->steps_per_period > WG_STEPS_MAX)
+        return snprintf(why, len, "steps_per_period %d outside [%d, %d]", m->steps_per_period,
+                        WG_STEPS_MIN, WG_STEPS_MAX), why;
+    if (strcmp(m->model, wg_model_name(WG_MODEL_PRINTED)) &&
+        strcmp(m->model, wg_model_name(WG_MODEL_CONSISTENT)))
+        return snprintf(why, len, "an unknown model"), why;
+    if (wg_stepper_lookup(m->stepper) < WG_STEPPER_DEFAULT)
+        return snprintf(why, len, "an unknown stepper"), why;
+    for (int i = 0; i < m->n; i++)
+        if (!isfinite(m->value[i]))
+            return snprintf(why, len, "a value that is not a number"), why;
+    return NULL;
+}
+
+int bus_params_ignore(const wormgear_params_t *m, long *count, const char *prog)
+{
+    char why[96];
+    if (!bus_params_odd(m, why, sizeof why))
+        return 0;
+    if ((*count)++ < 3)
+        fprintf(stderr, "%s: ignored a PARAMS message no daemon sends (%s)\n", prog, why);
+    return 1;
+}

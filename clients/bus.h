@@ -14,6 +14,7 @@
 
 #include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_cmd_t.h"
+#include "lcmtypes/wormgear_params_t.h"
 #include "wormgear/wg_key.h"
 
 #define BUS_DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
@@ -154,5 +155,16 @@ int bus_wait(bus *c, int timeout_ms, int (*done)(void *ctx), void *ctx);
 /* Wait for the ACK of the last command sent; 0 when it came (c->ack), -1
  * on timeout. */
 int bus_wait_ack(bus *c, int timeout_ms);
+
+/* Why m is not a PARAMS a daemon sends (any sender on the group can
+ * publish one), in why, or NULL: its scale positive and finite, N in
+ * [WG_STEPS_MIN, WG_STEPS_MAX], a model and a stepper this build knows,
+ * every value finite. */
+const char *bus_params_odd(const wormgear_params_t *m, char *why, size_t len);
+
+/* 1 when m is such a PARAMS, to be ignored: counted in *count, and the
+ * first three said on stderr as "PROG: ignored a PARAMS message no daemon
+ * sends (why)". */
+int bus_params_ignore(const wormgear_params_t *m, long *count, const char *prog);
 
 #endif

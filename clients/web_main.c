@@ -40,6 +40,7 @@ typedef struct wgweb {
     double start_s, last_status_s, last_sec_s, cpu_last_s, cpu_share;
     double last_t_s;      /* latest simulated time seen */
     int heartbeat_lost, have_status;
+    long params_ignored;      /* PARAMS no daemon sends (bus_params_odd) */
     uint64_t restarts_seen;
 } wgweb;
 
@@ -156,6 +157,8 @@ static void on_status(void *ctx, const wormgear_status_t *m)
 static void on_params(void *ctx, const wormgear_params_t *m)
 {
     wgweb *w = ctx;
+    if (bus_params_ignore(m, &w->params_ignored, "wgweb"))
+        return; /* not forwarded: every client would show it */
     fox_params(&w->fox, m);
     if (fox_wanted(&w->fox, MSG_PARAMS)) {
         msg_params(&w->enc, m);
@@ -213,6 +216,7 @@ static void bridge_status(wgweb *w, double now)
     jb_key(b, "daemon_restarts"), jb_int(b, (int64_t)web_bus_restarts(&w->bus, WEB_BUS_STATUS));
     jb_key(b, "commands_allowed"), jb_bool(b, w->o.allow_commands);
     jb_key(b, "origins_refused"), jb_int(b, (int64_t)w->srv.bad_origin);
+    jb_key(b, "params_ignored"), jb_int(b, (int64_t)w->params_ignored);
     jb_key(b, "clients"), jb_int(b, fox_nclients(&w->fox));
     jb_key(b, "lcm_msgs"), jb_int(b, (int64_t)w->bus.msgs);
     jb_key(b, "lcm_gaps"), jb_int(b, (int64_t)web_bus_gaps(&w->bus));

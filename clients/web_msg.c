@@ -72,6 +72,7 @@ static const char *const bridge_fields[] = {
     "s:daemon:ok | no heartbeat | waiting", "n:heartbeat_age_s:wall seconds since the last STATUS",
     "i:daemon_restarts:daemon restarts seen (STATUS seq going back)",
     "b:commands_allowed:--allow-commands", "i:origins_refused:WebSockets refused for their web page Origin",
+    "i:params_ignored:PARAMS messages no daemon sends (scale, N, model, stepper or a value off), not forwarded",
     "i:clients:connected WebSocket clients",
     "i:lcm_msgs:LCM messages received", "i:lcm_gaps:messages lost in seq gaps",
     "n:scope_hz:target /scope samples per wall second",

@@ -71,8 +71,7 @@ typedef struct rig {
     int phase_idx;
     double phase_value;
     bus_seq pc_seq, ct_seq;   /* POINCARE, CONTACT: .missing = dropped */
-    long refusals, timeouts, skipped;
-    long bad_params;          /* PARAMS no daemon sends, ignored */
+    long refusals, timeouts, skipped, bad_params; /* the last: PARAMS no daemon sends */
     rig_imp imp;              /* mesh impacts from CONTACT */
     double t0;
     int done, total;
@@ -280,36 +279,10 @@ static void on_contact(rig *r, const wormgear_contact_t *m)
     }
 }
 
-/* Why m is not a PARAMS a daemon sends (any sender on the group can
- * publish one), or NULL: the scale positive and finite, N in range, a
- * model and stepper this build knows, finite values. */
-static const char *params_odd(const wormgear_params_t *m, char *why, size_t len)
-{
-    units_scale s = {m->omega_n_rad_s, m->length_m, m->mesh_stiffness_N_m};
-    if (!units_scale_ok(&s))
-        return snprintf(why, len, "its scale is not positive and finite"), why;
-    if (m->steps_per_period < WG_STEPS_MIN || m->steps_per_period > WG_STEPS_MAX)
-        return snprintf(why, len, "steps_per_period %d outside [%d, %d]", m->steps_per_period,
-                        WG_STEPS_MIN, WG_STEPS_MAX), why;
-    if (strcmp(m->model, wg_model_name(WG_MODEL_PRINTED)) &&
-        strcmp(m->model, wg_model_name(WG_MODEL_CONSISTENT)))
-        return snprintf(why, len, "an unknown model"), why;
-    if (wg_stepper_lookup(m->stepper) < WG_STEPPER_DEFAULT)
-        return snprintf(why, len, "an unknown stepper"), why;
-    for (int i = 0; i < m->n; i++)
-        if (!isfinite(m->value[i]))
-            return snprintf(why, len, "a value that is not a number"), why;
-    return NULL;
-}
-
 static void on_params(rig *r, const wormgear_params_t *m)
 {
-    char why[96];
-    if (params_odd(m, why, sizeof why)) {
-        if (r->bad_params++ < 3)
-            fprintf(stderr, "wgrig: ignored a PARAMS message no daemon sends (%s)\n", why);
+    if (bus_params_ignore(m, &r->bad_params, "wgrig"))
         return;
-    }
     wg_params_default(&r->base);
     for (int i = 0; i < m->n; i++) {
         int id = wg_param_lookup(m->name[i]);
@@ -718,9 +691,8 @@ static int setup(rig *r)
     if ((rc = check_param(r)) || (rc = open_bus(r)))
         return rc;
     r->orig = r->base.v[r->pid];
-    /* captions say what differs from the scene: its file when this host has
-     * it, else the daemon's values as the rig found them. The name is the
-     * daemon's (off the bus): looked up as a scene name, never as a path. */
+    /* captions say what differs from the scene: its file when this host has it
+     * (the name off the bus taken as a name, never a path), else the daemon's values */
     wg_scene sc;
     char why[300];
     int plain = r->scene[0] && !strchr(r->scene, '/') && strcmp(r->scene, "..") != 0;

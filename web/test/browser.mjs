@@ -8,7 +8,9 @@
 // 6 s: angles that are NaN, +-inf, 1e308, negative, 2 pi and beyond; the
 // status table may show only "–" or the one valid pair it sends (1.5 rad,
 // 3.0 rad = 85.94°, 171.89°), and its STATUS strings' markup (an <img>
-// whose onerror would set window.wgPwned, a <b id=wgpwn>) only as text.
+// whose onerror would set window.wgPwned, a <b id=wgpwn>) only as text;
+// its PARAMS (no daemon sends them: a NaN scale, N = 0) never reach the
+// page, whose caption stays the daemon's.
 // Prints "ok ..." lines; exit 0 on success, 1
 // on a failure.
 import { chromium } from "playwright-core";
@@ -85,7 +87,7 @@ async function spoofed(page) {
     return row ? row.cells[1].textContent : null;
   });
   process.kill(pid, "SIGSTOP");
-  const spoof = spawn(env.WG_SPOOF, [env.WORMGEAR_URL, env.WORMGEAR_PREFIX, "6"], { stdio: "inherit" });
+  const spoof = spawn(env.WG_SPOOF, [env.WORMGEAR_URL, env.WORMGEAR_PREFIX, "6", "params"], { stdio: "inherit" });
   const exited = new Promise((r) => spoof.on("exit", (code) => r(code)));
   try {
     const n0 = await page.evaluate(() => window.wgTest.scope);
@@ -102,6 +104,7 @@ async function spoofed(page) {
       shownAsText: document.querySelector("#status").textContent.includes("<b id=wgpwn>P9</b>"),
       img: document.querySelectorAll("#status img").length,
     }));
+    const caption = await page.textContent("#caption");
     const code = await exited;
     const bad = [...shown.keys()].filter((t) => t !== "–" && t !== "85.94°, 171.89°");
     const rejected = await page.evaluate(() => window.wgTest.badAngles);
@@ -113,6 +116,12 @@ async function spoofed(page) {
     assert.deepEqual(markup, { pwned: undefined, injected: false, shownAsText: true, img: 0 },
       "STATUS strings shown as text, never run as markup");
     console.log("ok spoofed: no angle that is not an angle was shown");
+    assert.ok(/^scene table3 /.test(caption) && !/passwd|NaN/.test(caption),
+      `the caption is still the daemon's PARAMS: "${caption}"`);
+    console.log(`ok spoofed PARAMS (NaN scale, N = 0, unknown model) not forwarded: "${caption.slice(0, 60)}…"`);
+    const shot2 = `${env.WG_OUT ?? "."}/dashboard-spoofed.png`;
+    await page.screenshot({ path: shot2, fullPage: true });
+    console.log(`ok screenshot under the hostile sender ${shot2}`);
   } finally {
     spoof.kill("SIGKILL");
     process.kill(pid, "SIGCONT");
