@@ -1,6 +1,7 @@
 /* bus.c - the daemon on LCM, for the clients (see bus.h). */
 #include "bus.h"
 #include "cli.h"
+#include "units.h"
 #include "wormgear/wg_model.h"
 #include "wormgear/wg_sim.h"
 
@@ -266,10 +267,9 @@ int bus_wait_ack(bus *c, int timeout_ms) { return bus_wait(c, timeout_ms, ack_do
 
 const char *bus_params_odd(const wormgear_params_t *m, char *why, size_t len)
 {
-    const double sc[3] = {m->omega_n_rad_s, m->length_m, m->mesh_stiffness_N_m};
-    for (int k = 0; k < 3; k++)
-        if (!(isfinite(sc[k]) && sc[k] > 0))
-            return snprintf(why, len, "its scale is not positive and finite"), why;
+    units_scale sc = {m->omega_n_rad_s, m->length_m, m->mesh_stiffness_N_m};
+    if (!units_scale_ok(&sc))
+        return snprintf(why, len, "its scale is not positive and finite"), why;
     if (m->steps_per_period < WG_STEPS_MIN || m->steps_per_period > WG_STEPS_MAX)
         return snprintf(why, len, "steps_per_period %d outside [%d, %d]", m->steps_per_period,
                         WG_STEPS_MIN, WG_STEPS_MAX), why;

@@ -137,8 +137,6 @@ static int parse_opts(int argc, char **argv, opts *o, char **pos, int *npos)
 
 /* ---- answers --------------------------------------------------------------- */
 
-/* s as a JSON string literal (quotes, backslashes and control characters
- * escaped). */
 /* The strings of a message as text, in place: whoever sent it chose them,
  * and a terminal would obey an escape among them (cli_text). */
 #define CLEAN(s) ((s) ? (void)cli_text((s), strlen(s) + 1, (s)) : (void)0)
@@ -156,6 +154,8 @@ static void clean_status(wormgear_status_t *s)
     CLEAN(s->motion), CLEAN(s->regime);
 }
 
+/* s as a JSON string literal (quotes, backslashes and control characters
+ * escaped). */
 static void json_str(FILE *f, const char *s)
 {
     fputc('"', f);

@@ -695,8 +695,8 @@ static int setup(rig *r)
      * (the name off the bus taken as a name, never a path), else the daemon's values */
     wg_scene sc;
     char why[300];
-    int plain = r->scene[0] && !strchr(r->scene, '/') && strcmp(r->scene, "..") != 0;
-    r->scene_p = plain && wg_scene_open(&sc, r->scene, why, sizeof why) == WG_OK ? sc.p : r->base;
+    int name = r->scene[0] && !wg_scene_is_file(r->scene);
+    r->scene_p = name && wg_scene_open(&sc, r->scene, why, sizeof why) == WG_OK ? sc.p : r->base;
     r->so.steps = r->steps, r->so.model = r->model, r->so.stepper = r->stepper; /* the daemon's */
     if ((rc = record_cap(r, &cap)))
         return rc;

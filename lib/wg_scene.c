@@ -467,10 +467,15 @@ static void list_scenes(const char *dir, char *out, size_t len)
         free(e);
 }
 
+int wg_scene_is_file(const char *s)
+{
+    size_t n = strlen(s);
+    return strchr(s, '/') || (n > 4 && strcmp(s + n - 4, ".ini") == 0);
+}
+
 int wg_scene_find(const char *name, char *path, size_t pathlen, char *why, size_t whylen)
 {
-    size_t n = strlen(name);
-    if (strchr(name, '/') || (n > 4 && strcmp(name + n - 4, ".ini") == 0)) {
+    if (wg_scene_is_file(name)) {
         snprintf(path, pathlen, "%s", name);
         return WG_OK;
     }

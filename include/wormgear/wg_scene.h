@@ -48,6 +48,10 @@ int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen);
 int wg_scene_find(const char *name_or_file, char *path, size_t pathlen,
                   char *why, size_t whylen);
 
+/* 1 when wg_scene_find takes s as a file path ('/' in it, or ".ini" at its
+ * end), 0 when as a scene name looked up in the scene directories. */
+int wg_scene_is_file(const char *s);
+
 /* The scene directory of this installation, found from the running
  * program: <prefix>/share/wormgear/scenes for <prefix>/bin or sbin (so an
  * install can move), or a build tree's copy of scenes/; "" if unknown. */

@@ -165,12 +165,27 @@ static void teardown(void)
         fprintf(stderr, "could not remove %s\n", dir);
 }
 
+/* Name or file, the one rule (wgrig opens a scene name that came off the
+ * bus only when it is a name) */
+static void test_name_or_file(void)
+{
+    ASSERT_TRUE(wg_scene_is_file("../../etc/passwd"));
+    ASSERT_TRUE(wg_scene_is_file("my.ini"));
+    ASSERT_TRUE(!wg_scene_is_file("table3"));
+    ASSERT_TRUE(!wg_scene_is_file("table3-physical"));
+    ASSERT_TRUE(!wg_scene_is_file(".ini")); /* a name: ".ini.ini" in the scene directories */
+    char path[256], why[256];
+    ASSERT_EQ_INT(wg_scene_find("x/y.ini", path, sizeof path, why, sizeof why), WG_OK);
+    ASSERT_STR(path, "x/y.ini");
+}
+
 static void test_all(void)
 {
     setup();
     test_shipped_scenes_load();
     test_physical_equals_dimensionless();
     test_malformed_lines();
+    test_name_or_file();
     teardown();
 }
 
