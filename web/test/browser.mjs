@@ -10,9 +10,8 @@
 // 3.0 rad = 85.94°, 171.89°), and its STATUS strings' markup (an <img>
 // whose onerror would set window.wgPwned, a <b id=wgpwn>) only as text;
 // its PARAMS (no daemon sends them: a NaN scale, N = 0) never reach the
-// page, whose caption stays the daemon's.
-// Prints "ok ..." lines; exit 0 on success, 1
-// on a failure.
+// page, whose caption stays the daemon's. Prints "ok ..." lines; exit 0 on
+// success, 1 on a failure.
 import { chromium } from "playwright-core";
 import { spawn } from "node:child_process";
 import assert from "node:assert/strict";
