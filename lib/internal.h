@@ -45,22 +45,40 @@ typedef struct ct_trace {
     ct_split sp[CT_MAX_SPLITS];
 } ct_trace;
 
+/* ---- the cubic Hermite of a coordinate over one step (wg_herm.c) ----------- */
+
+/* t in [0, 1] over the step */
+typedef struct herm {
+    double q0, q1, d0, d1; /* values and h-scaled rates at the ends */
+} herm;
+
+double herm_val(const herm *H, double t);
+
+/* Extrema of H on [0, 1] (including the ends). */
+double herm_min(const herm *H);
+double herm_max(const herm *H);
+
+/* A step of length h from (q0, v0) to (q1, v1) whose rate changes sign has
+ * an extremum inside: lower *mn to the minimum (v0 < 0) or raise *mx to the
+ * maximum. The ends are the caller's. */
+void herm_turn(double q0, double q1, double v0, double v1, double h, double *mn, double *mx);
+
 /* A run of plain steps in one kernel call (constant parameters, no ramp,
  * no per-step callback), the state kept in registers between steps. Each
- * step does what wg_sim_run's general step does when nothing happens, in
- * the same arithmetic: the kernel, the mesh contact in ct_contacts' order,
- * Kahan time, the period's min/max x_n, k + 1. The run stops before a step
- * that completes a period (k = N - 1), changes a contact's zone (contact j
- * stays when lo[j] <= x <= hi[j]), turns x_n' round (the extremum needs
- * the Hermite refinement), or that might bring the state near `fin` (every
- * |y_i| must stay below fin / 16, so their sum stays below fin); the caller
- * takes that step. */
+ * step does what wg_sim_run's general step does when no contact changes
+ * zone, in the same arithmetic: the kernel, the mesh contact in ct_contacts'
+ * order, Kahan time, the period's min/max x_n (with herm_turn where x_n'
+ * turns round), k + 1. The run stops after a step that completes a period
+ * (k reaches N: the caller counts the period) and before a step that
+ * changes a contact's zone (contact j stays when lo[j] <= x <= hi[j]) or
+ * that might bring the state near `fin` (every |y_i| must stay below
+ * fin / 16, so their sum stays below fin); the caller takes that step. */
 typedef struct wg_krun {
     double y[WG_NSTATE_MAX];     /* in/out: state */
     double xn, dxn;              /* in/out: mesh contact of y */
     double tau, tau_c;           /* in/out: Kahan time */
     double min_xn, max_xn;       /* in/out: the period's statistics */
-    uint32_t k, N;               /* in/out: phase index; steps per period */
+    uint32_t k, N;               /* in/out: phase index (N: a period ended); steps per period */
     double h, fin;               /* step; sum |y| must stay below fin */
     const wg_exc *table;         /* 2N+1 half-step excitation entries */
     double lo[WG_NCONTACT], hi[WG_NCONTACT]; /* zone bounds per contact */
@@ -221,15 +239,6 @@ static inline void ct_contacts(const wg_sim *s, const double *y, const wg_exc *e
  * and set the bounds of that zone (zlo, zhi) for the runs of plain steps.
  * Called whenever a zone or a threshold changes. */
 void ct_set_lock(wg_sim *s, int contact, int zone);
-
-/* Cubic Hermite of a contact coordinate over one step, t in [0, 1]. */
-typedef struct herm {
-    double q0, q1, d0, d1; /* values and h-scaled rates at the ends */
-} herm;
-
-/* Extrema of H on [0, 1] (including the ends). */
-double ct_herm_min(const herm *H);
-double ct_herm_max(const herm *H);
 
 /* The contact events of one step, sorted by the caller. */
 enum { MAX_STEP_EVENTS = 64 };

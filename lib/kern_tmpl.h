@@ -345,12 +345,15 @@ INLINE void kloc_store(wg_krun *r, kloc l)
     r->min_xn = l.mn, r->max_xn = l.mx, r->k = l.k;
 }
 
-/* Accept a step ending at mesh contact (x, dx). */
+/* Accept a step ending at mesh contact (x, dx): as after_step, an extremum
+ * inside the step first (rare: out of line), then the end. */
 INLINE void kloc_accept(kloc *l, double h, double x, double dx)
 {
     double dt = h - l->tc, t = l->tau + dt;
     l->tc = (t - l->tau) - dt;
     l->tau = t;
+    if (__builtin_expect((l->dxn < 0) != (dx < 0), 0))
+        herm_turn(l->xn, x, l->dxn, dx, h, &l->mn, &l->mx);
     l->mn = dmin(l->mn, x);
     l->mx = dmax(l->mx, x);
     l->xn = x;
@@ -358,16 +361,11 @@ INLINE void kloc_accept(kloc *l, double h, double x, double dx)
     l->k++;
 }
 
-/* The mesh contact stays in its zone and x_n' keeps its sign. */
-INLINE int mesh_quiet(double lo, double hi, const kloc *l, double x, double dx)
-{
-    return x >= lo && x <= hi && (l->dxn < 0) == (dx < 0);
-}
 
 /* The hot loop of the full path: the kernel, the mesh contact summed as
- * ct_contacts sums it (-te, then c_i y_i in index order, then s), the zone,
- * finiteness and turning tests, then the step is accepted. One function so
- * the state and the kernel constants stay in registers. */
+ * ct_contacts sums it (-te, then c_i y_i in index order, then s), the zone
+ * and finiteness tests, then the step is accepted. One function so the
+ * state and the kernel constants stay in registers. */
 INLINE uint64_t run_full(const wg_kcoef *restrict K, wg_krun *restrict r, uint64_t n,
                          const int LOCK, const int BJ, const int MB, const int KA, const int EM)
 {
@@ -376,7 +374,7 @@ INLINE uint64_t run_full(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
     kst y = kst_load(r->y);
     kloc l = kloc_load(r);
     const double *c = K->c, h = r->h, mlo = r->lo[0], mhi = r->hi[0];
-    const uint32_t last = r->N - 1;
+    const uint32_t N = r->N;
     /* Finite and far from the blow-up bound: every |y_i| < fin / 16, so the
      * sum the general step tests (< fin) holds too; a step this refuses is
      * taken by the general step with the same bits. The bearing zones' bounds
@@ -395,7 +393,7 @@ INLINE uint64_t run_full(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
         hi[b] = vload6(hi6, b);
     }
     uint64_t i;
-    for (i = 0; i < n && l.k < last; i++) {
+    for (i = 0; i < n && l.k < N; i++) {
         const wg_exc *e = &r->table[2 * l.k];
         kst z = rk4_full_st(&C, K, e, h, y, LOCK, BJ, MB, KA, EM);
         double x = -e[2].te, dx = e[2].dte;
@@ -409,8 +407,7 @@ INLINE uint64_t run_full(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
 #pragma GCC unroll 3
         for (int b = 1; b < NB; b++)
             ok &= (z.q[b] >= lo[b]) & (z.q[b] <= hi[b]) & (vabs(z.v[b]) < vlim);
-        if (!(vall(ok) && fabs(z.s) < lim && fabs(z.vs) < lim &&
-              mesh_quiet(mlo, mhi, &l, x, dx)))
+        if (!(vall(ok) && fabs(z.s) < lim && fabs(z.vs) < lim && x >= mlo && x <= mhi))
             break;
         y = z;
         kloc_accept(&l, h, x, dx);
@@ -427,16 +424,16 @@ INLINE uint64_t run_tors(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
     kloc l = kloc_load(r);
     double s = r->y[6], v = r->y[13], h = r->h, fin = r->fin, rest = 0.0;
     const double mlo = r->lo[0], mhi = r->hi[0];
-    const uint32_t last = r->N - 1;
+    const uint32_t N = r->N;
     for (int j = 0; j < 14; j++)
         rest += j == 6 || j == 13 ? 0.0 : fabs(r->y[j]);
     uint64_t i;
-    for (i = 0; i < n && l.k < last; i++) {
+    for (i = 0; i < n && l.k < N; i++) {
         const wg_exc *e = &r->table[2 * l.k];
         double s1, v1;
         rk4_tors_st(&s1, &v1, s, v, K, e, h, LOCK, MB, KA, EM);
         double x = -e[2].te + s1, dx = e[2].dte + v1;
-        if (!(rest + fabs(s1) + fabs(v1) < fin && mesh_quiet(mlo, mhi, &l, x, dx)))
+        if (!(rest + fabs(s1) + fabs(v1) < fin && x >= mlo && x <= mhi))
             break;
         s = s1, v = v1;
         kloc_accept(&l, h, x, dx);

@@ -1,6 +1,6 @@
 /* wg_contact.c - contacts of the running model: coordinates and zones of
- * the mesh and the six bearings, the phase law within a step, Hermite
- * interpolation of a contact over a step, contact events, and the
+ * the mesh and the six bearings, the phase law within a step, crossings
+ * located on a contact's Hermite interpolant, contact events, and the
  * rk4-event step split at located dead-zone crossings. */
 #include "internal.h"
 
@@ -56,15 +56,7 @@ void ct_set_lock(wg_sim *s, int contact, int zone)
     s->core->zhi[contact] = zone < 0 ? -above(c) : zone == 0 ? c : INFINITY;
 }
 
-/* ---- Hermite interpolation of a contact coordinate over one step ------- */
-
-
-static double herm_val(const herm *H, double t)
-{
-    double t2 = t * t, t3 = t2 * t;
-    return (2 * t3 - 3 * t2 + 1) * H->q0 + (t3 - 2 * t2 + t) * H->d0 + (-2 * t3 + 3 * t2) * H->q1 +
-           (t3 - t2) * H->d1;
-}
+/* ---- crossings of a contact coordinate over one step (wg_herm.c) ------- */
 
 static double herm_der(const herm *H, double t) /* d/dt, t in [0,1] */
 {
@@ -100,36 +92,6 @@ static double herm_root(const herm *H, double c)
         }
     }
     return 0.5 * (a + b);
-}
-
-/* Minimum of H on (0,1) when the rate goes from negative to positive. */
-double ct_herm_min(const herm *H)
-{
-    /* H'(t) = A t^2 + B t + C */
-    double A = 6 * H->q0 + 3 * H->d0 - 6 * H->q1 + 3 * H->d1;
-    double B = -6 * H->q0 - 4 * H->d0 + 6 * H->q1 - 2 * H->d1;
-    double C = H->d0;
-    double t;
-    if (fabs(A) < 1e-300) {
-        t = -C / B;
-    } else {
-        double disc = B * B - 4 * A * C;
-        if (disc < 0)
-            return dmin(H->q0, H->q1);
-        double sq = sqrt(disc);
-        double qq = -0.5 * (B + (B >= 0 ? sq : -sq));
-        double r1 = qq / A, r2 = qq != 0 ? C / qq : r1;
-        /* the minimum is where H'' = 2 A t + B > 0 */
-        t = (2 * A * r1 + B > 0) ? r1 : r2;
-    }
-    double v = (t > 0 && t < 1) ? herm_val(H, t) : INFINITY;
-    return dmin(v, dmin(H->q0, H->q1));
-}
-
-double ct_herm_max(const herm *H)
-{
-    herm N = {-H->q0, -H->q1, -H->d0, -H->d1};
-    return -ct_herm_min(&N);
 }
 
 /* ---- events ---------------------------------------------------------------- */

@@ -255,9 +255,9 @@ static void extremes(wg_orbit *o, int nc, const double *q0, const double *v0, co
         if ((v0[j] < 0) != (v1[j] < 0)) {
             herm H = {q0[j], q1[j], v0[j] * h, v1[j] * h};
             if (v0[j] < 0)
-                o->qmin[j] = dmin(o->qmin[j], ct_herm_min(&H));
+                o->qmin[j] = dmin(o->qmin[j], herm_min(&H));
             else
-                o->qmax[j] = dmax(o->qmax[j], ct_herm_max(&H));
+                o->qmax[j] = dmax(o->qmax[j], herm_max(&H));
         }
         o->qmin[j] = dmin(o->qmin[j], q1[j]);
         o->qmax[j] = dmax(o->qmax[j], q1[j]);

@@ -511,13 +511,7 @@ static void emit_section(wg_sim *s, const wg_sink *sink)
 static void after_step(wg_sim *s, const double *q0, const double *v0, const double *q1,
                        const double *v1, double h, evbuf *b, const wg_sink *sink)
 {
-    if ((v0[0] < 0) != (v1[0] < 0)) { /* an extremum of x_n inside the step */
-        herm H = {q0[0], q1[0], v0[0] * h, v1[0] * h};
-        if (v0[0] < 0)
-            s->core->cur.min_xn = dmin(s->core->cur.min_xn, ct_herm_min(&H));
-        else
-            s->core->cur.max_xn = dmax(s->core->cur.max_xn, ct_herm_max(&H));
-    }
+    herm_turn(q0[0], q1[0], v0[0], v1[0], h, &s->core->cur.min_xn, &s->core->cur.max_xn);
     s->core->cur.min_xn = dmin(s->core->cur.min_xn, q1[0]);
     s->core->cur.max_xn = dmax(s->core->cur.max_xn, q1[0]);
     if (b->n == 0)
@@ -552,9 +546,23 @@ static void sync_out(wg_sim *s, const double *y, const double *q, const double *
     memcpy(s->core->v, v, sizeof s->core->v);
 }
 
+/* The step from y with contacts q, v ended a period: count it, and hand
+ * the section to the sink. */
+static void period_end(wg_sim *s, const wg_sink *sink, const double *y, const double *q,
+                       const double *v)
+{
+    if (sink && sink->on_section)
+        sync_out(s, y, q, v);
+    s->period++;
+    s->core->wrap_pending = 0;
+    emit_section(s, sink);
+    period_start(s, q[0]);
+}
+
 /* Up to n plain steps in the kernel's own loop (wg_krun) from the state y
- * with contacts q, v (updated); returns how many it took. The step it
- * stops before is left to the general step. */
+ * with contacts q, v (updated); returns how many it took. It stops after a
+ * step that ends a period (s->k is then 0; the caller counts the period);
+ * a step it stops before is left to the general step. */
 static uint64_t fast_steps(wg_sim *s, double *y, double *q, double *v, uint64_t n)
 {
     wg_sim_core *c = s->core;
@@ -579,7 +587,7 @@ static uint64_t fast_steps(wg_sim *s, double *y, double *q, double *v, uint64_t 
     s->tau_c = r.tau_c;
     c->cur.min_xn = r.min_xn;
     c->cur.max_xn = r.max_xn;
-    s->k = r.k;
+    s->k = r.k == r.N ? 0 : r.k;
     s->steps += m;
     return m;
 }
@@ -605,7 +613,13 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
     const int fast = s->core->krun && !(sink && sink->on_step);
     for (i = 0; i < n; i++) {
         if (fast && !s->ramp.active) {
-            i += fast_steps(s, yb[cur], qb[cur], vb[cur], n - i);
+            uint64_t m;
+            while (i < n && (m = fast_steps(s, yb[cur], qb[cur], vb[cur], n - i)) > 0) {
+                i += m;
+                if (s->k != 0)
+                    break;
+                period_end(s, sink, yb[cur], qb[cur], vb[cur]);
+            }
             if (i == n)
                 break;
         }
@@ -680,16 +694,12 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
         else if (s->ramp.active && s->ramp.id == WG_P_OMEGA)
             s->p.v[WG_P_OMEGA] = s->ramp.v0 + (s->ramp.v1 - s->ramp.v0) *
                                                   (s->tau - s->ramp.tau0) / s->ramp.dur;
-        if (sink && (sink->on_step || (s->k == 0 && sink->on_section)))
+        if (sink && sink->on_step) {
             sync_out(s, y1, q1, v1);
-        if (sink && sink->on_step)
             sink->on_step(sink->ctx, s);
-        if (s->k == 0) {
-            s->period++;
-            s->core->wrap_pending = 0;
-            emit_section(s, sink);
-            period_start(s, q1[0]);
         }
+        if (s->k == 0)
+            period_end(s, sink, y1, q1, v1);
     }
     sync_out(s, yb[cur], qb[cur], vb[cur]);
     if (done)
