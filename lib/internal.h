@@ -72,7 +72,8 @@ void herm_turn(double q0, double q1, double v0, double v1, double h, double *mn,
  * (k reaches N: the caller counts the period) and before a step that
  * changes a contact's zone (contact j stays when lo[j] <= x <= hi[j]) or
  * that might bring the state near `fin` (every |y_i| must stay below
- * fin / 16, so their sum stays below fin); the caller takes that step. */
+ * fin / 16, so their sum stays below fin); the caller takes that step, from
+ * the state the run computed for it (`trial`). */
 typedef struct wg_krun {
     double y[WG_NSTATE_MAX];     /* in/out: state */
     double xn, dxn;              /* in/out: mesh contact of y */
@@ -82,6 +83,8 @@ typedef struct wg_krun {
     double h, fin;               /* step; sum |y| must stay below fin */
     const wg_exc *table;         /* 2N+1 half-step excitation entries */
     double lo[WG_NCONTACT], hi[WG_NCONTACT]; /* zone bounds per contact */
+    double *trial;               /* out: the step the run stopped before, as the kernel */
+    int has_trial;               /*      writes it into y1 (1: written) */
 } wg_krun;
 
 /* At most n plain steps of r (above); returns the number taken. */

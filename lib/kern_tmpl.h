@@ -407,8 +407,11 @@ INLINE uint64_t run_full(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
 #pragma GCC unroll 3
         for (int b = 1; b < NB; b++)
             ok &= (z.q[b] >= lo[b]) & (z.q[b] <= hi[b]) & (vabs(z.v[b]) < vlim);
-        if (!(vall(ok) && fabs(z.s) < lim && fabs(z.vs) < lim && x >= mlo && x <= mhi))
+        if (!(vall(ok) && fabs(z.s) < lim && fabs(z.vs) < lim && x >= mlo && x <= mhi)) {
+            kst_store(r->trial, z);
+            r->has_trial = 1;
             break;
+        }
         y = z;
         kloc_accept(&l, h, x, dx);
     }
@@ -433,8 +436,11 @@ INLINE uint64_t run_tors(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
         double s1, v1;
         rk4_tors_st(&s1, &v1, s, v, K, e, h, LOCK, MB, KA, EM);
         double x = -e[2].te + s1, dx = e[2].dte + v1;
-        if (!(rest + fabs(s1) + fabs(v1) < fin && x >= mlo && x <= mhi))
+        if (!(rest + fabs(s1) + fabs(v1) < fin && x >= mlo && x <= mhi)) {
+            r->trial[6] = s1, r->trial[13] = v1; /* as rk4_tors */
+            r->has_trial = 1;
             break;
+        }
         s = s1, v = v1;
         kloc_accept(&l, h, x, dx);
     }

@@ -562,18 +562,21 @@ static void period_end(wg_sim *s, const wg_sink *sink, const double *y, const do
 /* Up to n plain steps in the kernel's own loop (wg_krun) from the state y
  * with contacts q, v (updated); returns how many it took. It stops after a
  * step that ends a period (s->k is then 0; the caller counts the period);
- * a step it stops before is left to the general step. */
-static uint64_t fast_steps(wg_sim *s, double *y, double *q, double *v, uint64_t n)
+ * a step it stops before is left to the general step, and *has_trial says
+ * whether its kernel's result is in y1 already. */
+static uint64_t fast_steps(wg_sim *s, double *y, double *q, double *v, uint64_t n, double *y1,
+                           int *has_trial)
 {
     wg_sim_core *c = s->core;
     wg_krun r = {.xn = q[0], .dxn = v[0], .tau = s->tau, .tau_c = s->tau_c,
                  .min_xn = c->cur.min_xn, .max_xn = c->cur.max_xn, .k = s->k,
                  .N = (uint32_t)s->cfg.steps_per_period, .h = s->h, .fin = ABSURD * (1 - 1e-9),
-                 .table = c->table};
+                 .table = c->table, .trial = y1};
     memcpy(r.y, y, sizeof r.y);
     memcpy(r.lo, c->zlo, sizeof r.lo);
     memcpy(r.hi, c->zhi, sizeof r.hi);
     uint64_t m = c->krun(&c->kc, &r, n);
+    *has_trial = r.has_trial;
     if (m == 0)
         return 0;
     memcpy(y, r.y, sizeof r.y);
@@ -612,9 +615,11 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
      * callback needs the general step every time */
     const int fast = s->core->krun && !(sink && sink->on_step);
     for (i = 0; i < n; i++) {
+        int has_trial = 0;
         if (fast && !s->ramp.active) {
             uint64_t m;
-            while (i < n && (m = fast_steps(s, yb[cur], qb[cur], vb[cur], n - i)) > 0) {
+            while (i < n && (m = fast_steps(s, yb[cur], qb[cur], vb[cur], n - i, yb[!cur],
+                                            &has_trial)) > 0) {
                 i += m;
                 if (s->k != 0)
                     break;
@@ -640,7 +645,8 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
             ct_exc_at(s, &ph, h, &live[2]);
             e = live;
         }
-        s->core->kernel(y0, y1, kctx, e, h);
+        if (!has_trial) /* else the run of plain steps computed it */
+            s->core->kernel(y0, y1, kctx, e, h);
         int nc = ct_ncontacts(s), changed = 0;
         ct_contacts(s, y1, &e[2], q1, v1);
         changed = (ct_zone(q1[0], s->core->kc.b) ^ s->core->zone[0]);

@@ -4,8 +4,12 @@
  * loop, and the general step it hands back to) agree within the step's
  * truncation error -- one step of each of the 64 specialisations, and whole
  * runs with impacts and located events. The kernels are written to give the
- * same bits on every path (kern_tmpl.h); the test prints whether they did,
- * and fails only past the truncation-error bound. */
+ * same bits on every path (kern_tmpl.h); across instruction sets the test
+ * prints whether they did and fails only past the truncation-error bound,
+ * and on one instruction set it asserts the two step paths bitwise equal
+ * (the general step reuses the state the run of plain steps computed). */
+#include "wormgear/wg_scene.h"
+
 #include "kern_fix.h"
 
 #include <stdlib.h>
@@ -101,14 +105,14 @@ static void on_step(void *ctx, const struct wg_sim *s)
     (void)s;
 }
 
-/* table3 at omega 0.7 (single-sided impacts every period: the run of plain
- * steps stops and the general step splits), N steps per period, 60 periods;
- * with `general` an on_step sink forces the general step throughout. */
-static void run_point(int isa, int N, int general, wg_sim *s, runrec *r)
+/* p at omega (table3 at 0.7: single-sided impacts every period, so the run
+ * of plain steps stops and the general step splits), N steps per period, 60
+ * periods; with `general` an on_step sink forces the general step
+ * throughout. */
+static void run_params(wg_params p, double omega, int isa, int N, int general, wg_sim *s,
+                       runrec *r)
 {
-    wg_params p;
-    wg_params_default(&p);
-    p.v[WG_P_OMEGA] = 0.7;
+    p.v[WG_P_OMEGA] = omega;
     wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, N};
     char why[300];
     if (setenv("WG_ISA", kernel_isa_name(isa), 1) != 0)
@@ -121,6 +125,37 @@ static void run_point(int isa, int N, int general, wg_sim *s, runrec *r)
     uint64_t done = 0;
     ASSERT_EQ_INT(wg_sim_run(s, 60 * (uint64_t)N, &sink, &done), WG_OK);
     ASSERT_TRUE(done == 60 * (uint64_t)N);
+}
+
+static void run_point(int isa, int N, int general, wg_sim *s, runrec *r)
+{
+    wg_params p;
+    wg_params_default(&p);
+    run_params(p, 0.7, isa, N, general, s, r);
+}
+
+/* The torsional path (s and s' only) on each instruction set, at omega 1.0
+ * (an impact a period): its run of plain steps and its general step give
+ * the same bits, events and sections. */
+static void test_torsional_paths(void)
+{
+    wg_scene sc;
+    char why[600];
+    ASSERT_EQ_INT(wg_scene_open(&sc, "torsional", why, sizeof why), WG_OK);
+    ASSERT_TRUE(wg_params_torsional(&sc.p));
+    for (int isa = 0; isa < KISA_N; isa++) {
+        if (!kernel_isa_supported(isa))
+            continue;
+        wg_sim a, b;
+        runrec ra, rb;
+        run_params(sc.p, 1.0, isa, 128, 0, &a, &ra);
+        run_params(sc.p, 1.0, isa, 128, 1, &b, &rb);
+        ASSERT_TRUE(ra.nev > 100); /* it impacts: the run of plain steps stops */
+        ASSERT_TRUE(memcmp(a.y, b.y, sizeof a.y) == 0 && a.tau == b.tau);
+        ASSERT_TRUE(memcmp(&ra, &rb, sizeof ra) == 0);
+        wg_sim_fini(&a);
+        wg_sim_fini(&b);
+    }
 }
 
 /* Whole runs: each instruction set, and the general step alone, against
@@ -257,4 +292,5 @@ static void test_isa_choice(void)
 }
 
 TEST_MAIN(TEST(test_kernels_agree_across_isas), TEST(test_runs_agree_across_paths),
-          TEST(test_large_state_handover), TEST(test_isa_choice))
+          TEST(test_large_state_handover), TEST(test_torsional_paths),
+          TEST(test_isa_choice))
