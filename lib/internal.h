@@ -52,7 +52,12 @@ typedef struct herm {
     double q0, q1, d0, d1; /* values and h-scaled rates at the ends */
 } herm;
 
-double herm_val(const herm *H, double t);
+/* dH/dt at t (per unit t: divide by the step for a rate) */
+double herm_der(const herm *H, double t);
+
+/* The root of H(t) = c in [0, 1], given H(0) - c and H(1) - c of opposite
+ * signs (to ~1e-15 in t). */
+double herm_root(const herm *H, double c);
 
 /* Extrema of H on [0, 1] (including the ends). */
 double herm_min(const herm *H);
@@ -99,6 +104,8 @@ typedef struct wg_sim_core {
     int isa;              /* which instruction set's kernels (KISA_*) */
     int wrap_pending;     /* 1 from psi wrapping to 0 until period counts it (on_step) */
     wg_exc *table;        /* 2N+1 excitation entries at half steps */
+    struct ct_ends *ends; /* N: ct_exc_at at a plain step's two ends, when valid */
+    uint64_t ends_gen;    /* entries of another generation are stale */
     wg_params hkey;       /* parameters hkey_hmax was computed for (cache) */
     double hkey_hmax;     /* 0: no cached value */
     /* contact bookkeeping at the end of the last step */
@@ -254,6 +261,15 @@ typedef struct evbuf {
  * [t0, t0 + len] of the step. */
 void ct_interpolate(const wg_sim *s, evbuf *b, int j, int z0, int z1, const herm *H, double t0,
                     double len);
+
+/* The excitation ct_split_step asks for at both ends of plain step k (no
+ * ramp), as ct_exc_at gives it: kept for the next split step at k. e[i]
+ * is valid while gen[i] equals the sim's ends_gen, which every change of
+ * parameters or table moves on. */
+typedef struct ct_ends {
+    uint64_t gen[2];
+    wg_exc e[2]; /* at t = 0 and t = h */
+} ct_ends;
 
 /* rk4-event: integrate [0, h] from y0 into y1 with the kinked contacts'
  * zones locked between located crossings (y1 holds the unsplit step on

@@ -56,46 +56,7 @@ void ct_set_lock(wg_sim *s, int contact, int zone)
     s->core->zhi[contact] = zone < 0 ? -above(c) : zone == 0 ? c : INFINITY;
 }
 
-/* ---- crossings of a contact coordinate over one step (wg_herm.c) ------- */
-
-static double herm_der(const herm *H, double t) /* d/dt, t in [0,1] */
-{
-    double t2 = t * t;
-    return (6 * t2 - 6 * t) * H->q0 + (3 * t2 - 4 * t + 1) * H->d0 + (-6 * t2 + 6 * t) * H->q1 +
-           (3 * t2 - 2 * t) * H->d1;
-}
-
-/* Root of H(t) = c in [0,1], given a sign change; Illinois false position. */
-static double herm_root(const herm *H, double c)
-{
-    double a = 0.0, b = 1.0, fa = H->q0 - c, fb = H->q1 - c;
-    int side = 0;
-    for (int it = 0; it < 60 && b - a > 1e-15; it++) {
-        double t = (fa * b - fb * a) / (fa - fb);
-        if (!(t > a && t < b))
-            t = 0.5 * (a + b);
-        double ft = herm_val(H, t) - c;
-        if (ft == 0.0)
-            return t;
-        if ((ft > 0) == (fb > 0)) {
-            b = t;
-            fb = ft;
-            if (side == -1)
-                fa *= 0.5;
-            side = -1;
-        } else {
-            a = t;
-            fa = ft;
-            if (side == 1)
-                fb *= 0.5;
-            side = 1;
-        }
-    }
-    return 0.5 * (a + b);
-}
-
 /* ---- events ---------------------------------------------------------------- */
-
 
 /* Leaving zone z in direction dir (+1 up, -1 down) across the boundary at
  * +-c: the threshold crossed and the event kind (MODEL.md s5). */
@@ -134,12 +95,16 @@ void ct_interpolate(const wg_sim *s, evbuf *b, int j, int z0, int z1,
 /* The excitation at the sub-step times of one split step, each time
  * evaluated once: the same times recur (the step's end at every pass, the
  * crossing a substep ends at and the next one starts from, the contacts
- * there), and ct_exc_at costs a sine and a cosine. The same bits. */
+ * there), and ct_exc_at costs a sine and a cosine. A plain step's two ends
+ * are also kept across steps (ct_ends: a periodic orbit splits at the same
+ * k every period). The same bits. */
 enum { EXC_MEMO = 8 };
 typedef struct exc_memo {
     double t[EXC_MEMO];
     wg_exc e[EXC_MEMO];
     int n, next;
+    ct_ends *ends; /* plain step k's (NULL in a ramp) */
+    double h;      /* its length */
 } exc_memo;
 
 static wg_exc exc_at(exc_memo *m, const wg_sim *s, const phase *ph, double t)
@@ -151,7 +116,16 @@ static wg_exc exc_at(exc_memo *m, const wg_sim *s, const phase *ph, double t)
     m->next = (i + 1) % EXC_MEMO;
     m->n += m->n < EXC_MEMO;
     m->t[i] = t;
+    int end = t == 0.0 ? 0 : t == m->h ? 1 : -1;
+    if (m->ends && end >= 0 && m->ends->gen[end] == s->core->ends_gen) {
+        m->e[i] = m->ends->e[end];
+        return m->e[i];
+    }
     ct_exc_at(s, ph, t, &m->e[i]);
+    if (m->ends && end >= 0) {
+        m->ends->e[end] = m->e[i];
+        m->ends->gen[end] = s->core->ends_gen;
+    }
     return m->e[i];
 }
 
@@ -204,7 +178,8 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
     double qa[WG_NCONTACT], va[WG_NCONTACT], qb[WG_NCONTACT], vb[WG_NCONTACT];
     int nc = ct_ncontacts(s);
     double t = 0.0;
-    exc_memo m = {.n = 0};
+    /* a plain step: h = s->h from psi0 = wg_sim_psi(s) at constant omega */
+    exc_memo m = {.n = 0, .ends = s->ramp.active ? NULL : &s->core->ends[s->k], .h = h};
     memcpy(ya, y0, sizeof ya);
     memcpy(yc, y0, sizeof yc);
     for (int splits = 0;; splits++) {

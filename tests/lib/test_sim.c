@@ -164,6 +164,41 @@ static void test_set_params_is_atomic(void)
     wg_sim_fini(&s);
 }
 
+/* A split step reuses the excitation at a plain step's ends from earlier
+ * periods (ct_ends). After a change of any excitation input, or of a
+ * damping (no new table), the next split steps use the new values: the run
+ * continues exactly as a new sim set up with them at the same state. */
+static void test_excitation_change_seen(void)
+{
+    static const struct { int id; double v; } change[] = {
+        {WG_P_F_E, 0.1}, {WG_P_PHI, 1.0}, {WG_P_K_A, 0.2}, {WG_P_E_M, 0.25},
+        {WG_P_OMEGA, 0.72}, {WG_P_XI_P, 0.09}};
+    char why[300];
+    for (unsigned c = 0; c < sizeof change / sizeof change[0]; c++) {
+        wg_params p;
+        wg_params_default(&p);
+        p.v[WG_P_OMEGA] = 0.7; /* an impact every period */
+        wg_sim a = test_sim_make(&p, WG_STEPPER_RK4_EVENT, 128);
+        ASSERT_EQ_INT(wg_sim_run(&a, 128 * 20, NULL, NULL), WG_OK);
+        ASSERT_TRUE(a.nsplit >= 20);
+        wg_params q = a.p;
+        q.v[change[c].id] = change[c].v;
+        ASSERT_EQ_INT(wg_sim_set_params(&a, &q, why, sizeof why), WG_OK);
+        wg_sim b = test_sim_make(&q, WG_STEPPER_RK4_EVENT, 128);
+        wg_sim_set_state(&b, a.y, a.k, a.tau);
+        uint64_t na = a.nsplit;
+        ASSERT_EQ_INT(wg_sim_run(&a, 128 * 20, NULL, NULL), WG_OK);
+        ASSERT_EQ_INT(wg_sim_run(&b, 128 * 20, NULL, NULL), WG_OK);
+        ASSERT_TRUE(a.nsplit - na == b.nsplit && b.nsplit >= 20);
+        if (memcmp(a.y, b.y, sizeof a.y) != 0)
+            fprintf(stderr, "after %s = %g: the runs differ\n", wg_param_info_get(change[c].id)->name,
+                    change[c].v);
+        ASSERT_TRUE(memcmp(a.y, b.y, sizeof a.y) == 0);
+        wg_sim_fini(&a);
+        wg_sim_fini(&b);
+    }
+}
+
 /* A ramp is accepted only if its duration is in the documented range and
  * every value along it is finite and in range: a denormal duration must
  * never make a parameter NaN (issue 10, defect 2). Messages name the
@@ -314,6 +349,7 @@ static void test_period_bearing_stats(void)
 
 TEST_MAIN(TEST(test_sections_fall_on_periods), TEST(test_kernel_choice_skips_terms),
           TEST(test_torsional_is_full_limit), TEST(test_blowup_is_caught_state_kept),
-          TEST(test_set_params_is_atomic), TEST(test_ramp_never_stores_nonfinite),
+          TEST(test_set_params_is_atomic), TEST(test_excitation_change_seen),
+          TEST(test_ramp_never_stores_nonfinite),
           TEST(test_deterministic), TEST(test_motion_classes),
           TEST(test_zero_backlash_events), TEST(test_period_bearing_stats))
