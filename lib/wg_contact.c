@@ -182,8 +182,14 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
     exc_memo m = {.n = 0, .ends = s->ramp.active ? NULL : &s->core->ends[s->k], .h = h};
     memcpy(ya, y0, sizeof ya);
     memcpy(yc, y0, sizeof yc);
+    double qc[WG_NCONTACT], vc[WG_NCONTACT], tstate = 0.0;
     for (int splits = 0;; splits++) {
-        contacts_at(s, ph, &m, ya, t, qa, va);
+        if (splits > 0 && tstate == t) { /* ya = yc was evaluated there already */
+            memcpy(qa, qc, sizeof qa[0] * (size_t)nc);
+            memcpy(va, vc, sizeof va[0] * (size_t)nc);
+        } else {
+            contacts_at(s, ph, &m, ya, t, qa, va);
+        }
         contacts_at(s, ph, &m, y1, h, qb, vb);
         int first = -1, dir = 0;
         double tfirst = 2.0, thr = 0.0;
@@ -205,7 +211,7 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
         if (first < 0 || splits == MAX_SPLITS)
             break;
         /* step to the crossing, then refine it by Newton on the coordinate */
-        double tc = t + tfirst * (h - t), qc[WG_NCONTACT], vc[WG_NCONTACT], tstate = tc;
+        double tc = t + tfirst * (h - t);
         for (int it = 0; it < 3; it++) {
             substep(s, ph, &m, ya, yc, t, tc);
             tstate = tc;
@@ -246,8 +252,7 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
         substep(s, ph, &m, ya, y1, t, h);
     }
     /* smooth contacts, and any left after MAX_SPLITS: interpolate over the
-     * last piece */
-    contacts_at(s, ph, &m, y1, h, qb, vb);
+     * last piece (qb: y1's contacts, from the pass that ended the loop) */
     for (int j = 0; j < nc; j++) {
         int z1 = ct_zone(qb[j], ct_threshold(s, j));
         if (z1 != s->core->zone[j]) {
