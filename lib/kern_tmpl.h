@@ -361,7 +361,6 @@ INLINE void kloc_accept(kloc *l, double h, double x, double dx)
     l->k++;
 }
 
-
 /* The hot loop of the full path: the kernel, the mesh contact summed as
  * ct_contacts sums it (-te, then c_i y_i in index order, then s), the zone
  * and finiteness tests, then the step is accepted. One function so the

@@ -552,17 +552,14 @@ static void sync_out(wg_sim *s, const double *y, const double *q, const double *
     memcpy(s->core->v, v, sizeof s->core->v);
 }
 
-/* The step from y with contacts q, v ended a period: count it, and hand
- * the section to the sink. */
-static void period_end(wg_sim *s, const wg_sink *sink, const double *y, const double *q,
-                       const double *v)
+/* The step just taken ended a period at x_n = xn: count it, and hand the
+ * section to the sink (the caller has synced the state when it has one). */
+static void period_end(wg_sim *s, const wg_sink *sink, double xn)
 {
-    if (sink && sink->on_section)
-        sync_out(s, y, q, v);
     s->period++;
     s->core->wrap_pending = 0;
     emit_section(s, sink);
-    period_start(s, q[0]);
+    period_start(s, xn);
 }
 
 /* Up to n plain steps in the kernel's own loop (wg_krun) from the state y
@@ -629,7 +626,9 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
                 i += m;
                 if (s->k != 0)
                     break;
-                period_end(s, sink, yb[cur], qb[cur], vb[cur]);
+                if (sink && sink->on_section)
+                    sync_out(s, yb[cur], qb[cur], vb[cur]);
+                period_end(s, sink, qb[cur][0]);
             }
             if (i == n)
                 break;
@@ -706,12 +705,12 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
         else if (s->ramp.active && s->ramp.id == WG_P_OMEGA)
             s->p.v[WG_P_OMEGA] = s->ramp.v0 + (s->ramp.v1 - s->ramp.v0) *
                                                   (s->tau - s->ramp.tau0) / s->ramp.dur;
-        if (sink && sink->on_step) {
+        if (sink && (sink->on_step || (s->k == 0 && sink->on_section)))
             sync_out(s, y1, q1, v1);
+        if (sink && sink->on_step)
             sink->on_step(sink->ctx, s);
-        }
         if (s->k == 0)
-            period_end(s, sink, y1, q1, v1);
+            period_end(s, sink, q1[0]);
     }
     sync_out(s, yb[cur], qb[cur], vb[cur]);
     if (done)
