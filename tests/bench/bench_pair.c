@@ -6,6 +6,8 @@
  * were latency-bound, two would cost about what one costs (ratio near 2);
  * if throughput-bound, twice as much (ratio near 1). No bookkeeping (that
  * is wg_krun's: compare bench_step), the excitation from a 64-entry table.
+ * Then the latency of one link of the stage's loop through the sum across
+ * the bearing lanes, in dependent adds (the traced bound's unit).
  * Thread CPU time, medians of REPS repetitions interleaved.
  * usage: bench_pair_{sse2,avx2,avx512} [steps per repetition (2e6)] [reps (7)] */
 #ifndef KW
@@ -48,6 +50,34 @@ __attribute__((noinline)) static void two(const wg_kcoef *K, const wg_exc *e, do
     }
     kst_store(y, a);
     kst_store(y2, b);
+}
+
+/* Latencies on the step's path, as dependent chains of n links: a scalar
+ * add (the unit), and the kernel's sum across the bearing lanes (hsumb)
+ * followed by the broadcast of its result and one vector add, the link the
+ * stage's P -> F -> acc -> v -> P loop goes through every stage. */
+__attribute__((noinline)) static double add_chain(double x, double c, long n)
+{
+    for (long i = 0; i < n; i++) {
+        x = x + c;
+        __asm__("" : "+x"(x)); /* opaque: the chain is not folded */
+    }
+    return x;
+}
+
+__attribute__((noinline)) static double hsum_chain(const double *d6, long n)
+{
+    vb d[NB], p[NB];
+    for (int b = 0; b < NB; b++)
+        d[b] = p[b] = vload6(d6, b);
+    for (long i = 0; i < n; i++) {
+        double h = hsumb(p);
+        __asm__("" : "+x"(h));
+        vb s = vsplat(h);
+        for (int b = 0; b < NB; b++)
+            p[b] = s + d[b];
+    }
+    return hsumb(p);
 }
 
 int main(int argc, char **argv)
@@ -103,6 +133,17 @@ int main(int argc, char **argv)
         t2[r] = (c - b) / (2.0 * n);
         ratio[r] = t1[r] / t2[r];
     }
+    double ta[64], th[64], d6[6] = {1e-300, -1e-300, 2e-300, -2e-300, 3e-300, -3e-300};
+    double sink = 0.0;
+    for (int r = 0; r < reps; r++) {
+        double a = bench_now_ns();
+        sink += add_chain(1.0, 1e-300, 2 * n);
+        double b = bench_now_ns();
+        sink += hsum_chain(d6, 2 * n);
+        double c = bench_now_ns();
+        ta[r] = (b - a) / (2.0 * n);
+        th[r] = (c - b) / (2.0 * n);
+    }
     if (!(y[6] == y[6]) || !(y2[6] == y2[6])) {
         fprintf(stderr, "bench_pair: the trajectories blew up\n");
         return 1;
@@ -113,6 +154,11 @@ int main(int argc, char **argv)
     printf("two interleaved     %.1f ns/step\n", bench_median(t2, reps));
     printf("throughput gain     %.2fx (2: latency-bound, 1: throughput-bound)\n",
            bench_median(ratio, reps));
+    double la = bench_median(ta, reps), lh = bench_median(th, reps);
+    printf("dependent add       %.3f ns\n", la);
+    printf("hsumb+vsplat+add    %.3f ns = %.1f dependent adds (a link of each stage's path; "
+           "tools/chainbound.py prices it as 4 adds + 2 min/shuffle = 6)%s\n",
+           lh, lh / la, sink == 1.0 ? " " : "");
     wg_sim_fini(&s);
     return 0;
 }
