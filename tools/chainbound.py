@@ -9,9 +9,13 @@ per step is steady. Prints the time per step and the operations on the
 critical path, which tests/bench/bench_gsl.c turns into nanoseconds with
 latencies it measures (CHAIN_FULL_*, CHAIN_TORS_*).
 
-usage: tools/chainbound.py [ADD MUL OTHER]   latencies (cycles or ns) of an
-       add/sub, a multiply, and a min/max/logic/shuffle; default 3 3 1
-       (Zen 2/3); this VM (Zen 5) measured 0.58 0.88 0.58 ns."""
+usage: tools/chainbound.py [ADD MUL OTHER [HSUM]]   latencies (cycles or ns)
+       of an add/sub, a multiply, and a min/max/logic/shuffle; default 3 3 1
+       (Zen 2/3); this VM (Zen 5) measured 0.58 0.88 0.58 ns. HSUM (default
+       0): what a sum across the bearing lanes (hsumb) costs beyond the
+       sse2 layout's, e.g. the cross-lane extracts of a wider layout
+       (bench_pair's link, in the same unit, minus its 6 adds); the output
+       counts how many of them the critical path passes."""
 import sys
 
 
@@ -24,7 +28,7 @@ class Val:
 
 LAT = {}
 CONST = Val(0.0, ())  # loop invariants and table entries: ready at once
-KINDS = ('add', 'mul', 'other')
+KINDS = ('add', 'mul', 'other', 'hsum')
 
 
 def op(kind, *xs):
@@ -40,9 +44,9 @@ def mul(a, b):
     return op('mul', a, b)
 
 
-def hsumb(p):  # (p0 + p1 + p2) lane-wise, then t[0] + t[1]
+def hsumb(p):  # (p0 + p1 + p2) lane-wise, then t[0] + t[1]; 'hsum' marks it
     t = add(add(p[0], p[1]), p[2])
-    return add(t, op('other', t))
+    return op('hsum', add(t, op('other', t)))
 
 
 def dz(x):  # x - max(min(x, c), -c)
@@ -122,15 +126,18 @@ def bound(lat, torsional, locked, steps=40):
 
 
 def main():
-    a, m, o = map(float, sys.argv[1:4]) if len(sys.argv) == 4 else (3.0, 3.0, 1.0)
-    lat = {'add': a, 'mul': m, 'other': o}
-    print('latencies: add/sub %g, mul %g, min/max/logic/shuffle %g' % (a, m, o))
+    a, m, o = map(float, sys.argv[1:4]) if len(sys.argv) >= 4 else (3.0, 3.0, 1.0)
+    hs = float(sys.argv[4]) if len(sys.argv) == 5 else 0.0
+    lat = {'add': a, 'mul': m, 'other': o, 'hsum': hs}
+    print('latencies: add/sub %g, mul %g, min/max/logic/shuffle %g; hsumb beyond that %g'
+          % (a, m, o, hs))
     for torsional in (False, True):
         for locked in (False, True):
             per, comp = bound(lat, torsional, locked)
-            print('%-9s %-6s %7.2f per step; critical path: %d add/sub, %d mul, %d other'
+            print('%-9s %-6s %7.2f per step; critical path: %d add/sub, %d mul, %d other; '
+                  'through hsumb %d times'
                   % ('torsional' if torsional else 'full', 'locked' if locked else 'plain',
-                     per, comp['add'], comp['mul'], comp['other']))
+                     per, comp['add'], comp['mul'], comp['other'], comp['hsum']))
 
 
 if __name__ == '__main__':
