@@ -49,10 +49,14 @@ INLINE double dz(double x, double c)
 
 INLINE vb vsplat(double x)
 {
+#if KW == 4 /* one vbroadcastsd (GCC builds the generic form from two shuffles) */
+    return (vb)_mm256_broadcastsd_pd(_mm_set_sd(x));
+#else
     vb r;
     for (int l = 0; l < KW; l++)
         r[l] = x;
     return r;
+#endif
 }
 
 /* Bearing vector b from a[0..5] (lanes past the sixth: zero), and back. */
@@ -115,8 +119,9 @@ INLINE double hsumb(const vb p[NB])
 #if KW == 2
     v2d t = p[0] + p[1] + p[2];
 #elif KW == 4
-    v2d t = __builtin_shufflevector(p[0], p[0], 0, 1) + __builtin_shufflevector(p[0], p[0], 2, 3) +
-            __builtin_shufflevector(p[1], p[1], 0, 1);
+    v2d t = (v2d)_mm256_castpd256_pd128((__m256d)p[0]) +
+            (v2d)_mm256_extractf128_pd((__m256d)p[0], 1) +
+            (v2d)_mm256_castpd256_pd128((__m256d)p[1]);
 #else
     /* lanes 2-3 from the low 256 bits (vextractf128) and 4-5 from the high
      * ones (vextractf64x4): on Zen 5 both are quicker on the path than a
