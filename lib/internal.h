@@ -21,6 +21,8 @@ typedef struct wg_kcoef {
     double b, bj;     /* dead zones */
     double w[7], zc[7]; /* zone-locked g: g = w x - zc (rk4-event) */
     double rot[3][2];   /* cos, sin of phi1, phi2, phi: excitation by rotation */
+    double cd[6], ck[6]; /* c_i d_i, c_i k_i */
+    double M;           /* 1 + sum c_i m_i, summed in index order */
 } wg_kcoef;
 
 /* ---- a trace of the rk4-event splits (read by wg_shoot.c) ------------------ */

@@ -158,16 +158,13 @@ INLINE void vconst_load(vconst *V, const wg_kcoef *restrict K)
         V->m[b] = vload6(K->m, b);
         V->k[b] = vload6(K->k, b);
         V->d[b] = vload6(K->d, b);
-        V->cd[b] = V->c[b] * V->d[b];
-        V->ck[b] = V->c[b] * V->k[b];
+        V->cd[b] = vload6(K->cd, b);
+        V->ck[b] = vload6(K->ck, b);
         V->w[b] = vload6(&K->w[1], b);
         V->zc[b] = vload6(&K->zc[1], b);
     }
     V->bj = vsplat(K->bj);
-    double M = 1.0;
-    for (int i = 0; i < 6; i++)
-        M += K->c[i] * K->m[i];
-    V->M = M;
+    V->M = K->M;
     V->ds = K->d[6];
 }
 

@@ -71,6 +71,13 @@ static void coefficients(wg_sim *s)
         s->core->kc.d[i] = 2.0 * v[WG_P_XI1X + i];
     }
     s->core->kc.d[6] = 2.0 * v[WG_P_XI_G];
+    double M = 1.0; /* the kernels' per-call constants, once per change */
+    for (int i = 0; i < 6; i++) {
+        s->core->kc.cd[i] = s->core->kc.c[i] * s->core->kc.d[i];
+        s->core->kc.ck[i] = s->core->kc.c[i] * s->core->kc.k[i];
+        M += s->core->kc.c[i] * s->core->kc.m[i];
+    }
+    s->core->kc.M = M;
     s->core->kc.dp = 2.0 * v[WG_P_XI_P];
     s->core->kc.b = v[WG_P_B];
     s->core->kc.bj = v[WG_P_B_J];
