@@ -434,7 +434,13 @@ double wg_sim_xn(const wg_sim *s) { return s->core->q[WG_C_MESH]; }
 void wg_sim_outputs(const wg_sim *s, wg_outputs *o)
 {
     wg_exc e;
-    wg_exc_eval(&s->p, wg_sim_psi(s), s->p.v[WG_P_OMEGA], &e);
+    /* Without a ramp the table holds this phase's excitation: its entry 2k
+     * is wg_exc_eval at pi 2k / N, which is wg_sim_psi's 2 pi k / N to the
+     * bit. In a ramp the parameters move past the table. */
+    if (!s->ramp.active)
+        e = s->core->table[2 * s->k];
+    else
+        wg_exc_eval(&s->p, wg_sim_psi(s), s->p.v[WG_P_OMEGA], &e);
     wg_outputs_eval(s->cfg.model, &s->p, &e, s->y, o);
 }
 

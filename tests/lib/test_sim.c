@@ -199,6 +199,33 @@ static void test_excitation_change_seen(void)
     }
 }
 
+/* wg_sim_outputs takes the excitation from the table when no ramp runs:
+ * at every phase index, in and after a ramp of omega, it gives exactly what
+ * wg_exc_eval at wg_sim_psi and wg_outputs_eval give. */
+static void test_outputs_from_table_exact(void)
+{
+    wg_params p;
+    wg_params_default(&p);
+    p.v[WG_P_OMEGA] = 0.7;
+    wg_sim s = test_sim_make(&p, WG_STEPPER_RK4_EVENT, 128);
+    char why[300];
+    int ramped = 0;
+    for (int i = 0; i < 3 * 128 + 5; i++) {
+        if (i == 128)
+            ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, NULL, 0.75, 20.0, why, sizeof why), WG_OK);
+        ramped |= s.ramp.active;
+        wg_outputs a, b;
+        wg_exc e;
+        wg_sim_outputs(&s, &a);
+        wg_exc_eval(&s.p, wg_sim_psi(&s), s.p.v[WG_P_OMEGA], &e);
+        wg_outputs_eval(WG_MODEL_CONSISTENT, &s.p, &e, s.y, &b);
+        ASSERT_TRUE(memcmp(&a, &b, sizeof a) == 0);
+        ASSERT_EQ_INT(wg_sim_run(&s, 1 + (uint64_t)(i % 3), NULL, NULL), WG_OK);
+    }
+    ASSERT_TRUE(ramped && !s.ramp.active); /* both paths were taken */
+    wg_sim_fini(&s);
+}
+
 /* A ramp is accepted only if its duration is in the documented range and
  * every value along it is finite and in range: a denormal duration must
  * never make a parameter NaN (issue 10, defect 2). Messages name the
@@ -350,6 +377,7 @@ static void test_period_bearing_stats(void)
 TEST_MAIN(TEST(test_sections_fall_on_periods), TEST(test_kernel_choice_skips_terms),
           TEST(test_torsional_is_full_limit), TEST(test_blowup_is_caught_state_kept),
           TEST(test_set_params_is_atomic), TEST(test_excitation_change_seen),
+          TEST(test_outputs_from_table_exact),
           TEST(test_ramp_never_stores_nonfinite),
           TEST(test_deterministic), TEST(test_motion_classes),
           TEST(test_zero_backlash_events), TEST(test_period_bearing_stats))
