@@ -273,8 +273,7 @@ const char *bus_params_odd(const wormgear_params_t *m, char *why, size_t len)
     if (m->steps_per_period < WG_STEPS_MIN || m->steps_per_period > WG_STEPS_MAX)
         return snprintf(why, len, "steps_per_period %d outside [%d, %d]", m->steps_per_period,
                         WG_STEPS_MIN, WG_STEPS_MAX), why;
-    if (strcmp(m->model, wg_model_name(WG_MODEL_PRINTED)) &&
-        strcmp(m->model, wg_model_name(WG_MODEL_CONSISTENT)))
+    if (wg_model_lookup(m->model) < 0)
         return snprintf(why, len, "an unknown model"), why;
     if (wg_stepper_lookup(m->stepper) < WG_STEPPER_DEFAULT)
         return snprintf(why, len, "an unknown stepper"), why;

@@ -289,7 +289,7 @@ static void on_params(rig *r, const wormgear_params_t *m)
         if (id >= 0)
             r->base.v[id] = m->value[i];
     }
-    r->model = !strcmp(m->model, wg_model_name(WG_MODEL_PRINTED)) ? WG_MODEL_PRINTED : WG_MODEL_CONSISTENT;
+    r->model = wg_model_lookup(m->model); /* known: bus_params_ignore checked it */
     r->stepper = wg_stepper_lookup(m->stepper);
     r->steps = m->steps_per_period;
     r->nstate = wg_model_nstate(r->model);

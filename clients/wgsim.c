@@ -73,12 +73,10 @@ static void usage(FILE *f)
 
 static int opt_model(const char *a, int *model)
 {
-    if (strcmp(a, "consistent") == 0)
-        *model = WG_MODEL_CONSISTENT;
-    else if (strcmp(a, "printed") == 0)
-        *model = WG_MODEL_PRINTED;
-    else
+    int m = wg_model_lookup(a);
+    if (m < 0)
         return cli_usage_error(PROG, "--model '%s': allowed values are consistent, printed", a);
+    *model = m;
     return 0;
 }
 

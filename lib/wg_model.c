@@ -17,6 +17,14 @@ static const char *const event_names[WG_NEVKIND] = {"separation", "drive_impact"
 static const char *const motion_names[] = {"no_impact", "single_sided", "double_sided"};
 
 const char *wg_model_name(int m) { return (m == 0 || m == 1) ? model_names[m] : "?"; }
+
+int wg_model_lookup(const char *name)
+{
+    for (int m = 0; m < 2; m++)
+        if (strcmp(name, model_names[m]) == 0)
+            return m;
+    return -1;
+}
 const char *wg_contact_name(int c) { return (c >= 0 && c < WG_NCONTACT) ? contact_names[c] : "?"; }
 const char *wg_event_name(int k) { return (k >= 0 && k < WG_NEVKIND) ? event_names[k] : "?"; }
 const char *wg_motion_name(int m) { return (m >= 0 && m <= 2) ? motion_names[m] : "?"; }

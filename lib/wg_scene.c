@@ -157,12 +157,10 @@ static int on_scene(loader *L, const char *name, const char *value)
     else if (strcmp(name, "description") == 0)
         snprintf(sc->description, sizeof sc->description, "%s", value);
     else if (strcmp(name, "model") == 0) {
-        if (strcmp(value, "consistent") == 0)
-            sc->model = WG_MODEL_CONSISTENT;
-        else if (strcmp(value, "printed") == 0)
-            sc->model = WG_MODEL_PRINTED;
-        else
+        int m = wg_model_lookup(value);
+        if (m < 0)
             return fail(L, WG_EINVAL, "model: '%s' is not one of [consistent, printed]%s", value, "");
+        sc->model = m;
     } else
         return fail(L, WG_EUNKNOWN, "[scene] %s: unknown key (allowed: name, description, model)%s",
                     name, "");

@@ -55,6 +55,9 @@ const char *wg_contact_name(int contact);
 const char *wg_event_name(int kind);
 const char *wg_motion_name(int motion);
 
+/* The model named name ("consistent" or "printed"), or -1. */
+int wg_model_lookup(const char *name);
+
 /* Number of state variables of a model (14 or 16). */
 int wg_model_nstate(int model);
 

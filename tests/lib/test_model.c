@@ -15,6 +15,18 @@ static void test_deadzone(void)
     ASSERT_NEAR(wg_deadzone(-2.0, 0.0), -2.0, 0);
 }
 
+/* Model names and back: the one table (scenes, wgsim --model, PARAMS). */
+static void test_model_names(void)
+{
+    ASSERT_EQ_INT(wg_model_lookup("consistent"), WG_MODEL_CONSISTENT);
+    ASSERT_EQ_INT(wg_model_lookup("printed"), WG_MODEL_PRINTED);
+    for (int m = 0; m < 2; m++)
+        ASSERT_EQ_INT(wg_model_lookup(wg_model_name(m)), m);
+    ASSERT_EQ_INT(wg_model_lookup("Consistent"), -1);
+    ASSERT_EQ_INT(wg_model_lookup(""), -1);
+    ASSERT_EQ_INT(wg_model_lookup("?"), -1);
+}
+
 static void test_rhs_hand_computed(void)
 {
     wg_params p;
@@ -333,7 +345,7 @@ static void test_stability_limit_methods(void)
            "%.1f us vs %.1f us per call\n", worst, 1e6 * tfast / 120, 1e6 * tslow / 120);
 }
 
-TEST_MAIN(TEST(test_deadzone), TEST(test_rhs_hand_computed), TEST(test_kernels_match_reference),
+TEST_MAIN(TEST(test_deadzone), TEST(test_model_names), TEST(test_rhs_hand_computed), TEST(test_kernels_match_reference),
           TEST(test_stiffness_symmetry), TEST(test_printed_drifts_consistent_settles),
           TEST(test_equilibrium_is_static), TEST(test_stability_limit),
           TEST(test_stability_limit_methods))
