@@ -345,7 +345,8 @@ static void test_stability_limit_methods(void)
            "%.1f us vs %.1f us per call\n", worst, 1e6 * tfast / 120, 1e6 * tslow / 120);
 }
 
-TEST_MAIN(TEST(test_deadzone), TEST(test_model_names), TEST(test_rhs_hand_computed), TEST(test_kernels_match_reference),
+TEST_MAIN(TEST(test_deadzone), TEST(test_model_names), TEST(test_rhs_hand_computed),
+          TEST(test_kernels_match_reference),
           TEST(test_stiffness_symmetry), TEST(test_printed_drifts_consistent_settles),
           TEST(test_equilibrium_is_static), TEST(test_stability_limit),
           TEST(test_stability_limit_methods))
