@@ -10,6 +10,7 @@
  * (tools/chainbound.py) priced at latencies timed in the same repetition. Times are thread CPU time (bench_common.h).
  * usage: bench_gsl [our steps per rep (2e6)] [reps (9)] */
 #include "bench_common.h"
+#include "bench_lat.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_sim.h"
 #include "internal.h" /* white box: the bare kernel of a wg_sim */
@@ -77,42 +78,6 @@ static void bare_steps(const wg_sim *s, double *y, uint32_t *k, long n)
  * mul 3, min 2), so they are measured, not assumed. */
 enum { CHAIN_FULL_ADD = 24, CHAIN_FULL_MUL = 12, CHAIN_FULL_OTHER = 4 };
 enum { CHAIN_TORS_ADD = 22, CHAIN_TORS_MUL = 8, CHAIN_TORS_OTHER = 0 };
-
-typedef struct oplat {
-    double add, mul, other; /* ns per dependent operation */
-} oplat;
-
-/* One dependent operation, eight times, that the compiler cannot fold. */
-#if defined(__x86_64__)
-#define DEP8(insn, x, k)                                                                  \
-    __asm__(insn " %1, %0\n\t" insn " %1, %0\n\t" insn " %1, %0\n\t" insn " %1, %0\n\t"    \
-            insn " %1, %0\n\t" insn " %1, %0\n\t" insn " %1, %0\n\t" insn " %1, %0"        \
-            : "+x"(x) : "x"(k))
-#else
-#error "bench_gsl times x86-64 instructions"
-#endif
-
-static oplat dep_ns(long m)
-{
-    volatile double seed = 1.0;
-    double x = seed, c = seed * 1e-300, y = seed, k = seed * (1.0 + 1e-15), z = seed;
-    oplat r;
-    double t0 = bench_now_ns();
-    for (long i = 0; i < m / 8; i++)
-        DEP8("addsd", x, c);
-    double t1 = bench_now_ns();
-    for (long i = 0; i < m / 8; i++)
-        DEP8("mulsd", y, k);
-    double t2 = bench_now_ns();
-    for (long i = 0; i < m / 8; i++)
-        DEP8("minsd", z, k);
-    double t3 = bench_now_ns(), ops = (double)(m / 8 * 8);
-    seed = x + y + z;
-    r.add = (t1 - t0) / ops;
-    r.mul = (t2 - t1) / ops;
-    r.other = (t3 - t2) / ops;
-    return r;
-}
 
 typedef struct row {
     const char *scene, *label;
