@@ -170,6 +170,18 @@ int la_solve(int n, double *a, double *r);
 static inline double dmin(double a, double b) { return a < b ? a : b; }
 static inline double dmax(double a, double b) { return a > b ? a : b; }
 
+/* ---- the sim's derived state (wg_sim.c), read by the step loop (wg_sim_run.c) */
+
+/* The kernel constants, the contacts' locks and the kernel choice from
+ * s->p: after any change of parameters. */
+void sim_coefficients(wg_sim *s);
+
+/* The excitation table and h from s->p (omega, the excitation terms). */
+void sim_build_table(wg_sim *s);
+
+/* A new period begins at x_n = xn with the mesh in its current zone. */
+void sim_period_start(wg_sim *s, double xn);
+
 /* ---- snapshot fields (wg_sim_check.c) -------------------------------------- */
 
 #define ABSURD 1e9 /* |sum of state| beyond this is a blow-up */
