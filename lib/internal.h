@@ -97,6 +97,13 @@ typedef struct wg_krun {
 /* At most n plain steps of r (above); returns the number taken. */
 typedef uint64_t (*wg_krun_fn)(const void *restrict kc, wg_krun *restrict r, uint64_t n);
 
+/* Two runs (above) of the same specialisation in one loop, each step as
+ * the single run takes it, until either would stop: at most na plain steps
+ * of ra and nb of rb; m[0], m[1] the numbers taken. */
+typedef void (*wg_krun2_fn)(const void *restrict ka, wg_krun *restrict ra, uint64_t na,
+                            const void *restrict kb, wg_krun *restrict rb, uint64_t nb,
+                            uint64_t m[2]);
+
 /* The private part of a wg_sim (allocated by wg_sim_init with the table). */
 typedef struct wg_sim_core {
     wg_kcoef kc;
@@ -154,6 +161,10 @@ wg_kernel_fn kernel_select(unsigned kflags, int isa);
 
 /* The run function for a set of KF_* bits and an instruction set. */
 wg_krun_fn krun_select(unsigned kflags, int isa);
+
+/* The paired run for a set of KF_* bits and an instruction set (NULL: the
+ * torsional path, which is not paired). */
+wg_krun2_fn krun2_select(unsigned kflags, int isa);
 
 /* RK4 step of the printed form (unspecialised, for comparison); kc is the
  * wg_params. */

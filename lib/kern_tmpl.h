@@ -1,8 +1,9 @@
 /* kern_tmpl.h - the specialised RK4 steps of the consistent form, as a
  * template instantiated once per instruction set (wg_kernel*.c):
  *   KW     lanes per bearing vector: 2 (SSE2), 4 (AVX2) or 8 (AVX-512);
- *   KSUF   suffix of the two tables this defines, kern_tab_KSUF and
- *          krun_tab_KSUF (64 entries each, indexed by the KF_* bits).
+ *   KSUF   suffix of the tables this defines, kern_tab_KSUF and
+ *          krun_tab_KSUF (64 entries each, indexed by the KF_* bits), and
+ *          krun2_tab_KSUF (the full path's 32, indexed by the other bits).
  *
  * One generic step, always inlined, instantiated for every combination of
  * the KF_* bits; the compiler removes the terms a scene does not need. The
@@ -235,60 +236,87 @@ INLINE void kst_store(double *restrict y, kst a)
     y[13] = a.vs;
 }
 
+/* T RK4 steps of independent trajectories (T = 1, or 2 for the paired
+ * run), stage by stage in turn, so that one trajectory's work sits next to
+ * the other's while it waits on its chain. Each trajectory's arithmetic is
+ * the same whatever T. */
+INLINE void rk4_full_t(const int T, const vconst *const C[], const wg_kcoef *const K[],
+                       const wg_exc *const e[], const double h[], const kst y0[], kst y1[],
+                       const int LOCK, const int BJ, const int MB, const int KA, const int EM)
+{
+    vb q[2][NB], v[2][NB], acc[2][NB], sq[2][NB], sv[2][NB];
+    double s0[2], vs0[2], X0[2], V0[2], X[2], V[2], vs[2], as6[2], cacc[2], ssv[2], sas[2];
+    double at[2][4];
+    static const double wt[4] = {1.0, 2.0, 2.0, 1.0};
+#pragma GCC unroll 2
+    for (int t = 0; t < T; t++) {
+        vb pq[NB], pv[NB];
+#pragma GCC unroll 3
+        for (int b = 0; b < NB; b++) {
+            q[t][b] = y0[t].q[b];
+            v[t][b] = y0[t].v[b];
+            pq[b] = C[t]->c[b] * y0[t].q[b];
+            pv[b] = C[t]->c[b] * y0[t].v[b];
+        }
+        s0[t] = y0[t].s, vs0[t] = y0[t].vs;
+        X0[t] = hsumb(pq) + s0[t], V0[t] = hsumb(pv) + vs0[t];
+        X[t] = X0[t], V[t] = V0[t], vs[t] = vs0[t];
+        ssv[t] = 0.0, sas[t] = 0.0;
+        at[t][0] = 0.5 * h[t], at[t][1] = 0.5 * h[t], at[t][2] = h[t], at[t][3] = 0.0;
+#pragma GCC unroll 3
+        for (int b = 0; b < NB; b++)
+            sq[t][b] = sv[t][b] = vsplat(0.0);
+    }
+#pragma GCC unroll 4
+    for (int j = 0; j < 4; j++) {
+#pragma GCC unroll 2
+        for (int t = 0; t < T; t++) {
+            stage_full(C[t], K[t], &e[t][(j + 1) / 2], q[t], v[t], vs[t], X[t], V[t], acc[t],
+                       &as6[t], &cacc[t], LOCK, BJ, MB, KA, EM);
+            vb w = vsplat(wt[j]), a = vsplat(at[t][j]);
+#pragma GCC unroll 3
+            for (int b = 0; b < NB; b++) {
+                sq[t][b] += w * v[t][b];
+                sv[t][b] += w * acc[t][b];
+            }
+            ssv[t] += wt[j] * vs[t];
+            sas[t] += wt[j] * as6[t];
+            if (j == 3)
+                continue;
+            double Vn = V0[t] + at[t][j] * cacc[t];
+            X[t] = X0[t] + at[t][j] * V[t];
+            V[t] = Vn;
+#pragma GCC unroll 3
+            for (int b = 0; b < NB; b++) {
+                vb qn = y0[t].q[b] + a * v[t][b];
+                v[t][b] = y0[t].v[b] + a * acc[t][b];
+                q[t][b] = qn;
+            }
+            vs[t] = vs0[t] + at[t][j] * as6[t];
+        }
+    }
+#pragma GCC unroll 2
+    for (int t = 0; t < T; t++) {
+        vb h6 = vsplat(h[t] / 6.0);
+#pragma GCC unroll 3
+        for (int b = 0; b < NB; b++) {
+            y1[t].q[b] = y0[t].q[b] + h6 * sq[t][b];
+            y1[t].v[b] = y0[t].v[b] + h6 * sv[t][b];
+        }
+        y1[t].s = s0[t] + h[t] / 6.0 * ssv[t];
+        y1[t].vs = vs0[t] + h[t] / 6.0 * sas[t];
+    }
+}
+
 INLINE kst rk4_full_st(const vconst *restrict C, const wg_kcoef *restrict K,
                        const wg_exc *restrict e, double h, kst y0, const int LOCK, const int BJ,
                        const int MB, const int KA, const int EM)
 {
-    vb q[NB], v[NB], acc[NB], sq[NB], sv[NB], pq[NB], pv[NB];
-#pragma GCC unroll 3
-    for (int b = 0; b < NB; b++) {
-        q[b] = y0.q[b];
-        v[b] = y0.v[b];
-        pq[b] = C->c[b] * y0.q[b];
-        pv[b] = C->c[b] * y0.v[b];
-    }
-    double s0 = y0.s, vs0 = y0.vs;
-    double X0 = hsumb(pq) + s0, V0 = hsumb(pv) + vs0;
-    double X = X0, V = V0, vs = vs0, as6, cacc;
-    double ssv = 0.0, sas = 0.0;
-    static const double wt[4] = {1.0, 2.0, 2.0, 1.0};
-    const double at[4] = {0.5 * h, 0.5 * h, h, 0.0};
-#pragma GCC unroll 3
-    for (int b = 0; b < NB; b++)
-        sq[b] = sv[b] = vsplat(0.0);
-#pragma GCC unroll 4
-    for (int j = 0; j < 4; j++) {
-        stage_full(C, K, &e[(j + 1) / 2], q, v, vs, X, V, acc, &as6, &cacc, LOCK, BJ, MB, KA, EM);
-        vb w = vsplat(wt[j]), a = vsplat(at[j]);
-#pragma GCC unroll 3
-        for (int b = 0; b < NB; b++) {
-            sq[b] += w * v[b];
-            sv[b] += w * acc[b];
-        }
-        ssv += wt[j] * vs;
-        sas += wt[j] * as6;
-        if (j == 3)
-            break;
-        double Vn = V0 + at[j] * cacc;
-        X = X0 + at[j] * V;
-        V = Vn;
-#pragma GCC unroll 3
-        for (int b = 0; b < NB; b++) {
-            vb qn = y0.q[b] + a * v[b];
-            v[b] = y0.v[b] + a * acc[b];
-            q[b] = qn;
-        }
-        vs = vs0 + at[j] * as6;
-    }
-    vb h6 = vsplat(h / 6.0);
+    const vconst *Cs[1] = {C};
+    const wg_kcoef *Ks[1] = {K};
+    const wg_exc *es[1] = {e};
     kst y1;
-#pragma GCC unroll 3
-    for (int b = 0; b < NB; b++) {
-        y1.q[b] = y0.q[b] + h6 * sq[b];
-        y1.v[b] = y0.v[b] + h6 * sv[b];
-    }
-    y1.s = s0 + h / 6.0 * ssv;
-    y1.vs = vs0 + h / 6.0 * sas;
+    rk4_full_t(1, Cs, Ks, es, &h, &y0, &y1, LOCK, BJ, MB, KA, EM);
     return y1;
 }
 
@@ -367,54 +395,84 @@ INLINE void kloc_accept(kloc *l, double h, double x, double dx)
     l->k++;
 }
 
-/* The hot loop of the full path: the kernel, the mesh contact summed as
- * ct_contacts sums it (-te, then c_i y_i in index order, then s), the zone
- * and finiteness tests, then the step is accepted. One function so the
- * state and the kernel constants stay in registers. */
+/* A run's zone and blow-up bounds. Finite and far from the blow-up bound:
+ * every |y_i| < fin / 16, so the sum the general step tests (< fin) holds
+ * too; a step the run refuses is taken by the general step with the same
+ * bits. The bearing zones' bounds are clipped to it, and all lanes are
+ * tested with one mask. */
+typedef struct fbound {
+    vb lo[NB], hi[NB], vlim;
+    double lim, mlo, mhi;
+} fbound;
+
+INLINE void fbound_load(fbound *restrict B, const wg_krun *restrict r)
+{
+    B->lim = r->fin / 16;
+    B->vlim = vsplat(B->lim);
+    B->mlo = r->lo[0], B->mhi = r->hi[0];
+    double lo6[6], hi6[6];
+    for (int j = 0; j < 6; j++) {
+        lo6[j] = dmax(r->lo[1 + j], -B->lim);
+        hi6[j] = dmin(r->hi[1 + j], B->lim);
+    }
+#pragma GCC unroll 3
+    for (int b = 0; b < NB; b++) {
+        B->lo[b] = vload6(lo6, b);
+        B->hi[b] = vload6(hi6, b);
+    }
+}
+
+/* The step w just computed (with excitation e): the mesh contact summed as
+ * ct_contacts sums it (-te, then c_i y_i in index order, then s) into x,
+ * dx, then the zone and finiteness tests. 1: a plain step. */
+INLINE int frun_check(const wg_kcoef *restrict K, const fbound *restrict B,
+                      const wg_exc *restrict e, const kst *restrict w, double *restrict x,
+                      double *restrict dx)
+{
+    const double *c = K->c;
+    double xs = -e[2].te, dxs = e[2].dte;
+    for (int j = 0; j < 6; j++) {
+        xs += c[j] * w->q[j / KW][j % KW];
+        dxs += c[j] * w->v[j / KW][j % KW];
+    }
+    xs += w->s;
+    dxs += w->vs;
+    vbi ok = (w->q[0] >= B->lo[0]) & (w->q[0] <= B->hi[0]) & (vabs(w->v[0]) < B->vlim);
+#pragma GCC unroll 3
+    for (int b = 1; b < NB; b++)
+        ok &= (w->q[b] >= B->lo[b]) & (w->q[b] <= B->hi[b]) & (vabs(w->v[b]) < B->vlim);
+    *x = xs, *dx = dxs;
+    return vall(ok) && fabs(w->s) < B->lim && fabs(w->vs) < B->lim && xs >= B->mlo &&
+           xs <= B->mhi;
+}
+
+/* The run stops before the step z: leave it for the general step. */
+INLINE void frun_refuse(wg_krun *restrict r, kst z)
+{
+    kst_store(r->trial, z);
+    r->has_trial = 1;
+}
+
+/* The hot loop of the full path. One function so the state and the kernel
+ * constants stay in registers. */
 INLINE uint64_t run_full(const wg_kcoef *restrict K, wg_krun *restrict r, uint64_t n,
                          const int LOCK, const int BJ, const int MB, const int KA, const int EM)
 {
     vconst C;
     vconst_load(&C, K);
+    fbound B;
+    fbound_load(&B, r);
     kst y = kst_load(r->y);
     kloc l = kloc_load(r);
-    const double *c = K->c, h = r->h, mlo = r->lo[0], mhi = r->hi[0];
+    const double h = r->h;
     const uint32_t N = r->N;
-    /* Finite and far from the blow-up bound: every |y_i| < fin / 16, so the
-     * sum the general step tests (< fin) holds too; a step this refuses is
-     * taken by the general step with the same bits. The bearing zones' bounds
-     * are clipped to it, and all lanes are tested with one mask. */
-    const double lim = r->fin / 16;
-    const vb vlim = vsplat(lim);
-    double lo6[6], hi6[6];
-    for (int j = 0; j < 6; j++) {
-        lo6[j] = dmax(r->lo[1 + j], -lim);
-        hi6[j] = dmin(r->hi[1 + j], lim);
-    }
-    vb lo[NB], hi[NB];
-#pragma GCC unroll 3
-    for (int b = 0; b < NB; b++) {
-        lo[b] = vload6(lo6, b);
-        hi[b] = vload6(hi6, b);
-    }
     uint64_t i;
     for (i = 0; i < n && l.k < N; i++) {
         const wg_exc *e = &r->table[2 * l.k];
         kst z = rk4_full_st(&C, K, e, h, y, LOCK, BJ, MB, KA, EM);
-        double x = -e[2].te, dx = e[2].dte;
-        for (int j = 0; j < 6; j++) {
-            x += c[j] * z.q[j / KW][j % KW];
-            dx += c[j] * z.v[j / KW][j % KW];
-        }
-        x += z.s;
-        dx += z.vs;
-        vbi ok = (z.q[0] >= lo[0]) & (z.q[0] <= hi[0]) & (vabs(z.v[0]) < vlim);
-#pragma GCC unroll 3
-        for (int b = 1; b < NB; b++)
-            ok &= (z.q[b] >= lo[b]) & (z.q[b] <= hi[b]) & (vabs(z.v[b]) < vlim);
-        if (!(vall(ok) && fabs(z.s) < lim && fabs(z.vs) < lim && x >= mlo && x <= mhi)) {
-            kst_store(r->trial, z);
-            r->has_trial = 1;
+        double x, dx;
+        if (!frun_check(K, &B, e, &z, &x, &dx)) {
+            frun_refuse(r, z);
             break;
         }
         y = z;
@@ -423,6 +481,61 @@ INLINE uint64_t run_full(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
     kst_store(r->y, y);
     kloc_store(r, l);
     return i;
+}
+
+/* Two independent runs of the full path (the same specialisation, any
+ * parameters) in one loop, so that the second fills the machine while the
+ * first waits on its dependency chain: each step exactly as run_full takes
+ * it. Stops when either run would stop; m[0], m[1] are the steps each
+ * took. */
+INLINE void run_full2(const wg_kcoef *restrict Ka, wg_krun *restrict ra, uint64_t na,
+                      const wg_kcoef *restrict Kb, wg_krun *restrict rb, uint64_t nb,
+                      uint64_t m[2], const int LOCK, const int BJ, const int MB, const int KA,
+                      const int EM)
+{
+    vconst Ca, Cb;
+    vconst_load(&Ca, Ka);
+    vconst_load(&Cb, Kb);
+    const vconst *C[2] = {&Ca, &Cb};
+    const wg_kcoef *K[2] = {Ka, Kb};
+    fbound Ba, Bb;
+    fbound_load(&Ba, ra);
+    fbound_load(&Bb, rb);
+    kst ya = kst_load(ra->y), yb = kst_load(rb->y);
+    kloc la = kloc_load(ra), lb = kloc_load(rb);
+    const double ha = ra->h, hb = rb->h, h[2] = {ha, hb};
+    const uint32_t Na = ra->N, Nb = rb->N;
+    uint64_t i = 0, j = 0;
+    while (i < na && la.k < Na && j < nb && lb.k < Nb) {
+        const wg_exc *e[2] = {&ra->table[2 * la.k], &rb->table[2 * lb.k]};
+        const kst y[2] = {ya, yb};
+        kst z[2];
+        rk4_full_t(2, C, K, e, h, y, z, LOCK, BJ, MB, KA, EM);
+        const kst za = z[0], zb = z[1];
+        double xa, dxa, xb, dxb;
+        int oka = frun_check(Ka, &Ba, e[0], &za, &xa, &dxa);
+        int okb = frun_check(Kb, &Bb, e[1], &zb, &xb, &dxb);
+        if (__builtin_expect(!(oka && okb), 0)) {
+            if (oka)
+                ya = za, kloc_accept(&la, ha, xa, dxa), i++;
+            else
+                frun_refuse(ra, za);
+            if (okb)
+                yb = zb, kloc_accept(&lb, hb, xb, dxb), j++;
+            else
+                frun_refuse(rb, zb);
+            break;
+        }
+        ya = za, yb = zb;
+        kloc_accept(&la, ha, xa, dxa);
+        kloc_accept(&lb, hb, xb, dxb);
+        i++, j++;
+    }
+    kst_store(ra->y, ya);
+    kloc_store(ra, la);
+    kst_store(rb->y, yb);
+    kloc_store(rb, lb);
+    m[0] = i, m[1] = j;
 }
 
 /* The torsional path's loop: s and s' only (the bearings rest at zero). */
@@ -474,6 +587,14 @@ INLINE uint64_t run_tors(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
     {                                                                                          \
         return B ? run_full(kc, r, n, L, J, M, A, E) : run_tors(kc, r, n, L, M, A, E);         \
     }
+#define PNAME(L, J, M, A, E) krun2_##L##J##M##A##E
+#define KRUN2(L, J, M, A, E)                                                                   \
+    static void PNAME(L, J, M, A, E)(const void *restrict ka, wg_krun *restrict ra, uint64_t na,\
+                                     const void *restrict kb, wg_krun *restrict rb, uint64_t nb,\
+                                     uint64_t m[2])                                            \
+    {                                                                                          \
+        run_full2(ka, ra, na, kb, rb, nb, m, L, J, M, A, E);                                   \
+    }
 #define K_E(B, L, J, M, A)                                                                    \
     KERNEL(B, L, J, M, A, 0) KERNEL(B, L, J, M, A, 1) KRUN(B, L, J, M, A, 0) KRUN(B, L, J, M, A, 1)
 #define K_A(B, L, J, M) K_E(B, L, J, M, 0) K_E(B, L, J, M, 1)
@@ -482,6 +603,12 @@ INLINE uint64_t run_tors(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
 #define K_L(B) K_J(B, 0) K_J(B, 1)
 K_L(0)
 K_L(1)
+#define P_E(L, J, M, A) KRUN2(L, J, M, A, 0) KRUN2(L, J, M, A, 1)
+#define P_A(L, J, M) P_E(L, J, M, 0) P_E(L, J, M, 1)
+#define P_M(L, J) P_A(L, J, 0) P_A(L, J, 1)
+#define P_J(L) P_M(L, 0) P_M(L, 1)
+P_J(0)
+P_J(1)
 
 #define T_E(N, B, L, J, M, A) N(B, L, J, M, A, 0), N(B, L, J, M, A, 1),
 #define T_A(N, B, L, J, M) T_E(N, B, L, J, M, 0) T_E(N, B, L, J, M, 1)
@@ -490,3 +617,5 @@ K_L(1)
 #define T_L(N, B) T_J(N, B, 0) T_J(N, B, 1)
 const wg_kernel_fn KCAT(kern_tab, KSUF)[KF_NKERNEL] = {T_L(KNAME, 0) T_L(KNAME, 1)};
 const wg_krun_fn KCAT(krun_tab, KSUF)[KF_NKERNEL] = {T_L(RNAME, 0) T_L(RNAME, 1)};
+#define PN(B, L, J, M, A, E) PNAME(L, J, M, A, E)
+const wg_krun2_fn KCAT(krun2_tab, KSUF)[KF_NKERNEL / 2] = {T_L(PN, 1)};

@@ -12,6 +12,7 @@
 
 extern const wg_kernel_fn kern_tab_avx2[KF_NKERNEL], kern_tab_avx512[KF_NKERNEL];
 extern const wg_krun_fn krun_tab_avx2[KF_NKERNEL], krun_tab_avx512[KF_NKERNEL];
+extern const wg_krun2_fn krun2_tab_avx2[KF_NKERNEL / 2], krun2_tab_avx512[KF_NKERNEL / 2];
 
 static const char *const isa_names[KISA_N] = {"sse2", "avx2", "avx512"};
 
@@ -53,6 +54,13 @@ wg_krun_fn krun_select(unsigned kflags, int isa)
     const wg_krun_fn *t = isa == KISA_AVX512 ? krun_tab_avx512
                           : isa == KISA_AVX2 ? krun_tab_avx2 : krun_tab_sse2;
     return t[kflags & (KF_NKERNEL - 1)];
+}
+
+wg_krun2_fn krun2_select(unsigned kflags, int isa)
+{
+    const wg_krun2_fn *t = isa == KISA_AVX512 ? krun2_tab_avx512
+                           : isa == KISA_AVX2 ? krun2_tab_avx2 : krun2_tab_sse2;
+    return kflags & KF_BEAR ? t[kflags & (KF_NKERNEL / 2 - 1)] : NULL;
 }
 
 void kernel_printed(const double *restrict y0, double *restrict y1, const void *restrict kc,

@@ -10,4 +10,5 @@
 #include "internal.h"
 const wg_kernel_fn kern_tab_avx2[KF_NKERNEL];
 const wg_krun_fn krun_tab_avx2[KF_NKERNEL];
+const wg_krun2_fn krun2_tab_avx2[KF_NKERNEL / 2];
 #endif

@@ -118,158 +118,263 @@ static void period_end(wg_sim *s, const wg_sink *sink, double xn)
     sim_period_start(s, xn);
 }
 
-/* Up to n plain steps in the kernel's own loop (wg_krun) from the state y
- * with contacts q, v (updated); returns how many it took. It stops after a
- * step that ends a period (s->k is then 0; the caller counts the period);
- * a step it stops before is left to the general step, and *has_trial says
- * whether its kernel's result is in y1 already. */
-static uint64_t fast_steps(wg_sim *s, double *y, double *q, double *v, uint64_t n, double *y1,
-                           int *has_trial)
+/* A run in progress (wg_sim_run, wg_sim_run_pair): double-buffered state
+ * and contacts, so an accepted step is a buffer swap and s->y is written
+ * only when a callback or the caller reads it; the steps asked for and
+ * taken; whether the step to come was computed already (has_trial: its
+ * kernel result is in the other buffer). */
+typedef struct runner {
+    wg_sim *s;
+    const wg_sink *sink;
+    uint64_t n, i;
+    double yb[2][WG_NSTATE_MAX], qb[2][WG_NCONTACT], vb[2][WG_NCONTACT];
+    int cur, fast, has_trial, rc;
+} runner;
+
+static void run_begin(runner *R, wg_sim *s, uint64_t n, const wg_sink *sink)
 {
+    R->s = s, R->sink = sink, R->n = n, R->i = 0;
+    /* both buffers start equal (torsional kernels leave the bearings alone) */
+    memcpy(R->yb[0], s->y, sizeof R->yb[0]);
+    memcpy(R->yb[1], s->y, sizeof R->yb[1]);
+    memcpy(R->qb[0], s->core->q, sizeof R->qb[0]);
+    memcpy(R->vb[0], s->core->v, sizeof R->vb[0]);
+    R->cur = 0;
+    /* plain steps run in the kernel's own loop unless a ramp or a per-step
+     * callback needs the general step every time */
+    R->fast = s->core->krun && !(sink && sink->on_step);
+    R->has_trial = 0;
+    R->rc = WG_OK;
+}
+
+static void run_end(runner *R, uint64_t *done)
+{
+    sync_out(R->s, R->yb[R->cur], R->qb[R->cur], R->vb[R->cur]);
+    if (done)
+        *done = R->i;
+}
+
+/* Can the next steps run in the kernel's own loop? */
+static int run_fast_now(const runner *R) { return R->fast && !R->s->ramp.active; }
+
+/* A wg_krun for up to the steps left, from the run's state; a step it
+ * stops before is written into the other buffer. */
+static void krun_prep(runner *R, wg_krun *r)
+{
+    wg_sim *s = R->s;
     wg_sim_core *c = s->core;
-    wg_krun r = {.xn = q[0], .dxn = v[0], .tau = s->tau, .tau_c = s->tau_c,
-                 .min_xn = c->cur.min_xn, .max_xn = c->cur.max_xn, .k = s->k,
-                 .N = (uint32_t)s->cfg.steps_per_period, .h = s->h, .fin = ABSURD * (1 - 1e-9),
-                 .table = c->table, .trial = y1};
-    memcpy(r.y, y, sizeof r.y);
-    memcpy(r.lo, c->zlo, sizeof r.lo);
-    memcpy(r.hi, c->zhi, sizeof r.hi);
-    uint64_t m = c->krun(&c->kc, &r, n);
-    *has_trial = r.has_trial;
-    if (m == 0)
-        return 0;
-    memcpy(y, r.y, sizeof r.y);
-    q[0] = r.xn;
-    v[0] = r.dxn;
-    for (int j = 0; j < 6 && (c->kflags & KF_BEAR); j++) { /* as ct_contacts */
-        q[j + 1] = y[j];
-        v[j + 1] = y[7 + j];
+    *r = (wg_krun){.xn = R->qb[R->cur][0], .dxn = R->vb[R->cur][0], .tau = s->tau,
+                   .tau_c = s->tau_c, .min_xn = c->cur.min_xn, .max_xn = c->cur.max_xn,
+                   .k = s->k, .N = (uint32_t)s->cfg.steps_per_period, .h = s->h,
+                   .fin = ABSURD * (1 - 1e-9), .table = c->table, .trial = R->yb[!R->cur]};
+    memcpy(r->y, R->yb[R->cur], sizeof r->y);
+    memcpy(r->lo, c->zlo, sizeof r->lo);
+    memcpy(r->hi, c->zhi, sizeof r->hi);
+}
+
+/* Take the m plain steps r ran. Returns 1 if the run goes on in the
+ * kernel's loop (none refused: the steps asked for are done, or a period
+ * ended and is counted here, or a paired run stopped for the other sim),
+ * 0 if the general step takes the next step. */
+static int krun_commit(runner *R, const wg_krun *r, uint64_t m)
+{
+    wg_sim *s = R->s;
+    wg_sim_core *c = s->core;
+    R->has_trial = r->has_trial;
+    if (m > 0) {
+        double *y = R->yb[R->cur], *q = R->qb[R->cur], *v = R->vb[R->cur];
+        memcpy(y, r->y, sizeof r->y);
+        q[0] = r->xn;
+        v[0] = r->dxn;
+        for (int j = 0; j < 6 && (c->kflags & KF_BEAR); j++) { /* as ct_contacts */
+            q[j + 1] = y[j];
+            v[j + 1] = y[7 + j];
+        }
+        s->tau = r->tau;
+        s->tau_c = r->tau_c;
+        c->cur.min_xn = r->min_xn;
+        c->cur.max_xn = r->max_xn;
+        s->k = r->k == r->N ? 0 : r->k;
+        s->steps += m;
+        R->i += m;
+        if (r->k == r->N) {
+            if (R->sink && R->sink->on_section)
+                sync_out(s, y, q, R->vb[R->cur]);
+            period_end(s, R->sink, q[0]);
+        }
     }
-    s->tau = r.tau;
-    s->tau_c = r.tau_c;
-    c->cur.min_xn = r.min_xn;
-    c->cur.max_xn = r.max_xn;
-    s->k = r.k == r.N ? 0 : r.k;
-    s->steps += m;
-    return m;
+    return !r->has_trial;
+}
+
+/* Plain steps in the kernel's own loop until one is refused or the steps
+ * asked for are done. */
+static void run_fast(runner *R)
+{
+    while (R->i < R->n) {
+        wg_krun r;
+        krun_prep(R, &r);
+        uint64_t m = R->s->core->krun(&R->s->core->kc, &r, R->n - R->i);
+        if (!krun_commit(R, &r, m))
+            break;
+    }
+}
+
+/* One step by the general path: the kernel (unless the run computed it),
+ * contacts, zone changes split at their events, ramps, callbacks, the
+ * period's end. */
+static void run_general(runner *R)
+{
+    wg_sim *s = R->s;
+    const wg_sink *sink = R->sink;
+    const uint32_t N = (uint32_t)s->cfg.steps_per_period;
+    const int nst = s->nstate, locked = s->cfg.stepper == WG_STEPPER_RK4_EVENT;
+    const void *kctx = s->cfg.model == WG_MODEL_PRINTED ? (const void *)&s->p
+                                                        : (const void *)&s->core->kc;
+    const int cur = R->cur, has_trial = R->has_trial;
+    double *y0 = R->yb[cur], *y1 = R->yb[!cur], *q0 = R->qb[cur], *q1 = R->qb[!cur];
+    double *v0 = R->vb[cur], *v1 = R->vb[!cur];
+    R->has_trial = 0;
+    const wg_exc *e;
+    wg_exc live[3];
+    double h;
+    phase ph;
+    int ramp_ends = 0;
+    if (!s->ramp.active) {
+        e = &s->core->table[2 * s->k];
+        h = s->h;
+    } else {
+        ramp_ends = ramp_step(s, &ph, &h);
+        ct_exc_at(s, &ph, 0.0, &live[0]);
+        ct_exc_at(s, &ph, 0.5 * h, &live[1]);
+        ct_exc_at(s, &ph, h, &live[2]);
+        e = live;
+    }
+    if (!has_trial) /* else the run of plain steps computed it */
+        s->core->kernel(y0, y1, kctx, e, h);
+    int nc = ct_ncontacts(s), changed = 0;
+    ct_contacts(s, y1, &e[2], q1, v1);
+    changed = (ct_zone(q1[0], s->core->kc.b) ^ s->core->zone[0]);
+    for (int j = 1; j < nc; j++) /* branch-free: any bearing left its zone */
+        changed |= ct_zone(q1[j], s->core->kc.bj) ^ s->core->zone[j];
+    evbuf b;
+    b.n = 0;
+    if (changed) {
+        int zsave[WG_NCONTACT];
+        uint64_t splits_before = s->nsplit;
+        memcpy(zsave, s->core->zone, sizeof zsave);
+        if (!s->ramp.active) {
+            double om = s->p.v[WG_P_OMEGA];
+            ph = (phase){wg_sim_psi(s), om, 0.0, INFINITY, om};
+        }
+        if (locked) {
+            ct_split_step(s, &ph, y0, y1, h, &b);
+            ct_contacts(s, y1, &e[2], q1, v1);
+        } else {
+            for (int j = 0; j < nc; j++) {
+                int z1 = ct_zone(q1[j], ct_threshold(s, j));
+                if (z1 != s->core->zone[j]) {
+                    herm H = {q0[j], q1[j], v0[j] * h, v1[j] * h};
+                    ct_interpolate(s, &b, j, s->core->zone[j], z1, &H, 0.0, h);
+                    s->core->zone[j] = z1;
+                    ct_set_lock(s, j, z1); /* the bounds (rk4 reads no lock) */
+                }
+            }
+        }
+        if (!sim_finite_state(y1, nst)) { /* undo the zone updates and counts */
+            s->nsplit = splits_before;
+            memcpy(s->core->zone, zsave, sizeof zsave);
+            for (int j = 0; j < WG_NCONTACT; j++)
+                ct_set_lock(s, j, s->core->zone[j]);
+        }
+    }
+    if (!sim_finite_state(y1, nst)) {
+        R->rc = WG_ENONFINITE;
+        return;
+    }
+    R->cur = !cur; /* accept */
+    R->i++;
+    double dt = h - s->tau_c, t = s->tau + dt;
+    s->tau_c = (t - s->tau) - dt;
+    s->tau = t;
+    s->steps++;
+    after_step(s, q0, v0, q1, v1, h, &b, sink);
+    if (++s->k == N)
+        s->k = 0, s->core->wrap_pending = 1;
+    if (ramp_ends)
+        ramp_finish(s);
+    else if (s->ramp.active && s->ramp.id == WG_P_OMEGA)
+        s->p.v[WG_P_OMEGA] = s->ramp.v0 + (s->ramp.v1 - s->ramp.v0) *
+                                              (s->tau - s->ramp.tau0) / s->ramp.dur;
+    if (sink && (sink->on_step || (s->k == 0 && sink->on_section)))
+        sync_out(s, y1, q1, v1);
+    if (sink && sink->on_step)
+        sink->on_step(sink->ctx, s);
+    if (s->k == 0)
+        period_end(s, sink, q1[0]);
 }
 
 int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
 {
-    const uint32_t N = (uint32_t)s->cfg.steps_per_period;
-    const int nst = s->nstate, locked = s->cfg.stepper == WG_STEPPER_RK4_EVENT;
-    const void *kctx = s->cfg.model == WG_MODEL_PRINTED ? (const void *)&s->p : (const void *)&s->core->kc;
-    /* Double-buffered state and contacts: the accepted step is a pointer
-     * swap, and s->y is written only when a callback or the caller reads it.
-     * Both buffers start equal (torsional kernels leave the bearings alone). */
-    double yb[2][WG_NSTATE_MAX], qb[2][WG_NCONTACT], vb[2][WG_NCONTACT];
-    memcpy(yb[0], s->y, sizeof yb[0]);
-    memcpy(yb[1], s->y, sizeof yb[1]);
-    memcpy(qb[0], s->core->q, sizeof qb[0]);
-    memcpy(vb[0], s->core->v, sizeof vb[0]);
-    int cur = 0;
-    uint64_t i;
-    int rc = WG_OK;
-    /* plain steps run in the kernel's own loop unless a ramp or a per-step
-     * callback needs the general step every time */
-    const int fast = s->core->krun && !(sink && sink->on_step);
-    for (i = 0; i < n; i++) {
-        int has_trial = 0;
-        if (fast && !s->ramp.active) {
-            uint64_t m;
-            while (i < n && (m = fast_steps(s, yb[cur], qb[cur], vb[cur], n - i, yb[!cur],
-                                            &has_trial)) > 0) {
-                i += m;
-                if (s->k != 0)
-                    break;
-                if (sink && sink->on_section)
-                    sync_out(s, yb[cur], qb[cur], vb[cur]);
-                period_end(s, sink, qb[cur][0]);
-            }
-            if (i == n)
+    runner R;
+    run_begin(&R, s, n, sink);
+    while (R.i < R.n && R.rc == WG_OK) {
+        if (run_fast_now(&R)) {
+            run_fast(&R);
+            if (R.i == R.n)
                 break;
         }
-        double *y0 = yb[cur], *y1 = yb[!cur], *q0 = qb[cur], *q1 = qb[!cur];
-        double *v0 = vb[cur], *v1 = vb[!cur];
-        const wg_exc *e;
-        wg_exc live[3];
-        double h;
-        phase ph;
-        int ramp_ends = 0;
-        if (!s->ramp.active) {
-            e = &s->core->table[2 * s->k];
-            h = s->h;
-        } else {
-            ramp_ends = ramp_step(s, &ph, &h);
-            ct_exc_at(s, &ph, 0.0, &live[0]);
-            ct_exc_at(s, &ph, 0.5 * h, &live[1]);
-            ct_exc_at(s, &ph, h, &live[2]);
-            e = live;
-        }
-        if (!has_trial) /* else the run of plain steps computed it */
-            s->core->kernel(y0, y1, kctx, e, h);
-        int nc = ct_ncontacts(s), changed = 0;
-        ct_contacts(s, y1, &e[2], q1, v1);
-        changed = (ct_zone(q1[0], s->core->kc.b) ^ s->core->zone[0]);
-        for (int j = 1; j < nc; j++) /* branch-free: any bearing left its zone */
-            changed |= ct_zone(q1[j], s->core->kc.bj) ^ s->core->zone[j];
-        evbuf b;
-        b.n = 0;
-        if (changed) {
-            int zsave[WG_NCONTACT];
-            uint64_t splits_before = s->nsplit;
-            memcpy(zsave, s->core->zone, sizeof zsave);
-            if (!s->ramp.active) {
-                double om = s->p.v[WG_P_OMEGA];
-                ph = (phase){wg_sim_psi(s), om, 0.0, INFINITY, om};
-            }
-            if (locked) {
-                ct_split_step(s, &ph, y0, y1, h, &b);
-                ct_contacts(s, y1, &e[2], q1, v1);
-            } else {
-                for (int j = 0; j < nc; j++) {
-                    int z1 = ct_zone(q1[j], ct_threshold(s, j));
-                    if (z1 != s->core->zone[j]) {
-                        herm H = {q0[j], q1[j], v0[j] * h, v1[j] * h};
-                        ct_interpolate(s, &b, j, s->core->zone[j], z1, &H, 0.0, h);
-                        s->core->zone[j] = z1;
-                        ct_set_lock(s, j, z1); /* the bounds (rk4 reads no lock) */
-                    }
-                }
-            }
-            if (!sim_finite_state(y1, nst)) { /* undo the zone updates and counts */
-                s->nsplit = splits_before;
-                memcpy(s->core->zone, zsave, sizeof zsave);
-                for (int j = 0; j < WG_NCONTACT; j++)
-                    ct_set_lock(s, j, s->core->zone[j]);
-            }
-        }
-        if (!sim_finite_state(y1, nst)) {
-            rc = WG_ENONFINITE;
-            break;
-        }
-        cur = !cur; /* accept */
-        double dt = h - s->tau_c, t = s->tau + dt;
-        s->tau_c = (t - s->tau) - dt;
-        s->tau = t;
-        s->steps++;
-        after_step(s, q0, v0, q1, v1, h, &b, sink);
-        if (++s->k == N)
-            s->k = 0, s->core->wrap_pending = 1;
-        if (ramp_ends)
-            ramp_finish(s);
-        else if (s->ramp.active && s->ramp.id == WG_P_OMEGA)
-            s->p.v[WG_P_OMEGA] = s->ramp.v0 + (s->ramp.v1 - s->ramp.v0) *
-                                                  (s->tau - s->ramp.tau0) / s->ramp.dur;
-        if (sink && (sink->on_step || (s->k == 0 && sink->on_section)))
-            sync_out(s, y1, q1, v1);
-        if (sink && sink->on_step)
-            sink->on_step(sink->ctx, s);
-        if (s->k == 0)
-            period_end(s, sink, q1[0]);
+        run_general(&R);
     }
-    sync_out(s, yb[cur], qb[cur], vb[cur]);
-    if (done)
-        *done = i;
-    return rc;
+    run_end(&R, done);
+    return R.rc;
+}
+
+/* Both sims' plain steps in one paired loop while both can take them. */
+static int pair_fast(runner *R)
+{
+    wg_sim *a = R[0].s, *b = R[1].s;
+    wg_krun2_fn f = krun2_select(a->core->kflags, a->core->isa);
+    if (!f || b->core->kflags != a->core->kflags || b->core->isa != a->core->isa ||
+        !run_fast_now(&R[0]) || !run_fast_now(&R[1]))
+        return 0;
+    int go[2] = {1, 1};
+    while (go[0] && go[1] && R[0].i < R[0].n && R[1].i < R[1].n) {
+        wg_krun r[2];
+        uint64_t m[2];
+        krun_prep(&R[0], &r[0]);
+        krun_prep(&R[1], &r[1]);
+        f(&a->core->kc, &r[0], R[0].n - R[0].i, &b->core->kc, &r[1], R[1].n - R[1].i, m);
+        go[0] = krun_commit(&R[0], &r[0], m[0]);
+        go[1] = krun_commit(&R[1], &r[1], m[1]);
+    }
+    return 1;
+}
+
+void wg_sim_run_pair(wg_sim *const s[2], const uint64_t n[2], const wg_sink *const sink[2],
+                     uint64_t done[2], int rc[2])
+{
+    runner R[2];
+    run_begin(&R[0], s[0], n[0], sink[0]);
+    run_begin(&R[1], s[1], n[1], sink[1]);
+    while (R[0].i < R[0].n && R[1].i < R[1].n && R[0].rc == WG_OK && R[1].rc == WG_OK) {
+        if (pair_fast(R)) {
+            /* a sim whose run refused a step takes it by the general path */
+            for (int j = 0; j < 2; j++)
+                if (R[j].i < R[j].n && R[j].has_trial)
+                    run_general(&R[j]);
+            continue;
+        }
+        for (int j = 0; j < 2; j++) { /* one sim cannot pair: a step of each in turn */
+            if (R[j].i == R[j].n || R[j].rc != WG_OK)
+                continue;
+            if (run_fast_now(&R[j]))
+                run_fast(&R[j]);
+            if (R[j].i < R[j].n)
+                run_general(&R[j]);
+        }
+    }
+    for (int j = 0; j < 2; j++) {
+        run_end(&R[j], &done[j]);
+        rc[j] = R[j].rc;
+    }
 }

@@ -188,6 +188,17 @@ void wg_sim_reset(wg_sim *sim);
  * is not applied); *done (may be NULL) receives the steps taken. */
 int wg_sim_run(wg_sim *sim, uint64_t n, const wg_sink *sink, uint64_t *done);
 
+/* Advance two distinct sims at once: sim[j] as wg_sim_run(sim[j], n[j],
+ * sink[j]) would, to the bit, until either has taken its n[j] steps or
+ * failed. While both take plain steps of the same specialisation (the
+ * same model, stepper and kind of parameters, whatever their values or N)
+ * they run in one loop, where one fills the machine while the other waits
+ * on its dependency chain; otherwise in turn. done[j] receives the steps
+ * sim[j] took, rc[j] its status (as wg_sim_run's); run the other's rest
+ * by another call. */
+void wg_sim_run_pair(wg_sim *const sim[2], const uint64_t n[2], const wg_sink *const sink[2],
+                     uint64_t done[2], int rc[2]);
+
 /* Current excitation phase psi in [0, 2 pi) and meshing frequency. */
 double wg_sim_psi(const wg_sim *sim);
 double wg_sim_omega(const wg_sim *sim);

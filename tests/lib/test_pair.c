@@ -1,0 +1,191 @@
+/* test_pair - wg_sim_run_pair advances two sims as wg_sim_run advances
+ * each alone, to the bit: states, time, counters, sections, period
+ * statistics and events, on every instruction set; with different
+ * parameters and N (the paired loop), with different specialisations or a
+ * per-step callback (in turn), and when one of the two blows up. White box
+ * (lib/internal.h): it picks the instruction set and checks which loop
+ * runs. */
+#include "test.h"
+
+#include "internal.h"
+#include "wormgear/wg_scene.h"
+#include "wormgear/wg_status.h"
+
+#include <stdlib.h>
+
+typedef struct runrec {
+    int nsec;
+    double ysec[8][WG_NSTATE_MAX];
+    wg_period stats[8];
+    double tau[8];
+    uint64_t nev;
+    double ev_tau; /* of the last event */
+} runrec;
+
+static void on_sec(void *ctx, const wg_section *sec)
+{
+    runrec *r = ctx;
+    int i = r->nsec++ % 8;
+    memcpy(r->ysec[i], sec->y, sizeof r->ysec[i]);
+    r->stats[i] = sec->stats;
+    r->tau[i] = sec->tau;
+}
+
+static void on_ev(void *ctx, const wg_event *ev)
+{
+    runrec *r = ctx;
+    r->nev++;
+    r->ev_tau = ev->tau;
+}
+
+static void on_step(void *ctx, const struct wg_sim *s)
+{
+    (void)ctx;
+    (void)s;
+}
+
+typedef struct spec {
+    const char *scene; /* NULL: the defaults (table3) */
+    double omega, xi_p, s0;
+    int N, general;    /* general: an on_step sink forces the general step */
+    uint64_t n;        /* steps to run */
+} spec;
+
+static void sim_of(const spec *sp, int isa, wg_sim *s)
+{
+    wg_params p;
+    wg_params_default(&p);
+    if (sp->scene) {
+        wg_scene sc;
+        char why[600];
+        ASSERT_EQ_INT(wg_scene_open(&sc, sp->scene, why, sizeof why), WG_OK);
+        p = sc.p;
+    }
+    p.v[WG_P_OMEGA] = sp->omega;
+    p.v[WG_P_XI_P] = sp->xi_p;
+    wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, sp->N};
+    char why[300];
+    if (setenv("WG_ISA", kernel_isa_name(isa), 1) != 0)
+        abort();
+    ASSERT_EQ_INT(wg_sim_init(s, &p, &cfg, why, sizeof why), WG_OK);
+    unsetenv("WG_ISA");
+    ASSERT_EQ_INT(s->core->isa, isa);
+    if (sp->s0 != 0.0) {
+        double y0[WG_NSTATE_MAX] = {0};
+        y0[6] = sp->s0;
+        wg_sim_set_state(s, y0, 0, 0.0);
+    }
+}
+
+/* Runs a and b by wg_sim_run_pair until one is done or fails, then the
+ * other alone: each call must return as soon as either is. */
+static void run_paired(wg_sim *s[2], const spec sp[2], runrec r[2], uint64_t done[2], int rc[2])
+{
+    wg_sink sk[2];
+    const wg_sink *skp[2] = {&sk[0], &sk[1]};
+    for (int j = 0; j < 2; j++) {
+        memset(&r[j], 0, sizeof r[j]);
+        sk[j] = (wg_sink){&r[j], sp[j].general ? on_step : NULL, on_sec, on_ev};
+        done[j] = 0;
+        rc[j] = WG_OK;
+    }
+    int calls = 0;
+    while (done[0] < sp[0].n && done[1] < sp[1].n && !rc[0] && !rc[1]) {
+        uint64_t left[2] = {sp[0].n - done[0], sp[1].n - done[1]}, d[2] = {9, 9};
+        wg_sim_run_pair(s, left, skp, d, rc);
+        ASSERT_TRUE(d[0] == left[0] || d[1] == left[1] || rc[0] || rc[1]);
+        ASSERT_TRUE(d[0] <= left[0] && d[1] <= left[1]);
+        done[0] += d[0], done[1] += d[1];
+        calls++;
+    }
+    ASSERT_TRUE(calls == 1);
+    for (int j = 0; j < 2; j++) {
+        if (rc[j] || done[j] == sp[j].n)
+            continue;
+        uint64_t d = 0;
+        rc[j] = wg_sim_run(s[j], sp[j].n - done[j], &sk[j], &d);
+        done[j] += d;
+    }
+}
+
+/* Each of the two specs alone, then both paired, on every instruction set:
+ * the same bits. want_rc: the status each run must end with. */
+static void check_pair(const spec sp[2], const int want_rc[2], int paired_loop)
+{
+    for (int isa = 0; isa < KISA_N; isa++) {
+        if (!kernel_isa_supported(isa))
+            continue;
+        wg_sim alone[2], pa, pb, *both[2] = {&pa, &pb};
+        runrec ra[2], rp[2];
+        uint64_t da[2], dp[2];
+        int rca[2], rcp[2];
+        for (int j = 0; j < 2; j++) {
+            sim_of(&sp[j], isa, &alone[j]);
+            memset(&ra[j], 0, sizeof ra[j]);
+            wg_sink sk = {&ra[j], sp[j].general ? on_step : NULL, on_sec, on_ev};
+            da[j] = 0;
+            rca[j] = wg_sim_run(&alone[j], sp[j].n, &sk, &da[j]);
+            ASSERT_EQ_INT(rca[j], want_rc[j]);
+            sim_of(&sp[j], isa, both[j]);
+        }
+        wg_krun2_fn f = krun2_select(pa.core->kflags, isa);
+        ASSERT_EQ_INT(f != NULL && pa.core->kflags == pb.core->kflags, paired_loop);
+        run_paired(both, sp, rp, dp, rcp);
+        for (int j = 0; j < 2; j++) {
+            const wg_sim *a = &alone[j], *p = both[j];
+            ASSERT_EQ_INT(rcp[j], rca[j]);
+            ASSERT_TRUE(dp[j] == da[j]);
+            ASSERT_TRUE(memcmp(a->y, p->y, sizeof a->y) == 0);
+            ASSERT_TRUE(a->tau == p->tau && a->tau_c == p->tau_c);
+            ASSERT_TRUE(a->k == p->k && a->period == p->period && a->steps == p->steps);
+            ASSERT_TRUE(a->nsplit == p->nsplit);
+            ASSERT_TRUE(memcmp(a->nevents, p->nevents, sizeof a->nevents) == 0);
+            ASSERT_TRUE(memcmp(&a->core->cur, &p->core->cur, sizeof a->core->cur) == 0);
+            ASSERT_TRUE(memcmp(&ra[j], &rp[j], sizeof ra[j]) == 0);
+            wg_sim_fini(&alone[j]);
+            wg_sim_fini(both[j]);
+        }
+        printf("%s: %llu and %llu steps, %llu and %llu events, rc %d and %d: equal\n",
+               kernel_isa_name(isa), (unsigned long long)da[0], (unsigned long long)da[1],
+               (unsigned long long)ra[0].nev, (unsigned long long)ra[1].nev, rca[0], rca[1]);
+    }
+}
+
+/* table3 impacting (omega 0.7, N 128) beside table3 without impacts
+ * (omega 0.5, another xi_p, N 256), a period and a few steps shorter: the
+ * paired loop, stopping for the one's splits and period ends. */
+static void test_pair_differs_in_params(void)
+{
+    const spec sp[2] = {{NULL, 0.7, 0.10, 0, 128, 0, 60 * 128},
+                        {NULL, 0.5, 0.08, 0, 256, 0, 29 * 256 + 5}};
+    const int ok[2] = {WG_OK, WG_OK};
+    check_pair(sp, ok, 1);
+    const spec rev[2] = {sp[1], sp[0]}; /* and the other one first */
+    check_pair(rev, ok, 1);
+}
+
+/* Different specialisations (the torsional scene, no pairing), and a
+ * per-step callback on one side: the two run in turn. */
+static void test_pair_in_turn(void)
+{
+    const int ok[2] = {WG_OK, WG_OK};
+    const spec mixed[2] = {{"torsional", 1.0, 0.10, 0, 128, 0, 40 * 128},
+                           {NULL, 0.7, 0.10, 0, 128, 0, 50 * 128 + 3}};
+    check_pair(mixed, ok, 0);
+    const spec general[2] = {{NULL, 0.7, 0.10, 0, 128, 1, 30 * 128},
+                             {NULL, 1.45, 0.12, 0, 128, 0, 45 * 128}};
+    check_pair(general, ok, 1);
+}
+
+/* One of the two blows up (from s = 6e8, past the bound at its second
+ * step, taken by the general step): it stops with WG_ENONFINITE at the step where it stops alone,
+ * the pair returns, and the other's run is unchanged. */
+static void test_pair_blowup(void)
+{
+    const spec sp[2] = {{NULL, 0.7, 0.10, 6e8, 128, 0, 8 * 128},
+                        {NULL, 0.7, 0.10, 0, 128, 0, 20 * 128}};
+    const int want[2] = {WG_ENONFINITE, WG_OK};
+    check_pair(sp, want, 1);
+}
+
+TEST_MAIN(TEST(test_pair_differs_in_params), TEST(test_pair_in_turn), TEST(test_pair_blowup))
