@@ -90,6 +90,9 @@ static void usage(FILE *f)
         "  --verify-steps          re-analyse every point's attractor with 2N steps per\n"
         "                          period (step-halving check; about 3x the cost)\n"
         "  --threads K             chains in parallel (default: online CPUs)\n"
+        "  --pair K                chains each thread advances at once, two steps in one\n"
+        "                          instruction stream (default 2; 1: one at a time; the\n"
+        "                          results are the same)\n"
         "  --out PREFIX            output prefix (default sweep): PREFIX.csv,\n"
         "                          PREFIX-poincare.csv, PREFIX.json, PREFIX.md, PREFIX.png\n"
         "                          (--values: PREFIX-NAME-V.png per value); the files\n"
@@ -220,6 +223,7 @@ static int parse_range(int c, const char *a, opts *o)
         break;
     case 'P': bad = cli_int(a, 1, 10000000, &o->at_periods), need = "--at-periods: need >= 1, got"; break;
     case 'j': bad = cli_int(a, 1, 256, &o->threads), need = "--threads: need 1..256, got"; break;
+    case 'I': bad = cli_int(a, 1, 8, &o->so.pair), need = "--pair: need 1..8, got"; break;
     default: return parse_numeric(c, a, o);
     }
     return bad ? cli_usage_error(PROG, "%s '%s'", need, a) : 0;
@@ -246,7 +250,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"record", 1, 0, 'R'}, {"extend", 1, 0, 'E'}, {"lle-periods", 1, 0, 'L'},
         {"lle-tol", 1, 0, 'l'}, {"tol-factor", 1, 0, 'F'}, {"tol-floor", 1, 0, 'f'},
         {"steps-per-period", 1, 0, 'N'}, {"stepper", 1, 0, 'k'}, {"floquet", 0, 0, 'Q'}, {"verify-steps", 0, 0, 'W'},
-        {"threads", 1, 0, 'j'}, {"out", 1, 0, 'o'}, {"no-png", 0, 0, 'G'}, {"no-json", 0, 0, 'J'},
+        {"threads", 1, 0, 'j'}, {"pair", 1, 0, 'I'}, {"out", 1, 0, 'o'}, {"no-png", 0, 0, 'G'}, {"no-json", 0, 0, 'J'},
         {"at", 1, 0, 'A'}, {"at-periods", 1, 0, 'P'}, {"at-state", 1, 0, 'Z'}, {"quiet", 0, 0, 'q'}, {"table-from", 1, 0, 'Y'},
         {"exact", 1, 0, 'X'}, {"format", 1, 0, 'O'},
         {"help", 0, 0, 'h'}, {0, 0, 0, 0}};

@@ -1,7 +1,9 @@
 /* wg_sweep.c - per-point regime analysis and chains with continuation, run
- * on POSIX threads. Memory is allocated per chain (sims, record buffer),
+ * on POSIX threads, o->pair chains at once on each (their main sims' runs
+ * paired: duo.h). Memory is allocated per chain (sims, record buffer),
  * never per step or per point. */
 #include "wormgear/wg_sweep.h"
+#include "duo.h"
 #include "wormgear/wg_shoot.h"
 #include "wormgear/wg_status.h"
 
@@ -29,13 +31,14 @@ typedef struct work {
     double hmax;               /* RK4 limit (wg_params_same_linear decides reuse) */
     int hvalid;
     volatile sig_atomic_t *stop;
+    duo *duo;                  /* non-NULL: the main sim's runs go through it */
 } work;
 
 void wg_sweep_opts_default(wg_sweep_opts *o)
 {
     *o = (wg_sweep_opts){.model = WG_MODEL_CONSISTENT, .stepper = WG_STEPPER_DEFAULT,
                          .steps = 256, .transient = 300, .settle = 0, .record = 128,
-                         .extend = 3,
+                         .extend = 3, .pair = 2,
                          .lle_periods = 300, .lle_d0 = 1e-7, .lle_tol = 0.01,
                          .tol_factor = 10.0, .tol_floor = 1e-9, .floquet = 0};
 }
@@ -96,11 +99,12 @@ static void work_fini(work *w)
     w->stats = NULL;
 }
 
-static int work_init(work *w, const wg_sweep_opts *o, volatile sig_atomic_t *stop)
+static int work_init(work *w, const wg_sweep_opts *o, volatile sig_atomic_t *stop, duo *d)
 {
     memset(w, 0, sizeof *w);
     w->o = o;
     w->stop = stop;
+    w->duo = d;
     w->nstate = wg_model_nstate(o->model);
     w->cap = o->record > 2 * o->settle + SETTLE_EVERY ? o->record : 2 * o->settle + SETTLE_EVERY;
     w->rec = malloc(sizeof(double) * (size_t)w->cap * (size_t)w->nstate);
@@ -121,9 +125,12 @@ static void on_record(void *ctx, const wg_section *sec)
     w->stats[w->nrec++] = sec->stats;
 }
 
-static int run_periods(wg_sim *s, long periods, const wg_sink *sink)
+/* The main sim's runs: paired with another chain's when the thread runs
+ * several (the same bits either way). */
+static int run_periods(work *w, long periods, const wg_sink *sink)
 {
-    return wg_sim_run(s, (uint64_t)periods * (uint64_t)s->cfg.steps_per_period, sink, NULL);
+    uint64_t n = (uint64_t)periods * (uint64_t)w->sim.cfg.steps_per_period;
+    return w->duo ? duo_run(w->duo, &w->sim, n, sink) : wg_sim_run(&w->sim, n, sink, NULL);
 }
 
 /* Record o->record periods into w->rec / w->stats. */
@@ -131,7 +138,7 @@ static int record(work *w)
 {
     wg_sink sink = {w, NULL, on_record, NULL};
     w->nrec = 0;
-    return run_periods(&w->sim, w->o->record, &sink);
+    return run_periods(w, w->o->record, &sink);
 }
 
 static wg_record record_of(const work *w)
@@ -298,7 +305,7 @@ static int transient(work *w, const wg_params *p, int *ran, char *why, size_t wh
     const int W = w->o->settle, T = w->o->transient;
     *ran = T;
     if (W <= 0 || T <= W)
-        return run_periods(&w->sim, T, NULL);
+        return run_periods(w, T, NULL);
     wg_sink sink = {w, NULL, on_record, NULL};
     double tol = -1.0;
     w->nrec = 0;
@@ -310,7 +317,7 @@ static int transient(work *w, const wg_params *p, int *ran, char *why, size_t wh
             memmove(w->stats, w->stats + (w->nrec - W), sizeof(wg_period) * (size_t)W);
             w->nrec = W;
         }
-        int rc = run_periods(&w->sim, chunk, &sink);
+        int rc = run_periods(w, chunk, &sink);
         if (rc)
             return rc;
         done += chunk;
@@ -322,7 +329,7 @@ static int transient(work *w, const wg_params *p, int *ran, char *why, size_t wh
             int n = window_period(w, tol);
             if (n > 0) {
                 *ran = done + (T - done) % n;
-                return run_periods(&w->sim, (T - done) % n, NULL);
+                return run_periods(w, (T - done) % n, NULL);
             }
         }
     }
@@ -438,7 +445,7 @@ int wg_point_run(const wg_params *p, const wg_sweep_opts *o, double *y, wg_point
                  char *why, size_t whylen)
 {
     work w;
-    int rc = work_init(&w, o, NULL);
+    int rc = work_init(&w, o, NULL, NULL);
     if (rc) {
         snprintf(why, whylen, "out of memory for the record buffer");
         return rc;
@@ -467,8 +474,8 @@ static void verify_point(work *v, const wg_params *p, const double *y, wg_point 
     free(q);
 }
 
-int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *stop,
-                 wg_progress_fn progress, void *ctx)
+static int chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *stop,
+                     wg_progress_fn progress, void *ctx, duo *d)
 {
     work w, v;
     wg_sweep_opts ov = *o;
@@ -476,8 +483,8 @@ int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *sto
     ov.verify = ov.floquet = 0;
     c->ndone = 0;
     c->why[0] = 0;
-    if ((c->rc = work_init(&w, o, stop)) == WG_OK && o->verify &&
-        (c->rc = work_init(&v, &ov, stop)) != WG_OK)
+    if ((c->rc = work_init(&w, o, stop, d)) == WG_OK && o->verify &&
+        (c->rc = work_init(&v, &ov, stop, d)) != WG_OK)
         work_fini(&w);
     if (c->rc) {
         snprintf(c->why, sizeof c->why, "out of memory for the record buffer");
@@ -516,6 +523,12 @@ int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *sto
     return c->rc;
 }
 
+int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *stop,
+                 wg_progress_fn progress, void *ctx)
+{
+    return chain_run(c, o, stop, progress, ctx, NULL);
+}
+
 /* ---- threads ------------------------------------------------------------- */
 
 typedef struct pool {
@@ -543,7 +556,9 @@ static void pool_progress(void *ctx, int chain, int ndone)
     pthread_mutex_unlock(&cb->pl->lock);
 }
 
-static void *pool_worker(void *arg)
+/* Chains from the pool until it is empty (d: as one of the thread's
+ * tasks). */
+static void pool_chains(duo *d, void *arg)
 {
     pool *pl = arg;
     for (;;) {
@@ -551,10 +566,24 @@ static void *pool_worker(void *arg)
         int i = pl->next < pl->n ? pl->next++ : -1;
         pthread_mutex_unlock(&pl->lock);
         if (i < 0 || (pl->stop && *pl->stop))
-            return NULL;
+            return;
         pool_cb cb = {pl, i};
-        wg_chain_run(&pl->cs[i], pl->o, pl->stop, pool_progress, &cb);
+        chain_run(&pl->cs[i], pl->o, pl->stop, pool_progress, &cb, d);
     }
+}
+
+/* A thread: o->pair chains at once, or one at a time (also when the
+ * tasks' stacks cannot be had). */
+static void *pool_worker(void *arg)
+{
+    pool *pl = arg;
+    int k = pl->o->pair < 1 ? 1 : pl->o->pair > DUO_MAX ? DUO_MAX : pl->o->pair;
+    void *args[DUO_MAX];
+    for (int i = 0; i < k; i++)
+        args[i] = pl;
+    if (k < 2 || duo_main(k, pool_chains, args) != WG_OK)
+        pool_chains(NULL, pl);
+    return NULL;
 }
 
 int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,

@@ -40,6 +40,9 @@ typedef struct wg_sweep_opts {
     int floquet;         /* Floquet multipliers of periodic points (wg_shoot.h:
                             variational monodromy, rk4-event stepper only) */
     int verify;          /* re-analyse each point's attractor with 2N steps */
+    int pair;            /* chains each thread advances at once, their runs
+                            paired (wg_sim_run_pair; the same results): 2 (the
+                            default) to 8, or 1: one at a time */
 } wg_sweep_opts;
 
 /* Result of one point. */

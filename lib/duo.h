@@ -1,0 +1,28 @@
+/* duo.h - several tasks on one thread whose long sim runs are paired
+ * (wg_duo.c). Each task is a coroutine with its own stack; when it asks
+ * for a run (duo_run) it yields, and the thread's scheduler advances two
+ * waiting runs at once with wg_sim_run_pair until one is done, then
+ * resumes that task. A run alone (no other task waiting) goes by
+ * wg_sim_run. Each sim's bits are what wg_sim_run would give: only the
+ * interleaving changes. Private to the library (the sweeps use it). */
+#ifndef WG_DUO_H
+#define WG_DUO_H
+
+#include "wormgear/wg_sim.h"
+
+typedef struct duo duo;
+
+/* The body of a task: runs on its own stack; d is for duo_run. */
+typedef void (*duo_task_fn)(duo *d, void *arg);
+
+/* Runs fn(d, args[i]) for each i < n (1..DUO_MAX) as tasks on the calling
+ * thread and returns when every one has returned: WG_OK, or WG_ENOMEM if
+ * the stacks could not be had (then nothing ran). */
+enum { DUO_MAX = 8 };
+int duo_main(int n, duo_task_fn fn, void *const args[]);
+
+/* From a task: wg_sim_run(s, n, sink, NULL), interleaved with another
+ * task's run when one is waiting. */
+int duo_run(duo *d, wg_sim *s, uint64_t n, const wg_sink *sink);
+
+#endif
