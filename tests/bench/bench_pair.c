@@ -7,7 +7,11 @@
  * if throughput-bound, twice as much (ratio near 1). No bookkeeping (that
  * is wg_krun's: compare bench_step), the excitation from a 64-entry table.
  * Then the latency of one link of the step's path through the sum across
- * the bearing lanes, in dependent adds (the traced bound's unit).
+ * the bearing lanes, in dependent adds (the traced bound's unit). Last,
+ * whole runs through the library (its own choice of instruction set, with
+ * the bookkeeping, zone tests and period ends): two table3 sims one after
+ * the other by wg_sim_run, then both by wg_sim_run_pair (what a sweep
+ * thread does with --pair 2), without impacts and impacting.
  * Thread CPU time, medians of REPS repetitions interleaved.
  * usage: bench_pair_{sse2,avx2,avx512} [steps per repetition (2e6)] [reps (7)] */
 #ifndef KW
@@ -71,6 +75,41 @@ __attribute__((noinline)) static double hsum_chain(const double *d6, long n)
             p[b] = s + d[b];
     }
     return hsumb(p);
+}
+
+/* ns a step of two sims (omega w and w + 0.05, xi_p 0.10 and 0.11, N 256)
+ * run alone one after the other, and paired; 200 periods each. */
+static void runs(double w, double *alone, double *paired)
+{
+    wg_sim s[2];
+    char why[300];
+    for (int j = 0; j < 2; j++) {
+        wg_params p;
+        wg_params_default(&p);
+        p.v[WG_P_OMEGA] = w + 0.05 * j;
+        p.v[WG_P_XI_P] = 0.10 + 0.01 * j;
+        wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, 256};
+        if (wg_sim_init(&s[j], &p, &cfg, why, sizeof why)) {
+            fprintf(stderr, "bench_pair: %s\n", why);
+            exit(1);
+        }
+        wg_sim_run(&s[j], 50 * 256, NULL, NULL); /* onto the attractor */
+    }
+    const uint64_t n[2] = {200 * 256, 200 * 256};
+    double a = bench_now_ns();
+    wg_sim_run(&s[0], n[0], NULL, NULL);
+    wg_sim_run(&s[1], n[1], NULL, NULL);
+    double b = bench_now_ns();
+    wg_sim *const sp[2] = {&s[0], &s[1]};
+    const wg_sink *const sk[2] = {NULL, NULL};
+    uint64_t done[2];
+    int rc[2];
+    wg_sim_run_pair(sp, n, sk, done, rc);
+    double c = bench_now_ns();
+    *alone = (b - a) / (2.0 * n[0]);
+    *paired = (c - b) / (2.0 * n[0]);
+    wg_sim_fini(&s[0]);
+    wg_sim_fini(&s[1]);
 }
 
 int main(int argc, char **argv)
@@ -150,6 +189,17 @@ int main(int argc, char **argv)
     printf("hsumb+vsplat+add    %.3f ns = %.1f dependent adds (a link of the step's path; "
            "tools/chainbound.py prices it as 4 adds + 2 min/shuffle = 6)%s\n",
            lh, lh / la, sink == 1.0 ? " " : "");
+    static const double omega[2] = {0.5, 0.7};
+    for (int k = 0; k < 2; k++) {
+        double ra[64], rp[64], rr[64];
+        for (int r = 0; r < reps; r++) {
+            runs(omega[k], &ra[r], &rp[r]);
+            rr[r] = ra[r] / rp[r];
+        }
+        printf("runs, omega %.2f/%.2f %s  alone %.1f, paired %.1f ns/step: %.2fx\n", omega[k],
+               omega[k] + 0.05, k ? "(impacting) " : "(no impact)", bench_median(ra, reps),
+               bench_median(rp, reps), bench_median(rr, reps));
+    }
     wg_sim_fini(&s);
     return 0;
 }
