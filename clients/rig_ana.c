@@ -82,7 +82,7 @@ int rig_ana_lle(rig_ana *a, const rig_rec *r, wg_point *pt, char *why, size_t wh
         }
         a->have_lle = 1;
     }
-    wg_simmap sb = {&a->base, 1}, st = {&a->twin, 1};
+    wg_simmap sb = {&a->base, 1, NULL, NULL}, st = {&a->twin, 1, NULL, NULL};
     wg_map mb = wg_simmap_map(&sb), mt = wg_simmap_map(&st);
     double x[WG_NSTATE_MAX] = {0};
     memcpy(x, r->y + (size_t)(r->n - 1) * r->nstate, sizeof(double) * (size_t)r->nstate);

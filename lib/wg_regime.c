@@ -124,7 +124,7 @@ int wg_simmap_step(void *ctx, double *x)
     if (s->k != 0 || memcmp(s->y, x, bytes) != 0)
         wg_sim_set_state(s, x, 0, s->tau);
     uint64_t n = (uint64_t)sm->periods * (uint64_t)s->cfg.steps_per_period;
-    int rc = wg_sim_run(s, n, NULL, NULL);
+    int rc = sm->run ? sm->run(sm->run_ctx, s, n) : wg_sim_run(s, n, NULL, NULL);
     memcpy(x, s->y, bytes);
     return rc;
 }

@@ -153,7 +153,7 @@ int wg_record_period_error(wg_sim *fine, const wg_record *r, double *err)
     double x[WG_NSTATE_MAX];
     const double *a = r->y + (size_t)(r->n - 2) * r->nstate, *b = a + r->nstate;
     memcpy(x, a, sizeof(double) * (size_t)r->nstate);
-    wg_simmap sm = {fine, 1};
+    wg_simmap sm = {fine, 1, NULL, NULL};
     int rc = wg_simmap_step(&sm, x);
     if (rc)
         return rc;
@@ -177,13 +177,19 @@ static int period_error(work *w, const wg_params *p, double *err, char *why, siz
     return wg_record_period_error(&w->fine, &r, err);
 }
 
-/* Largest Lyapunov exponent from the main sim's current state. */
+static int duo_sim_run(void *d, wg_sim *s, uint64_t n) { return duo_run(d, s, n, NULL); }
+
+/* Largest Lyapunov exponent from the main sim's current state (both
+ * trajectories' runs paired with other chains' when the thread runs
+ * several). */
 static int point_lle(work *w, const wg_params *p, double *lle, char *why, size_t whylen)
 {
     int rc = ensure_sim(w, &w->twin, &w->n_twin, w->sim.cfg.steps_per_period, p, why, whylen);
     if (rc)
         return rc;
-    wg_simmap sb = {&w->sim, 1}, st = {&w->twin, 1};
+    wg_simmap sb = {&w->sim, 1, NULL, NULL}, st = {&w->twin, 1, NULL, NULL};
+    if (w->duo)
+        sb.run = st.run = duo_sim_run, sb.run_ctx = st.run_ctx = w->duo;
     wg_map mb = wg_simmap_map(&sb), mt = wg_simmap_map(&st);
     double x[WG_NSTATE_MAX];
     memcpy(x, w->sim.y, sizeof x);

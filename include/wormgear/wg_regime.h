@@ -33,10 +33,14 @@ typedef struct wg_map {
 } wg_map;
 
 /* Poincare map of a wg_sim: `periods` mesh periods of the sim's N steps from
- * psi = 0. The sim's parameters must stay constant while it is used. */
+ * psi = 0. The sim's parameters must stay constant while it is used. `run`
+ * (may be NULL: wg_sim_run) takes the steps instead, with run_ctx: it must
+ * give wg_sim_run's result (the sweeps pair the runs of several chains). */
 typedef struct wg_simmap {
     wg_sim *sim;
     int periods;
+    int (*run)(void *run_ctx, wg_sim *sim, uint64_t n);
+    void *run_ctx;
 } wg_simmap;
 
 /* "none", "periodic", "quasiperiodic", "chaotic", "diverged". */

@@ -98,7 +98,7 @@ static void test_linear_case_is_exact(void)
 /* Central finite differences of P^n at x (eps scaled by max(1, |x_j|)). */
 static void fd_monodromy(wg_sim *s, int n, const double *x, double eps, double *J)
 {
-    wg_simmap sm = {s, n};
+    wg_simmap sm = {s, n, NULL, NULL};
     double xp[NS], xm[NS];
     for (int j = 0; j < NS; j++) {
         double hj = eps * fmax(1.0, fabs(x[j]));

@@ -132,7 +132,7 @@ static void test_lle_sign_on_the_model(void)
     wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, pt.steps};
     ASSERT_EQ_INT(wg_sim_init(&a, &p, &cfg, why, sizeof why), WG_OK);
     ASSERT_EQ_INT(wg_sim_init(&b, &p, &cfg, why, sizeof why), WG_OK);
-    wg_simmap sa = {&a, 1}, sb = {&b, 1};
+    wg_simmap sa = {&a, 1, NULL, NULL}, sb = {&b, 1, NULL, NULL};
     wg_map ma = wg_simmap_map(&sa), mb = wg_simmap_map(&sb);
     double lle;
     ASSERT_EQ_INT(wg_lle_twin(&ma, &mb, y, 300, 1e-7, &lle), WG_OK);
