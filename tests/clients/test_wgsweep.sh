@@ -1,7 +1,7 @@
 #!/bin/bash
-# wgsweep end to end: outputs exist and parse, threads and (when given) MPI
-# ranks give byte-identical CSVs to the serial run, Ctrl-C leaves partial
-# results readable, --at views, usage errors.
+# wgsweep end to end: outputs exist and parse, threads, paired chains and
+# (when given) MPI ranks give byte-identical CSVs to the serial run, Ctrl-C
+# leaves partial results readable, --at views, usage errors.
 # usage: test_wgsweep.sh WGSWEEP [MPIEXEC]
 set -u
 sweep=$1
@@ -24,6 +24,12 @@ check "the last line names every file written" 'grep -q "; wrote $dir/w.csv, $di
 
 "$sweep" $common --threads 2 --values xi_p=0.08,0.10 --out "$dir/s2" >/dev/null
 check "threads: identical csv" 'cmp -s "$dir/s1.csv" "$dir/s2.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/s2-poincare.csv"'
+"$sweep" $common --threads 1 --pair 1 --values xi_p=0.08,0.10 --out "$dir/p1" >/dev/null
+check "--pair 1 (one chain at a time) against the default 2: identical csv" \
+  'cmp -s "$dir/s1.csv" "$dir/p1.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/p1-poincare.csv"'
+"$sweep" --pair 9 --values xi_p=0.08 >/dev/null 2>"$dir/pair.err"
+rc=$?
+check "--pair 9 refused: exit 2 and what is allowed" '[ $rc -eq 2 ] && grep -q "^wgsweep: --pair: need 1..8, got .9.$" "$dir/pair.err"'
 
 if [ -n "$mpiexec" ]; then
   "$mpiexec" --allow-run-as-root --oversubscribe -np 2 "$sweep" ${common/--quiet/} --threads 1 \
