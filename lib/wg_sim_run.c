@@ -329,16 +329,28 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
     return R.rc;
 }
 
-/* Both sims' plain steps in one paired loop while both can take them. */
+/* The paired loop for the two runs as they stand, or NULL: both must take
+ * plain steps of the same specialisation (any parameters, any N). */
+static wg_krun2_fn pair_fn(const runner *R)
+{
+    const wg_sim_core *a = R[0].s->core, *b = R[1].s->core;
+    if (a->kflags != b->kflags || a->isa != b->isa || !run_fast_now(&R[0]) ||
+        !run_fast_now(&R[1]))
+        return NULL;
+    return krun2_select(a->kflags, a->isa);
+}
+
+/* Both sims' plain steps in one paired loop while both can take them (asked
+ * again after every stop: a sink's callback at a period's end may change a
+ * sim). 0 if they cannot now. */
 static int pair_fast(runner *R)
 {
-    wg_sim *a = R[0].s, *b = R[1].s;
-    wg_krun2_fn f = krun2_select(a->core->kflags, a->core->isa);
-    if (!f || b->core->kflags != a->core->kflags || b->core->isa != a->core->isa ||
-        !run_fast_now(&R[0]) || !run_fast_now(&R[1]))
+    wg_krun2_fn f = pair_fn(R);
+    if (!f)
         return 0;
+    wg_sim *a = R[0].s, *b = R[1].s;
     int go[2] = {1, 1};
-    while (go[0] && go[1] && R[0].i < R[0].n && R[1].i < R[1].n) {
+    while (f && go[0] && go[1] && R[0].i < R[0].n && R[1].i < R[1].n) {
         wg_krun r[2];
         uint64_t m[2];
         krun_prep(&R[0], &r[0]);
@@ -346,6 +358,7 @@ static int pair_fast(runner *R)
         f(&a->core->kc, &r[0], R[0].n - R[0].i, &b->core->kc, &r[1], R[1].n - R[1].i, m);
         go[0] = krun_commit(&R[0], &r[0], m[0]);
         go[1] = krun_commit(&R[1], &r[1], m[1]);
+        f = pair_fn(R);
     }
     return 1;
 }
