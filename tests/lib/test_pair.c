@@ -2,11 +2,13 @@
  * each alone, to the bit: states, time, counters, sections, period
  * statistics and events, on every instruction set; with different
  * parameters and N (the paired loop), with different specialisations or a
- * per-step callback (in turn), and when one of the two blows up. White box
- * (lib/internal.h): it picks the instruction set and checks which loop
- * runs. */
+ * per-step callback (in turn), and when one of the two blows up; and the
+ * sweep threads' coroutines (lib/duo.h) that pair the runs of several
+ * tasks. White box (lib/internal.h, lib/duo.h): it picks the instruction
+ * set and checks which loop runs. */
 #include "test.h"
 
+#include "duo.h"
 #include "internal.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_status.h"
@@ -188,4 +190,65 @@ static void test_pair_blowup(void)
     check_pair(sp, want, 1);
 }
 
-TEST_MAIN(TEST(test_pair_differs_in_params), TEST(test_pair_in_turn), TEST(test_pair_blowup))
+/* A duo task: its runs, one after another, each recorded; or none. */
+typedef struct dtask {
+    spec sp;
+    int nrun;                 /* runs asked for, of len[i] steps */
+    uint64_t len[3];
+    int rc[3];
+    wg_sim sim;
+    runrec r;
+} dtask;
+
+static void dtask_body(duo *d, void *arg)
+{
+    dtask *t = arg;
+    wg_sink sk = {&t->r, NULL, on_sec, on_ev};
+    for (int i = 0; i < t->nrun; i++)
+        t->rc[i] = duo_run(d, &t->sim, t->len[i], &sk);
+}
+
+/* Three tasks on one thread with the scheduler (and a fourth that asks for
+ * nothing): runs of different lengths (one of zero steps), one sim that
+ * blows up at its second step (its status comes back, and its next run
+ * fails at once, as wg_sim_run's would), one impacting. Each sim ends as
+ * the same runs made alone by wg_sim_run leave it, to the bit. */
+static void test_duo_tasks(void)
+{
+    int isa = kernel_isa_choose();
+    static dtask t[4] = {
+        {.sp = {NULL, 0.5, 0.08, 0, 256, 0, 0}, .nrun = 3, .len = {40 * 256, 0, 17 * 256 + 9}},
+        {.sp = {NULL, 0.7, 0.10, 6e8, 128, 0, 0}, .nrun = 2, .len = {8 * 128, 128}},
+        {.sp = {NULL, 0.7, 0.12, 0, 128, 0, 0}, .nrun = 2, .len = {25 * 128, 30 * 128}},
+        {.sp = {NULL, 1.0, 0.10, 0, 128, 0, 0}, .nrun = 0}};
+    void *args[4];
+    for (int i = 0; i < 4; i++) {
+        sim_of(&t[i].sp, isa, &t[i].sim);
+        memset(&t[i].r, 0, sizeof t[i].r);
+        args[i] = &t[i];
+    }
+    ASSERT_EQ_INT(duo_main(4, dtask_body, args), WG_OK);
+    ASSERT_EQ_INT(t[1].rc[0], WG_ENONFINITE);
+    ASSERT_EQ_INT(t[1].rc[1], WG_ENONFINITE);
+    for (int i = 0; i < 4; i++) {
+        wg_sim a;
+        runrec ra;
+        memset(&ra, 0, sizeof ra);
+        sim_of(&t[i].sp, isa, &a);
+        wg_sink sk = {&ra, NULL, on_sec, on_ev};
+        for (int j = 0; j < t[i].nrun; j++)
+            ASSERT_EQ_INT(wg_sim_run(&a, t[i].len[j], &sk, NULL), t[i].rc[j]);
+        ASSERT_TRUE(memcmp(a.y, t[i].sim.y, sizeof a.y) == 0);
+        ASSERT_TRUE(a.tau == t[i].sim.tau && a.steps == t[i].sim.steps);
+        ASSERT_TRUE(a.nsplit == t[i].sim.nsplit && a.period == t[i].sim.period);
+        ASSERT_TRUE(memcmp(&ra, &t[i].r, sizeof ra) == 0);
+        printf("task %d: %llu steps, %llu events: equal\n", i, (unsigned long long)a.steps,
+               (unsigned long long)ra.nev);
+        wg_sim_fini(&a);
+        wg_sim_fini(&t[i].sim);
+    }
+    ASSERT_EQ_INT(duo_main(0, dtask_body, args), WG_EINVAL);
+}
+
+TEST_MAIN(TEST(test_pair_differs_in_params), TEST(test_pair_in_turn), TEST(test_pair_blowup),
+          TEST(test_duo_tasks))
