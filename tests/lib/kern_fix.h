@@ -1,13 +1,16 @@
 /* kern_fix.h - the setup the kernel tests share (test_model: each kernel
  * against the reference step; test_dispatch: each instruction set against
- * the baseline): a state with every contact engaged somewhere interesting,
- * the parameters on which the flags f are exactly the kernel wg_sim
- * selects, and a sim built on them with its state. */
+ * the baseline; test_pair: paired runs against single ones): a state with
+ * every contact engaged somewhere interesting, the parameters on which the
+ * flags f are exactly the kernel wg_sim selects, a sim built on them with
+ * its state, and an rk4-event sim on a chosen instruction set. */
 #ifndef WG_TEST_KERN_FIX_H
 #define WG_TEST_KERN_FIX_H
 
 #include "test.h"
 #include "internal.h"
+
+#include <stdlib.h>
 #include "wormgear/wg_sim.h"
 #include "wormgear/wg_status.h"
 
@@ -60,6 +63,19 @@ static inline void kfix_setup(unsigned f, wg_params *p, wg_sim *s, double y0[16]
     if (!(f & KF_BEAR))
         for (int i = 0; i < 6; i++)
             y0[i] = y0[7 + i] = 0;
+}
+
+/* An rk4-event sim of p with N steps per period on instruction set isa
+ * (by WG_ISA, as a user would choose it). */
+static inline void kfix_sim_on(wg_sim *s, const wg_params *p, int N, int isa)
+{
+    wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, N};
+    char why[300];
+    if (setenv("WG_ISA", kernel_isa_name(isa), 1) != 0)
+        abort();
+    ASSERT_EQ_INT(wg_sim_init(s, p, &cfg, why, sizeof why), WG_OK);
+    unsetenv("WG_ISA");
+    ASSERT_EQ_INT(s->core->isa, isa);
 }
 
 #endif

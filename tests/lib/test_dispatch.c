@@ -113,13 +113,7 @@ static void run_params(wg_params p, double omega, int isa, int N, int general, w
                        runrec *r)
 {
     p.v[WG_P_OMEGA] = omega;
-    wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, N};
-    char why[300];
-    if (setenv("WG_ISA", kernel_isa_name(isa), 1) != 0)
-        abort();
-    ASSERT_EQ_INT(wg_sim_init(s, &p, &cfg, why, sizeof why), WG_OK);
-    unsetenv("WG_ISA");
-    ASSERT_EQ_INT(s->core->isa, isa);
+    kfix_sim_on(s, &p, N, isa);
     memset(r, 0, sizeof *r);
     wg_sink sink = {r, general ? on_step : NULL, on_sec, on_ev};
     uint64_t done = 0;

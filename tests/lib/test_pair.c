@@ -10,6 +10,7 @@
 
 #include "duo.h"
 #include "internal.h"
+#include "kern_fix.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_status.h"
 
@@ -65,13 +66,7 @@ static void sim_of(const spec *sp, int isa, wg_sim *s)
     }
     p.v[WG_P_OMEGA] = sp->omega;
     p.v[WG_P_XI_P] = sp->xi_p;
-    wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, sp->N};
-    char why[300];
-    if (setenv("WG_ISA", kernel_isa_name(isa), 1) != 0)
-        abort();
-    ASSERT_EQ_INT(wg_sim_init(s, &p, &cfg, why, sizeof why), WG_OK);
-    unsetenv("WG_ISA");
-    ASSERT_EQ_INT(s->core->isa, isa);
+    kfix_sim_on(s, &p, sp->N, isa);
     if (sp->s0 != 0.0) {
         double y0[WG_NSTATE_MAX] = {0};
         y0[6] = sp->s0;
