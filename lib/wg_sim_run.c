@@ -123,22 +123,27 @@ static void period_end(wg_sim *s, const wg_sink *sink, double xn)
  * only when a callback or the caller reads it; the steps asked for and
  * taken; whether the step to come was computed already (has_trial: its
  * kernel result is in the other buffer). */
+typedef struct runbuf {
+    double yb[2][WG_NSTATE_MAX], qb[2][WG_NCONTACT], vb[2][WG_NCONTACT];
+} runbuf;
+
 typedef struct runner {
     wg_sim *s;
     const wg_sink *sink;
     uint64_t n, i;
-    double yb[2][WG_NSTATE_MAX], qb[2][WG_NCONTACT], vb[2][WG_NCONTACT];
+    runbuf *b; /* apart, so that handing its rows to a callee leaves the counters in registers */
     int cur, fast, has_trial, rc;
 } runner;
 
-static void run_begin(runner *R, wg_sim *s, uint64_t n, const wg_sink *sink)
+static inline __attribute__((always_inline)) void run_begin(runner *R, runbuf *b, wg_sim *s, uint64_t n, const wg_sink *sink)
 {
+    R->b = b;
     R->s = s, R->sink = sink, R->n = n, R->i = 0;
     /* both buffers start equal (torsional kernels leave the bearings alone) */
-    memcpy(R->yb[0], s->y, sizeof R->yb[0]);
-    memcpy(R->yb[1], s->y, sizeof R->yb[1]);
-    memcpy(R->qb[0], s->core->q, sizeof R->qb[0]);
-    memcpy(R->vb[0], s->core->v, sizeof R->vb[0]);
+    memcpy(R->b->yb[0], s->y, sizeof R->b->yb[0]);
+    memcpy(R->b->yb[1], s->y, sizeof R->b->yb[1]);
+    memcpy(R->b->qb[0], s->core->q, sizeof R->b->qb[0]);
+    memcpy(R->b->vb[0], s->core->v, sizeof R->b->vb[0]);
     R->cur = 0;
     /* plain steps run in the kernel's own loop unless a ramp or a per-step
      * callback needs the general step every time */
@@ -147,9 +152,9 @@ static void run_begin(runner *R, wg_sim *s, uint64_t n, const wg_sink *sink)
     R->rc = WG_OK;
 }
 
-static void run_end(runner *R, uint64_t *done)
+static inline __attribute__((always_inline)) void run_end(runner *R, uint64_t *done)
 {
-    sync_out(R->s, R->yb[R->cur], R->qb[R->cur], R->vb[R->cur]);
+    sync_out(R->s, R->b->yb[R->cur], R->b->qb[R->cur], R->b->vb[R->cur]);
     if (done)
         *done = R->i;
 }
@@ -159,15 +164,15 @@ static int run_fast_now(const runner *R) { return R->fast && !R->s->ramp.active;
 
 /* A wg_krun for up to the steps left, from the run's state; a step it
  * stops before is written into the other buffer. */
-static void krun_prep(runner *R, wg_krun *r)
+static inline __attribute__((always_inline)) void krun_prep(runner *R, wg_krun *r)
 {
     wg_sim *s = R->s;
     wg_sim_core *c = s->core;
-    *r = (wg_krun){.xn = R->qb[R->cur][0], .dxn = R->vb[R->cur][0], .tau = s->tau,
+    *r = (wg_krun){.xn = R->b->qb[R->cur][0], .dxn = R->b->vb[R->cur][0], .tau = s->tau,
                    .tau_c = s->tau_c, .min_xn = c->cur.min_xn, .max_xn = c->cur.max_xn,
                    .k = s->k, .N = (uint32_t)s->cfg.steps_per_period, .h = s->h,
-                   .fin = ABSURD * (1 - 1e-9), .table = c->table, .trial = R->yb[!R->cur]};
-    memcpy(r->y, R->yb[R->cur], sizeof r->y);
+                   .fin = ABSURD * (1 - 1e-9), .table = c->table, .trial = R->b->yb[!R->cur]};
+    memcpy(r->y, R->b->yb[R->cur], sizeof r->y);
     memcpy(r->lo, c->zlo, sizeof r->lo);
     memcpy(r->hi, c->zhi, sizeof r->hi);
 }
@@ -176,13 +181,13 @@ static void krun_prep(runner *R, wg_krun *r)
  * kernel's loop (none refused: the steps asked for are done, or a period
  * ended and is counted here, or a paired run stopped for the other sim),
  * 0 if the general step takes the next step. */
-static int krun_commit(runner *R, const wg_krun *r, uint64_t m)
+static inline __attribute__((always_inline)) int krun_commit(runner *R, const wg_krun *r, uint64_t m)
 {
     wg_sim *s = R->s;
     wg_sim_core *c = s->core;
     R->has_trial = r->has_trial;
     if (m > 0) {
-        double *y = R->yb[R->cur], *q = R->qb[R->cur], *v = R->vb[R->cur];
+        double *y = R->b->yb[R->cur], *q = R->b->qb[R->cur], *v = R->b->vb[R->cur];
         memcpy(y, r->y, sizeof r->y);
         q[0] = r->xn;
         v[0] = r->dxn;
@@ -199,7 +204,7 @@ static int krun_commit(runner *R, const wg_krun *r, uint64_t m)
         R->i += m;
         if (r->k == r->N) {
             if (R->sink && R->sink->on_section)
-                sync_out(s, y, q, R->vb[R->cur]);
+                sync_out(s, y, q, R->b->vb[R->cur]);
             period_end(s, R->sink, q[0]);
         }
     }
@@ -208,7 +213,7 @@ static int krun_commit(runner *R, const wg_krun *r, uint64_t m)
 
 /* Plain steps in the kernel's own loop until one is refused or the steps
  * asked for are done. */
-static void run_fast(runner *R)
+static inline __attribute__((always_inline)) void run_fast(runner *R)
 {
     while (R->i < R->n) {
         wg_krun r;
@@ -222,7 +227,7 @@ static void run_fast(runner *R)
 /* One step by the general path: the kernel (unless the run computed it),
  * contacts, zone changes split at their events, ramps, callbacks, the
  * period's end. */
-static void run_general(runner *R)
+static inline __attribute__((always_inline)) void run_general(runner *R)
 {
     wg_sim *s = R->s;
     const wg_sink *sink = R->sink;
@@ -231,8 +236,8 @@ static void run_general(runner *R)
     const void *kctx = s->cfg.model == WG_MODEL_PRINTED ? (const void *)&s->p
                                                         : (const void *)&s->core->kc;
     const int cur = R->cur, has_trial = R->has_trial;
-    double *y0 = R->yb[cur], *y1 = R->yb[!cur], *q0 = R->qb[cur], *q1 = R->qb[!cur];
-    double *v0 = R->vb[cur], *v1 = R->vb[!cur];
+    double *y0 = R->b->yb[cur], *y1 = R->b->yb[!cur], *q0 = R->b->qb[cur], *q1 = R->b->qb[!cur];
+    double *v0 = R->b->vb[cur], *v1 = R->b->vb[!cur];
     R->has_trial = 0;
     const wg_exc *e;
     wg_exc live[3];
@@ -316,7 +321,8 @@ static void run_general(runner *R)
 int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
 {
     runner R;
-    run_begin(&R, s, n, sink);
+    runbuf b;
+    run_begin(&R, &b, s, n, sink);
     while (R.i < R.n && R.rc == WG_OK) {
         if (run_fast_now(&R)) {
             run_fast(&R);
@@ -367,8 +373,9 @@ void wg_sim_run_pair(wg_sim *const s[2], const uint64_t n[2], const wg_sink *con
                      uint64_t done[2], int rc[2])
 {
     runner R[2];
-    run_begin(&R[0], s[0], n[0], sink[0]);
-    run_begin(&R[1], s[1], n[1], sink[1]);
+    runbuf b[2];
+    run_begin(&R[0], &b[0], s[0], n[0], sink[0]);
+    run_begin(&R[1], &b[1], s[1], n[1], sink[1]);
     while (R[0].i < R[0].n && R[1].i < R[1].n && R[0].rc == WG_OK && R[1].rc == WG_OK) {
         if (pair_fast(R)) {
             /* a sim whose run refused a step takes it by the general path */
