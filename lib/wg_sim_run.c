@@ -123,6 +123,10 @@ static void period_end(wg_sim *s, const wg_sink *sink, double xn)
  * only when a callback or the caller reads it; the steps asked for and
  * taken; whether the step to come was computed already (has_trial: its
  * kernel result is in the other buffer). */
+/* The runner's steps, inlined into wg_sim_run and wg_sim_run_pair so that the
+ * runner never escapes to a callee. */
+#define RUN_INLINE static inline __attribute__((always_inline))
+
 typedef struct runbuf {
     double yb[2][WG_NSTATE_MAX], qb[2][WG_NCONTACT], vb[2][WG_NCONTACT];
 } runbuf;
@@ -131,11 +135,11 @@ typedef struct runner {
     wg_sim *s;
     const wg_sink *sink;
     uint64_t n, i;
-    runbuf *b; /* apart, so that handing its rows to a callee leaves the counters in registers */
+    runbuf *b; /* apart: handing its rows to a callee leaves the counters in registers */
     int cur, fast, has_trial, rc;
 } runner;
 
-static inline __attribute__((always_inline)) void run_begin(runner *R, runbuf *b, wg_sim *s, uint64_t n, const wg_sink *sink)
+RUN_INLINE void run_begin(runner *R, runbuf *b, wg_sim *s, uint64_t n, const wg_sink *sink)
 {
     R->b = b;
     R->s = s, R->sink = sink, R->n = n, R->i = 0;
@@ -152,7 +156,7 @@ static inline __attribute__((always_inline)) void run_begin(runner *R, runbuf *b
     R->rc = WG_OK;
 }
 
-static inline __attribute__((always_inline)) void run_end(runner *R, uint64_t *done)
+RUN_INLINE void run_end(runner *R, uint64_t *done)
 {
     sync_out(R->s, R->b->yb[R->cur], R->b->qb[R->cur], R->b->vb[R->cur]);
     if (done)
@@ -164,7 +168,7 @@ static int run_fast_now(const runner *R) { return R->fast && !R->s->ramp.active;
 
 /* A wg_krun for up to the steps left, from the run's state; a step it
  * stops before is written into the other buffer. */
-static inline __attribute__((always_inline)) void krun_prep(runner *R, wg_krun *r)
+RUN_INLINE void krun_prep(runner *R, wg_krun *r)
 {
     wg_sim *s = R->s;
     wg_sim_core *c = s->core;
@@ -181,7 +185,7 @@ static inline __attribute__((always_inline)) void krun_prep(runner *R, wg_krun *
  * kernel's loop (none refused: the steps asked for are done, or a period
  * ended and is counted here, or a paired run stopped for the other sim),
  * 0 if the general step takes the next step. */
-static inline __attribute__((always_inline)) int krun_commit(runner *R, const wg_krun *r, uint64_t m)
+RUN_INLINE int krun_commit(runner *R, const wg_krun *r, uint64_t m)
 {
     wg_sim *s = R->s;
     wg_sim_core *c = s->core;
@@ -213,7 +217,7 @@ static inline __attribute__((always_inline)) int krun_commit(runner *R, const wg
 
 /* Plain steps in the kernel's own loop until one is refused or the steps
  * asked for are done. */
-static inline __attribute__((always_inline)) void run_fast(runner *R)
+RUN_INLINE void run_fast(runner *R)
 {
     while (R->i < R->n) {
         wg_krun r;
@@ -227,7 +231,7 @@ static inline __attribute__((always_inline)) void run_fast(runner *R)
 /* One step by the general path: the kernel (unless the run computed it),
  * contacts, zone changes split at their events, ramps, callbacks, the
  * period's end. */
-static inline __attribute__((always_inline)) void run_general(runner *R)
+RUN_INLINE void run_general(runner *R)
 {
     wg_sim *s = R->s;
     const wg_sink *sink = R->sink;
