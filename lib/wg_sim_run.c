@@ -215,11 +215,12 @@ RUN_INLINE int krun_commit(runner *R, const wg_krun *r, uint64_t m)
     return !r->has_trial;
 }
 
-/* Plain steps in the kernel's own loop until one is refused or the steps
- * asked for are done. */
+/* Plain steps in the kernel's own loop until one is refused, the steps
+ * asked for are done, or a sink's callback at a period's end started a ramp
+ * (its steps are the general step's from the next one on). */
 RUN_INLINE void run_fast(runner *R)
 {
-    while (R->i < R->n) {
+    while (R->i < R->n && run_fast_now(R)) {
         wg_krun r;
         krun_prep(R, &r);
         uint64_t m = R->s->core->krun(&R->s->core->kc, &r, R->n - R->i);

@@ -2,7 +2,8 @@
  * each alone, to the bit: states, time, counters, sections, period
  * statistics and events, on every instruction set; with different
  * parameters and N (the paired loop), with different specialisations or a
- * per-step callback (in turn), and when one of the two blows up; and the
+ * per-step callback (in turn), when one of the two blows up, and when a
+ * sink's callback ramps or respecialises a sim mid-run; and the
  * sweep threads' coroutines (lib/duo.h) that pair the runs of several
  * tasks. White box (lib/internal.h, lib/duo.h): it picks the instruction
  * set and checks which loop runs. */
@@ -185,6 +186,99 @@ static void test_pair_blowup(void)
     check_pair(sp, want, 1);
 }
 
+/* A sink that, at its sim's 5th section, starts an omega ramp to 0.72 over
+ * 60 tau (every step then by the general step), and at the 15th, the ramp
+ * over, sets b_j = 0 and xi_p 0.09 (another specialisation: linear
+ * bearings): each time the paired loop must be left at once. */
+typedef struct changer {
+    runrec r;
+    wg_sim *sim;
+    int rc;
+} changer;
+
+static void on_sec_change(void *ctx, const wg_section *sec)
+{
+    changer *c = ctx;
+    on_sec(&c->r, sec);
+    if (c->r.nsec == 15) {
+        wg_params p = c->sim->p;
+        char why[300];
+        p.v[WG_P_B_J] = 0.0;
+        p.v[WG_P_XI_P] = 0.09;
+        c->rc = wg_sim_set_params(c->sim, &p, why, sizeof why);
+    }
+    if (c->r.nsec == 5) {
+        char why[300];
+        c->rc |= wg_sim_ramp(c->sim, WG_P_OMEGA, NULL, 0.72, 60.0, why, sizeof why);
+    }
+}
+
+static void test_pair_sink_changes_sim(void)
+{
+    const spec sp[2] = {{NULL, 0.7, 0.10, 0, 128, 0, 0}, {NULL, 0.5, 0.10, 0, 128, 0, 0}};
+    const uint64_t n = 30 * 128;
+    int isa = kernel_isa_choose();
+    wg_sim alone, a, b;
+    changer ca, cp;
+    runrec rb;
+    memset(&ca, 0, sizeof ca);
+    memset(&cp, 0, sizeof cp);
+    memset(&rb, 0, sizeof rb);
+    sim_of(&sp[0], isa, &alone);
+    sim_of(&sp[0], isa, &a);
+    sim_of(&sp[1], isa, &b);
+    unsigned before = a.core->kflags;
+    ca.sim = &alone, cp.sim = &a;
+    wg_sink ska = {&ca, NULL, on_sec_change, on_ev}, skp = {&cp, NULL, on_sec_change, on_ev};
+    wg_sink skb = {&rb, NULL, on_sec, on_ev};
+    ASSERT_EQ_INT(wg_sim_run(&alone, n, &ska, NULL), WG_OK);
+    /* a change made inside a run takes effect at once, as one made between
+     * runs: the same sink on runs of one period each */
+    wg_sim ref;
+    changer cr;
+    memset(&cr, 0, sizeof cr);
+    sim_of(&sp[0], isa, &ref);
+    cr.sim = &ref;
+    wg_sink skr = {&cr, NULL, on_sec_change, on_ev};
+    for (int k = 0; k < 30; k++)
+        ASSERT_EQ_INT(wg_sim_run(&ref, 128, &skr, NULL), WG_OK);
+    ASSERT_TRUE(memcmp(ref.y, alone.y, sizeof ref.y) == 0 && ref.tau == alone.tau);
+    ASSERT_TRUE(memcmp(&cr.r, &ca.r, sizeof cr.r) == 0);
+    wg_sim_fini(&ref);
+    wg_sim *const s[2] = {&a, &b};
+    const uint64_t nn[2] = {n, 2 * n};
+    const wg_sink *const sk[2] = {&skp, &skb};
+    uint64_t done[2];
+    int rc[2];
+    wg_sim_run_pair(s, nn, sk, done, rc);
+    ASSERT_TRUE(rc[0] == WG_OK && rc[1] == WG_OK && (done[0] == n || done[1] == 2 * n));
+    for (int j = 0; j < 2; j++) { /* the rest of the one not done, alone */
+        uint64_t d = 0;
+        ASSERT_EQ_INT(wg_sim_run(s[j], nn[j] - done[j], sk[j], &d), WG_OK);
+        done[j] += d;
+    }
+    ASSERT_TRUE(ca.rc == WG_OK && cp.rc == WG_OK);
+    ASSERT_TRUE(a.core->kflags != before && !(a.core->kflags & KF_BJ));
+    ASSERT_TRUE(memcmp(alone.y, a.y, sizeof a.y) == 0 && alone.tau == a.tau);
+    ASSERT_TRUE(alone.steps == a.steps && alone.nsplit == a.nsplit);
+    ASSERT_TRUE(memcmp(&ca.r, &cp.r, sizeof ca.r) == 0);
+    /* the other sim: as alone */
+    wg_sim b2;
+    runrec rb2;
+    memset(&rb2, 0, sizeof rb2);
+    sim_of(&sp[1], isa, &b2);
+    wg_sink skb2 = {&rb2, NULL, on_sec, on_ev};
+    ASSERT_EQ_INT(wg_sim_run(&b2, done[1], &skb2, NULL), WG_OK);
+    ASSERT_TRUE(memcmp(b2.y, b.y, sizeof b.y) == 0 && memcmp(&rb2, &rb, sizeof rb) == 0);
+    ASSERT_TRUE(a.p.v[WG_P_OMEGA] == 0.72 && !a.ramp.active);
+    printf("a sink ramped one sim's omega, then changed its specialisation: %d sections, %llu "
+           "events, the same as alone\n", cp.r.nsec, (unsigned long long)cp.r.nev);
+    wg_sim_fini(&alone);
+    wg_sim_fini(&a);
+    wg_sim_fini(&b);
+    wg_sim_fini(&b2);
+}
+
 /* A duo task: its runs, one after another, each recorded; or none. */
 typedef struct dtask {
     spec sp;
@@ -246,4 +340,4 @@ static void test_duo_tasks(void)
 }
 
 TEST_MAIN(TEST(test_pair_differs_in_params), TEST(test_pair_in_turn), TEST(test_pair_blowup),
-          TEST(test_duo_tasks))
+          TEST(test_pair_sink_changes_sim), TEST(test_duo_tasks))
