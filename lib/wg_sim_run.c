@@ -9,7 +9,6 @@
 
 /* ---- the step loop --------------------------------------------------------- */
 
-
 static int cmp_event(const void *a, const void *b)
 {
     double ta = ((const wg_event *)a)->tau, tb = ((const wg_event *)b)->tau;
@@ -118,15 +117,15 @@ static void period_end(wg_sim *s, const wg_sink *sink, double xn)
     sim_period_start(s, xn);
 }
 
+/* The runner's steps, inlined into wg_sim_run and wg_sim_run_pair so that the
+ * runner never escapes to a callee. */
+#define RUN_INLINE static inline __attribute__((always_inline))
+
 /* A run in progress (wg_sim_run, wg_sim_run_pair): double-buffered state
  * and contacts, so an accepted step is a buffer swap and s->y is written
  * only when a callback or the caller reads it; the steps asked for and
  * taken; whether the step to come was computed already (has_trial: its
  * kernel result is in the other buffer). */
-/* The runner's steps, inlined into wg_sim_run and wg_sim_run_pair so that the
- * runner never escapes to a callee. */
-#define RUN_INLINE static inline __attribute__((always_inline))
-
 typedef struct runbuf {
     double yb[2][WG_NSTATE_MAX], qb[2][WG_NCONTACT], vb[2][WG_NCONTACT];
 } runbuf;
@@ -323,19 +322,23 @@ RUN_INLINE void run_general(runner *R)
         period_end(s, sink, q1[0]);
 }
 
+/* Plain steps while the kernel's own loop can take them, then, if steps
+ * are left, one by the general path. */
+RUN_INLINE void run_segment(runner *R)
+{
+    if (run_fast_now(R))
+        run_fast(R);
+    if (R->i < R->n)
+        run_general(R);
+}
+
 int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
 {
     runner R;
     runbuf b;
     run_begin(&R, &b, s, n, sink);
-    while (R.i < R.n && R.rc == WG_OK) {
-        if (run_fast_now(&R)) {
-            run_fast(&R);
-            if (R.i == R.n)
-                break;
-        }
-        run_general(&R);
-    }
+    while (R.i < R.n && R.rc == WG_OK)
+        run_segment(&R);
     run_end(&R, done);
     return R.rc;
 }
@@ -389,14 +392,9 @@ void wg_sim_run_pair(wg_sim *const s[2], const uint64_t n[2], const wg_sink *con
                     run_general(&R[j]);
             continue;
         }
-        for (int j = 0; j < 2; j++) { /* one sim cannot pair: a step of each in turn */
-            if (R[j].i == R[j].n || R[j].rc != WG_OK)
-                continue;
-            if (run_fast_now(&R[j]))
-                run_fast(&R[j]);
-            if (R[j].i < R[j].n)
-                run_general(&R[j]);
-        }
+        for (int j = 0; j < 2; j++) /* one sim cannot pair: a segment of each in turn */
+            if (R[j].i < R[j].n && R[j].rc == WG_OK)
+                run_segment(&R[j]);
     }
     for (int j = 0; j < 2; j++) {
         run_end(&R[j], &done[j]);
