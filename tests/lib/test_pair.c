@@ -75,6 +75,19 @@ static void sim_of(const spec *sp, int isa, wg_sim *s)
     }
 }
 
+/* a and p ran the same steps to the same bits: state, time, phase,
+ * counters, events, the period in progress, and what their sinks saw. */
+static void same_run(const wg_sim *a, const wg_sim *p, const runrec *ra, const runrec *rp)
+{
+    ASSERT_TRUE(memcmp(a->y, p->y, sizeof a->y) == 0);
+    ASSERT_TRUE(a->tau == p->tau && a->tau_c == p->tau_c);
+    ASSERT_TRUE(a->k == p->k && a->period == p->period && a->steps == p->steps);
+    ASSERT_TRUE(a->nsplit == p->nsplit);
+    ASSERT_TRUE(memcmp(a->nevents, p->nevents, sizeof a->nevents) == 0);
+    ASSERT_TRUE(memcmp(&a->core->cur, &p->core->cur, sizeof a->core->cur) == 0);
+    ASSERT_TRUE(memcmp(ra, rp, sizeof *ra) == 0);
+}
+
 /* Runs a and b by wg_sim_run_pair until one is done or fails, then the
  * other alone: each call must return as soon as either is. */
 static void run_paired(wg_sim *s[2], const spec sp[2], runrec r[2], uint64_t done[2], int rc[2])
@@ -133,13 +146,7 @@ static void check_pair(const spec sp[2], const int want_rc[2], int paired_loop)
             const wg_sim *a = &alone[j], *p = both[j];
             ASSERT_EQ_INT(rcp[j], rca[j]);
             ASSERT_TRUE(dp[j] == da[j]);
-            ASSERT_TRUE(memcmp(a->y, p->y, sizeof a->y) == 0);
-            ASSERT_TRUE(a->tau == p->tau && a->tau_c == p->tau_c);
-            ASSERT_TRUE(a->k == p->k && a->period == p->period && a->steps == p->steps);
-            ASSERT_TRUE(a->nsplit == p->nsplit);
-            ASSERT_TRUE(memcmp(a->nevents, p->nevents, sizeof a->nevents) == 0);
-            ASSERT_TRUE(memcmp(&a->core->cur, &p->core->cur, sizeof a->core->cur) == 0);
-            ASSERT_TRUE(memcmp(&ra[j], &rp[j], sizeof ra[j]) == 0);
+            same_run(a, p, &ra[j], &rp[j]);
             wg_sim_fini(&alone[j]);
             wg_sim_fini(both[j]);
         }
@@ -242,8 +249,7 @@ static void test_pair_sink_changes_sim(void)
     wg_sink skr = {&cr, NULL, on_sec_change, on_ev};
     for (int k = 0; k < 30; k++)
         ASSERT_EQ_INT(wg_sim_run(&ref, 128, &skr, NULL), WG_OK);
-    ASSERT_TRUE(memcmp(ref.y, alone.y, sizeof ref.y) == 0 && ref.tau == alone.tau);
-    ASSERT_TRUE(memcmp(&cr.r, &ca.r, sizeof cr.r) == 0);
+    same_run(&ref, &alone, &cr.r, &ca.r);
     wg_sim_fini(&ref);
     wg_sim *const s[2] = {&a, &b};
     const uint64_t nn[2] = {n, 2 * n};
@@ -259,9 +265,7 @@ static void test_pair_sink_changes_sim(void)
     }
     ASSERT_TRUE(ca.rc == WG_OK && cp.rc == WG_OK);
     ASSERT_TRUE(a.core->kflags != before && !(a.core->kflags & KF_BJ));
-    ASSERT_TRUE(memcmp(alone.y, a.y, sizeof a.y) == 0 && alone.tau == a.tau);
-    ASSERT_TRUE(alone.steps == a.steps && alone.nsplit == a.nsplit);
-    ASSERT_TRUE(memcmp(&ca.r, &cp.r, sizeof ca.r) == 0);
+    same_run(&alone, &a, &ca.r, &cp.r);
     /* the other sim: as alone */
     wg_sim b2;
     runrec rb2;
@@ -269,7 +273,7 @@ static void test_pair_sink_changes_sim(void)
     sim_of(&sp[1], isa, &b2);
     wg_sink skb2 = {&rb2, NULL, on_sec, on_ev};
     ASSERT_EQ_INT(wg_sim_run(&b2, done[1], &skb2, NULL), WG_OK);
-    ASSERT_TRUE(memcmp(b2.y, b.y, sizeof b.y) == 0 && memcmp(&rb2, &rb, sizeof rb) == 0);
+    same_run(&b2, &b, &rb2, &rb);
     ASSERT_TRUE(a.p.v[WG_P_OMEGA] == 0.72 && !a.ramp.active);
     printf("a sink ramped one sim's omega, then changed its specialisation: %d sections, %llu "
            "events, the same as alone\n", cp.r.nsec, (unsigned long long)cp.r.nev);
@@ -327,10 +331,7 @@ static void test_duo_tasks(void)
         wg_sink sk = {&ra, NULL, on_sec, on_ev};
         for (int j = 0; j < t[i].nrun; j++)
             ASSERT_EQ_INT(wg_sim_run(&a, t[i].len[j], &sk, NULL), t[i].rc[j]);
-        ASSERT_TRUE(memcmp(a.y, t[i].sim.y, sizeof a.y) == 0);
-        ASSERT_TRUE(a.tau == t[i].sim.tau && a.steps == t[i].sim.steps);
-        ASSERT_TRUE(a.nsplit == t[i].sim.nsplit && a.period == t[i].sim.period);
-        ASSERT_TRUE(memcmp(&ra, &t[i].r, sizeof ra) == 0);
+        same_run(&a, &t[i].sim, &ra, &t[i].r);
         printf("task %d: %llu steps, %llu events: equal\n", i, (unsigned long long)a.steps,
                (unsigned long long)ra.nev);
         wg_sim_fini(&a);
