@@ -30,6 +30,7 @@ typedef struct work {
     wg_params hkey;            /* parameters hmax was found for */
     double hmax;               /* RK4 limit (wg_params_same_linear decides reuse) */
     int hvalid;
+    int cut;                   /* the last transient ended early (o->settle) */
     volatile sig_atomic_t *stop;
     duo *duo;                  /* non-NULL: the main sim's runs go through it */
 } work;
@@ -263,6 +264,35 @@ static double lag_max(const double *x, int d, int n, int i0, int i1)
     return r;
 }
 
+/* The lag-n residuals of sections x[0..W) by eighths of their pairs: the
+ * first eighth's, the least of the next six and the last's; returns the
+ * largest |x| of the last section (the round-off scale, at least 1). */
+static double lag_eighths(const double *x, int d, int n, int W, double *first, double *least,
+                          double *last)
+{
+    const int m = W - n;
+    double scale = 1.0;
+    *first = lag_max(x, d, n, n, n + m / 8);
+    *least = *first;
+    for (int q = 1; q < 7; q++)
+        *least = fmin(*least, lag_max(x, d, n, n + q * m / 8, n + (q + 1) * m / 8));
+    *last = lag_max(x, d, n, n + 7 * m / 8, W);
+    for (int j = 0; j < d; j++)
+        scale = fmax(scale, fabs(x[(size_t)(W - 1) * d + j]));
+    return scale;
+}
+
+/* Is the record's lag-n residual growing (its last eighth over 1.25x the
+ * least of the earlier ones, above round-off): an orbit being left. */
+static int record_leaving(const work *w, int n)
+{
+    double first, least, last;
+    if (w->nrec < 8 * n + 8)
+        return 0;
+    double scale = lag_eighths(w->rec, w->nstate, n, w->nrec, &first, &least, &last);
+    return last > 1e-13 * scale && last > 1.25 * least;
+}
+
 /* The period n the last o->settle sections stored repeat with, 0 if none.
  * Every pair n apart within tol (wg_period_detect), and the trajectory
  * within tol / 2 of the period-n orbit it tends to. That distance is at
@@ -283,12 +313,7 @@ static int window_period(const work *w, double tol)
     if (n == 0)
         return 0;
     const int m = W - n;
-    double first = lag_max(x, d, n, n, n + m / 8), least = first, scale = 1.0;
-    for (int q = 1; q < 7; q++)
-        least = fmin(least, lag_max(x, d, n, n + q * m / 8, n + (q + 1) * m / 8));
-    double last = lag_max(x, d, n, n + 7 * m / 8, W);
-    for (int j = 0; j < d; j++)
-        scale = fmax(scale, fabs(x[(size_t)(W - 1) * d + j]));
+    double first, least, last, scale = lag_eighths(x, d, n, W, &first, &least, &last);
     if (last <= 1e-13 * scale)
         return n;
     if (!(last <= 1.25 * least && last < first))
@@ -310,6 +335,7 @@ static int transient(work *w, const wg_params *p, int *ran, char *why, size_t wh
 {
     const int W = w->o->settle, T = w->o->transient;
     *ran = T;
+    w->cut = 0;
     if (W <= 0 || T <= W)
         return run_periods(w, T, NULL);
     wg_sink sink = {w, NULL, on_record, NULL};
@@ -335,6 +361,7 @@ static int transient(work *w, const wg_params *p, int *ran, char *why, size_t wh
             int n = window_period(w, tol);
             if (n > 0) {
                 *ran = done + (T - done) % n;
+                w->cut = 1;
                 return run_periods(w, (T - done) % n, NULL);
             }
         }
@@ -344,7 +371,12 @@ static int transient(work *w, const wg_params *p, int *ran, char *why, size_t wh
 
 /* Period with the strict tolerance, extending the transient while none is
  * found; an extension is a transient of its own (with o->settle, it too
- * ends once its window has settled, at the full extension's phase).
+ * ends once its window has settled, at the full extension's phase). A
+ * record after a transient that ended early must also not show its
+ * period's residual growing, or it is extended too: just past a period
+ * doubling a seed near the period-1 orbit, now unstable, sees its lag-1
+ * residual fall while a slower flip mode decays, and the window settles;
+ * the growing flip mode shows only later (lib.test_settle).
  * Returns the period (0: none) or a negative status. */
 static int find_period(work *w, const wg_params *p, wg_point *pt, char *why, size_t whylen)
 {
@@ -358,6 +390,8 @@ static int find_period(work *w, const wg_params *p, wg_point *pt, char *why, siz
             pt->tol = fmax(w->o->tol_floor, w->o->tol_factor * pt->err);
         }
         int n = wg_period_detect(w->rec, w->nrec, w->nstate, WG_PERIOD_MAX, pt->tol, &pt->resid);
+        if (n && w->cut && attempt < w->o->extend && record_leaving(w, n))
+            n = 0; /* stopped early on an orbit the record shows being left */
         if (n || attempt >= w->o->extend || (w->stop && *w->stop))
             return n;
         int ran;

@@ -16,12 +16,18 @@
  * just lost stability, a chain follows whichever its seed leads to, and
  * seeds that differ in the last digits (a record that starts earlier ends
  * elsewhere on the same orbit) can pick the other one; the test prints how
- * many points that touches, and the wall time of both studies. */
+ * many points that touches, and the wall time of both studies.
+ *
+ * Then two single points of table3 (whatever the scene): a plain period-1
+ * point, and one seeded just past a period doubling on the period-1 orbit
+ * being left, where the early-stopped record must see it go. */
 #include "test.h"
 #include "wormgear/wg_scene.h"
+#include "wormgear/wg_shoot.h"
 #include "wormgear/wg_status.h"
 #include "wormgear/wg_sweep.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <time.h>
 #include <unistd.h>
@@ -55,16 +61,19 @@ static int nthreads(void)
     return n < 1 ? 1 : n > 16 ? 16 : (int)n;
 }
 
-static wg_params scene(void)
+static wg_params scene_named(const char *name)
 {
     wg_scene sc;
     char why[256];
-    int rc = wg_scene_open(&sc, scene_name(), why, sizeof why);
+    int rc = wg_scene_open(&sc, name, why, sizeof why);
     if (rc)
         fprintf(stderr, "%s\n", why);
     ASSERT_EQ_INT(rc, WG_OK);
     return sc.p;
 }
+
+/* The study's scene (table3, or $WG_SETTLE_SCENE). */
+static wg_params scene(void) { return scene_named(scene_name()); }
 
 /* A chain of np points of omega over [0.1, 2.5] (or one point at v from
  * y0 when y0 is given). */
@@ -181,13 +190,13 @@ static void test_early_stop_keeps_classification(void)
     free(pf), free(pe), free(p1), free(pr), free(one), free(rob);
 }
 
-/* On a plain period-1 point early stopping runs a shorter transient and
+/* On a plain period-1 point (table3) early stopping runs a shorter transient and
  * ends on the full run's orbit (final states within the tolerance; the
  * times are printed, not tested), and a transient no longer than the
  * window runs whole. */
 static void test_early_stop_saves_periods(void)
 {
-    wg_params p = scene();
+    wg_params p = scene_named("table3");
     p.v[WG_P_OMEGA] = 0.5;
     wg_sweep_opts full, early;
     wg_sweep_opts_default(&early);
@@ -227,4 +236,107 @@ static void test_early_stop_saves_periods(void)
     free(a), free(b);
 }
 
-TEST_MAIN(TEST(test_early_stop_keeps_classification), TEST(test_early_stop_saves_periods))
+/* v <- the eigenvector of the n x n matrix A (row-major) whose eigenvalue
+ * is nearest `shift`, by inverse iteration (Gaussian elimination with
+ * partial pivoting on A - shift I), max-norm 1. */
+static void eigenvector_near(const double *A, int n, double shift, double *v)
+{
+    for (int i = 0; i < n; i++)
+        v[i] = 1.0 + 0.1 * i;
+    for (int it = 0; it < 40; it++) {
+        double a[WG_NSTATE_MAX][WG_NSTATE_MAX + 1], nrm = 0.0;
+        for (int i = 0; i < n; i++) {
+            for (int j = 0; j < n; j++)
+                a[i][j] = A[i * n + j] - (i == j ? shift : 0.0);
+            a[i][n] = v[i];
+        }
+        for (int c = 0; c < n; c++) {
+            int pr = c;
+            for (int r = c + 1; r < n; r++)
+                if (fabs(a[r][c]) > fabs(a[pr][c]))
+                    pr = r;
+            for (int j = 0; j <= n; j++) {
+                double t = a[c][j];
+                a[c][j] = a[pr][j];
+                a[pr][j] = t;
+            }
+            for (int r = c + 1; r < n; r++) {
+                double f = a[r][c] / a[c][c];
+                for (int j = c; j <= n; j++)
+                    a[r][j] -= f * a[c][j];
+            }
+        }
+        for (int i = n - 1; i >= 0; i--) {
+            double t = a[i][n];
+            for (int j = i + 1; j < n; j++)
+                t -= a[i][j] * v[j];
+            v[i] = t / a[i][i];
+            nrm = fmax(nrm, fabs(v[i]));
+        }
+        for (int i = 0; i < n; i++)
+            v[i] /= nrm;
+    }
+}
+
+/* Just past a period doubling the period-1 orbit is left slowly: seeded on
+ * it with a slowly decaying flip mode (multiplier -0.94) of 1e-7 and the
+ * growing one (-1.053) of 1e-12, an early-stopped transient sees lag-1
+ * residuals falling and settles on period 1, while the flip mode grows
+ * through the record and by the full transient's record has made the
+ * orbit period 2. Early stopping must say period 2 as well: the record
+ * shows its residual growing, and the point is extended. (table3, xi_p
+ * 0.12, omega 0.93, where a period-2 orbit coexists with two period-1
+ * ones; the orbit is found by Newton from a state near the period-2 one.) */
+static void test_early_stop_orbit_being_left(void)
+{
+    static const double near_p2[14] = {
+        -0.99775106599114871, -0.99688905021092256, 0.99175390863420454,
+        0.98816997306181953,  0.99688571995679631,  -0.8543783546311825,
+        4.1853943909205586,   -0.043026838705395032, -0.059519014016541798,
+        0.15776507525311415,  -0.00014312178751131079, 0.0062797248207628166,
+        0.0084506132050081346, 0.35111178301356277};
+    wg_params p = scene_named("table3");
+    p.v[WG_P_XI_P] = 0.12;
+    p.v[WG_P_OMEGA] = 0.93;
+    wg_sim s;
+    wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, 256};
+    char why[200];
+    ASSERT_EQ_INT(wg_sim_init(&s, &p, &cfg, why, sizeof why), WG_OK);
+    double x[WG_NSTATE_MAX] = {0}, resid, wr[WG_NSTATE_MAX], wi[WG_NSTATE_MAX];
+    memcpy(x, near_p2, sizeof near_p2);
+    wg_orbit *o = malloc(sizeof *o);
+    ASSERT_TRUE(o != NULL);
+    ASSERT_EQ_INT(wg_orbit_refine(&s, 1, x, 1e-12, 30, &resid, o), WG_OK);
+    ASSERT_EQ_INT(wg_orbit_floquet(o, wr, wi), WG_OK);
+    printf("period-1 orbit at xi_p 0.12, omega 0.93: residual %.2g, multipliers %.4f, %.4f\n",
+           resid, wr[0], wr[1]);
+    /* the scenario: one flip multiplier just past -1, the next near it */
+    ASSERT_TRUE(wr[0] < -1.02 && wr[0] > -1.1 && wi[0] == 0.0);
+    ASSERT_TRUE(wr[1] < -0.9 && wr[1] > -0.98 && wi[1] == 0.0);
+    double grow[WG_NSTATE_MAX], slow[WG_NSTATE_MAX], y[2][WG_NSTATE_MAX];
+    eigenvector_near(o->M, o->dim, wr[0] + 1e-3, grow);
+    eigenvector_near(o->M, o->dim, wr[1] + 1e-3, slow);
+    wg_sweep_opts full, early;
+    wg_sweep_opts_default(&full);
+    early = full;
+    early.settle = WG_SETTLE_WINDOW;
+    wg_point *pt = calloc(2, sizeof *pt);
+    ASSERT_TRUE(pt != NULL);
+    for (int k = 0; k < 2; k++) {
+        memcpy(y[k], x, sizeof y[k]);
+        for (int i = 0; i < o->dim; i++)
+            y[k][o->idx[i]] += 1e-12 * grow[i] + 1e-7 * slow[i];
+        ASSERT_EQ_INT(wg_point_run(&p, k ? &early : &full, y[k], &pt[k], why, sizeof why), WG_OK);
+    }
+    printf("seeded on it: full transient period %d, early stop period %d (first transient %d)\n",
+           pt[0].period, pt[1].period, pt[1].transient);
+    ASSERT_EQ_INT(pt[0].period, 2);
+    ASSERT_TRUE(same(&pt[0], &pt[1], 1));
+    ASSERT_TRUE(pt[1].transient < 300); /* it did stop early, and was extended */
+    free(pt);
+    free(o);
+    wg_sim_fini(&s);
+}
+
+TEST_MAIN(TEST(test_early_stop_keeps_classification), TEST(test_early_stop_saves_periods),
+          TEST(test_early_stop_orbit_being_left))
