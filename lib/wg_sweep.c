@@ -287,7 +287,7 @@ static double lag_eighths(const double *x, int d, int n, int W, double *first, d
 static int record_leaving(const work *w, int n)
 {
     double first, least, last;
-    if (w->nrec < 8 * n + 8)
+    if (w->nrec - n < 8) /* fewer than one pair an eighth */
         return 0;
     double scale = lag_eighths(w->rec, w->nstate, n, w->nrec, &first, &least, &last);
     return last > 1e-13 * scale && last > 1.25 * least;
