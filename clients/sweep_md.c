@@ -284,10 +284,11 @@ static void provenance(FILE *f, const sweep_study *st)
     fprintf(f, "Model %s, stepper %s, N = %d steps per mesh period (raised where RK4 needs "
                "more), transient %d%s + record %d periods per point (up to %d extensions), LLE "
                "over %d periods (chaotic above %g per period), period tolerance max(%g, %g x "
-               "one-period error). Wall time %.1f s on %d thread(s) x %d process(es).\n\n",
+               "one-period error). Wall time %.1f s on %d thread(s) x %d process(es), %d "
+               "chain(s) at once on each thread.\n\n",
             wg_model_name(o->model), wg_stepper_name(o->stepper), o->steps, o->transient,
             early, o->record, o->extend, o->lle_periods, o->lle_tol, o->tol_floor, o->tol_factor,
-            st->wall_s, st->threads, st->ranks);
+            st->wall_s, st->threads, st->ranks, st->pair);
 }
 
 int md_write(const char *path, const sweep_study *st, char *why, size_t whylen)

@@ -255,8 +255,9 @@ int out_json(const char *path, const sweep_study *st, char *why, size_t whylen)
         fprintf(f, "\"%s\"", out_pname(st->gparam));
     else
         fputs("null", f);
-    fprintf(f, ",\"b\":%g,\"partial\":%s,\"wall_s\":%.3f,\"threads\":%d,\"ranks\":%d,\n",
-            st->b, st->partial ? "true" : "false", st->wall_s, st->threads, st->ranks);
+    fprintf(f,
+            ",\"b\":%g,\"partial\":%s,\"wall_s\":%.3f,\"threads\":%d,\"pair\":%d,\"ranks\":%d,\n",
+            st->b, st->partial ? "true" : "false", st->wall_s, st->threads, st->pair, st->ranks);
     json_opts(f, st->o);
     fputs(",\n\"groups\":[", f);
     for (int k = 0; k < st->ngroups; k++) {

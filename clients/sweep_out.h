@@ -34,6 +34,7 @@ typedef struct sweep_study {
     int partial;             /* interrupted: some chains incomplete */
     double wall_s;
     int threads, ranks;
+    int pair;                /* chains each thread advanced at once (--pair) */
     const wg_params *scene_p; /* the scene's own values, for the figures' captions
                                 (NULL: no "set away" line) */
     units_scale us;          /* the scene's scale: the figures' Hz and µm */

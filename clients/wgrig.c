@@ -607,7 +607,7 @@ static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, c
     char why[512] = "", path[1024];
     sweep_study st = {.scene = r->scene, .command = cmdline, .param = r->pid, .gparam = -1,
                       .ngroups = 1, .b = r->base.v[WG_P_B], .o = &r->so, .partial = partial,
-                      .wall_s = cli_mono_s() - r->t0, .threads = 1, .ranks = 1,
+                      .wall_s = cli_mono_s() - r->t0, .threads = 1, .pair = 1, .ranks = 1,
                       .scene_p = &r->scene_p, .us = r->us};
     st.g[0] = (sweep_group){0, ch[0], ch[1]};
     int rc = 0;

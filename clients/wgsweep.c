@@ -497,7 +497,7 @@ static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank
 {
     sweep_study st = {.scene = sc->name, .command = cmd, .param = o->param, .gparam = o->gparam,
                       .ngroups = o->gparam >= 0 ? o->ngvals : 1, .b = sc->p.v[WG_P_B],
-                      .o = &o->so, .threads = o->threads, .ranks = size,
+                      .o = &o->so, .threads = o->threads, .pair = o->so.pair, .ranks = size,
                       .scene_p = &o->scene_p, .us = o->us, .format = o->format};
     int n = st.ngroups * (o->up + o->down), rc = 0;
     cont_bifs ex[STUDY_MAX_GROUPS];
