@@ -264,7 +264,7 @@ static int rows_params(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
                    "steps_per_period,omega_n_rad_s,length_m,mesh_stiffness_N_m,tau,ramp_active,"
                    "ramp_param,ramp_from,ramp_to,ramp_tau0,ramp_duration_tau");
         for (int i = 0; i < m.n; i++)
-            fprintf(f, ",%s", m.name[i]);
+            csc(f, m.name[i]); /* from the bus: quoted when it holds , " or a line break */
         fputc('\n', f);
     }
     if (f) {

@@ -83,14 +83,15 @@ static void write_others(lcm_eventlog_t *l)
     wormgear_contact_t c = {.seq = 0, .n = 2, .tau = d2, .t_s = d2, .velocity = d2,
                             .period = per, .contact = cc, .kind = kk};
     PUT(wormgear_contact_t, l, "RIG1_CONTACT", 1100000, &c);
-    char *names[2] = {"omega", "xi_p"}, *units[2] = {"1", "1"};
-    double val[2] = {0.7, 0.08};
-    int8_t ramp[2] = {1, 1};
+    /* a third name, as a sender on the bus may write it, must stay one header cell */
+    char *names[3] = {"omega", "xi_p", "k,a\"x"}, *units[3] = {"1", "1", "1"};
+    double val[3] = {0.7, 0.08, 0.25};
+    int8_t ramp[3] = {1, 1, 1};
     wormgear_params_t pa = {.seq = 0, .reason = "start", .cmd_client = "", .cmd_seq = -1,
                             .scene = "table3", .model = "consistent", .stepper = "rk4-event",
                             .omega_n_rad_s = 31901, .length_m = 1e-4,
                             .mesh_stiffness_N_m = 2e9,
-                            .n = 2, .name = names, .unit = units, .value = val, .min = val,
+                            .n = 3, .name = names, .unit = units, .value = val, .min = val,
                             .max = val, .def = val, .rampable = ramp, .ramp_param = ""};
     PUT(wormgear_params_t, l, "RIG1_PARAMS", 1000001, &pa);
     wormgear_cmd_t cmd = {.seq = 9, .client = "t", .op = "set", .nparams = 2, .names = names,
@@ -270,6 +271,12 @@ static void test_export(void)
     ASSERT_STR(c, "xi_p");
     ASSERT_EQ_INT(cell(path, 1, 21, c, sizeof c), 0);
     ASSERT_STR(c, "0.08"); /* shortest round trip, not 0.080000000000000002 */
+    FILE *fp = fopen(path, "r");
+    char hdr[2048] = "";
+    ASSERT_TRUE(fp && fread(hdr, 1, sizeof hdr - 1, fp) > 0);
+    if (fp)
+        fclose(fp);
+    ASSERT_CONTAINS(hdr, ",xi_p,\"k,a\"\"x\"\n"); /* quoted, the quote doubled */
     snprintf(path, sizeof path, "%s/csv/RIG1_CMD.csv", dir);
     ASSERT_EQ_INT(cell(path, 1, 5, c, sizeof c), 0);
     ASSERT_STR(c, "omega=0.7;xi_p=0.08");
