@@ -571,6 +571,8 @@ int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *sto
 
 /* ---- threads ------------------------------------------------------------- */
 
+enum { TMAX = 256 }; /* threads */
+
 typedef struct pool {
     wg_chain *cs;
     int n, next;
@@ -579,11 +581,19 @@ typedef struct pool {
     wg_progress_fn progress;
     void *ctx;
     pthread_mutex_t lock;
+    int nt;          /* threads */
+    long left[TMAX]; /* per thread: the points its running chains have left */
+    int live[TMAX];  /* per thread: its tasks still taking chains */
 } pool;
+
+typedef struct pool_thread {
+    pool *pl;
+    int t;
+} pool_thread;
 
 typedef struct pool_cb {
     pool *pl;
-    int chain;
+    int chain, t;
 } pool_cb;
 
 static void pool_progress(void *ctx, int chain, int ndone)
@@ -591,24 +601,58 @@ static void pool_progress(void *ctx, int chain, int ndone)
     (void)chain;
     pool_cb *cb = ctx;
     pthread_mutex_lock(&cb->pl->lock);
+    cb->pl->left[cb->t]--;
     if (cb->pl->progress)
         cb->pl->progress(cb->pl->ctx, cb->chain, ndone);
     pthread_mutex_unlock(&cb->pl->lock);
 }
 
-/* Chains from the pool until it is empty (d: as one of the thread's
- * tasks). */
+/* Does thread t take the next chain (under the lock)? Yes while at least
+ * as many are left as there are threads. Of the last few, only if no other
+ * thread still taking chains has fewer points left in its running ones:
+ * the thread about to be free takes the last chain, rather than a thread
+ * that would start it after its own (the study's six chains: a thread
+ * whose first two ended early took both of the last two, and the other
+ * sat idle for a third of the run). The last task alive always takes it. */
+static int pool_mine(const pool *pl, int t)
+{
+    if (pl->n - pl->next >= pl->nt)
+        return 1;
+    for (int u = 0; u < pl->nt; u++)
+        if (u != t && pl->live[u] > 0 && pl->left[u] < pl->left[t])
+            return 0;
+    return 1;
+}
+
+/* Chains from the pool until it is empty, or until the last ones are
+ * better left to another thread (d: as one of the thread's tasks). */
 static void pool_chains(duo *d, void *arg)
 {
-    pool *pl = arg;
+    const pool_thread *pt = arg;
+    pool *pl = pt->pl;
+    const int t = pt->t;
     for (;;) {
         pthread_mutex_lock(&pl->lock);
-        int i = pl->next < pl->n ? pl->next++ : -1;
+        int i = pl->next < pl->n && pool_mine(pl, t) ? pl->next++ : -1;
+        if (i >= 0)
+            pl->left[t] += pl->cs[i].npts;
+        else
+            pl->live[t]--;
         pthread_mutex_unlock(&pl->lock);
-        if (i < 0 || (pl->stop && *pl->stop))
+        if (i < 0)
             return;
-        pool_cb cb = {pl, i};
+        if (pl->stop && *pl->stop) {
+            pthread_mutex_lock(&pl->lock);
+            pl->left[t] -= pl->cs[i].npts;
+            pl->live[t]--;
+            pthread_mutex_unlock(&pl->lock);
+            return;
+        }
+        pool_cb cb = {pl, i, t};
         chain_run(&pl->cs[i], pl->o, pl->stop, pool_progress, &cb, d);
+        pthread_mutex_lock(&pl->lock);
+        pl->left[t] -= pl->cs[i].npts - pl->cs[i].ndone; /* what progress did not count */
+        pthread_mutex_unlock(&pl->lock);
     }
 }
 
@@ -616,30 +660,41 @@ static void pool_chains(duo *d, void *arg)
  * tasks' stacks cannot be had). */
 static void *pool_worker(void *arg)
 {
-    pool *pl = arg;
+    pool_thread *pt = arg;
+    pool *pl = pt->pl;
     int k = pl->o->pair < 1 ? 1 : pl->o->pair > DUO_MAX ? DUO_MAX : pl->o->pair;
     void *args[DUO_MAX];
     for (int i = 0; i < k; i++)
-        args[i] = pl;
-    if (k < 2 || duo_main(k, pool_chains, args) != WG_OK)
-        pool_chains(NULL, pl);
+        args[i] = pt;
+    pthread_mutex_lock(&pl->lock);
+    pl->live[pt->t] = k;
+    pthread_mutex_unlock(&pl->lock);
+    if (k < 2 || duo_main(k, pool_chains, args) != WG_OK) {
+        pthread_mutex_lock(&pl->lock);
+        pl->live[pt->t] = 1;
+        pthread_mutex_unlock(&pl->lock);
+        pool_chains(NULL, pt);
+    }
     return NULL;
 }
 
 int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
                   volatile sig_atomic_t *stop, wg_progress_fn progress, void *ctx)
 {
-    pool pl = {cs, n, 0, o, stop, progress, ctx, PTHREAD_MUTEX_INITIALIZER};
-    enum { TMAX = 256 };
+    pool pl = {cs, n, 0, o, stop, progress, ctx, PTHREAD_MUTEX_INITIALIZER, 0, {0}, {0}};
     pthread_t tid[TMAX];
+    pool_thread pt[TMAX];
     int nt = threads < 1 ? 1 : threads > TMAX ? TMAX : threads;
     if (nt > n)
         nt = n;
+    pl.nt = nt; /* a thread that cannot be had is never live */
     int started = 0;
+    for (int t = 0; t < nt; t++)
+        pt[t] = (pool_thread){&pl, t};
     for (int t = 1; t < nt; t++)
-        if (pthread_create(&tid[started], NULL, pool_worker, &pl) == 0)
+        if (pthread_create(&tid[started], NULL, pool_worker, &pt[t]) == 0)
             started++;
-    pool_worker(&pl);
+    pool_worker(&pt[0]);
     for (int t = 0; t < started; t++)
         pthread_join(tid[t], NULL);
     pthread_mutex_destroy(&pl.lock);
