@@ -613,7 +613,8 @@ static void pool_progress(void *ctx, int chain, int ndone)
  * the thread about to be free takes the last chain, rather than a thread
  * that would start it after its own (the study's six chains: a thread
  * whose first two ended early took both of the last two, and the other
- * sat idle for a third of the run). The last task alive always takes it. */
+ * sat idle for a third of the run). A thread with no chain running always
+ * takes it (its left is 0), so the pool drains. */
 static int pool_mine(const pool *pl, int t)
 {
     if (pl->n - pl->next >= pl->nt)
