@@ -22,6 +22,7 @@
  * point, and one seeded just past a period doubling on the period-1 orbit
  * being left, where the early-stopped record must see it go. */
 #include "test.h"
+#include "internal.h" /* la_solve */
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_shoot.h"
 #include "wormgear/wg_status.h"
@@ -237,42 +238,19 @@ static void test_early_stop_saves_periods(void)
 }
 
 /* v <- the eigenvector of the n x n matrix A (row-major) whose eigenvalue
- * is nearest `shift`, by inverse iteration (Gaussian elimination with
- * partial pivoting on A - shift I), max-norm 1. */
+ * is nearest `shift`, by inverse iteration (la_solve on A - shift I),
+ * max-norm 1. */
 static void eigenvector_near(const double *A, int n, double shift, double *v)
 {
     for (int i = 0; i < n; i++)
         v[i] = 1.0 + 0.1 * i;
     for (int it = 0; it < 40; it++) {
-        double a[WG_NSTATE_MAX][WG_NSTATE_MAX + 1], nrm = 0.0;
-        for (int i = 0; i < n; i++) {
-            for (int j = 0; j < n; j++)
-                a[i][j] = A[i * n + j] - (i == j ? shift : 0.0);
-            a[i][n] = v[i];
-        }
-        for (int c = 0; c < n; c++) {
-            int pr = c;
-            for (int r = c + 1; r < n; r++)
-                if (fabs(a[r][c]) > fabs(a[pr][c]))
-                    pr = r;
-            for (int j = 0; j <= n; j++) {
-                double t = a[c][j];
-                a[c][j] = a[pr][j];
-                a[pr][j] = t;
-            }
-            for (int r = c + 1; r < n; r++) {
-                double f = a[r][c] / a[c][c];
-                for (int j = c; j <= n; j++)
-                    a[r][j] -= f * a[c][j];
-            }
-        }
-        for (int i = n - 1; i >= 0; i--) {
-            double t = a[i][n];
-            for (int j = i + 1; j < n; j++)
-                t -= a[i][j] * v[j];
-            v[i] = t / a[i][i];
+        double a[WG_NSTATE_MAX * WG_NSTATE_MAX], nrm = 0.0;
+        for (int i = 0; i < n * n; i++)
+            a[i] = A[i] - (i % (n + 1) == 0 ? shift : 0.0);
+        ASSERT_EQ_INT(la_solve(n, a, v), WG_OK);
+        for (int i = 0; i < n; i++)
             nrm = fmax(nrm, fabs(v[i]));
-        }
         for (int i = 0; i < n; i++)
             v[i] /= nrm;
     }
