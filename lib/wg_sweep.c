@@ -634,7 +634,8 @@ static void pool_chains(duo *d, void *arg)
     const int t = pt->t;
     for (;;) {
         pthread_mutex_lock(&pl->lock);
-        int i = pl->next < pl->n && pool_mine(pl, t) ? pl->next++ : -1;
+        int stopped = pl->stop && *pl->stop;
+        int i = !stopped && pl->next < pl->n && pool_mine(pl, t) ? pl->next++ : -1;
         if (i >= 0)
             pl->left[t] += pl->cs[i].npts;
         else
@@ -642,13 +643,6 @@ static void pool_chains(duo *d, void *arg)
         pthread_mutex_unlock(&pl->lock);
         if (i < 0)
             return;
-        if (pl->stop && *pl->stop) {
-            pthread_mutex_lock(&pl->lock);
-            pl->left[t] -= pl->cs[i].npts;
-            pl->live[t]--;
-            pthread_mutex_unlock(&pl->lock);
-            return;
-        }
         pool_cb cb = {pl, i, t};
         chain_run(&pl->cs[i], pl->o, pl->stop, pool_progress, &cb, d);
         pthread_mutex_lock(&pl->lock);
