@@ -15,13 +15,15 @@
 enum { WG_POINT_NSEC = 128 };
 
 /* Analysis settings of every point of a sweep. */
-/* Early stop's window (wg_sweep_opts.settle): 64 sections keep every
- * robust point's classification on the Table-3 study (lib.test_settle); 32
- * does not. Off by default: a chain continued from an early-stopped point
- * starts a hair off the attractor and, where attractors coexist, may follow
- * another one than the full transient's chain does (1,412 of 1,430 robust
- * points of the study agree chain for chain). */
-enum { WG_SETTLE_WINDOW = 64 };
+/* Early stop's window (wg_sweep_opts.settle): 24 sections (periods up to
+ * 12 stop early) keep every robust point's classification on the Table-3
+ * study and on the lowfreq, realistic and torsional scenes
+ * (lib.test_settle); so do 20, 32 and 64, 16 does not. Off by default: a
+ * chain continued from an early-stopped point starts a hair off the
+ * attractor and, where attractors coexist, may follow another one than
+ * the full transient's chain does (1,377 of 1,430 robust points of the
+ * study agree chain for chain). */
+enum { WG_SETTLE_WINDOW = 24 };
 
 typedef struct wg_sweep_opts {
     int model, stepper;  /* enum wg_model_kind, wg_stepper_kind */
@@ -29,7 +31,8 @@ typedef struct wg_sweep_opts {
     int transient;       /* periods run before recording (each point) */
     int settle;          /* early stop: the transient ends once the last `settle`
                             sections repeat with a period n <= WG_PERIOD_MAX within
-                            the period tolerance (0: always the full transient) */
+                            the period tolerance, n at most half of them and 8
+                            pairs left (0: always the full transient) */
     int record;          /* periods recorded for period detection, >= 64 */
     int extend;          /* extra transient blocks while no period is found */
     int lle_periods;     /* twin-trajectory periods for aperiodic points */

@@ -226,9 +226,9 @@ static void test_early_stop_saves_periods(void)
            "states %.2g apart (tol %.2g)\n", a->transient, b->transient, 1e3 * (t1 - t0),
            1e3 * (t2 - t1), d, a->tol);
     ASSERT_EQ_INT(a->transient, 300);
-    ASSERT_TRUE(b->transient >= 64 && b->transient < 300);
+    ASSERT_TRUE(b->transient >= WG_SETTLE_WINDOW && b->transient < 300);
     /* a transient no longer than the window runs whole: the same bits */
-    full.transient = early.transient = 64;
+    full.transient = early.transient = WG_SETTLE_WINDOW;
     memcpy(yf, y0, sizeof yf);
     memcpy(ye, y0, sizeof ye);
     ASSERT_EQ_INT(wg_point_run(&p, &full, yf, a, why, sizeof why), WG_OK);
