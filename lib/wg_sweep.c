@@ -676,6 +676,8 @@ static void *pool_worker(void *arg)
 int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
                   volatile sig_atomic_t *stop, wg_progress_fn progress, void *ctx)
 {
+    if (n <= 0) /* no chains (an MPI rank with none dealt to it): no threads either */
+        return n == 0 ? WG_OK : WG_EINVAL;
     pool pl = {cs, n, 0, o, stop, progress, ctx, PTHREAD_MUTEX_INITIALIZER, 0, {0}, {0}};
     pthread_t tid[TMAX];
     pool_thread pt[TMAX];

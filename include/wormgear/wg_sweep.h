@@ -113,7 +113,8 @@ int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *sto
 
 /* Run n chains on `threads` POSIX threads (1: in the caller), each chain on
  * one thread; progress is called under a lock. Returns WG_OK or the first
- * failing chain's status; each chain keeps its own status. */
+ * failing chain's status; each chain keeps its own status. n = 0: nothing
+ * runs, WG_OK; n < 0: WG_EINVAL. */
 int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
                   volatile sig_atomic_t *stop, wg_progress_fn progress, void *ctx);
 

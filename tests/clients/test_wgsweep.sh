@@ -40,6 +40,13 @@ if [ -n "$mpiexec" ]; then
   # one progress bar for the whole run (rank 0's, counting both ranks' points)
   check "mpi -np 2: one progress bar over both ranks" \
     'grep "points, " "$dir/mpi.err" | tail -1 | grep -q " 24/24 points" && ! grep -q "/12 points" "$dir/mpi.err" && [ $(grep -c "100% 24/24 points" "$dir/mpi.err") -eq 1 ]'
+  # more ranks than chains: the ranks dealt none wait for the others (they
+  # crashed in wg_chains_run with no chains)
+  "$mpiexec" --allow-run-as-root --oversubscribe -np 6 "$sweep" $common --threads 1 \
+      --values xi_p=0.08,0.10 --out "$dir/m6" >/dev/null 2>"$dir/mpi6.err"
+  rc=$?
+  check "mpi -np 6 on 4 chains: exit 0, identical csv" \
+    '[ $rc -eq 0 ] && cmp -s "$dir/s1.csv" "$dir/m6.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/m6-poincare.csv"'
 fi
 
 "$sweep" --from 1.17 --to 1.22 --points 6 --transient 200 --quiet --no-png --dir up --verify-steps --out "$dir/v" >/dev/null

@@ -247,6 +247,27 @@ static void test_stop_flag(void)
     ASSERT_EQ_INT(c.rc, WG_OK);
 }
 
+/* No chains (an MPI rank that more ranks than chains left with none): WG_OK
+ * and nothing run, on any number of threads and tasks; a negative count is
+ * refused. Before, the pool's thread count fell to 0 and the caller ran as
+ * an unset thread (a segmentation fault under `mpirun -np 3` on two chains). */
+static void test_no_chains(void)
+{
+    wg_params p = table3();
+    wg_sweep_opts o;
+    wg_sweep_opts_default(&o);
+    static wg_point pts[2];
+    wg_chain c = chain(&p, 1.0, 1.1, 2, 1, pts);
+    for (int threads = 1; threads <= 3; threads++)
+        for (int pair = 1; pair <= 2; pair++) {
+            o.pair = pair;
+            ASSERT_EQ_INT(wg_chains_run(&c, 0, &o, threads, NULL, NULL, NULL), WG_OK);
+            ASSERT_EQ_INT(c.ndone, 0);
+        }
+    ASSERT_EQ_INT(wg_chains_run(&c, -1, &o, 2, NULL, NULL, NULL), WG_EINVAL);
+    ASSERT_EQ_INT(c.ndone, 0);
+}
+
 /* Bearing impacts counted by an independent run from the point's final
  * state (a section of its periodic orbit). */
 typedef struct bcount {
@@ -314,4 +335,4 @@ static void test_bearing_impacts(void)
 
 TEST_MAIN(TEST(test_bearing_impacts), TEST(test_period_doubling_sweep_and_floquet), TEST(test_lle_sign_on_the_model),
           TEST(test_error_estimate_order), TEST(test_threads_identical), TEST(test_pairs_identical),
-          TEST(test_stop_flag))
+          TEST(test_stop_flag), TEST(test_no_chains))
