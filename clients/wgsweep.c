@@ -15,6 +15,7 @@
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_status.h"
 
+#include <fcntl.h>
 #include <float.h>
 #include <getopt.h>
 #include <math.h>
@@ -240,6 +241,7 @@ static void opts_default(opts *o)
     wg_sweep_opts_default(&o->so);
 }
 
+/* 0, 2 (a usage error, said), or -1: --help was asked for and printed. */
 static int parse_opts(int argc, char **argv, opts *o)
 {
     static const struct option lo[] = {
@@ -283,7 +285,7 @@ static int parse_opts(int argc, char **argv, opts *o)
                 return cli_usage_error(PROG, "too many --exact files, at most %d", STUDY_MAX_GROUPS);
             o->exact[o->nexact++] = optarg;
             break;
-        case 'h': usage(stdout); exit(0);
+        case 'h': usage(stdout); return -1;
         case '?':
             return cli_usage_error(PROG, "unknown option or missing argument: '%s'",
                                    argv[optind - 1]);
@@ -589,6 +591,42 @@ static int do_at(const opts *o, const wg_scene *sc)
     return at_view(&p, y, &o->so, &ao, stdout);
 }
 
+/* Under MPI every rank parses the same arguments and opens the same scene:
+ * only rank 0 prints --help or says what is wrong with them, once (the
+ * others' stdout and stderr go to /dev/null until they are checked). */
+typedef struct hush {
+    int fd[2]; /* the saved stdout, stderr (-1: not hushed) */
+} hush;
+
+static hush hush_other_ranks(int rank)
+{
+    hush h = {{-1, -1}};
+    if (rank == 0)
+        return h;
+    fflush(stdout);
+    fflush(stderr);
+    int nul = open("/dev/null", O_WRONLY);
+    for (int i = 0; i < 2 && nul >= 0; i++) {
+        h.fd[i] = dup(STDOUT_FILENO + i);
+        if (h.fd[i] >= 0)
+            dup2(nul, STDOUT_FILENO + i);
+    }
+    if (nul >= 0)
+        close(nul);
+    return h;
+}
+
+static void unhush(hush h)
+{
+    fflush(stdout);
+    fflush(stderr);
+    for (int i = 0; i < 2; i++)
+        if (h.fd[i] >= 0) {
+            dup2(h.fd[i], STDOUT_FILENO + i);
+            close(h.fd[i]);
+        }
+}
+
 int main(int argc, char **argv)
 {
     int rank, size;
@@ -596,8 +634,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "wgsweep: MPI initialisation failed\n");
         return 1;
     }
+    hush hushed = hush_other_ranks(rank);
     opts o;
-    int rc = parse_opts(argc, argv, &o);
+    int rc = parse_opts(argc, argv, &o), help = rc < 0;
     wg_scene sc;
     char why[640];
     if (!rc && (rc = wg_scene_open(&sc, o.scene, why, sizeof why))) {
@@ -617,6 +656,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "wgsweep: --stepper: %s\n", why);
         rc = 2;
     }
+    unhush(hushed);
     if (!rc) {
         o.so.model = sc.model;
         cli_on_stop_signals(on_signal);
@@ -633,5 +673,5 @@ int main(int argc, char **argv)
     }
     plot_fini();
     par_fini();
-    return rc;
+    return help ? 0 : rc;
 }

@@ -47,6 +47,15 @@ if [ -n "$mpiexec" ]; then
   rc=$?
   check "mpi -np 6 on 4 chains: exit 0, identical csv" \
     '[ $rc -eq 0 ] && cmp -s "$dir/s1.csv" "$dir/m6.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/m6-poincare.csv"'
+  # every rank parses the same arguments: one refusal and one --help, by rank 0
+  "$mpiexec" --allow-run-as-root --oversubscribe -np 3 "$sweep" --pair 9 >/dev/null 2>"$dir/mpi9.err"
+  rc=$?
+  check "mpi -np 3, --pair 9: exit 2, refused once" \
+    '[ $rc -eq 2 ] && [ $(grep -c "^wgsweep: --pair: need 1..8, got .9.$" "$dir/mpi9.err") -eq 1 ]'
+  "$mpiexec" --allow-run-as-root --oversubscribe -np 3 "$sweep" --help >"$dir/mpih.out" 2>"$dir/mpih.err"
+  rc=$?
+  check "mpi -np 3, --help: exit 0, printed once" \
+    '[ $rc -eq 0 ] && [ $(grep -c "^usage: wgsweep" "$dir/mpih.out") -eq 1 ] && ! [ -s "$dir/mpih.err" ]'
 fi
 
 "$sweep" --from 1.17 --to 1.22 --points 6 --transient 200 --quiet --no-png --dir up --verify-steps --out "$dir/v" >/dev/null
