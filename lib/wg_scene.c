@@ -450,15 +450,29 @@ static int by_stem(const struct dirent **a, const struct dirent **b)
     return c ? c : (na > nb) - (na < nb);
 }
 
-/* Append ", "-separated names of the NAME.ini files in dir, sorted. */
+/* Is the name (m bytes) one of the ", "-separated names in list? */
+static int listed(const char *list, const char *name, size_t m)
+{
+    for (const char *p = list; *p;) {
+        size_t k = strcspn(p, ",");
+        if (k == m && strncmp(p, name, m) == 0)
+            return 1;
+        p += k;
+        p += *p ? 2 : 0;
+    }
+    return 0;
+}
+
+/* Append ", "-separated names of the NAME.ini files in dir, sorted, each
+ * name once (the same scenes in $WG_SCENE_PATH and the data directory). */
 static void list_scenes(const char *dir, char *out, size_t len)
 {
     struct dirent **e;
     int n = *dir ? scandir(dir, &e, only_ini, by_stem) : -1;
     for (int i = 0; i < n; i++) {
-        size_t k = strlen(out);
-        snprintf(out + k, len - k, "%s%.*s", k ? ", " : "", (int)(strlen(e[i]->d_name) - 4),
-                 e[i]->d_name);
+        size_t k = strlen(out), m = strlen(e[i]->d_name) - 4;
+        if (!listed(out, e[i]->d_name, m))
+            snprintf(out + k, len - k, "%s%.*s", k ? ", " : "", (int)m, e[i]->d_name);
         free(e[i]);
     }
     if (n >= 0)

@@ -5,6 +5,8 @@
 #include "wormgear/wg_sim.h"
 #include "wormgear/wg_status.h"
 
+#include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 static char dir[64];
@@ -179,10 +181,33 @@ static void test_name_or_file(void)
     ASSERT_STR(path, "x/y.ini");
 }
 
+/* A name not found: the message lists the scenes there, each once, even
+ * when two directories searched hold the same ones (here $WG_SCENE_PATH
+ * names its directory twice). */
+static void test_not_found_lists_each_once(void)
+{
+    const char *env = getenv("WG_SCENE_PATH");
+    ASSERT_TRUE(env && *env && !strchr(env, ':'));
+    char saved[512], twice[1100], why[1600];
+    snprintf(saved, sizeof saved, "%s", env);
+    snprintf(twice, sizeof twice, "%s:%s", saved, saved);
+    setenv("WG_SCENE_PATH", twice, 1);
+    wg_scene sc;
+    ASSERT_EQ_INT(wg_scene_open(&sc, "no-such-scene", why, sizeof why), WG_EIO);
+    setenv("WG_SCENE_PATH", saved, 1);
+    printf("  %s\n", why);
+    ASSERT_CONTAINS(why, "scenes there: lowfreq, realistic, table3, table3-physical, torsional");
+    int n = 0;
+    for (const char *q = why; (q = strstr(q, "lowfreq")); q++)
+        n++;
+    ASSERT_EQ_INT(n, 1);
+}
+
 static void test_all(void)
 {
     setup();
     test_shipped_scenes_load();
+    test_not_found_lists_each_once();
     test_physical_equals_dimensionless();
     test_malformed_lines();
     test_name_or_file();
