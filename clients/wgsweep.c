@@ -595,8 +595,10 @@ static int do_at(const opts *o, const wg_scene *sc)
  * only rank 0 prints --help or says what is wrong with them, once (the
  * others' stdout and stderr go to /dev/null until they are checked). */
 typedef struct hush {
-    int fd[2]; /* the saved stdout, stderr (-1: not hushed) */
+    int saved[2]; /* copies of stdout and stderr (-1: not hushed) */
 } hush;
+
+static const int hush_fd[2] = {STDOUT_FILENO, STDERR_FILENO};
 
 static hush hush_other_ranks(int rank)
 {
@@ -607,9 +609,9 @@ static hush hush_other_ranks(int rank)
     fflush(stderr);
     int nul = open("/dev/null", O_WRONLY);
     for (int i = 0; i < 2 && nul >= 0; i++) {
-        h.fd[i] = dup(STDOUT_FILENO + i);
-        if (h.fd[i] >= 0)
-            dup2(nul, STDOUT_FILENO + i);
+        h.saved[i] = dup(hush_fd[i]);
+        if (h.saved[i] >= 0)
+            dup2(nul, hush_fd[i]);
     }
     if (nul >= 0)
         close(nul);
@@ -621,9 +623,9 @@ static void unhush(hush h)
     fflush(stdout);
     fflush(stderr);
     for (int i = 0; i < 2; i++)
-        if (h.fd[i] >= 0) {
-            dup2(h.fd[i], STDOUT_FILENO + i);
-            close(h.fd[i]);
+        if (h.saved[i] >= 0) {
+            dup2(h.saved[i], hush_fd[i]);
+            close(h.saved[i]);
         }
 }
 

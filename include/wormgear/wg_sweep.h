@@ -18,11 +18,11 @@ enum { WG_POINT_NSEC = 128 };
 /* Early stop's window (wg_sweep_opts.settle): 24 sections (periods up to
  * 12 stop early) keep every robust point's classification on the Table-3
  * study and on the lowfreq, realistic and torsional scenes
- * (lib.test_settle); on the study so do 20, 32 and 64, 16 does not. Off by default: a
- * chain continued from an early-stopped point starts a hair off the
- * attractor and, where attractors coexist, may follow another one than
- * the full transient's chain does (1,377 of 1,430 robust points of the
- * study agree chain for chain). */
+ * (lib.test_settle); on the study so do 20, 32 and 64, 16 does not. Off
+ * by default: a chain continued from an early-stopped point starts a hair
+ * off the attractor and, where attractors coexist, may follow another one
+ * than the full transient's chain does (1,377 of 1,430 robust points of
+ * the study agree chain for chain). */
 enum { WG_SETTLE_WINDOW = 24 };
 
 typedef struct wg_sweep_opts {
