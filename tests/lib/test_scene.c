@@ -183,11 +183,11 @@ static void test_name_or_file(void)
 
 /* A name not found: the message lists the scenes there, each once, even
  * when two directories searched hold the same ones (here $WG_SCENE_PATH
- * names its directory twice). */
+ * names its directories twice). */
 static void test_not_found_lists_each_once(void)
 {
     const char *env = getenv("WG_SCENE_PATH");
-    ASSERT_TRUE(env && *env && !strchr(env, ':'));
+    ASSERT_TRUE(env && *env && strlen(env) < 512);
     char saved[512], twice[1100], why[1600];
     snprintf(saved, sizeof saved, "%s", env);
     snprintf(twice, sizeof twice, "%s:%s", saved, saved);
