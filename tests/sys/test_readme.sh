@@ -24,14 +24,10 @@ cleanup() {
 trap cleanup EXIT
 status=0
 fail() { echo "FAIL: $*"; status=1; }
+. "$(dirname "$0")/readme.sh" # readme_block, readme_expect
 cd "$src" || exit 1
 
-# The fenced block after a heading, comments and blank lines dropped.
-block() { # block HEADING
-    awk -v h="$1" '$0 == h { on = 1; next } on && /^```/ { if (inb) exit; inb = 1; next }
-                   on && inb { sub(/[ ]+#.*$/, ""); if ($0 != "") print }' README.md
-}
-block "## A walk-through" >"$tmp/walk"
+readme_block README.md "## A walk-through" >"$tmp/walk"
 cat >"$tmp/want" <<'EOF'
 bash tools/run.sh
 build/release/clients/wgmon
@@ -40,11 +36,7 @@ build/release/clients/wgctl ramp omega 1.5 --over 6s
 build/release/clients/wgctl set omega=1.2
 build/release/clients/wgctl status
 EOF
-if ! cmp -s "$tmp/walk" "$tmp/want"; then
-    echo "FAIL: the README's walk-through is not what this test checks; update both:"
-    diff "$tmp/want" "$tmp/walk"
-    exit 1
-fi
+readme_expect "$tmp/walk" "$tmp/want" "walk-through commands"
 line() { sed -n "${1}p" "$tmp/walk"; }
 
 # ---- terminal 1: the daemon (tools/run.sh builds first when needed)
@@ -115,19 +107,13 @@ grep -q "realtime x1 running ok" "$tmp/run.out" || fail "no status line from run
 
 # ---- the offline commands that follow (the section's second block), in a
 # scratch directory (they write files) that sees the build as build/
-awk '/^## A walk-through/ { on = 1; next } on && /^## / { exit }
-     on && /^```/ { k++; next } on && k == 3 { sub(/[ ]+#.*$/, ""); if ($0 != "") print }' \
-    README.md >"$tmp/offline"
+readme_block README.md "## A walk-through" 2 >"$tmp/offline"
 cat >"$tmp/want" <<'EOF'
 build/release/clients/wgsim --set omega=1.2 --poincare -
 build/release/clients/wgsweep --out sweep
 build/release/clients/wgsweep --at 1.33 --out view
 EOF
-if ! cmp -s "$tmp/offline" "$tmp/want"; then
-    echo "FAIL: the README's offline commands are not what this test checks; update both:"
-    diff "$tmp/want" "$tmp/offline"
-    exit 1
-fi
+readme_expect "$tmp/offline" "$tmp/want" "offline commands"
 mkdir "$tmp/scratch" && ln -s "$src/build" "$tmp/scratch/build"
 (cd "$tmp/scratch" && sh -c "$(sed -n 1p "$tmp/offline")") >"$tmp/pc.csv" 2>"$tmp/err" ||
     fail "$(sed -n 1p "$tmp/offline"): $(cat "$tmp/err")"
@@ -140,16 +126,12 @@ head -1 "$tmp/pc.csv" | grep -q "^period,tau,omega,x_n" || fail "wgsim --poincar
 ls "$tmp/scratch"/view*.png >/dev/null 2>&1 || fail "wgsweep --at 1.33 --out view wrote no PNG"
 
 # ---- Install, literally: /usr/local is a tmpfs in a private mount namespace
-block "## Install" >"$tmp/inst"
+readme_block README.md "## Install" >"$tmp/inst"
 cat >"$tmp/want" <<'EOF'
 cmake --install build/release --prefix /usr/local
 (cd build/release && cpack -G DEB)
 EOF
-if ! cmp -s "$tmp/inst" "$tmp/want"; then
-    echo "FAIL: the README's install commands are not what this test checks; update both:"
-    diff "$tmp/want" "$tmp/inst"
-    exit 1
-fi
+readme_expect "$tmp/inst" "$tmp/want" "install commands"
 if unshare -m true 2>/dev/null; then
     unshare -m sh -c "mount -t tmpfs none /usr/local && $(sed -n 1p "$tmp/inst") >'$tmp/inst.log' 2>&1 &&
         /usr/local/sbin/wormgeard --config /usr/local/etc/wormgear/wormgeard.conf --check-config &&

@@ -12,27 +12,21 @@
 # test changes with it. Run through netns.sh (MPI then talks over a private
 # lo only). Takes ~4 min on 2 cores: the build, then the map twice.
 src=$1
+. "$(dirname "$0")/readme.sh" # readme_block, readme_expect
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 command -v mpirun >/dev/null || fail "mpirun not found (tools/setup.sh installs openmpi-bin)"
 
-# The fenced block after the heading: continuation lines joined, comments
-# and blank lines dropped.
-awk '/^### Sweeps, and a map across hosts/ { on = 1; next }
-     on && /^```/ { if (inb) exit; inb = 1; next }
-     on && inb { print }' "$src/README.md" |
-    sed -e ':a' -e '/\\$/N; s/[ ]*\\\n[ ]*/ /; ta' -e 's/[ ]\+#.*$//' -e '/^$/d' >"$tmp/block"
+readme_block "$src/README.md" \
+    '### Sweeps, and a map across hosts (issue 13; figures and commands in `docs/performance.md`)' \
+    >"$tmp/block"
 cat >"$tmp/want" <<'EOF'
 cmake -S . -B build-mpi -DWG_MPI=ON && cmake --build build-mpi -j2
 printf 'hostA slots=2\nhostB slots=2\n' > hosts
 mpirun --hostfile hosts -np 4 build-mpi/clients/wgsweep --threads 1 --map xi_p=0.05:0.15:201 --step 0.01 --settle 24 --out map
 EOF
-if ! cmp -s "$tmp/block" "$tmp/want"; then
-    echo "FAIL: the README's host-file block is not what this test runs; update both:"
-    diff "$tmp/want" "$tmp/block"
-    exit 1
-fi
+readme_expect "$tmp/block" "$tmp/want" "host-file commands"
 line() { sed -n "${1}p" "$tmp/block"; }
 
 # A copy of the tree as a user has it (no build directories, no .git).
