@@ -1,9 +1,10 @@
 /* duo.h - several tasks on one thread whose long sim runs are paired
  * (wg_duo.c). Each task is a coroutine with its own stack; when it asks
  * for a run (duo_run) it yields, and the thread's scheduler advances two
- * waiting runs at once with wg_sim_run_pair until one is done, then
- * resumes that task. A run alone (no other task waiting) goes by
- * wg_sim_run. Each sim's bits are what wg_sim_run would give: only the
+ * waiting runs at once with wg_sim_run_pair (four or more of one kind
+ * where the CPU has a batched loop: all of them with wg_sim_run_batch)
+ * until one is done, then resumes that task. A run alone (no other task
+ * waiting) goes by wg_sim_run. Each sim's bits are what wg_sim_run would give: only the
  * interleaving changes. Private to the library (the sweeps use it). */
 #ifndef WG_DUO_H
 #define WG_DUO_H

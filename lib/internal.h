@@ -104,6 +104,40 @@ typedef void (*wg_krun2_fn)(const void *restrict ka, wg_krun *restrict ra, uint6
                             const void *restrict kb, wg_krun *restrict rb, uint64_t nb,
                             uint64_t m[2]);
 
+/* Up to KB_LANES runs of the same specialisation in one loop, one run per
+ * vector lane (AVX-512 only): every lane does a single run's arithmetic in
+ * the same order, so each run's bits are wg_krun's. The lanes sit apart in
+ * the batch (one row of KB_LANES per quantity); kb_load and kb_store
+ * (wg_sim_run.c) move one run in and out. The loop stops once a lane in
+ * `active` stops: it refused a step (its `trial` written, has_trial set),
+ * or it took the steps it may (lim_steps: the steps asked for, or to the
+ * period's end). The other lanes take the step a lane refused, then stop
+ * too; ran[l] is what lane l took (lim_steps and ep move on by it). Lanes
+ * outside `active` compute and are ignored. */
+enum { KB_LANES = 8 };
+typedef struct wg_kbatch {
+    /* each lane's run: state, mesh contact, Kahan time, period extrema */
+    double q[6][KB_LANES], v[6][KB_LANES], s[KB_LANES], vs[KB_LANES];
+    double xn[KB_LANES], dxn[KB_LANES], tau[KB_LANES], tc[KB_LANES];
+    double mn[KB_LANES], mx[KB_LANES];
+    /* each lane's constants (wg_kcoef) and zone bounds (fbound) */
+    double c[6][KB_LANES], m[6][KB_LANES], k[6][KB_LANES], d[6][KB_LANES];
+    double cd[6][KB_LANES], ck[6][KB_LANES], w[6][KB_LANES], zc[6][KB_LANES];
+    double bj[KB_LANES], M[KB_LANES], ds[KB_LANES], dp[KB_LANES], b[KB_LANES];
+    double w0[KB_LANES], zc0[KB_LANES], h[KB_LANES];
+    double lo[6][KB_LANES], hi[6][KB_LANES], lim[KB_LANES], mlo[KB_LANES], mhi[KB_LANES];
+    const wg_exc *ep[KB_LANES];   /* in/out: the lane's &table[2k] */
+    uint64_t lim_steps[KB_LANES]; /* in/out: steps the lane may still take */
+    uint64_t ran[KB_LANES];       /* out: steps each lane took in the last loop */
+    double *trial[KB_LANES];      /* where a refused step goes (wg_krun.trial) */
+    unsigned active;              /* lanes whose stops count */
+    unsigned refused;             /* out: lanes that refused the step after `ran` */
+} __attribute__((aligned(64))) wg_kbatch;
+
+/* Run the batch until a lane in `active` stops; returns the stopped lanes
+ * (a refused one refused the step after its ran[l]). */
+typedef unsigned (*wg_kbatch_fn)(wg_kbatch *restrict B);
+
 /* The private part of a wg_sim (allocated by wg_sim_init with the table). */
 typedef struct wg_sim_core {
     wg_kcoef kc;
@@ -124,6 +158,7 @@ typedef struct wg_sim_core {
     wg_period cur;        /* statistics of the period in progress */
     wg_period last;       /* statistics of the last completed period */
     ct_trace *trace;      /* non-NULL: ct_split_step records its splits here */
+    uint64_t batched;     /* steps taken in a batched loop (wg_sim_run_batch) */
 } wg_sim_core;
 
 /* Mesh direction c (x_n = c . q) and force weights m (mass ratio times c). */
@@ -165,6 +200,10 @@ wg_krun_fn krun_select(unsigned kflags, int isa);
 /* The paired run for a set of KF_* bits and an instruction set (NULL: the
  * torsional path, which is not paired). */
 wg_krun2_fn krun2_select(unsigned kflags, int isa);
+
+/* The batched run for a set of KF_* bits and an instruction set (NULL:
+ * the torsional path, or an instruction set without one: only AVX-512). */
+wg_kbatch_fn kbatch_select(unsigned kflags, int isa);
 
 /* RK4 step of the printed form (unspecialised, for comparison); kc is the
  * wg_params. */

@@ -567,6 +567,10 @@ INLINE uint64_t run_tors(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
     return i;
 }
 
+#if KW == 8
+#include "kern_batch.h" /* batches: one run per vector lane */
+#endif
+
 /* ---- the 64 instantiations and their tables ------------------------------------ */
 
 #define KNAME(B, L, J, M, A, E) kern_##B##L##J##M##A##E
@@ -595,6 +599,16 @@ INLINE uint64_t run_tors(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
     {                                                                                          \
         run_full2(ka, ra, na, kb, rb, nb, m, L, J, M, A, E);                                   \
     }
+#if KW == 8
+#define BNAME(L, J, M, A, E) kbatch_##L##J##M##A##E
+#define KBATCH(L, J, M, A, E)                                                                  \
+    static unsigned BNAME(L, J, M, A, E)(wg_kbatch *restrict B)                               \
+    {                                                                                          \
+        return run_batch(B, L, J, M, A, E);                                                    \
+    }
+#else
+#define KBATCH(L, J, M, A, E)
+#endif
 #define K_E(B, L, J, M, A)                                                                    \
     KERNEL(B, L, J, M, A, 0) KERNEL(B, L, J, M, A, 1) KRUN(B, L, J, M, A, 0) KRUN(B, L, J, M, A, 1)
 #define K_A(B, L, J, M) K_E(B, L, J, M, 0) K_E(B, L, J, M, 1)
@@ -603,7 +617,7 @@ INLINE uint64_t run_tors(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
 #define K_L(B) K_J(B, 0) K_J(B, 1)
 K_L(0)
 K_L(1)
-#define P_E(L, J, M, A) KRUN2(L, J, M, A, 0) KRUN2(L, J, M, A, 1)
+#define P_E(L, J, M, A) KRUN2(L, J, M, A, 0) KRUN2(L, J, M, A, 1) KBATCH(L, J, M, A, 0) KBATCH(L, J, M, A, 1)
 #define P_A(L, J, M) P_E(L, J, M, 0) P_E(L, J, M, 1)
 #define P_M(L, J) P_A(L, J, 0) P_A(L, J, 1)
 #define P_J(L) P_M(L, 0) P_M(L, 1)
@@ -619,3 +633,7 @@ const wg_kernel_fn KCAT(kern_tab, KSUF)[KF_NKERNEL] = {T_L(KNAME, 0) T_L(KNAME, 
 const wg_krun_fn KCAT(krun_tab, KSUF)[KF_NKERNEL] = {T_L(RNAME, 0) T_L(RNAME, 1)};
 #define PN(B, L, J, M, A, E) PNAME(L, J, M, A, E)
 const wg_krun2_fn KCAT(krun2_tab, KSUF)[KF_NKERNEL / 2] = {T_L(PN, 1)};
+#if KW == 8
+#define BN(B, L, J, M, A, E) BNAME(L, J, M, A, E)
+const wg_kbatch_fn KCAT(kbatch_tab, KSUF)[KF_NKERNEL / 2] = {T_L(BN, 1)};
+#endif

@@ -4,11 +4,13 @@
  * page below it. The scheduler runs on the thread's own stack: it resumes
  * every task that can go on until each has asked for a run (or returned),
  * then advances the two runs asked for longest ago with wg_sim_run_pair
- * until one is done, and resumes that task; a run with no partner goes by
- * wg_sim_run. The runs themselves (and their sinks' callbacks) execute on
+ * (four or more of one kind, on a CPU with a batched loop: all of those
+ * with wg_sim_run_batch, one sim a vector lane) until one is done, and
+ * resumes that task; a run with no partner goes by wg_sim_run. The runs themselves (and their sinks' callbacks) execute on
  * the scheduler's stack. Under AddressSanitizer every switch is announced
  * (__sanitizer_start/finish_switch_fiber) so it tracks the stacks. */
 #include "duo.h"
+#include "internal.h"
 #include "wormgear/wg_status.h"
 
 #include <stdint.h>
@@ -146,6 +148,41 @@ static void advance(duo *d, int a, int b)
     }
 }
 
+/* The waiting tasks whose sims are of the oldest one's (a) kind, into idx:
+ * how many. */
+static int same_kind(const duo *d, int a, int idx[DUO_MAX])
+{
+    const wg_sim_core *c = d->t[a].s->core;
+    int L = 0;
+    for (int i = 0; i < d->n; i++)
+        if (d->t[i].state == T_WAIT && d->t[i].s->core->kflags == c->kflags &&
+            d->t[i].s->core->isa == c->isa)
+            idx[L++] = i;
+    return L;
+}
+
+/* Advance the runs of tasks idx[0..L) in one batch (wg_sim_run_batch)
+ * until one is done; as advance. */
+static void advance_batch(duo *d, const int idx[], int L)
+{
+    wg_sim *s[DUO_MAX] = {NULL};
+    uint64_t n[DUO_MAX] = {0}, m[DUO_MAX] = {0};
+    const wg_sink *sk[DUO_MAX] = {NULL};
+    int rc[DUO_MAX] = {0};
+    for (int j = 0; j < L; j++) {
+        const task *t = &d->t[idx[j]];
+        s[j] = t->s, n[j] = t->n - t->done, sk[j] = t->sink;
+    }
+    wg_sim_run_batch(L, s, n, sk, m, rc);
+    for (int j = 0; j < L; j++) {
+        task *t = &d->t[idx[j]];
+        t->done += m[j];
+        t->rc = rc[j];
+        if (rc[j] != WG_OK || t->done == t->n)
+            t->state = T_READY;
+    }
+}
+
 static void duo_free(duo *d)
 {
     for (int i = 0; i < d->n; i++)
@@ -194,7 +231,14 @@ int duo_main(int n, duo_task_fn fn, void *const args[])
         int a = oldest_waiting(d, -1);
         if (a < 0)
             break; /* every task has returned */
-        advance(d, a, oldest_waiting(d, a));
+        /* four or more runs of one kind, with a batched loop: all of them
+         * in one batch (one sim a vector lane); else the two oldest paired */
+        const wg_sim_core *c = d->t[a].s->core;
+        int idx[DUO_MAX], L = same_kind(d, a, idx);
+        if (L >= 4 && kbatch_select(c->kflags, c->isa))
+            advance_batch(d, idx, L);
+        else
+            advance(d, a, oldest_waiting(d, a));
     }
     duo_free(d);
     return WG_OK;

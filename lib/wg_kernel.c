@@ -13,6 +13,7 @@
 extern const wg_kernel_fn kern_tab_avx2[KF_NKERNEL], kern_tab_avx512[KF_NKERNEL];
 extern const wg_krun_fn krun_tab_avx2[KF_NKERNEL], krun_tab_avx512[KF_NKERNEL];
 extern const wg_krun2_fn krun2_tab_avx2[KF_NKERNEL / 2], krun2_tab_avx512[KF_NKERNEL / 2];
+extern const wg_kbatch_fn kbatch_tab_avx512[KF_NKERNEL / 2];
 
 static const char *const isa_names[KISA_N] = {"sse2", "avx2", "avx512"};
 
@@ -61,6 +62,12 @@ wg_krun2_fn krun2_select(unsigned kflags, int isa)
     const wg_krun2_fn *t = isa == KISA_AVX512 ? krun2_tab_avx512
                            : isa == KISA_AVX2 ? krun2_tab_avx2 : krun2_tab_sse2;
     return kflags & KF_BEAR ? t[kflags & (KF_NKERNEL / 2 - 1)] : NULL;
+}
+
+wg_kbatch_fn kbatch_select(unsigned kflags, int isa)
+{
+    return isa == KISA_AVX512 && (kflags & KF_BEAR) ? kbatch_tab_avx512[kflags & (KF_NKERNEL / 2 - 1)]
+                                                    : NULL;
 }
 
 void kernel_printed(const double *restrict y0, double *restrict y1, const void *restrict kc,

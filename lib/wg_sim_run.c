@@ -401,3 +401,142 @@ void wg_sim_run_pair(wg_sim *const s[2], const uint64_t n[2], const wg_sink *con
         rc[j] = R[j].rc;
     }
 }
+
+/* ---- batches: up to KB_LANES runs, one per vector lane ----------------------- */
+
+/* Run r (at most n plain steps, with the sim's constants K) into lane l. */
+static void kb_load(wg_kbatch *B, int l, const wg_kcoef *K, const wg_krun *r, uint64_t n)
+{
+    const double lim = r->fin / 16; /* fbound_load's bounds */
+    for (int b = 0; b < 6; b++) {
+        B->q[b][l] = r->y[b];
+        B->v[b][l] = r->y[7 + b];
+        B->c[b][l] = K->c[b];
+        B->m[b][l] = K->m[b];
+        B->k[b][l] = K->k[b];
+        B->d[b][l] = K->d[b];
+        B->cd[b][l] = K->cd[b];
+        B->ck[b][l] = K->ck[b];
+        B->w[b][l] = K->w[1 + b];
+        B->zc[b][l] = K->zc[1 + b];
+        B->lo[b][l] = dmax(r->lo[1 + b], -lim);
+        B->hi[b][l] = dmin(r->hi[1 + b], lim);
+    }
+    B->s[l] = r->y[6], B->vs[l] = r->y[13];
+    B->xn[l] = r->xn, B->dxn[l] = r->dxn, B->tau[l] = r->tau, B->tc[l] = r->tau_c;
+    B->mn[l] = r->min_xn, B->mx[l] = r->max_xn;
+    B->bj[l] = K->bj, B->M[l] = K->M, B->ds[l] = K->d[6], B->dp[l] = K->dp, B->b[l] = K->b;
+    B->w0[l] = K->w[0], B->zc0[l] = K->zc[0], B->h[l] = r->h;
+    B->lim[l] = lim, B->mlo[l] = r->lo[0], B->mhi[l] = r->hi[0];
+    B->ep[l] = &r->table[2 * r->k];
+    B->lim_steps[l] = n < (uint64_t)(r->N - r->k) ? n : (uint64_t)(r->N - r->k);
+    B->trial[l] = r->trial;
+}
+
+/* Lane l back into its run r, which took m steps since it was loaded. */
+static void kb_store(const wg_kbatch *B, int l, wg_krun *r, uint64_t m)
+{
+    for (int b = 0; b < 6; b++) {
+        r->y[b] = B->q[b][l];
+        r->y[7 + b] = B->v[b][l];
+    }
+    r->y[6] = B->s[l], r->y[13] = B->vs[l];
+    r->xn = B->xn[l], r->dxn = B->dxn[l], r->tau = B->tau[l], r->tau_c = B->tc[l];
+    r->min_xn = B->mn[l], r->max_xn = B->mx[l];
+    r->k += (uint32_t)m;
+    r->has_trial = (B->refused >> l) & 1u;
+}
+
+/* Can run j join (or stay in) a batch of kind (kflags, isa)? */
+static int batch_lane_ok(const runner *R, unsigned kflags, int isa)
+{
+    const wg_sim_core *c = R->s->core;
+    return c->kflags == kflags && c->isa == isa && run_fast_now(R) && R->i < R->n &&
+           R->rc == WG_OK;
+}
+
+/* The L runs' plain steps in one batched loop while all of them can take
+ * them; a lane that stops (a period's end, a refused step, taken by the
+ * general path here) goes on in the loop until one run's steps are done
+ * or a run can no longer take plain steps. 0 if they cannot now. */
+static int batch_fast(runner *R, int L)
+{
+    const unsigned kflags = R[0].s->core->kflags;
+    const int isa = R[0].s->core->isa;
+    wg_kbatch_fn f = kbatch_select(kflags, isa);
+    for (int j = 0; j < L && f; j++)
+        if (!batch_lane_ok(&R[j], kflags, isa))
+            f = NULL;
+    if (!f)
+        return 0;
+    wg_kbatch B;
+    wg_krun r[KB_LANES];
+    uint64_t taken[KB_LANES] = {0};
+    for (int j = 0; j < L; j++) {
+        krun_prep(&R[j], &r[j]);
+        kb_load(&B, j, &R[j].s->core->kc, &r[j], R[j].n - R[j].i);
+    }
+    for (int j = L; j < KB_LANES; j++) /* lanes left out compute a copy of lane 0 */
+        kb_load(&B, j, &R[0].s->core->kc, &r[0], R[0].n - R[0].i);
+    B.active = (1u << L) - 1;
+    int go = 1;
+    while (go) {
+        unsigned stop = f(&B);
+        for (int j = 0; j < L; j++)
+            taken[j] += B.ran[j];
+        for (int j = 0; j < L; j++) {
+            if (!((stop >> j) & 1u))
+                continue;
+            kb_store(&B, j, &r[j], taken[j]);
+            krun_commit(&R[j], &r[j], taken[j]);
+            R[j].s->core->batched += taken[j];
+            taken[j] = 0;
+            if (R[j].i < R[j].n && R[j].has_trial) /* the refused step */
+                run_general(&R[j]);
+            if (batch_lane_ok(&R[j], kflags, isa)) {
+                krun_prep(&R[j], &r[j]);
+                kb_load(&B, j, &R[j].s->core->kc, &r[j], R[j].n - R[j].i);
+            } else {
+                B.active &= ~(1u << j);
+                go = 0;
+            }
+        }
+        for (int j = 0; j < L && go; j++) /* a callback may have changed another sim */
+            go = batch_lane_ok(&R[j], kflags, isa);
+    }
+    for (int j = 0; j < L; j++)
+        if ((B.active >> j) & 1u) {
+            B.refused &= ~(1u << j);
+            kb_store(&B, j, &r[j], taken[j]);
+            krun_commit(&R[j], &r[j], taken[j]);
+            R[j].s->core->batched += taken[j];
+        }
+    return 1;
+}
+
+void wg_sim_run_batch(int L, wg_sim *const s[], const uint64_t n[], const wg_sink *const sink[],
+                      uint64_t done[], int rc[])
+{
+    runner R[KB_LANES];
+    runbuf b[KB_LANES];
+    if (L < 1 || L > KB_LANES)
+        return;
+    for (int j = 0; j < L; j++)
+        run_begin(&R[j], &b[j], s[j], n[j], sink[j]);
+    for (;;) {
+        int all = 1;
+        for (int j = 0; j < L; j++)
+            all &= R[j].i < R[j].n && R[j].rc == WG_OK;
+        if (!all)
+            break;
+        if (L > 1 && batch_fast(R, L))
+            continue;
+        for (int j = 0; j < L; j++) /* a run cannot join: a segment of each in turn */
+            if (R[j].i < R[j].n && R[j].rc == WG_OK)
+                run_segment(&R[j]);
+    }
+    for (int j = 0; j < L; j++) {
+        run_end(&R[j], &done[j]);
+        rc[j] = R[j].rc;
+    }
+}

@@ -39,7 +39,7 @@ void wg_sweep_opts_default(wg_sweep_opts *o)
 {
     *o = (wg_sweep_opts){.model = WG_MODEL_CONSISTENT, .stepper = WG_STEPPER_DEFAULT,
                          .steps = 256, .transient = 300, .settle = 0, .record = 128,
-                         .extend = 3, .pair = 2,
+                         .extend = 3, .pair = 8,
                          .lle_periods = 300, .lle_d0 = 1e-7, .lle_tol = 0.01,
                          .tol_factor = 10.0, .tol_floor = 1e-9, .floquet = 0};
 }
@@ -584,6 +584,7 @@ typedef struct pool {
     int nt;          /* threads */
     long left[TMAX]; /* per thread: the points its running chains have left */
     int live[TMAX];  /* per thread: its tasks still taking chains */
+    int running[TMAX]; /* per thread: its chains running */
 } pool;
 
 typedef struct pool_thread {
@@ -617,6 +618,8 @@ static void pool_progress(void *ctx, int chain, int ndone)
  * takes it (its left is 0), so the pool drains. */
 static int pool_mine(const pool *pl, int t)
 {
+    if (pl->running[t] >= (pl->n + pl->nt - 1) / pl->nt)
+        return 0; /* its share at once: a thread's tasks do not take them all */
     if (pl->n - pl->next >= pl->nt)
         return 1;
     for (int u = 0; u < pl->nt; u++)
@@ -637,7 +640,7 @@ static void pool_chains(duo *d, void *arg)
         int stopped = pl->stop && *pl->stop;
         int i = !stopped && pl->next < pl->n && pool_mine(pl, t) ? pl->next++ : -1;
         if (i >= 0)
-            pl->left[t] += pl->cs[i].npts;
+            pl->left[t] += pl->cs[i].npts, pl->running[t]++;
         else
             pl->live[t]--;
         pthread_mutex_unlock(&pl->lock);
@@ -647,6 +650,7 @@ static void pool_chains(duo *d, void *arg)
         chain_run(&pl->cs[i], pl->o, pl->stop, pool_progress, &cb, d);
         pthread_mutex_lock(&pl->lock);
         pl->left[t] -= pl->cs[i].npts - pl->cs[i].ndone; /* what progress did not count */
+        pl->running[t]--;
         pthread_mutex_unlock(&pl->lock);
     }
 }
@@ -678,7 +682,7 @@ int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
 {
     if (n <= 0) /* no chains (an MPI rank with none dealt to it): no threads either */
         return n == 0 ? WG_OK : WG_EINVAL;
-    pool pl = {cs, n, 0, o, stop, progress, ctx, PTHREAD_MUTEX_INITIALIZER, 0, {0}, {0}};
+    pool pl = {cs, n, 0, o, stop, progress, ctx, PTHREAD_MUTEX_INITIALIZER, 0, {0}, {0}, {0}};
     pthread_t tid[TMAX];
     pool_thread pt[TMAX];
     int nt = threads < 1 ? 1 : threads > TMAX ? TMAX : threads;

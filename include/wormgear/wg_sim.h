@@ -199,6 +199,14 @@ int wg_sim_run(wg_sim *sim, uint64_t n, const wg_sink *sink, uint64_t *done);
 void wg_sim_run_pair(wg_sim *const sim[2], const uint64_t n[2], const wg_sink *const sink[2],
                      uint64_t done[2], int rc[2]);
 
+/* Advance L (1..8) distinct sims at once, sim[j] as wg_sim_run(sim[j],
+ * n[j], sink[j]) would, to the bit, until one has taken its n[j] steps or
+ * failed: wg_sim_run_pair for more sims. While all take plain steps of the
+ * same specialisation they run in one loop, one sim per vector lane, where
+ * the CPU has AVX-512 (else, and whenever one cannot, each in turn). */
+void wg_sim_run_batch(int L, wg_sim *const sim[], const uint64_t n[], const wg_sink *const sink[],
+                      uint64_t done[], int rc[]);
+
 /* Current excitation phase psi in [0, 2 pi) and meshing frequency. */
 double wg_sim_psi(const wg_sim *sim);
 double wg_sim_omega(const wg_sim *sim);

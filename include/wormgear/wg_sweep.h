@@ -43,9 +43,11 @@ typedef struct wg_sweep_opts {
     int floquet;         /* Floquet multipliers of periodic points (wg_shoot.h:
                             variational monodromy, rk4-event stepper only) */
     int verify;          /* re-analyse each point's attractor with 2N steps */
-    int pair;            /* chains each thread advances at once, their runs
-                            paired (wg_sim_run_pair; the same results): 2 (the
-                            default) to 8, or 1: one at a time */
+    int pair;            /* chains each thread advances at once (the same
+                            results): 2 to 8 (8, the default), their runs paired
+                            (wg_sim_run_pair) or, four or more where the CPU
+                            has AVX-512, batched (wg_sim_run_batch); 1: one at
+                            a time */
 } wg_sweep_opts;
 
 /* Result of one point. */
@@ -96,7 +98,7 @@ typedef void (*wg_progress_fn)(void *ctx, int chain, int ndone);
 
 /* Defaults: rk4-event, N = 256, transient 300 (the whole of it: settle 0;
  * WG_SETTLE_WINDOW is the early-stop window worth asking for), record 128, extend 3, LLE 300 periods d0 1e-7 tol 0.01,
- * tol = max(1e-9, 10 err), no Floquet. */
+ * tol = max(1e-9, 10 err), no Floquet, pair 8. */
 void wg_sweep_opts_default(wg_sweep_opts *o);
 
 /* Value of point i (in run order) of a chain. */

@@ -9,9 +9,10 @@
  * Then the latency of one link of the step's path through the sum across
  * the bearing lanes, in dependent adds (the traced bound's unit). Last,
  * whole runs through the library (its own choice of instruction set, with
- * the bookkeeping, zone tests and period ends): two table3 sims one after
- * the other by wg_sim_run, then both by wg_sim_run_pair (what a sweep
- * thread does with --pair 2), without impacts and impacting.
+ * the bookkeeping, zone tests and period ends): eight table3 sims one
+ * after the other by wg_sim_run, two at a time by wg_sim_run_pair (what a
+ * sweep thread does with --pair 2), then all eight by wg_sim_run_batch
+ * (--pair 8), without impacts and impacting.
  * Thread CPU time, medians of REPS repetitions interleaved.
  * usage: bench_pair_{sse2,avx2,avx512} [steps per repetition (2e6)] [reps (7)] */
 #ifndef KW
@@ -77,17 +78,22 @@ __attribute__((noinline)) static double hsum_chain(const double *d6, long n)
     return hsumb(p);
 }
 
-/* ns a step of two sims (omega w and w + 0.05, xi_p 0.10 and 0.11, N 256)
- * run alone one after the other, and paired; 200 periods each. */
-static void runs(double w, double *alone, double *paired)
+/* ns a step of eight sims (omega w + 0.01 j, xi_p 0.10 + 0.005 j, N 256),
+ * 200 periods each: one after another by wg_sim_run, two at a time by
+ * wg_sim_run_pair (--pair 2), and all eight by wg_sim_run_batch (one per
+ * vector lane where the CPU has AVX-512; called again with the ones left
+ * each time one is done). */
+enum { NS = 8 };
+static void runs(double w, double *alone, double *paired, double *batched)
 {
-    wg_sim s[2];
+    wg_sim s[NS];
     char why[300];
-    for (int j = 0; j < 2; j++) {
+    const uint64_t len = 200 * 256;
+    for (int j = 0; j < NS; j++) {
         wg_params p;
         wg_params_default(&p);
-        p.v[WG_P_OMEGA] = w + 0.05 * j;
-        p.v[WG_P_XI_P] = 0.10 + 0.01 * j;
+        p.v[WG_P_OMEGA] = w + 0.01 * j;
+        p.v[WG_P_XI_P] = 0.10 + 0.005 * j;
         wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, 256};
         if (wg_sim_init(&s[j], &p, &cfg, why, sizeof why)) {
             fprintf(stderr, "bench_pair: %s\n", why);
@@ -95,21 +101,46 @@ static void runs(double w, double *alone, double *paired)
         }
         wg_sim_run(&s[j], 50 * 256, NULL, NULL); /* onto the attractor */
     }
-    const uint64_t n[2] = {200 * 256, 200 * 256};
     double a = bench_now_ns();
-    wg_sim_run(&s[0], n[0], NULL, NULL);
-    wg_sim_run(&s[1], n[1], NULL, NULL);
+    for (int j = 0; j < NS; j++)
+        wg_sim_run(&s[j], len, NULL, NULL);
     double b = bench_now_ns();
-    wg_sim *const sp[2] = {&s[0], &s[1]};
-    const wg_sink *const sk[2] = {NULL, NULL};
-    uint64_t done[2];
-    int rc[2];
-    wg_sim_run_pair(sp, n, sk, done, rc);
+    for (int j = 0; j < NS; j += 2) {
+        wg_sim *const sp[2] = {&s[j], &s[j + 1]};
+        uint64_t n[2] = {len, len}, done[2];
+        const wg_sink *const sk[2] = {NULL, NULL};
+        int rc[2];
+        while (n[0] && n[1]) {
+            wg_sim_run_pair(sp, n, sk, done, rc);
+            n[0] -= done[0], n[1] -= done[1];
+        }
+        wg_sim_run(sp[0], n[0], NULL, NULL);
+        wg_sim_run(sp[1], n[1], NULL, NULL);
+    }
     double c = bench_now_ns();
-    *alone = (b - a) / (2.0 * n[0]);
-    *paired = (c - b) / (2.0 * n[0]);
-    wg_sim_fini(&s[0]);
-    wg_sim_fini(&s[1]);
+    uint64_t left[NS];
+    for (int j = 0; j < NS; j++)
+        left[j] = len;
+    for (;;) {
+        wg_sim *sp[NS];
+        uint64_t n[NS], done[NS];
+        const wg_sink *sk[NS];
+        int rc[NS], idx[NS], m = 0;
+        for (int j = 0; j < NS; j++)
+            if (left[j])
+                sp[m] = &s[j], n[m] = left[j], sk[m] = NULL, idx[m++] = j;
+        if (!m)
+            break;
+        wg_sim_run_batch(m, sp, n, sk, done, rc);
+        for (int i = 0; i < m; i++)
+            left[idx[i]] -= rc[i] ? left[idx[i]] : done[i];
+    }
+    double d = bench_now_ns();
+    *alone = (b - a) / (double)(NS * len);
+    *paired = (c - b) / (double)(NS * len);
+    *batched = (d - c) / (double)(NS * len);
+    for (int j = 0; j < NS; j++)
+        wg_sim_fini(&s[j]);
 }
 
 int main(int argc, char **argv)
@@ -191,14 +222,17 @@ int main(int argc, char **argv)
            lh, lh / la, sink == 1.0 ? " " : "");
     static const double omega[2] = {0.5, 0.7};
     for (int k = 0; k < 2; k++) {
-        double ra[64], rp[64], rr[64];
+        double ra[64], rp[64], rb[64], rr[64], rs[64];
         for (int r = 0; r < reps; r++) {
-            runs(omega[k], &ra[r], &rp[r]);
+            runs(omega[k], &ra[r], &rp[r], &rb[r]);
             rr[r] = ra[r] / rp[r];
+            rs[r] = ra[r] / rb[r];
         }
-        printf("runs, omega %.2f/%.2f %s  alone %.1f, paired %.1f ns/step: %.2fx\n", omega[k],
-               omega[k] + 0.05, k ? "(impacting) " : "(no impact)", bench_median(ra, reps),
-               bench_median(rp, reps), bench_median(rr, reps));
+        printf("runs, omega %.2f..%.2f %s  alone %.1f, paired %.1f, batched %.1f ns/step: "
+               "%.2fx, %.2fx\n",
+               omega[k], omega[k] + 0.07, k ? "(impacting) " : "(no impact)",
+               bench_median(ra, reps), bench_median(rp, reps), bench_median(rb, reps),
+               bench_median(rr, reps), bench_median(rs, reps));
     }
     wg_sim_fini(&s);
     return 0;

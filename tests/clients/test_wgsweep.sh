@@ -25,10 +25,13 @@ check "the last line names every file written" 'grep -q "; wrote $dir/w.csv, $di
 "$sweep" $common --threads 2 --values xi_p=0.08,0.10 --out "$dir/s2" >/dev/null
 check "threads: identical csv" 'cmp -s "$dir/s1.csv" "$dir/s2.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/s2-poincare.csv"'
 "$sweep" $common --threads 1 --pair 1 --values xi_p=0.08,0.10 --out "$dir/p1" >/dev/null
-check "--pair 1 (one chain at a time) against the default 2: identical csv" \
+check "--pair 1 (one chain at a time) against the default 8 (the four chains batched, a run a vector lane, with AVX-512): identical csv" \
   'cmp -s "$dir/s1.csv" "$dir/p1.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/p1-poincare.csv"'
+"$sweep" $common --threads 1 --pair 2 --values xi_p=0.08,0.10 --out "$dir/p2" >/dev/null
+check "--pair 2 (two chains' runs paired): identical csv" \
+  'cmp -s "$dir/s1.csv" "$dir/p2.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/p2-poincare.csv"'
 check "the JSON and the Markdown record --pair" \
-  'grep -q "\"threads\":1,\"pair\":1," "$dir/p1.json" && grep -q "\"threads\":1,\"pair\":2," "$dir/s1.json" && grep -q "1 chain(s) at once on each thread" "$dir/p1.md"'
+  'grep -q "\"threads\":1,\"pair\":1," "$dir/p1.json" && grep -q "\"threads\":1,\"pair\":8," "$dir/s1.json" && grep -q "1 chain(s) at once on each thread" "$dir/p1.md"'
 "$sweep" --pair 9 --values xi_p=0.08 >/dev/null 2>"$dir/pair.err"
 rc=$?
 check "--pair 9 refused: exit 2 and what is allowed" '[ $rc -eq 2 ] && grep -q "^wgsweep: --pair: need 1..8, got .9.$" "$dir/pair.err"'

@@ -283,6 +283,162 @@ static void test_pair_sink_changes_sim(void)
     wg_sim_fini(&b2);
 }
 
+/* L sims by wg_sim_run_batch, each call with the ones not yet done, until
+ * all are (each call must return once one of them is done or fails), and
+ * each alone by wg_sim_run, on every instruction set: the same bits; with
+ * want_batched, most steps in the batched loop on AVX-512 (none elsewhere).
+ * Returns the number of calls. */
+static int check_batch(int L, const spec *sp, const int *want_rc, int want_batched)
+{
+    int calls = 0;
+    for (int isa = 0; isa < KISA_N; isa++) {
+        if (!kernel_isa_supported(isa))
+            continue;
+        wg_sim alone[KB_LANES], bs[KB_LANES];
+        runrec ra[KB_LANES], rb[KB_LANES];
+        wg_sink sk[KB_LANES];
+        uint64_t done[KB_LANES] = {0};
+        int rc[KB_LANES] = {0};
+        for (int j = 0; j < L; j++) {
+            sim_of(&sp[j], isa, &alone[j]);
+            memset(&ra[j], 0, sizeof ra[j]);
+            wg_sink ska = {&ra[j], sp[j].general ? on_step : NULL, on_sec, on_ev};
+            ASSERT_EQ_INT(wg_sim_run(&alone[j], sp[j].n, &ska, NULL), want_rc[j]);
+            sim_of(&sp[j], isa, &bs[j]);
+            memset(&rb[j], 0, sizeof rb[j]);
+            sk[j] = (wg_sink){&rb[j], sp[j].general ? on_step : NULL, on_sec, on_ev};
+        }
+        calls = 0;
+        for (;;) {
+            wg_sim *s[KB_LANES];
+            uint64_t n[KB_LANES], d[KB_LANES];
+            const wg_sink *k[KB_LANES];
+            int r[KB_LANES], idx[KB_LANES], m = 0;
+            for (int j = 0; j < L; j++)
+                if (done[j] < sp[j].n && rc[j] == WG_OK) {
+                    s[m] = &bs[j], n[m] = sp[j].n - done[j], k[m] = &sk[j], d[m] = 99;
+                    idx[m++] = j;
+                }
+            if (m == 0)
+                break;
+            wg_sim_run_batch(m, s, n, k, d, r);
+            calls++;
+            int one = 0;
+            for (int i = 0; i < m; i++) {
+                ASSERT_TRUE(d[i] <= n[i]);
+                one |= d[i] == n[i] || r[i] != WG_OK;
+                done[idx[i]] += d[i];
+                rc[idx[i]] = r[i];
+            }
+            ASSERT_TRUE(one);
+        }
+        uint64_t steps = 0, batched = 0;
+        for (int j = 0; j < L; j++) {
+            steps += bs[j].steps;
+            batched += bs[j].core->batched;
+            ASSERT_EQ_INT(rc[j], want_rc[j]);
+            same_run(&alone[j], &bs[j], &ra[j], &rb[j]);
+            wg_sim_fini(&alone[j]);
+            wg_sim_fini(&bs[j]);
+        }
+        printf("%s: %d sims in %d calls, %llu of %llu steps in the batched loop: each as "
+               "alone\n", kernel_isa_name(isa), L, calls, (unsigned long long)batched,
+               (unsigned long long)steps);
+        if (isa == KISA_AVX512 && want_batched) /* most steps in one loop */
+            ASSERT_TRUE(batched > steps / 2);
+        else if (isa != KISA_AVX512)
+            ASSERT_TRUE(batched == 0);
+    }
+    return calls;
+}
+
+/* Eight sims in the batched loop: impacting and not, chaotic, other N,
+ * another damping, runs of other lengths (a period's end in mid-loop, a
+ * run ending mid-period), one that blows up at its second step. */
+static void test_batch_eight(void)
+{
+    const spec sp[8] = {{NULL, 0.7, 0.10, 0, 128, 0, 60 * 128},
+                        {NULL, 0.5, 0.08, 0, 256, 0, 29 * 256 + 5},
+                        {NULL, 1.45, 0.12, 0, 128, 0, 45 * 128 + 77},
+                        {NULL, 0.7, 0.10, 6e8, 128, 0, 8 * 128},
+                        {NULL, 2.5, 0.10, 0, 128, 0, 70 * 128},
+                        {NULL, 0.9, 0.05, 0, 256, 0, 20 * 256 + 1},
+                        {NULL, 1.2, 0.15, 0, 200, 0, 33 * 200},
+                        {NULL, 0.75, 0.10, 0, 128, 0, 52 * 128 + 64}};
+    const int want[8] = {WG_OK, WG_OK, WG_OK, WG_ENONFINITE, WG_OK, WG_OK, WG_OK, WG_OK};
+    ASSERT_TRUE(check_batch(8, sp, want, 1) >= 7);
+    ASSERT_TRUE(check_batch(3, sp + 4, want + 4, 1) >= 2);
+    ASSERT_TRUE(check_batch(1, sp + 2, want + 2, 0) == 1);
+}
+
+/* A batch that cannot run in one loop: another specialisation (the
+ * torsional scene) or a per-step callback in it: the sims run in turn,
+ * each still as alone. */
+static void test_batch_in_turn(void)
+{
+    const spec sp[4] = {{NULL, 0.7, 0.10, 0, 128, 0, 40 * 128},
+                        {"torsional", 1.0, 0.10, 0, 128, 0, 40 * 128},
+                        {NULL, 0.5, 0.08, 0, 256, 0, 29 * 256 + 5},
+                        {NULL, 1.45, 0.12, 0, 128, 1, 30 * 128}};
+    const int ok[4] = {WG_OK, WG_OK, WG_OK, WG_OK};
+    check_batch(4, sp, ok, 0);
+    const spec gen[3] = {sp[0], sp[3], sp[2]};
+    check_batch(3, gen, ok, 0);
+}
+
+/* A sink that ramps omega and then respecialises its sim mid-run (as in
+ * test_pair_sink_changes_sim), in a batch of three: the loop is left at
+ * once, and each sim ends as alone. */
+static void test_batch_sink_changes_sim(void)
+{
+    const spec sp[3] = {{NULL, 0.7, 0.10, 0, 128, 0, 0}, {NULL, 0.5, 0.10, 0, 128, 0, 0},
+                        {NULL, 1.45, 0.12, 0, 128, 0, 0}};
+    const uint64_t n = 30 * 128;
+    int isa = kernel_isa_choose();
+    wg_sim alone, s3[3];
+    changer ca, cp;
+    runrec r3[3], rr;
+    memset(&ca, 0, sizeof ca);
+    memset(&cp, 0, sizeof cp);
+    memset(r3, 0, sizeof r3);
+    sim_of(&sp[0], isa, &alone);
+    for (int j = 0; j < 3; j++)
+        sim_of(&sp[j], isa, &s3[j]);
+    ca.sim = &alone, cp.sim = &s3[0];
+    wg_sink ska = {&ca, NULL, on_sec_change, on_ev};
+    wg_sink sk[3] = {{&cp, NULL, on_sec_change, on_ev}, {&r3[1], NULL, on_sec, on_ev},
+                     {&r3[2], NULL, on_sec, on_ev}};
+    ASSERT_EQ_INT(wg_sim_run(&alone, n, &ska, NULL), WG_OK);
+    wg_sim *const s[3] = {&s3[0], &s3[1], &s3[2]};
+    const uint64_t nn[3] = {n, 2 * n, 2 * n};
+    const wg_sink *const skp[3] = {&sk[0], &sk[1], &sk[2]};
+    uint64_t done[3];
+    int rc[3];
+    wg_sim_run_batch(3, s, nn, skp, done, rc);
+    ASSERT_TRUE(rc[0] == WG_OK && rc[1] == WG_OK && rc[2] == WG_OK);
+    ASSERT_TRUE(done[0] == n || done[1] == 2 * n || done[2] == 2 * n);
+    for (int j = 0; j < 3; j++) { /* the rest of each, alone */
+        uint64_t d = 0;
+        ASSERT_EQ_INT(wg_sim_run(s[j], nn[j] - done[j], &sk[j], &d), WG_OK);
+        done[j] += d;
+    }
+    ASSERT_TRUE(ca.rc == WG_OK && cp.rc == WG_OK && !(s3[0].core->kflags & KF_BJ));
+    same_run(&alone, &s3[0], &ca.r, &cp.r);
+    for (int j = 1; j < 3; j++) {
+        wg_sim b;
+        memset(&rr, 0, sizeof rr);
+        sim_of(&sp[j], isa, &b);
+        wg_sink skb = {&rr, NULL, on_sec, on_ev};
+        ASSERT_EQ_INT(wg_sim_run(&b, done[j], &skb, NULL), WG_OK);
+        same_run(&b, &s3[j], &rr, &r3[j]);
+        wg_sim_fini(&b);
+    }
+    printf("a sink in a batch ramped its sim, then respecialised it: the same as alone\n");
+    wg_sim_fini(&alone);
+    for (int j = 0; j < 3; j++)
+        wg_sim_fini(&s3[j]);
+}
+
 /* A duo task: its runs, one after another, each recorded; or none. */
 typedef struct dtask {
     spec sp;
@@ -341,4 +497,5 @@ static void test_duo_tasks(void)
 }
 
 TEST_MAIN(TEST(test_pair_differs_in_params), TEST(test_pair_in_turn), TEST(test_pair_blowup),
-          TEST(test_pair_sink_changes_sim), TEST(test_duo_tasks))
+          TEST(test_pair_sink_changes_sim), TEST(test_batch_eight), TEST(test_batch_in_turn),
+          TEST(test_batch_sink_changes_sim), TEST(test_duo_tasks))

@@ -192,8 +192,10 @@ static void test_threads_identical(void)
 }
 
 /* Chains advanced o.pair at a time on a thread (their runs paired by
- * wg_sim_run_pair) give the same points, to the bit, as one at a time: on
- * one thread, and on two with more tasks than chains, through early-stopped
+ * wg_sim_run_pair, or, four or more on AVX-512, batched by
+ * wg_sim_run_batch) give the same points, to the bit, as one at a time: on
+ * one thread (five runs batched), and on two with more tasks than chains
+ * (three chains and two: paired), through early-stopped
  * transients, extensions, the LLE of aperiodic points, N raised at low
  * omega (runs of different N paired), impacts, and the 2N check. */
 static void test_pairs_identical(void)
@@ -201,14 +203,14 @@ static void test_pairs_identical(void)
     wg_params p = table3();
     wg_sweep_opts o;
     wg_sweep_opts_default(&o);
-    ASSERT_EQ_INT(o.pair, 2);
+    ASSERT_EQ_INT(o.pair, 8);
     o.transient = 150;
     o.settle = 32;
     o.verify = 1;
-    enum { NC = 5, NP = 2, NK = 3 };
+    enum { NC = 5, NP = 2, NK = 4 };
     static const double span[NC][3] = {{0.08, 1.18, 1.21}, {0.10, 1.21, 1.18}, {0.10, 0.70, 0.72},
                                        {0.12, 0.03, 0.04}, {0.10, 1.45, 1.47}};
-    static const int pair[NK] = {1, 2, 8}, threads[NK] = {1, 1, 2};
+    static const int pair[NK] = {1, 2, 8, 8}, threads[NK] = {1, 1, 2, 1};
     static wg_point pts[NK][NC][NP];
     int steps[NC] = {0}, aperiodic = 0;
     for (int k = 0; k < NK; k++) {
@@ -228,7 +230,7 @@ static void test_pairs_identical(void)
                 aperiodic += pts[0][i][j].regime != WG_REGIME_PERIODIC;
         }
     }
-    printf("  pairs: %d chains x %d points, pair 1/2/8, N %d and %d, %d aperiodic, "
+    printf("  pairs: %d chains x %d points, pair 1/2/8 (2 threads)/8, N %d and %d, %d aperiodic, "
            "compared bitwise\n", NC, NP, steps[0], steps[3], aperiodic);
     ASSERT_TRUE(steps[3] > steps[0]); /* a low-omega chain ran with a raised N */
     ASSERT_TRUE(aperiodic > 0);
