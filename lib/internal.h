@@ -121,7 +121,7 @@ typedef struct wg_kbatch {
     double xn[KB_LANES], dxn[KB_LANES], tau[KB_LANES], tc[KB_LANES];
     double mn[KB_LANES], mx[KB_LANES];
     /* each lane's constants (wg_kcoef) and zone bounds (fbound) */
-    double c[6][KB_LANES], m[6][KB_LANES], k[6][KB_LANES], d[6][KB_LANES];
+    double c[6][KB_LANES], m[6][KB_LANES], k[6][KB_LANES], nd[6][KB_LANES]; /* nd: -d */
     double cd[6][KB_LANES], ck[6][KB_LANES], w[6][KB_LANES], zc[6][KB_LANES];
     double bj[KB_LANES], M[KB_LANES], ds[KB_LANES], dp[KB_LANES], b[KB_LANES];
     double w0[KB_LANES], zc0[KB_LANES], h[KB_LANES];

@@ -93,7 +93,7 @@ INLINE void bstage(const wg_kbatch *restrict B, vb kp, vb te, vb dte, vb fx, con
 #pragma GCC unroll 6
     for (int b = 0; b < 6; b++) {
         vb gb = !BJ ? q[b] : LOCK ? bld(B->w[b]) * q[b] - bld(B->zc[b]) : bdz(q[b], bld(B->bj));
-        vb base = -(bld(B->d[b]) * v[b]) - bld(B->k[b]) * gb;
+        vb base = bld(B->nd[b]) * v[b] - bld(B->k[b]) * gb; /* (-d) v == -(d v) exactly */
         pb[b] = bld(B->cd[b]) * v[b] + bld(B->ck[b]) * gb;
         acc[b] = base - bld(B->m[b]) * F;
     }

@@ -414,7 +414,7 @@ static void kb_load(wg_kbatch *B, int l, const wg_kcoef *K, const wg_krun *r, ui
         B->c[b][l] = K->c[b];
         B->m[b][l] = K->m[b];
         B->k[b][l] = K->k[b];
-        B->d[b][l] = K->d[b];
+        B->nd[b][l] = -K->d[b];
         B->cd[b][l] = K->cd[b];
         B->ck[b][l] = K->ck[b];
         B->w[b][l] = K->w[1 + b];
