@@ -20,6 +20,10 @@ typedef void (*duo_task_fn)(duo *d, void *arg);
  * thread and returns when every one has returned: WG_OK, or WG_ENOMEM if
  * the stacks could not be had (then nothing ran). */
 enum { DUO_MAX = 8 };
+
+/* Runs of one kind waiting at once from which the scheduler batches them
+ * (wg_sim_run_batch, where the CPU has a batched loop); fewer are paired. */
+enum { DUO_BATCH_MIN = 4 };
 int duo_main(int n, duo_task_fn fn, void *const args[]);
 
 /* From a task: wg_sim_run(s, n, sink, NULL), interleaved with another

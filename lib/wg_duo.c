@@ -235,7 +235,7 @@ int duo_main(int n, duo_task_fn fn, void *const args[])
          * in one batch (one sim a vector lane); else the two oldest paired */
         const wg_sim_core *c = d->t[a].s->core;
         int idx[DUO_MAX], L = same_kind(d, a, idx);
-        if (L >= 4 && kbatch_select(c->kflags, c->isa))
+        if (L >= DUO_BATCH_MIN && kbatch_select(c->kflags, c->isa))
             advance_batch(d, idx, L);
         else
             advance(d, a, oldest_waiting(d, a));

@@ -655,13 +655,17 @@ static void pool_chains(duo *d, void *arg)
     }
 }
 
-/* A thread: o->pair chains at once, or one at a time (also when the
- * tasks' stacks cannot be had). */
+/* A thread: o->pair chains at once (at most two when the chains are too
+ * few for batches), or one at a time (also when the tasks' stacks cannot
+ * be had). */
 static void *pool_worker(void *arg)
 {
     pool_thread *pt = arg;
     pool *pl = pt->pl;
     int k = pl->o->pair < 1 ? 1 : pl->o->pair > DUO_MAX ? DUO_MAX : pl->o->pair;
+    if (k > 2 && (pl->n + pl->nt - 1) / pl->nt < DUO_BATCH_MIN)
+        k = 2; /* too few chains a thread to batch: two paired, the rest left to
+                  whichever thread is free first (the study's six chains) */
     void *args[DUO_MAX];
     for (int i = 0; i < k; i++)
         args[i] = pt;

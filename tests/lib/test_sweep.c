@@ -195,7 +195,7 @@ static void test_threads_identical(void)
  * wg_sim_run_pair, or, four or more on AVX-512, batched by
  * wg_sim_run_batch) give the same points, to the bit, as one at a time: on
  * one thread (five runs batched), and on two with more tasks than chains
- * (three chains and two: paired), through early-stopped
+ * (too few a thread to batch: two at a time), through early-stopped
  * transients, extensions, the LLE of aperiodic points, N raised at low
  * omega (runs of different N paired), impacts, and the 2N check. */
 static void test_pairs_identical(void)
