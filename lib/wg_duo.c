@@ -6,8 +6,8 @@
  * then advances the two runs asked for longest ago with wg_sim_run_pair
  * (four or more of one kind, on a CPU with a batched loop: all of those
  * with wg_sim_run_batch, one sim a vector lane) until one is done, and
- * resumes that task; a run with no partner goes by wg_sim_run. The runs themselves (and their sinks' callbacks) execute on
- * the scheduler's stack. Under AddressSanitizer every switch is announced
+ * resumes that task; a run with no partner goes by wg_sim_run. The runs
+ * themselves (and their sinks' callbacks) execute on the scheduler's stack. Under AddressSanitizer every switch is announced
  * (__sanitizer_start/finish_switch_fiber) so it tracks the stacks. */
 #include "duo.h"
 #include "internal.h"

@@ -519,6 +519,9 @@ void wg_sim_run_batch(int L, wg_sim *const s[], const uint64_t n[], const wg_sin
 {
     runner R[KB_LANES];
     runbuf b[KB_LANES];
+    if (L > KB_LANES) /* refused whole: nothing runs */
+        for (int j = 0; j < L; j++)
+            done[j] = 0, rc[j] = WG_EINVAL;
     if (L < 1 || L > KB_LANES)
         return;
     for (int j = 0; j < L; j++)

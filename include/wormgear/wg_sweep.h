@@ -47,7 +47,8 @@ typedef struct wg_sweep_opts {
                             results): 2 to 8 (8, the default), their runs paired
                             (wg_sim_run_pair) or, four or more where the CPU
                             has AVX-512, batched (wg_sim_run_batch); 1: one at
-                            a time */
+                            a time. A thread takes at most its share of the
+                            chains, and two at once when that is under four */
 } wg_sweep_opts;
 
 /* Result of one point. */

@@ -384,6 +384,20 @@ static void test_batch_in_turn(void)
     check_batch(4, sp, ok, 0);
     const spec gen[3] = {sp[0], sp[3], sp[2]};
     check_batch(3, gen, ok, 0);
+    /* more than eight: refused, nothing runs */
+    wg_sim one;
+    sim_of(&sp[0], kernel_isa_choose(), &one);
+    wg_sim *s9[9];
+    uint64_t n9[9], d9[9];
+    const wg_sink *k9[9];
+    int r9[9];
+    for (int j = 0; j < 9; j++)
+        s9[j] = &one, n9[j] = 128, k9[j] = NULL, d9[j] = 7, r9[j] = WG_OK;
+    wg_sim_run_batch(9, s9, n9, k9, d9, r9);
+    for (int j = 0; j < 9; j++)
+        ASSERT_TRUE(r9[j] == WG_EINVAL && d9[j] == 0);
+    ASSERT_TRUE(one.steps == 0);
+    wg_sim_fini(&one);
 }
 
 /* A sink that ramps omega and then respecialises its sim mid-run (as in
