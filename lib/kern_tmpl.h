@@ -239,7 +239,10 @@ INLINE void kst_store(double *restrict y, kst a)
 /* T RK4 steps of independent trajectories (T = 1, or 2 for the paired
  * run), stage by stage in turn, so that one trajectory's work sits next to
  * the other's while it waits on its chain. Each trajectory's arithmetic is
- * the same whatever T. */
+ * the same whatever T. kern_batch.h does this step, frun_check and
+ * kloc_accept again with a run per lane (brk4, run_batch), operation for
+ * operation: a change here is a change there (lib.test_pair compares the
+ * two bitwise). */
 INLINE void rk4_full_t(const int T, const vconst *const C[], const wg_kcoef *const K[],
                        const wg_exc *const e[], const double h[], const kst y0[], kst y1[],
                        const int LOCK, const int BJ, const int MB, const int KA, const int EM)
