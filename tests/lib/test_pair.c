@@ -55,7 +55,9 @@ typedef struct spec {
     uint64_t n;        /* steps to run */
 } spec;
 
-static void sim_of(const spec *sp, int isa, wg_sim *s)
+/* A sim for sp on instruction set isa, with rk4-event (rk4: the plain rk4
+ * stepper, whose dead zones are min/max instead of zone-locked). */
+static void sim_of_stepper(const spec *sp, int isa, int rk4, wg_sim *s)
 {
     wg_params p;
     wg_params_default(&p);
@@ -67,13 +69,24 @@ static void sim_of(const spec *sp, int isa, wg_sim *s)
     }
     p.v[WG_P_OMEGA] = sp->omega;
     p.v[WG_P_XI_P] = sp->xi_p;
-    kfix_sim_on(s, &p, sp->N, isa);
+    if (rk4) { /* as kfix_sim_on, with the other stepper */
+        wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4, sp->N};
+        char why[300];
+        ASSERT_TRUE(setenv("WG_ISA", kernel_isa_name(isa), 1) == 0);
+        ASSERT_EQ_INT(wg_sim_init(s, &p, &cfg, why, sizeof why), WG_OK);
+        unsetenv("WG_ISA");
+        ASSERT_EQ_INT(s->core->isa, isa);
+    } else {
+        kfix_sim_on(s, &p, sp->N, isa);
+    }
     if (sp->s0 != 0.0) {
         double y0[WG_NSTATE_MAX] = {0};
         y0[6] = sp->s0;
         wg_sim_set_state(s, y0, 0, 0.0);
     }
 }
+
+static void sim_of(const spec *sp, int isa, wg_sim *s) { sim_of_stepper(sp, isa, 0, s); }
 
 /* a and p ran the same steps to the same bits: state, time, phase,
  * counters, events, the period in progress, and what their sinks saw. */
@@ -288,7 +301,7 @@ static void test_pair_sink_changes_sim(void)
  * each alone by wg_sim_run, on every instruction set: the same bits; with
  * want_batched, most steps in the batched loop on AVX-512 (none elsewhere).
  * Returns the number of calls. */
-static int check_batch(int L, const spec *sp, const int *want_rc, int want_batched)
+static int check_batch(int L, const spec *sp, const int *want_rc, int want_batched, int rk4)
 {
     int calls = 0;
     for (int isa = 0; isa < KISA_N; isa++) {
@@ -300,11 +313,11 @@ static int check_batch(int L, const spec *sp, const int *want_rc, int want_batch
         uint64_t done[KB_LANES] = {0};
         int rc[KB_LANES] = {0};
         for (int j = 0; j < L; j++) {
-            sim_of(&sp[j], isa, &alone[j]);
+            sim_of_stepper(&sp[j], isa, rk4, &alone[j]);
             memset(&ra[j], 0, sizeof ra[j]);
             wg_sink ska = {&ra[j], sp[j].general ? on_step : NULL, on_sec, on_ev};
             ASSERT_EQ_INT(wg_sim_run(&alone[j], sp[j].n, &ska, NULL), want_rc[j]);
-            sim_of(&sp[j], isa, &bs[j]);
+            sim_of_stepper(&sp[j], isa, rk4, &bs[j]);
             memset(&rb[j], 0, sizeof rb[j]);
             sk[j] = (wg_sink){&rb[j], sp[j].general ? on_step : NULL, on_sec, on_ev};
         }
@@ -366,9 +379,29 @@ static void test_batch_eight(void)
                         {NULL, 1.2, 0.15, 0, 200, 0, 33 * 200},
                         {NULL, 0.75, 0.10, 0, 128, 0, 52 * 128 + 64}};
     const int want[8] = {WG_OK, WG_OK, WG_OK, WG_ENONFINITE, WG_OK, WG_OK, WG_OK, WG_OK};
-    ASSERT_TRUE(check_batch(8, sp, want, 1) >= 7);
-    ASSERT_TRUE(check_batch(3, sp + 4, want + 4, 1) >= 2);
-    ASSERT_TRUE(check_batch(1, sp + 2, want + 2, 0) == 1);
+    ASSERT_TRUE(check_batch(8, sp, want, 1, 0) >= 7);
+    ASSERT_TRUE(check_batch(3, sp + 4, want + 4, 1, 0) >= 2);
+    ASSERT_TRUE(check_batch(1, sp + 2, want + 2, 0, 0) == 1);
+}
+
+/* Other specialisations in the batched loop: the plain rk4 stepper (dead
+ * zones by min/max instead of zone-locked; four sims, most steps batched),
+ * and the lowfreq and realistic scenes, two of each and all four. */
+static void test_batch_kinds(void)
+{
+    const spec rk4[4] = {{NULL, 0.7, 0.10, 0, 128, 0, 40 * 128},
+                         {NULL, 0.5, 0.08, 0, 256, 0, 20 * 256 + 5},
+                         {NULL, 1.45, 0.12, 0, 128, 0, 45 * 128},
+                         {NULL, 0.75, 0.10, 0, 128, 0, 33 * 128 + 64}};
+    const spec low[4] = {{"lowfreq", 0.5, 0.10, 0, 128, 0, 30 * 128},
+                         {"lowfreq", 0.7, 0.05, 0, 128, 0, 40 * 128 + 3},
+                         {"realistic", 0.5, 0.10, 0, 128, 0, 30 * 128},
+                         {"realistic", 0.9, 0.10, 0, 256, 0, 20 * 256}};
+    const int ok[4] = {WG_OK, WG_OK, WG_OK, WG_OK};
+    check_batch(4, rk4, ok, 1, 1);
+    check_batch(2, low, ok, 0, 0);
+    check_batch(2, low + 2, ok, 0, 0);
+    check_batch(4, low, ok, 0, 0); /* the two scenes in one batch */
 }
 
 /* A batch that cannot run in one loop: another specialisation (the
@@ -381,9 +414,9 @@ static void test_batch_in_turn(void)
                         {NULL, 0.5, 0.08, 0, 256, 0, 29 * 256 + 5},
                         {NULL, 1.45, 0.12, 0, 128, 1, 30 * 128}};
     const int ok[4] = {WG_OK, WG_OK, WG_OK, WG_OK};
-    check_batch(4, sp, ok, 0);
+    check_batch(4, sp, ok, 0, 0);
     const spec gen[3] = {sp[0], sp[3], sp[2]};
-    check_batch(3, gen, ok, 0);
+    check_batch(3, gen, ok, 0, 0);
     /* more than eight: refused, nothing runs */
     wg_sim one;
     sim_of(&sp[0], kernel_isa_choose(), &one);
@@ -511,5 +544,5 @@ static void test_duo_tasks(void)
 }
 
 TEST_MAIN(TEST(test_pair_differs_in_params), TEST(test_pair_in_turn), TEST(test_pair_blowup),
-          TEST(test_pair_sink_changes_sim), TEST(test_batch_eight), TEST(test_batch_in_turn),
+          TEST(test_pair_sink_changes_sim), TEST(test_batch_eight), TEST(test_batch_kinds), TEST(test_batch_in_turn),
           TEST(test_batch_sink_changes_sim), TEST(test_duo_tasks))
