@@ -168,13 +168,27 @@ cairo_t *pd_canvas(const char *path, const char *format, int w, int h, cairo_sur
     return cr;
 }
 
+/* A caption line centred at (x, y): 12.5 pt, smaller where that would not
+ * fit in width w less a margin (a long scene name or N range). */
+static void caption_line(cairo_t *cr, double x, double y, double w, const char *s)
+{
+    cairo_text_extents_t e;
+    double size = 12.5;
+    cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, size);
+    cairo_text_extents(cr, s, &e);
+    if (e.x_advance > w - 80) /* 40 px a side */
+        size *= (w - 80) / e.x_advance;
+    text(cr, x, y, size, 0.5, s);
+}
+
 double pd_page_head(cairo_t *cr, double w, const char *title, const plot_page *pg)
 {
     cairo_set_source_rgb(cr, 0, 0, 0);
     text(cr, w / 2, 30, 20, 0.5, title ? title : "");
     double y = 30;
     for (int i = 0; i < 4 && pg->caption[i]; i++)
-        text(cr, w / 2, y += 18, 12.5, 0.5, pg->caption[i]);
+        caption_line(cr, w / 2, y += 18, w, pg->caption[i]);
     return y;
 }
 

@@ -45,7 +45,7 @@ void plot_text_caption(char cap[2][400], const char *scene, const wg_params *p,
                        const wg_params *scene_p, int swept, int swept2, const wg_sweep_opts *o,
                        int nmin, int nmax)
 {
-    char xi[48], n[64], ext[96] = "";
+    char xi[48], n[64], ext[96] = "", early[64] = "";
     if (swept == WG_P_XI_P || swept2 == WG_P_XI_P)
         snprintf(xi, sizeof xi, "ξ_p swept");
     else
@@ -59,8 +59,10 @@ void plot_text_caption(char cap[2][400], const char *scene, const wg_params *p,
     if (o->extend > 0)
         snprintf(ext, sizeof ext, " (+ up to %d x %d while no period is found)", o->extend,
                  o->transient);
-    snprintf(cap[0], 400, "scene %s, %s, %s, transient %d periods%s, %d periods recorded", scene,
-             xi, n, o->transient, ext, o->record);
+    if (o->settle > 0)
+        snprintf(early, sizeof early, " or fewer, ending once settled over %d", o->settle);
+    snprintf(cap[0], 400, "scene %s, %s, %s, transient %d periods%s%s, %d periods recorded",
+             scene, xi, n, o->transient, early, ext, o->record);
     int len = snprintf(cap[1], 400, "set away from the scene:"), shown = 0;
     for (int id = 0; id < WG_NPARAM && len < 330; id++)
         if (id != swept && id != swept2 && id != WG_P_XI_P && p->v[id] != scene_p->v[id])

@@ -92,6 +92,9 @@ svg=$dir/fa-at-omega-1.2
 check "--format svg: the files named" 'grep -q "^files .*$svg-phase.svg, $svg-poincare.svg, $svg-trace.svg\$" "$dir/fa.txt"'
 check "svg caption: scene, xi_p, what was set, N, transient, recorded" \
   'grep -q "^<desc>scene table3, ξ_p = 0.08, N = 256 steps per mesh period, transient 300 periods (+ up to 3 x 300 while no period is found), 128 periods recorded\$" "$svg-phase.svg" && grep -q "^set away from the scene: ω = 1.2 (scene: 1), f_e = 0.1 (scene: 0.092442)\$" "$svg-phase.svg"'
+"$sweep" --at 1.2 --at-periods 200 --format svg --settle 24 --out "$dir/fs" > /dev/null
+check "svg caption with --settle 24: the early stop said" \
+  'grep -q "^<desc>scene table3, ξ_p = 0.08, N = 256 steps per mesh period, transient 300 periods or fewer, ending once settled over 24 (+ up to 3 x 300 while no period is found), 128 periods recorded\$" "$dir/fs-at-omega-1.2-phase.svg"'
 check "svg phase portrait and Poincare map: regime and Lyapunov exponent" \
   'for v in phase poincare; do grep -q "^P2 (periodic), single_sided, λ = -0\.[0-9]* per mesh period\$" "$svg-$v.svg" || exit 1; done'
 check "svg axes: x_n in b_c and um, x_n in b_c omega_n and m/s" \
