@@ -220,6 +220,19 @@ int la_solve(int n, double *a, double *r);
 static inline double dmin(double a, double b) { return a < b ? a : b; }
 static inline double dmax(double a, double b) { return a > b ? a : b; }
 
+/* A run's bounds (kern_tmpl.h's fbound, a wg_kbatch lane): lim = fin / 16,
+ * which every |y_i| must stay below, and the bearings' zone bounds clipped
+ * to it, into lo6 and hi6; returns lim. */
+static inline double krun_bounds(const wg_krun *r, double lo6[6], double hi6[6])
+{
+    const double lim = r->fin / 16;
+    for (int j = 0; j < 6; j++) {
+        lo6[j] = dmax(r->lo[1 + j], -lim);
+        hi6[j] = dmin(r->hi[1 + j], lim);
+    }
+    return lim;
+}
+
 /* ---- the sim's derived state (wg_sim.c), read by the step loop (wg_sim_run.c) */
 
 /* The kernel constants, the contacts' locks and the kernel choice from

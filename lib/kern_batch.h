@@ -19,9 +19,10 @@ INLINE void bsto(double *p, vb x) { _mm512_store_pd(p, (__m512d)x); }
 INLINE vb bmin(vb a, vb b) { return (vb)_mm512_min_pd((__m512d)a, (__m512d)b); }
 INLINE vb bmax(vb a, vb b) { return (vb)_mm512_max_pd((__m512d)a, (__m512d)b); }
 /* lanes in m from a, the others from b */
-INLINE vb bsel(__mmask8 m, vb a, vb b) { return (vb)_mm512_mask_blend_pd(m, (__m512d)b, (__m512d)a); }
-/* x - clamp(x, -c, c) lane-wise, as dz() */
-INLINE vb bdz(vb x, vb c) { return vdz(x, c); }
+INLINE vb bsel(__mmask8 m, vb a, vb b)
+{
+    return (vb)_mm512_mask_blend_pd(m, (__m512d)b, (__m512d)a);
+}
 /* ((p0 + p2) + p4) + ((p1 + p3) + p5): hsumb's order */
 INLINE vb bsum6(const vb p[6]) { return ((p[0] + p[2]) + p[4]) + ((p[1] + p[3]) + p[5]); }
 INLINE __mmask8 bcmpm(vb a, vb b, const int op)
@@ -87,12 +88,12 @@ INLINE void bstage(const wg_kbatch *restrict B, vb kp, vb te, vb dte, vb fx, con
         xn -= te;
         dxn += dte;
     }
-    vb g = !MB ? xn : LOCK ? bld(B->w0) * xn - bld(B->zc0) : bdz(xn, bld(B->b));
+    vb g = !MB ? xn : LOCK ? bld(B->w0) * xn - bld(B->zc0) : vdz(xn, bld(B->b));
     vb F = bld(B->dp) * dxn + (KA ? kp * g : g);
     vb pb[6];
 #pragma GCC unroll 6
     for (int b = 0; b < 6; b++) {
-        vb gb = !BJ ? q[b] : LOCK ? bld(B->w[b]) * q[b] - bld(B->zc[b]) : bdz(q[b], bld(B->bj));
+        vb gb = !BJ ? q[b] : LOCK ? bld(B->w[b]) * q[b] - bld(B->zc[b]) : vdz(q[b], bld(B->bj));
         vb base = bld(B->nd[b]) * v[b] - bld(B->k[b]) * gb; /* (-d) v == -(d v) exactly */
         pb[b] = bld(B->cd[b]) * v[b] + bld(B->ck[b]) * gb;
         acc[b] = base - bld(B->m[b]) * F;

@@ -410,14 +410,10 @@ typedef struct fbound {
 
 INLINE void fbound_load(fbound *restrict B, const wg_krun *restrict r)
 {
-    B->lim = r->fin / 16;
+    double lo6[6], hi6[6];
+    B->lim = krun_bounds(r, lo6, hi6);
     B->vlim = vsplat(B->lim);
     B->mlo = r->lo[0], B->mhi = r->hi[0];
-    double lo6[6], hi6[6];
-    for (int j = 0; j < 6; j++) {
-        lo6[j] = dmax(r->lo[1 + j], -B->lim);
-        hi6[j] = dmin(r->hi[1 + j], B->lim);
-    }
 #pragma GCC unroll 3
     for (int b = 0; b < NB; b++) {
         B->lo[b] = vload6(lo6, b);
@@ -620,7 +616,8 @@ INLINE uint64_t run_tors(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
 #define K_L(B) K_J(B, 0) K_J(B, 1)
 K_L(0)
 K_L(1)
-#define P_E(L, J, M, A) KRUN2(L, J, M, A, 0) KRUN2(L, J, M, A, 1) KBATCH(L, J, M, A, 0) KBATCH(L, J, M, A, 1)
+#define P_E(L, J, M, A)                                                                        \
+    KRUN2(L, J, M, A, 0) KRUN2(L, J, M, A, 1) KBATCH(L, J, M, A, 0) KBATCH(L, J, M, A, 1)
 #define P_A(L, J, M) P_E(L, J, M, 0) P_E(L, J, M, 1)
 #define P_M(L, J) P_A(L, J, 0) P_A(L, J, 1)
 #define P_J(L) P_M(L, 0) P_M(L, 1)

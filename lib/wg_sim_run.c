@@ -407,7 +407,8 @@ void wg_sim_run_pair(wg_sim *const s[2], const uint64_t n[2], const wg_sink *con
 /* Run r (at most n plain steps, with the sim's constants K) into lane l. */
 static void kb_load(wg_kbatch *B, int l, const wg_kcoef *K, const wg_krun *r, uint64_t n)
 {
-    const double lim = r->fin / 16; /* fbound_load's bounds */
+    double lo6[6], hi6[6];
+    const double lim = krun_bounds(r, lo6, hi6);
     for (int b = 0; b < 6; b++) {
         B->q[b][l] = r->y[b];
         B->v[b][l] = r->y[7 + b];
@@ -419,8 +420,8 @@ static void kb_load(wg_kbatch *B, int l, const wg_kcoef *K, const wg_krun *r, ui
         B->ck[b][l] = K->ck[b];
         B->w[b][l] = K->w[1 + b];
         B->zc[b][l] = K->zc[1 + b];
-        B->lo[b][l] = dmax(r->lo[1 + b], -lim);
-        B->hi[b][l] = dmin(r->hi[1 + b], lim);
+        B->lo[b][l] = lo6[b];
+        B->hi[b][l] = hi6[b];
     }
     B->s[l] = r->y[6], B->vs[l] = r->y[13];
     B->xn[l] = r->xn, B->dxn[l] = r->dxn, B->tau[l] = r->tau, B->tc[l] = r->tau_c;
@@ -445,6 +446,15 @@ static void kb_store(const wg_kbatch *B, int l, wg_krun *r, uint64_t m)
     r->min_xn = B->mn[l], r->max_xn = B->mx[l];
     r->k += (uint32_t)m;
     r->has_trial = (B->refused >> l) & 1u;
+}
+
+/* Lane j back into its run (m steps since it was loaded), committed as a
+ * run of plain steps is. */
+static void kb_commit(const wg_kbatch *B, int j, runner *R, wg_krun *r, uint64_t m)
+{
+    kb_store(B, j, r, m);
+    krun_commit(R, r, m);
+    R->s->core->batched += m;
 }
 
 /* Can run j join (or stay in) a batch of kind (kflags, isa)? */
@@ -487,9 +497,7 @@ static int batch_fast(runner *R, int L)
         for (int j = 0; j < L; j++) {
             if (!((stop >> j) & 1u))
                 continue;
-            kb_store(&B, j, &r[j], taken[j]);
-            krun_commit(&R[j], &r[j], taken[j]);
-            R[j].s->core->batched += taken[j];
+            kb_commit(&B, j, &R[j], &r[j], taken[j]);
             taken[j] = 0;
             if (R[j].i < R[j].n && R[j].has_trial) /* the refused step */
                 run_general(&R[j]);
@@ -506,10 +514,8 @@ static int batch_fast(runner *R, int L)
     }
     for (int j = 0; j < L; j++)
         if ((B.active >> j) & 1u) {
-            B.refused &= ~(1u << j);
-            kb_store(&B, j, &r[j], taken[j]);
-            krun_commit(&R[j], &r[j], taken[j]);
-            R[j].s->core->batched += taken[j];
+            B.refused &= ~(1u << j); /* a lane loaded again since refused nothing */
+            kb_commit(&B, j, &R[j], &r[j], taken[j]);
         }
     return 1;
 }
