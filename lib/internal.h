@@ -147,8 +147,7 @@ typedef struct wg_sim_core {
     int isa;              /* which instruction set's kernels (KISA_*) */
     int wrap_pending;     /* 1 from psi wrapping to 0 until period counts it (on_step) */
     wg_exc *table;        /* 2N+1 excitation entries at half steps */
-    struct ct_ends *ends; /* N: ct_exc_at at a plain step's two ends, when valid */
-    uint64_t ends_gen;    /* entries of another generation are stale */
+    struct ct_psi0 *psi0; /* N: cos, sin of 2 pi k / N for ct_split_step, once set */
     wg_params hkey;       /* parameters hkey_hmax was computed for (cache) */
     double hkey_hmax;     /* 0: no cached value */
     /* contact bookkeeping at the end of the last step */
@@ -278,6 +277,10 @@ void ct_phase_at(const phase *ph, double t, double *psi, double *om);
 /* Excitation at sub-step time t (one sin/cos of psi, phases by rotation). */
 void ct_exc_at(const wg_sim *s, const phase *ph, double t, wg_exc *e);
 
+/* The same from c0 = cos psi0 and s0 = sin psi0, psi(t) by rotation
+ * (ct_split_step's: no libm call while psi(t) - psi0 <= 1/4). */
+wg_exc ct_exc_rot(const wg_sim *s, const phase *ph, double c0, double s0, double t);
+
 /* Zone of x against a dead zone +-c: +1 above, -1 below, 0 inside. */
 static inline int ct_zone(double x, double c) { return (x > c) - (x < -c); }
 
@@ -339,14 +342,14 @@ typedef struct evbuf {
 void ct_interpolate(const wg_sim *s, evbuf *b, int j, int z0, int z1, const herm *H, double t0,
                     double len);
 
-/* The excitation ct_split_step asks for at both ends of plain step k (no
- * ramp), as ct_exc_at gives it: kept for the next split step at k. e[i]
- * is valid while gen[i] equals the sim's ends_gen, which every change of
- * parameters or table moves on. */
-typedef struct ct_ends {
-    uint64_t gen[2];
-    wg_exc e[2]; /* at t = 0 and t = h */
-} ct_ends;
+/* The cosine and sine of psi0 = 2 pi k / N that ct_split_step rotates
+ * from at plain step k (no ramp): computed at the first split step at k,
+ * kept for the next (a periodic orbit splits at the same k every period).
+ * They depend on k and N only, so no change of parameters stales them. */
+typedef struct ct_psi0 {
+    double c, s;
+    int set;
+} ct_psi0;
 
 /* rk4-event: integrate [0, h] from y0 into y1 with the kinked contacts'
  * zones locked between located crossings (y1 holds the unsplit step on

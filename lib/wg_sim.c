@@ -90,7 +90,6 @@ void sim_coefficients(wg_sim *s)
         ct_set_lock(s, j, s->core->zone[j]);
     s->core->kflags = kflags_of(s);
     int printed = s->cfg.model == WG_MODEL_PRINTED;
-    s->core->ends_gen++; /* the excitation's inputs may have changed */
     s->core->kernel = printed ? kernel_printed : kernel_select(s->core->kflags, s->core->isa);
     s->core->krun = printed ? NULL : krun_select(s->core->kflags, s->core->isa);
 }
@@ -103,7 +102,6 @@ void sim_build_table(wg_sim *s)
         wg_exc_eval(&s->p, M_PI * j / n, om, &s->core->table[j]);
     s->core->table[2 * n] = s->core->table[0];
     s->h = TWO_PI / (om * n);
-    s->core->ends_gen++;
 }
 
 /* Do a and b give the same excitation table (omega and the excitation
@@ -220,11 +218,10 @@ int wg_sim_init(wg_sim *s, const wg_params *p, const wg_sim_config *cfg, char *w
     s->core = calloc(1, sizeof *s->core);
     if (s->core) {
         s->core->table = malloc(sizeof(wg_exc) * (size_t)(2 * cfg->steps_per_period + 1));
-        s->core->ends = calloc((size_t)cfg->steps_per_period, sizeof(ct_ends)); /* gen 0: stale */
-        s->core->ends_gen = 1;
+        s->core->psi0 = calloc((size_t)cfg->steps_per_period, sizeof(ct_psi0)); /* none set */
         s->core->isa = kernel_isa_choose();
     }
-    if (!s->core || !s->core->table || !s->core->ends) {
+    if (!s->core || !s->core->table || !s->core->psi0) {
         wg_sim_fini(s);
         snprintf(why, whylen, "out of memory for the excitation table");
         return WG_ENOMEM;
@@ -242,7 +239,7 @@ void wg_sim_fini(wg_sim *s)
 {
     if (s->core) {
         free(s->core->table);
-        free(s->core->ends);
+        free(s->core->psi0);
     }
     free(s->core);
     s->core = NULL;

@@ -164,10 +164,11 @@ static void test_set_params_is_atomic(void)
     wg_sim_fini(&s);
 }
 
-/* A split step reuses the excitation at a plain step's ends from earlier
- * periods (ct_ends). After a change of any excitation input, or of a
- * damping (no new table), the next split steps use the new values: the run
- * continues exactly as a new sim set up with them at the same state. */
+/* A split step keeps only the cosine and sine of each step's start phase
+ * from earlier periods (ct_psi0) and takes the excitation's terms from the
+ * parameters. After a change of any excitation input, or of a damping (no
+ * new table), the next split steps use the new values: the run continues
+ * exactly as a new sim set up with them at the same state. */
 static void test_excitation_change_seen(void)
 {
     static const struct { int id; double v; } change[] = {

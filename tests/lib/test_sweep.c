@@ -290,8 +290,12 @@ static void count_bearing(void *ctx, const wg_event *ev)
 
 /* Each bearing's impacts per period and largest impact speed: at
  * xi_p = 1.0 (the printed value) the mesh never separates, yet at omega 1.2
- * the wheel bearings x2 and z2 rattle once a period and the worm's do not;
- * at xi_p = 0.08 all six impact once a period. */
+ * the wheel bearing z2 rattles once a period; at xi_p = 0.08 all six
+ * impact once a period. Whether the others touch at xi_p = 1.0 depends on
+ * where their journals float within the clearance, where no force holds
+ * them: on the last bits of the history (a start state moved by 1e-12
+ * turns x1, y1, z1 and x2 on or off), so they are held to the count of
+ * the events only. */
 static void test_bearing_impacts(void)
 {
     const double xi[2] = {1.0, 0.08};
@@ -326,9 +330,7 @@ static void test_bearing_impacts(void)
                pt.bimpacts[5]);
         if (c == 0) {
             ASSERT_EQ_INT(pt.motion, WG_MOTION_NO_IMPACT);
-            ASSERT_NEAR(pt.bimpacts[WG_C_X2 - WG_C_X1], 1, 0);
             ASSERT_NEAR(pt.bimpacts[WG_C_Z2 - WG_C_X1], 1, 0);
-            ASSERT_NEAR(pt.bimpacts[WG_C_X1 - WG_C_X1], 0, 0);
         } else {
             ASSERT_EQ_INT(rattling, WG_NBEARING);
         }
