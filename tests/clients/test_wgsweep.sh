@@ -31,7 +31,7 @@ check "--pair 1 (one chain at a time) against the default 8 (the four chains bat
 check "--pair 2 (two chains' runs paired): identical csv" \
   'cmp -s "$dir/s1.csv" "$dir/p2.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/p2-poincare.csv"'
 check "the JSON and the Markdown record --pair" \
-  'grep -q "\"threads\":1,\"pair\":1," "$dir/p1.json" && grep -q "\"threads\":1,\"pair\":8," "$dir/s1.json" && grep -q "1 chain(s) at once on each thread" "$dir/p1.md"'
+  'grep -q "\"threads\":1,\"pair\":1," "$dir/p1.json" && grep -q "\"threads\":1,\"pair\":8," "$dir/s1.json" && grep -q "on 1 thread, one chain at a time on each thread" "$dir/p1.md" && grep -q "on 1 thread, up to 8 chains at once" "$dir/s1.md"'
 "$sweep" --pair 9 --values xi_p=0.08 >/dev/null 2>"$dir/pair.err"
 rc=$?
 check "--pair 9 refused: exit 2 and what is allowed" '[ $rc -eq 2 ] && grep -q "^wgsweep: --pair: need 1..8, got .9.$" "$dir/pair.err"'
