@@ -343,7 +343,7 @@ void ct_interpolate(const wg_sim *s, evbuf *b, int j, int z0, int z1, const herm
                     double len);
 
 /* The cosine and sine of psi0 = 2 pi k / N that ct_split_step rotates
- * from at plain step k (no ramp): computed at the first split step at k,
+ * from at step k (in an omega ramp too): computed at the first split step at k,
  * kept for the next (a periodic orbit splits at the same k every period).
  * They depend on k and N only, so no change of parameters stales them. */
 typedef struct ct_psi0 {

@@ -140,10 +140,9 @@ void ct_interpolate(const wg_sim *s, evbuf *b, int j, int z0, int z1,
 
 /* The excitation at the sub-step times of one split step, each by
  * ct_exc_rot from psi0's (cos, sin), kept per k (ct_psi0: psi0 = 2 pi k /
- * N; a ramp gives other psi0s, one libm pair a split step). Each time is
- * evaluated once: the step's end recurs at every pass, and the crossing
- * a substep ends at is where the next starts and where its contacts are
- * taken. */
+ * N). Each time is evaluated once: the step's end recurs at every pass,
+ * and the crossing a substep ends at is where the next starts and where
+ * its contacts are taken. */
 enum { EXC_MEMO = 8 };
 typedef struct exc_memo {
     double t[EXC_MEMO];
@@ -152,13 +151,11 @@ typedef struct exc_memo {
     double c0, s0; /* cos psi0, sin psi0 */
 } exc_memo;
 
+/* psi0 is wg_sim_psi(s) = 2 pi k / N at every step, an omega ramp's too
+ * (ramp_step keeps the phase grid and adjusts h). */
 static void exc_memo_init(exc_memo *m, wg_sim *s, const phase *ph)
 {
     m->n = m->next = 0;
-    if (s->ramp.active) {
-        m->c0 = cos(ph->psi0), m->s0 = sin(ph->psi0);
-        return;
-    }
     ct_psi0 *z = &s->core->psi0[s->k];
     if (!z->set)
         z->c = cos(ph->psi0), z->s = sin(ph->psi0), z->set = 1;
