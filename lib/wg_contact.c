@@ -157,9 +157,13 @@ static void exc_memo_init(exc_memo *m, wg_sim *s, const phase *ph)
 {
     m->n = m->next = 0;
     ct_psi0 *z = &s->core->psi0[s->k];
-    if (!z->set)
-        z->c = cos(ph->psi0), z->s = sin(ph->psi0), z->set = 1;
-    m->c0 = z->c, m->s0 = z->s;
+    if (!z->set) {
+        z->c = cos(ph->psi0);
+        z->s = sin(ph->psi0);
+        z->set = 1;
+    }
+    m->c0 = z->c;
+    m->s0 = z->s;
 }
 
 /* The excitation at t into *e (and the memo), the memo's if it has t. */
@@ -230,7 +234,6 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
     double qa[WG_NCONTACT], va[WG_NCONTACT], qb[WG_NCONTACT], vb[WG_NCONTACT];
     int nc = ct_ncontacts(s);
     double t = 0.0;
-    /* a plain step: h = s->h from psi0 = wg_sim_psi(s) at constant omega */
     exc_memo m;
     exc_memo_init(&m, s, ph);
     memcpy(ya, y0, sizeof ya);
