@@ -349,10 +349,10 @@ static void test_stability_limit_methods(void)
 
 /* The split step's excitation by rotation from psi0 (ct_exc_rot) is
  * ct_exc_at's within their roundings (libm's psi0 + d is rounded to 9e-16):
- * at every step start
- * psi0 = 2 pi k / N and at sub-step times across the step, for N on each
- * of its three branches (short and long polynomial, libm below N = 26),
- * and along an omega ramp's quadratic phase and past its end. */
+ * at every step start psi0 = 2 pi k / N and at sub-step times across the
+ * step, for N on each of its three branches (short and long polynomial,
+ * libm below N = 26), and along an omega ramp's quadratic phase and past
+ * its end. */
 static void test_split_excitation_by_rotation(void)
 {
     wg_params p;
@@ -377,7 +377,8 @@ static void test_split_excitation_by_rotation(void)
                 for (size_t f = 0; f < sizeof frac / sizeof frac[0]; f++) {
                     wg_exc x, y = ct_exc_rot(&s, ph[r], cos(psi0), sin(psi0), frac[f] * h);
                     ct_exc_at(&s, ph[r], frac[f] * h, &x);
-                    const double xs[4] = {x.kp, x.te, x.dte, x.fx}, ys[4] = {y.kp, y.te, y.dte, y.fx};
+                    const double xs[4] = {x.kp, x.te, x.dte, x.fx};
+                    const double ys[4] = {y.kp, y.te, y.dte, y.fx};
                     for (int j = 0; j < 4; j++) /* libm's own: psi rounded to 9e-16 */
                         worst = fmax(worst, fabs(xs[j] - ys[j]) / (1 + fabs(xs[j])));
                 }
