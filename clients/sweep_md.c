@@ -281,22 +281,18 @@ static void provenance(FILE *f, const sweep_study *st)
     char early[80] = "";
     if (o->settle > 0)
         snprintf(early, sizeof early, " (ending once settled over %d periods)", o->settle);
-    char where[80], chains[64] = "one chain at a time on each thread";
+    char where[80] = "", chains[64] = "one chain at a time on each thread";
     if (st->pair > 1)
         snprintf(chains, sizeof chains, "up to %d chains at once on each thread", st->pair);
     if (st->ranks > 1)
-        snprintf(where, sizeof where, "%d %s in each of %d MPI ranks", st->threads,
-                 st->threads == 1 ? "thread" : "threads", st->ranks);
-    else
-        snprintf(where, sizeof where, "%d %s", st->threads,
-                 st->threads == 1 ? "thread" : "threads");
+        snprintf(where, sizeof where, " in each of %d MPI ranks", st->ranks);
     fprintf(f, "Model %s, stepper %s, N = %d steps per mesh period (raised where RK4 needs "
                "more), transient %d%s + record %d periods per point (up to %d extensions), LLE "
                "over %d periods (chaotic above %g per period), period tolerance max(%g, %g x "
-               "one-period error). Wall time %.1f s on %s, %s.\n\n",
+               "one-period error). Wall time %.1f s on %d %s%s, %s.\n\n",
             wg_model_name(o->model), wg_stepper_name(o->stepper), o->steps, o->transient,
             early, o->record, o->extend, o->lle_periods, o->lle_tol, o->tol_floor, o->tol_factor,
-            st->wall_s, where, chains);
+            st->wall_s, st->threads, st->threads == 1 ? "thread" : "threads", where, chains);
 }
 
 int md_write(const char *path, const sweep_study *st, char *why, size_t whylen)

@@ -271,9 +271,6 @@ typedef struct phase {
     double psi0, om0, r, tr, om1;
 } phase;
 
-/* psi(t) and omega(t) of the phase law. */
-void ct_phase_at(const phase *ph, double t, double *psi, double *om);
-
 /* Excitation at sub-step time t (one sin/cos of psi, phases by rotation). */
 void ct_exc_at(const wg_sim *s, const phase *ph, double t, wg_exc *e);
 

@@ -9,26 +9,17 @@
 
 #define MAX_SPLITS CT_MAX_SPLITS
 
-void ct_phase_at(const phase *ph, double t, double *psi, double *om)
+/* The phase law at t: psi(t) - psi0 = a + b (b, the part past the ramp's
+ * end at tr, is 0 before it) and omega(t). */
+static void phase_at(const phase *ph, double t, double *a, double *b, double *om)
 {
     if (t <= ph->tr) {
-        *psi = ph->psi0 + t * (ph->om0 + 0.5 * ph->r * t);
+        *a = t * (ph->om0 + 0.5 * ph->r * t);
+        *b = 0.0;
         *om = ph->om0 + ph->r * t;
     } else {
-        double pe = ph->psi0 + ph->tr * (ph->om0 + 0.5 * ph->r * ph->tr);
-        *psi = pe + ph->om1 * (t - ph->tr);
-        *om = ph->om1;
-    }
-}
-
-/* psi(t) - psi0 and omega(t) of the phase law. */
-static void phase_delta(const phase *ph, double t, double *d, double *om)
-{
-    if (t <= ph->tr) {
-        *d = t * (ph->om0 + 0.5 * ph->r * t);
-        *om = ph->om0 + ph->r * t;
-    } else {
-        *d = ph->tr * (ph->om0 + 0.5 * ph->r * ph->tr) + ph->om1 * (t - ph->tr);
+        *a = ph->tr * (ph->om0 + 0.5 * ph->r * ph->tr);
+        *b = ph->om1 * (t - ph->tr);
         *om = ph->om1;
     }
 }
@@ -48,8 +39,9 @@ static inline wg_exc exc_of(const wg_sim *s, double c, double sn, double om)
  * instead of wg_exc_eval's 4). */
 void ct_exc_at(const wg_sim *s, const phase *ph, double t, wg_exc *e)
 {
-    double psi, om;
-    ct_phase_at(ph, t, &psi, &om);
+    double a, b, om;
+    phase_at(ph, t, &a, &b, &om);
+    double psi = (ph->psi0 + a) + b;
     *e = exc_of(s, cos(psi), sin(psi), om);
 }
 
@@ -63,9 +55,9 @@ void ct_exc_at(const wg_sim *s, const phase *ph, double t, wg_exc *e)
  * 2e-15 of each other. */
 wg_exc ct_exc_rot(const wg_sim *s, const phase *ph, double c0, double s0, double t)
 {
-    double d, om, c, sn;
-    phase_delta(ph, t, &d, &om);
-    double d2 = d * d, S, C1;
+    double a, b, om, c, sn;
+    phase_at(ph, t, &a, &b, &om);
+    double d = a + b, d2 = d * d, S, C1;
     if (fabs(d) <= 0.05) {
         S = d * (1 + d2 * (-1.0 / 6 + d2 * (1.0 / 120 + d2 * (-1.0 / 5040))));
         C1 = d2 * (-0.5 + d2 * (1.0 / 24 + d2 * (-1.0 / 720 + d2 * (1.0 / 40320))));
