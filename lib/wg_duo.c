@@ -7,7 +7,9 @@
  * (four or more of one kind, on a CPU with a batched loop: all of those
  * with wg_sim_run_batch, one sim a vector lane) until one is done, and
  * resumes that task; a run with no partner goes by wg_sim_run. The runs
- * themselves (and their sinks' callbacks) execute on the scheduler's stack. Under AddressSanitizer every switch is announced
+ * themselves (and their sinks' callbacks) execute on the scheduler's stack.
+ * A task in duo_wait is resumed when the idle function says so, or, with
+ * none, when no task can go on. Under AddressSanitizer every switch is announced
  * (__sanitizer_start/finish_switch_fiber) so it tracks the stacks. */
 #include "duo.h"
 #include "internal.h"
@@ -27,7 +29,7 @@
 #endif
 
 enum { STACK_BYTES = 1 << 20 }; /* touched pages only: a sweep point needs ~20 kB */
-enum { T_READY, T_WAIT, T_DONE };
+enum { T_READY, T_WAIT, T_IDLE, T_DONE }; /* T_IDLE: in duo_wait */
 
 typedef struct task {
     ucontext_t ctx;
@@ -107,6 +109,21 @@ int duo_run(duo *d, wg_sim *s, uint64_t n, const wg_sink *sink)
     t->asked = d->clock++;
     to_main(t);
     return t->rc;
+}
+
+void duo_wait(duo *d)
+{
+    task *t = &d->t[d->cur];
+    t->state = T_IDLE;
+    to_main(t);
+}
+
+/* Every task in duo_wait may go on. */
+static void duo_wake(duo *d)
+{
+    for (int i = 0; i < d->n; i++)
+        if (d->t[i].state == T_IDLE)
+            d->t[i].state = T_READY;
 }
 
 /* The waiting task asked longest ago other than `not` (-1: none). */
@@ -191,7 +208,7 @@ static void duo_free(duo *d)
     free(d);
 }
 
-int duo_main(int n, duo_task_fn fn, void *const args[])
+int duo_main(int n, duo_task_fn fn, void *const args[], duo_idle_fn idle, void *ctx)
 {
     if (n < 1 || n > DUO_MAX)
         return WG_EINVAL;
@@ -225,12 +242,22 @@ int duo_main(int n, duo_task_fn fn, void *const args[])
         t->state = T_READY;
     }
     for (;;) {
+        if (idle && idle(ctx, 0))
+            duo_wake(d);
         for (int i = 0; i < n; i++)
             if (d->t[i].state == T_READY)
-                to_task(d, i); /* back when it asks for a run or returns */
+                to_task(d, i); /* back when it asks for a run, waits or returns */
         int a = oldest_waiting(d, -1);
-        if (a < 0)
-            break; /* every task has returned */
+        if (a < 0) {
+            int waiting = 0;
+            for (int i = 0; i < n; i++)
+                waiting |= d->t[i].state == T_IDLE;
+            if (!waiting)
+                break; /* every task has returned */
+            if (!idle || idle(ctx, 1)) /* no run to advance: until something changes */
+                duo_wake(d);
+            continue;
+        }
         /* four or more runs of one kind, with a batched loop: all of them
          * in one batch (one sim a vector lane); else the two oldest paired */
         const wg_sim_core *c = d->t[a].s->core;

@@ -672,7 +672,7 @@ static void *pool_worker(void *arg)
     pthread_mutex_lock(&pl->lock);
     pl->live[pt->t] = k;
     pthread_mutex_unlock(&pl->lock);
-    if (k < 2 || duo_main(k, pool_chains, args) != WG_OK) {
+    if (k < 2 || duo_main(k, pool_chains, args, NULL, NULL) != WG_OK) {
         pthread_mutex_lock(&pl->lock);
         pl->live[pt->t] = 1;
         pthread_mutex_unlock(&pl->lock);

@@ -523,7 +523,7 @@ static void test_duo_tasks(void)
         memset(&t[i].r, 0, sizeof t[i].r);
         args[i] = &t[i];
     }
-    ASSERT_EQ_INT(duo_main(4, dtask_body, args), WG_OK);
+    ASSERT_EQ_INT(duo_main(4, dtask_body, args, NULL, NULL), WG_OK);
     ASSERT_EQ_INT(t[1].rc[0], WG_ENONFINITE);
     ASSERT_EQ_INT(t[1].rc[1], WG_ENONFINITE);
     for (int i = 0; i < 4; i++) {
@@ -540,9 +540,92 @@ static void test_duo_tasks(void)
         wg_sim_fini(&a);
         wg_sim_fini(&t[i].sim);
     }
-    ASSERT_EQ_INT(duo_main(0, dtask_body, args), WG_EINVAL);
+    ASSERT_EQ_INT(duo_main(0, dtask_body, args, NULL, NULL), WG_EINVAL);
+}
+
+/* duo_wait: a task that waits for another's work. */
+typedef struct wtask {
+    dtask *t;
+    int *made;     /* runs the maker has ended */
+    int need;      /* this one's run waits for that many (0: it makes them) */
+    int looked;    /* times it found them not made */
+} wtask;
+
+static void wtask_body(duo *d, void *arg)
+{
+    wtask *w = arg;
+    wg_sink sk = {&w->t->r, NULL, on_sec, on_ev};
+    for (int i = 0; i < w->t->nrun; i++) {
+        while (*w->made < w->need) {
+            w->looked++;
+            duo_wait(d);
+        }
+        w->t->rc[i] = duo_run(d, &w->t->sim, w->t->len[i], &sk);
+        if (w->need == 0)
+            ++*w->made;
+    }
+}
+
+typedef struct wseen {
+    const int *made;
+    int seen, calls[2];
+} wseen;
+
+/* The idle function: has the maker ended a run since the waiting looked? */
+static int widle(void *ctx, int block)
+{
+    wseen *ws = ctx;
+    ws->calls[block]++;
+    if (*ws->made == ws->seen)
+        return block; /* nothing from another thread could come: look again */
+    ws->seen = *ws->made;
+    return 1;
+}
+
+/* Two tasks wait (duo_wait) for a third's runs before their own, without
+ * an idle function (woken when no task can go on) and with one (woken
+ * when it says the maker ended a run). Every sim ends as alone. */
+static void test_duo_wait(void)
+{
+    int isa = kernel_isa_choose();
+    for (int mode = 0; mode < 2; mode++) {
+        static dtask t[3];
+        t[0] = (dtask){.sp = {NULL, 0.5, 0.08, 0, 128, 0, 0}, .nrun = 2, .len = {6 * 128, 5 * 128}};
+        t[1] = (dtask){.sp = {NULL, 0.7, 0.10, 0, 128, 0, 0}, .nrun = 1, .len = {9 * 128}};
+        t[2] = (dtask){.sp = {NULL, 0.9, 0.12, 0, 128, 0, 0}, .nrun = 1, .len = {4 * 128}};
+        int made = 0;
+        wtask w[3] = {{&t[0], &made, 0, 0}, {&t[1], &made, 1, 0}, {&t[2], &made, 2, 0}};
+        wseen ws = {&made, 0, {0, 0}};
+        void *args[3];
+        for (int i = 0; i < 3; i++) {
+            sim_of(&t[i].sp, isa, &t[i].sim);
+            memset(&t[i].r, 0, sizeof t[i].r);
+            args[i] = &w[i];
+        }
+        ASSERT_EQ_INT(duo_main(3, wtask_body, args, mode ? widle : NULL, &ws), WG_OK);
+        ASSERT_EQ_INT(made, 2);
+        ASSERT_TRUE(w[1].looked >= 1 && w[2].looked >= 1); /* both had to wait */
+        if (mode)
+            ASSERT_TRUE(ws.calls[0] > 0);
+        for (int i = 0; i < 3; i++) {
+            wg_sim a;
+            runrec ra;
+            memset(&ra, 0, sizeof ra);
+            sim_of(&t[i].sp, isa, &a);
+            wg_sink sk = {&ra, NULL, on_sec, on_ev};
+            for (int j = 0; j < t[i].nrun; j++)
+                ASSERT_EQ_INT(wg_sim_run(&a, t[i].len[j], &sk, NULL), t[i].rc[j]);
+            same_run(&a, &t[i].sim, &ra, &t[i].r);
+            wg_sim_fini(&a);
+            wg_sim_fini(&t[i].sim);
+        }
+        printf("duo_wait %s an idle function: waited %d and %d times; idle asked %d, %d "
+               "(blocking) times\n", mode ? "with" : "without", w[1].looked, w[2].looked,
+               ws.calls[0], ws.calls[1]);
+    }
 }
 
 TEST_MAIN(TEST(test_pair_differs_in_params), TEST(test_pair_in_turn), TEST(test_pair_blowup),
           TEST(test_pair_sink_changes_sim), TEST(test_batch_eight), TEST(test_batch_kinds), TEST(test_batch_in_turn),
-          TEST(test_batch_sink_changes_sim), TEST(test_duo_tasks))
+          TEST(test_batch_sink_changes_sim), TEST(test_duo_tasks),
+          TEST(test_duo_wait))
