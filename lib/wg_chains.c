@@ -1,12 +1,14 @@
 /* wg_chains.c - chains with continuation (each point seeded by the one
  * before), run on POSIX threads, o->pair chains at once on each (their
- * main sims' runs paired or batched: duo.h). A point's analysis is
+ * main sims' runs paired or batched: duo.h), with their points'
+ * step-halving checks as jobs beside them. A point's analysis is
  * wg_sweep.c's (sweep.h). */
 #include "sweep.h"
 #include "wormgear/wg_status.h"
 
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,19 +22,177 @@ double wg_chain_value(const wg_chain *c, int i)
     return j == c->npts - 1 ? c->v1 : c->v0 + (c->v1 - c->v0) * j / (c->npts - 1);
 }
 
-static int chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *stop,
-                     wg_progress_fn progress, void *ctx, duo *d)
+/* ---- a chain's step-halving checks in flight -----------------------------
+ *
+ * With o->verify each point's attractor is analysed again at 2N
+ * (sweep_verify_point) from the point's final state, which also seeds the
+ * next point. That point does not wait for the check: it is a job that any
+ * task of any thread of a pool (duo.h) may run, up to SLOTS of a chain's
+ * at once. Points are committed (ndone, progress) in order, once checked;
+ * one at a time (wg_chain_run, --pair 1) gives the same points. */
+
+enum { SLOTS = 4 };
+enum { S_FREE, S_QUEUED, S_RUNNING, S_DONE };
+
+struct crun;
+
+typedef struct slot {
+    work v;            /* the check's workspace */
+    int ready;         /* v initialised */
+    int state;         /* S_*, under the jobs' lock when there are jobs */
+    int i;             /* its point */
+    wg_params p;
+    double y[WG_NSTATE_MAX]; /* the point's final state */
+    struct slot *next; /* in the queue */
+    struct crun *cr;
+} slot;
+
+/* A pool's jobs: the checks of points whose chains have gone on. */
+typedef struct jobs {
+    pthread_mutex_t lock; /* the queue and every slot's state */
+    pthread_cond_t cond;  /* gen moved */
+    atomic_ulong gen;     /* events: a check queued or ended, a chain ended */
+    slot *head, *tail;
+} jobs;
+
+typedef struct crun {
+    wg_chain *c;
+    wg_progress_fn progress;
+    void *ctx;
+    duo *d;
+    jobs *J;  /* NULL: one point at a time */
+    slot *sl; /* SLOTS of them */
+} crun;
+
+/* Under J->lock: the waiting tasks of every thread look again. */
+static void jobs_event(jobs *J)
 {
-    work w, v;
+    atomic_fetch_add(&J->gen, 1);
+    pthread_cond_broadcast(&J->cond);
+}
+
+static void jobs_lock(jobs *J)
+{
+    if (J)
+        pthread_mutex_lock(&J->lock);
+}
+
+static void jobs_unlock(jobs *J)
+{
+    if (J)
+        pthread_mutex_unlock(&J->lock);
+}
+
+/* Under the lock: commit the chain's checked points in order. */
+static void chain_commit(crun *cr)
+{
+    for (int found = 1; found;) {
+        found = 0;
+        for (int k = 0; k < SLOTS; k++) {
+            slot *s = &cr->sl[k];
+            if (s->state == S_DONE && s->i == cr->c->ndone) {
+                s->state = S_FREE;
+                found = 1;
+                cr->c->ndone++;
+                if (cr->progress)
+                    cr->progress(cr->ctx, -1, cr->c->ndone); /* the pool knows the index */
+            }
+        }
+    }
+}
+
+/* Slot s's point is done (checked, or not to be): commit what can be. */
+static void slot_done(crun *cr, slot *s)
+{
+    jobs_lock(cr->J);
+    s->state = S_DONE;
+    chain_commit(cr);
+    if (cr->J)
+        jobs_event(cr->J); /* a slot is free */
+    jobs_unlock(cr->J);
+}
+
+/* Queue slot s's check. */
+static void job_push(jobs *J, slot *s)
+{
+    pthread_mutex_lock(&J->lock);
+    s->state = S_QUEUED;
+    s->next = NULL;
+    if (J->tail)
+        J->tail->next = s;
+    else
+        J->head = s;
+    J->tail = s;
+    jobs_event(J);
+    pthread_mutex_unlock(&J->lock);
+}
+
+/* Run one queued check (any chain's) here, its runs through d; 0 if there
+ * is none. */
+static int run_job(jobs *J, duo *d)
+{
+    if (!J)
+        return 0;
+    pthread_mutex_lock(&J->lock);
+    slot *s = J->head;
+    if (s) {
+        if (!(J->head = s->next))
+            J->tail = NULL;
+        s->state = S_RUNNING;
+    }
+    pthread_mutex_unlock(&J->lock);
+    if (!s)
+        return 0;
+    s->v.duo = d;
+    sweep_verify_point(&s->v, &s->p, s->y, &s->cr->c->pts[s->i]);
+    slot_done(s->cr, s);
+    return 1;
+}
+
+/* Are any of the chain's points in flight (under the lock)? */
+static int in_flight(const crun *cr)
+{
+    for (int k = 0; k < SLOTS; k++)
+        if (cr->sl[k].state == S_QUEUED || cr->sl[k].state == S_RUNNING)
+            return 1;
+    return 0;
+}
+
+/* A free slot for the chain's next point: runs queued checks, or waits for
+ * one to end, while every slot is in flight. */
+static slot *slot_get(crun *cr)
+{
+    for (;;) {
+        slot *s = NULL;
+        jobs_lock(cr->J);
+        for (int k = 0; k < SLOTS && !s; k++)
+            if (cr->sl[k].state == S_FREE)
+                s = &cr->sl[k];
+        if (s)
+            s->state = S_RUNNING;
+        jobs_unlock(cr->J);
+        if (s)
+            return s;
+        if (!run_job(cr->J, cr->d))
+            duo_wait(cr->d);
+    }
+}
+
+/* Chain c's points, one at a time (d NULL), or with their checks as jobs J
+ * for the tasks of duo d and of the pool's other threads. */
+static int chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *stop,
+                     wg_progress_fn progress, void *ctx, duo *d, jobs *J)
+{
+    work w;
     wg_sweep_opts ov = *o;
     ov.steps = 2 * o->steps;
     ov.verify = ov.floquet = 0;
+    slot sl[SLOTS];
+    memset(sl, 0, sizeof sl);
+    crun cr = {c, progress, ctx, d, d ? J : NULL, sl};
     c->ndone = 0;
     c->why[0] = 0;
-    if ((c->rc = sweep_work_init(&w, o, stop, d)) == WG_OK && o->verify &&
-        (c->rc = sweep_work_init(&v, &ov, stop, d)) != WG_OK)
-        sweep_work_fini(&w);
-    if (c->rc) {
+    if ((c->rc = sweep_work_init(&w, o, stop, d)) != WG_OK) {
         snprintf(c->why, sizeof c->why, "out of memory for the record buffer");
         return c->rc;
     }
@@ -49,30 +209,62 @@ static int chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t 
         int rc = wg_params_check(&p, c->why, sizeof c->why);
         if (!rc)
             rc = sweep_point_analyse(&w, &p, y, pt, c->why, sizeof c->why);
-        if (!rc && o->verify)
-            sweep_verify_point(&v, &p, y, pt);
         pt->value = p.v[c->param];
         pt->value2 = c->param2 >= 0 ? p.v[c->param2] : NAN;
         if (rc && rc != WG_ENONFINITE) {
             c->rc = rc;
             break;
         }
+        slot *s = slot_get(&cr);
+        s->i = i;
+        int queued = 0;
+        if (!rc && o->verify && !s->ready) {
+            if (sweep_work_init(&s->v, &ov, stop, d) != WG_OK) {
+                c->rc = WG_ENOMEM;
+                snprintf(c->why, sizeof c->why, "out of memory for the record buffer");
+                jobs_lock(cr.J);
+                s->state = S_FREE;
+                jobs_unlock(cr.J);
+                break;
+            }
+            s->ready = 1;
+        }
+        if (!rc && o->verify) {
+            if (cr.J) {
+                queued = 1;
+                s->p = p;
+                s->cr = &cr;
+                memcpy(s->y, y, sizeof s->y);
+                job_push(cr.J, s);
+            } else {
+                sweep_verify_point(&s->v, &p, y, pt);
+            }
+        }
         if (rc) /* diverged: keep the point, restart from equilibrium */
             wg_equilibrium(o->model, &p, y);
-        c->ndone = i + 1;
-        if (progress)
-            progress(ctx, -1, c->ndone); /* the pool knows the index */
+        if (!queued) /* else the job's end commits it */
+            slot_done(&cr, s);
+    }
+    for (;;) { /* the checks still in flight */
+        jobs_lock(cr.J);
+        int busy = in_flight(&cr);
+        jobs_unlock(cr.J);
+        if (!busy)
+            break;
+        if (!run_job(cr.J, d))
+            duo_wait(d);
     }
     sweep_work_fini(&w);
-    if (o->verify)
-        sweep_work_fini(&v);
+    for (int k = 0; k < SLOTS; k++)
+        if (sl[k].ready)
+            sweep_work_fini(&sl[k].v);
     return c->rc;
 }
 
 int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *stop,
                  wg_progress_fn progress, void *ctx)
 {
-    return chain_run(c, o, stop, progress, ctx, NULL);
+    return chain_run(c, o, stop, progress, ctx, NULL, NULL);
 }
 
 /* ---- threads ------------------------------------------------------------- */
@@ -91,11 +283,13 @@ typedef struct pool {
     long left[TMAX]; /* per thread: the points its running chains have left */
     int live[TMAX];  /* per thread: its tasks still taking chains */
     int running[TMAX]; /* per thread: its chains running */
+    jobs J;
 } pool;
 
 typedef struct pool_thread {
     pool *pl;
     int t;
+    unsigned long seen; /* pl->J.gen when its waiting tasks last looked */
 } pool_thread;
 
 typedef struct pool_cb {
@@ -135,41 +329,74 @@ static int pool_mine(const pool *pl, int t)
 }
 
 /* Chains from the pool until it is empty, or until the last ones are
- * better left to another thread (d: as one of the thread's tasks). */
+ * better left to another thread (d: as one of the thread's tasks). With
+ * step-halving checks to run (o->verify, d), the task goes on taking them,
+ * any chain's, until no chain runs on any thread. */
 static void pool_chains(duo *d, void *arg)
 {
-    const pool_thread *pt = arg;
+    pool_thread *pt = arg;
     pool *pl = pt->pl;
     const int t = pt->t;
+    jobs *J = d && pl->o->verify ? &pl->J : NULL; /* the checks are the only jobs */
     for (;;) {
         pthread_mutex_lock(&pl->lock);
         int stopped = pl->stop && *pl->stop;
         int i = !stopped && pl->next < pl->n && pool_mine(pl, t) ? pl->next++ : -1;
+        int more = !stopped && pl->next < pl->n;
+        for (int u = 0; u < pl->nt; u++)
+            more |= pl->running[u] > 0;
         if (i >= 0)
             pl->left[t] += pl->cs[i].npts, pl->running[t]++;
-        else
-            pl->live[t]--;
+        else if (!J || !more)
+            pl->live[t]--; /* it returns */
         pthread_mutex_unlock(&pl->lock);
-        if (i < 0)
-            return;
+        if (i < 0) {
+            if (!J || !more)
+                return;
+            if (!run_job(J, d))
+                duo_wait(d); /* a job, or a chain, may come */
+            continue;
+        }
         pool_cb cb = {pl, i, t};
-        chain_run(&pl->cs[i], pl->o, pl->stop, pool_progress, &cb, d);
+        chain_run(&pl->cs[i], pl->o, pl->stop, pool_progress, &cb, d, J);
         pthread_mutex_lock(&pl->lock);
         pl->left[t] -= pl->cs[i].npts - pl->cs[i].ndone; /* what progress did not count */
         pl->running[t]--;
         pthread_mutex_unlock(&pl->lock);
+        pthread_mutex_lock(&pl->J.lock); /* also from a thread without tasks (d NULL): */
+        jobs_event(&pl->J);              /* others' waiting ones may be done now */
+        pthread_mutex_unlock(&pl->J.lock);
     }
 }
 
-/* A thread: o->pair chains at once (at most two when the chains are too
- * few for batches), or one at a time (also when the tasks' stacks cannot
- * be had). */
+/* The thread's duo_idle_fn: has the jobs' generation moved since its
+ * waiting tasks last looked (block: wait until it does)? */
+static int pool_idle(void *arg, int block)
+{
+    pool_thread *pt = arg;
+    jobs *J = &pt->pl->J;
+    unsigned long g = atomic_load(&J->gen);
+    if (g == pt->seen && block) {
+        pthread_mutex_lock(&J->lock);
+        while ((g = atomic_load(&J->gen)) == pt->seen)
+            pthread_cond_wait(&J->cond, &J->lock);
+        pthread_mutex_unlock(&J->lock);
+    }
+    if (g == pt->seen)
+        return 0;
+    pt->seen = g;
+    return 1;
+}
+
+/* A thread: o->pair tasks taking chains and checks (at most two when the
+ * chains are too few for batches and there are no checks), or one chain at
+ * a time (also when the tasks' stacks cannot be had). */
 static void *pool_worker(void *arg)
 {
     pool_thread *pt = arg;
     pool *pl = pt->pl;
     int k = pl->o->pair < 1 ? 1 : pl->o->pair > DUO_MAX ? DUO_MAX : pl->o->pair;
-    if (k > 2 && (pl->n + pl->nt - 1) / pl->nt < DUO_BATCH_MIN)
+    if (k > 2 && !pl->o->verify && (pl->n + pl->nt - 1) / pl->nt < DUO_BATCH_MIN)
         k = 2; /* too few chains a thread to batch: two paired, the rest left to
                   whichever thread is free first (the study's six chains) */
     void *args[DUO_MAX];
@@ -178,7 +405,7 @@ static void *pool_worker(void *arg)
     pthread_mutex_lock(&pl->lock);
     pl->live[pt->t] = k;
     pthread_mutex_unlock(&pl->lock);
-    if (k < 2 || duo_main(k, pool_chains, args, NULL, NULL) != WG_OK) {
+    if (k < 2 || duo_main(k, pool_chains, args, pool_idle, pt) != WG_OK) {
         pthread_mutex_lock(&pl->lock);
         pl->live[pt->t] = 1;
         pthread_mutex_unlock(&pl->lock);
@@ -192,7 +419,8 @@ int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
 {
     if (n <= 0) /* no chains (an MPI rank with none dealt to it): no threads either */
         return n == 0 ? WG_OK : WG_EINVAL;
-    pool pl = {cs, n, 0, o, stop, progress, ctx, PTHREAD_MUTEX_INITIALIZER, 0, {0}, {0}, {0}};
+    pool pl = {cs, n, 0, o, stop, progress, ctx, PTHREAD_MUTEX_INITIALIZER, 0, {0}, {0}, {0},
+               {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0, NULL, NULL}};
     pthread_t tid[TMAX];
     pool_thread pt[TMAX];
     int nt = threads < 1 ? 1 : threads > TMAX ? TMAX : threads;
@@ -201,7 +429,7 @@ int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
     pl.nt = nt; /* a thread that cannot be had is never live */
     int started = 0;
     for (int t = 0; t < nt; t++)
-        pt[t] = (pool_thread){&pl, t};
+        pt[t] = (pool_thread){&pl, t, 0};
     for (int t = 1; t < nt; t++)
         if (pthread_create(&tid[started], NULL, pool_worker, &pt[t]) == 0)
             started++;
@@ -209,6 +437,8 @@ int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
     for (int t = 0; t < started; t++)
         pthread_join(tid[t], NULL);
     pthread_mutex_destroy(&pl.lock);
+    pthread_mutex_destroy(&pl.J.lock);
+    pthread_cond_destroy(&pl.J.cond);
     for (int i = 0; i < n; i++)
         if (cs[i].rc)
             return cs[i].rc;

@@ -9,6 +9,8 @@
 #include "wormgear/wg_shoot.h"
 #include "wormgear/wg_sweep.h"
 
+#include <pthread.h>
+#include <stddef.h>
 #include <string.h>
 
 static wg_params table3(void)
@@ -236,6 +238,83 @@ static void test_pairs_identical(void)
     ASSERT_TRUE(aperiodic > 0);
 }
 
+/* Progress seen by test_checks_in_flight: per chain, the counts in the
+ * order they came; a stop asked once chain 0 has `halt_at` points. */
+enum { CF_NC = 3, CF_NP = 8 };
+typedef struct cflog {
+    pthread_mutex_t lock;
+    int n[CF_NC], seq[CF_NC][CF_NP + 1];
+    int halt_at;
+    volatile sig_atomic_t *stop;
+    wg_point *pts[CF_NC];
+    int unchecked; /* points whose progress came before their check */
+} cflog;
+
+static void cf_progress(void *ctx, int chain, int ndone)
+{
+    cflog *l = ctx;
+    pthread_mutex_lock(&l->lock);
+    if (chain >= 0 && chain < CF_NC && l->n[chain] <= CF_NP) {
+        l->seq[chain][l->n[chain]++] = ndone;
+        l->unchecked += ndone >= 1 && ndone <= CF_NP && !l->pts[chain][ndone - 1].checked;
+    }
+    if (l->halt_at && chain == 0 && ndone == l->halt_at)
+        *l->stop = 1;
+    pthread_mutex_unlock(&l->lock);
+}
+
+/* The step-halving checks (o->verify) run as jobs beside their chains, on
+ * any task of any thread: the points are those of one point at a time, to
+ * the bit, and each chain's progress comes once a point, in order, only
+ * once the point is checked. A stop asked mid-sweep leaves every chain a
+ * prefix of checked points (the analyses and checks running then end
+ * early, as one point at a time does: the points before are the
+ * reference's). */
+static void test_checks_in_flight(void)
+{
+    wg_params p = table3();
+    wg_sweep_opts o;
+    wg_sweep_opts_default(&o);
+    o.transient = 120;
+    o.settle = WG_SETTLE_WINDOW;
+    o.verify = 1;
+    static const double xi[CF_NC] = {0.08, 0.10, 0.12};
+    static wg_point ref[CF_NC][CF_NP], pts[CF_NC][CF_NP];
+    for (int run = 0; run < 3; run++) {
+        volatile sig_atomic_t stop = 0;
+        cflog l = {PTHREAD_MUTEX_INITIALIZER, {0}, {{0}}, run == 2 ? 3 : 0, &stop, {NULL}, 0};
+        wg_chain c[CF_NC];
+        for (int i = 0; i < CF_NC; i++) {
+            wg_params q = p;
+            q.v[WG_P_XI_P] = xi[i];
+            c[i] = chain(&q, 1.16, 1.30, CF_NP, i == 1 ? -1 : 1, run ? pts[i] : ref[i]);
+            l.pts[i] = c[i].pts;
+        }
+        o.pair = run ? 8 : 1;
+        memset(pts, 0, sizeof pts);
+        ASSERT_EQ_INT(wg_chains_run(c, CF_NC, &o, run ? 2 : 1, &stop, cf_progress, &l), WG_OK);
+        int done = 0;
+        ASSERT_EQ_INT(l.unchecked, 0);
+        for (int i = 0; i < CF_NC; i++) {
+            ASSERT_TRUE(run == 2 ? c[i].ndone < CF_NP : c[i].ndone == CF_NP);
+            ASSERT_EQ_INT(l.n[i], c[i].ndone);
+            for (int j = 0; j < c[i].ndone; j++) {
+                ASSERT_EQ_INT(l.seq[i][j], j + 1);
+                ASSERT_EQ_INT(c[i].pts[j].checked, 1);
+                if (run == 1)
+                    ASSERT_TRUE(memcmp(&pts[i][j], &ref[i][j], sizeof ref[i][j]) == 0);
+                else if (run == 2 && j < c[i].ndone - 1) /* the last was cut short */
+                    ASSERT_TRUE(memcmp(&pts[i][j], &ref[i][j], offsetof(wg_point, checked)) == 0);
+            }
+            done += c[i].ndone;
+        }
+        printf("  checks in flight: %s, %d points committed, in order and checked%s\n",
+               run == 0 ? "one chain at a time (the reference)" : run == 1 ? "2 threads x 8 tasks"
+                                                                  : "stopped mid-sweep",
+               done, run == 1 ? ", equal to the reference" : run ? ", all but each chain's last equal to the reference" : "");
+    }
+}
+
 static void test_stop_flag(void)
 {
     wg_params p = table3();
@@ -339,4 +418,4 @@ static void test_bearing_impacts(void)
 
 TEST_MAIN(TEST(test_bearing_impacts), TEST(test_period_doubling_sweep_and_floquet), TEST(test_lle_sign_on_the_model),
           TEST(test_error_estimate_order), TEST(test_threads_identical), TEST(test_pairs_identical),
-          TEST(test_stop_flag), TEST(test_no_chains))
+          TEST(test_checks_in_flight), TEST(test_stop_flag), TEST(test_no_chains))
