@@ -496,6 +496,24 @@ typedef struct dtask {
     runrec r;
 } dtask;
 
+/* Task t's runs made again alone by wg_sim_run: its sim must end the same
+ * (it is then freed); the steps and events of that run. */
+static void same_as_alone(dtask *t, int isa, uint64_t *steps, uint64_t *nev)
+{
+    wg_sim a;
+    runrec ra;
+    memset(&ra, 0, sizeof ra);
+    sim_of(&t->sp, isa, &a);
+    wg_sink sk = {&ra, NULL, on_sec, on_ev};
+    for (int j = 0; j < t->nrun; j++)
+        ASSERT_EQ_INT(wg_sim_run(&a, t->len[j], &sk, NULL), t->rc[j]);
+    same_run(&a, &t->sim, &ra, &t->r);
+    *steps = a.steps;
+    *nev = ra.nev;
+    wg_sim_fini(&a);
+    wg_sim_fini(&t->sim);
+}
+
 static void dtask_body(duo *d, void *arg)
 {
     dtask *t = arg;
@@ -527,18 +545,10 @@ static void test_duo_tasks(void)
     ASSERT_EQ_INT(t[1].rc[0], WG_ENONFINITE);
     ASSERT_EQ_INT(t[1].rc[1], WG_ENONFINITE);
     for (int i = 0; i < 4; i++) {
-        wg_sim a;
-        runrec ra;
-        memset(&ra, 0, sizeof ra);
-        sim_of(&t[i].sp, isa, &a);
-        wg_sink sk = {&ra, NULL, on_sec, on_ev};
-        for (int j = 0; j < t[i].nrun; j++)
-            ASSERT_EQ_INT(wg_sim_run(&a, t[i].len[j], &sk, NULL), t[i].rc[j]);
-        same_run(&a, &t[i].sim, &ra, &t[i].r);
-        printf("task %d: %llu steps, %llu events: equal\n", i, (unsigned long long)a.steps,
-               (unsigned long long)ra.nev);
-        wg_sim_fini(&a);
-        wg_sim_fini(&t[i].sim);
+        uint64_t steps, nev;
+        same_as_alone(&t[i], isa, &steps, &nev);
+        printf("task %d: %llu steps, %llu events: equal\n", i, (unsigned long long)steps,
+               (unsigned long long)nev);
     }
     ASSERT_EQ_INT(duo_main(0, dtask_body, args, NULL, NULL), WG_EINVAL);
 }
@@ -608,16 +618,8 @@ static void test_duo_wait(void)
         if (mode)
             ASSERT_TRUE(ws.calls[0] > 0);
         for (int i = 0; i < 3; i++) {
-            wg_sim a;
-            runrec ra;
-            memset(&ra, 0, sizeof ra);
-            sim_of(&t[i].sp, isa, &a);
-            wg_sink sk = {&ra, NULL, on_sec, on_ev};
-            for (int j = 0; j < t[i].nrun; j++)
-                ASSERT_EQ_INT(wg_sim_run(&a, t[i].len[j], &sk, NULL), t[i].rc[j]);
-            same_run(&a, &t[i].sim, &ra, &t[i].r);
-            wg_sim_fini(&a);
-            wg_sim_fini(&t[i].sim);
+            uint64_t steps, nev;
+            same_as_alone(&t[i], isa, &steps, &nev);
         }
         printf("duo_wait %s an idle function: waited %d and %d times; idle asked %d, %d "
                "(blocking) times\n", mode ? "with" : "without", w[1].looked, w[2].looked,
