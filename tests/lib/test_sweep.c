@@ -282,7 +282,7 @@ static void test_checks_in_flight(void)
     static wg_point ref[CF_NC][CF_NP], pts[CF_NC][CF_NP];
     for (int run = 0; run < 3; run++) {
         volatile sig_atomic_t stop = 0;
-        cflog l = {PTHREAD_MUTEX_INITIALIZER, {0}, {{0}}, run == 2 ? 3 : 0, &stop, {NULL}, 0};
+        cflog l = {PTHREAD_MUTEX_INITIALIZER, {0}, {{0}}, run == 2 ? 2 : 0, &stop, {NULL}, 0};
         wg_chain c[CF_NC];
         for (int i = 0; i < CF_NC; i++) {
             wg_params q = p;
@@ -296,7 +296,14 @@ static void test_checks_in_flight(void)
         int done = 0;
         ASSERT_EQ_INT(l.unchecked, 0);
         for (int i = 0; i < CF_NC; i++) {
-            ASSERT_TRUE(run == 2 ? c[i].ndone < CF_NP : c[i].ndone == CF_NP);
+            /* stopped: chain 0 has at most the 2 points that asked the stop,
+             * SLOTS = 4 checks in flight and the point it was analysing;
+             * the others stop short too unless a loaded machine ran them
+             * to their end first */
+            if (run != 2)
+                ASSERT_EQ_INT(c[i].ndone, CF_NP);
+            else
+                ASSERT_TRUE(i == 0 ? c[i].ndone >= 2 && c[i].ndone <= 7 : c[i].ndone <= CF_NP);
             ASSERT_EQ_INT(l.n[i], c[i].ndone);
             for (int j = 0; j < c[i].ndone; j++) {
                 ASSERT_EQ_INT(l.seq[i][j], j + 1);
