@@ -71,6 +71,8 @@ static void jobs_event(jobs *J)
     pthread_cond_broadcast(&J->cond);
 }
 
+/* J's lock: every use of the queue and the slots takes it here (J NULL, one
+ * point at a time: nothing to lock). */
 static void jobs_lock(jobs *J)
 {
     if (J)
@@ -115,7 +117,7 @@ static void slot_done(crun *cr, slot *s)
 /* Queue slot s's check. */
 static void job_push(jobs *J, slot *s)
 {
-    pthread_mutex_lock(&J->lock);
+    jobs_lock(J);
     s->state = S_QUEUED;
     s->next = NULL;
     if (J->tail)
@@ -124,7 +126,7 @@ static void job_push(jobs *J, slot *s)
         J->head = s;
     J->tail = s;
     jobs_event(J);
-    pthread_mutex_unlock(&J->lock);
+    jobs_unlock(J);
 }
 
 /* Run one queued check (any chain's) here, its runs through d; 0 if there
@@ -133,20 +135,28 @@ static int run_job(jobs *J, duo *d)
 {
     if (!J)
         return 0;
-    pthread_mutex_lock(&J->lock);
+    jobs_lock(J);
     slot *s = J->head;
     if (s) {
         if (!(J->head = s->next))
             J->tail = NULL;
         s->state = S_RUNNING;
     }
-    pthread_mutex_unlock(&J->lock);
+    jobs_unlock(J);
     if (!s)
         return 0;
     s->v.duo = d;
     sweep_verify_point(&s->v, &s->p, s->y, &s->cr->c->pts[s->i]);
     slot_done(s->cr, s);
     return 1;
+}
+
+/* From a task waiting for the jobs (a slot, its chain's checks, a chain):
+ * run a queued check here, or give way until something changes. */
+static void help_or_wait(jobs *J, duo *d)
+{
+    if (!run_job(J, d))
+        duo_wait(d);
 }
 
 /* Are any of the chain's points in flight (under the lock)? */
@@ -173,8 +183,7 @@ static slot *slot_get(crun *cr)
         jobs_unlock(cr->J);
         if (s)
             return s;
-        if (!run_job(cr->J, cr->d))
-            duo_wait(cr->d);
+        help_or_wait(cr->J, cr->d);
     }
 }
 
@@ -251,8 +260,7 @@ static int chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t 
         jobs_unlock(cr.J);
         if (!busy)
             break;
-        if (!run_job(cr.J, d))
-            duo_wait(d);
+        help_or_wait(cr.J, d);
     }
     sweep_work_fini(&w);
     for (int k = 0; k < SLOTS; k++)
@@ -353,8 +361,7 @@ static void pool_chains(duo *d, void *arg)
         if (i < 0) {
             if (!J || !more)
                 return;
-            if (!run_job(J, d))
-                duo_wait(d); /* a job, or a chain, may come */
+            help_or_wait(J, d); /* a job, or a chain, may come */
             continue;
         }
         pool_cb cb = {pl, i, t};
@@ -363,9 +370,9 @@ static void pool_chains(duo *d, void *arg)
         pl->left[t] -= pl->cs[i].npts - pl->cs[i].ndone; /* what progress did not count */
         pl->running[t]--;
         pthread_mutex_unlock(&pl->lock);
-        pthread_mutex_lock(&pl->J.lock); /* also from a thread without tasks (d NULL): */
-        jobs_event(&pl->J);              /* others' waiting ones may be done now */
-        pthread_mutex_unlock(&pl->J.lock);
+        jobs_lock(&pl->J);  /* also from a thread without tasks (d NULL): */
+        jobs_event(&pl->J); /* others' waiting ones may be done now */
+        jobs_unlock(&pl->J);
     }
 }
 
@@ -377,10 +384,10 @@ static int pool_idle(void *arg, int block)
     jobs *J = &pt->pl->J;
     unsigned long g = atomic_load(&J->gen);
     if (g == pt->seen && block) {
-        pthread_mutex_lock(&J->lock);
+        jobs_lock(J);
         while ((g = atomic_load(&J->gen)) == pt->seen)
             pthread_cond_wait(&J->cond, &J->lock);
-        pthread_mutex_unlock(&J->lock);
+        jobs_unlock(J);
     }
     if (g == pt->seen)
         return 0;
