@@ -8,9 +8,10 @@ src=$1 build=$2
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
 export WG_SCENE_PATH="$src/scenes"
-bash "$src/tests/bench/sweep_bench.sh" "$build" 1 map --quick >"$tmp/out" 2>&1 ||
-    { cat "$tmp/out"; echo "FAIL: sweep_bench.sh exit $?"; exit 1; }
+bash "$src/tests/bench/sweep_bench.sh" "$build" 1 map --quick >"$tmp/out" 2>&1
+rc=$?
 cat "$tmp/out"
+[ $rc -eq 0 ] || { echo "FAIL: sweep_bench.sh exit $rc"; exit 1; }
 num='[0-9][0-9]*\.[0-9]*'
 grep -q "^| study, 150 points (default --pair) | $num ($num) | $num s | 2.0 s | \*\*$num×\*\* |$" "$tmp/out" ||
     { echo "FAIL: no study row"; exit 1; }
