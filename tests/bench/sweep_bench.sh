@@ -53,7 +53,8 @@ run() {
     awk '{printf "%.2f %.2f\n", $1, $2 + $3}' "$tmp/time" >>"$tmp/$name.t"
 }
 
-median() { sort -n | awk '{v[NR] = $1} END {print NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+# wall NAME: the median wall time of NAME's runs.
+wall() { cut -d' ' -f1 "$tmp/$1.t" | sort -n | awk '{v[NR] = $1} END {print NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
 
 # same NAME...: did every run of these sweeps write the first one's CSV?
 same() {
@@ -90,7 +91,7 @@ points() { # the points of NAME's first run
 row() { # name label target
     local runs med
     runs=$(awk '{printf "%s%s (%s)", (NR > 1 ? ", " : ""), $1, $2}' "$tmp/$1.t")
-    med=$(cut -d' ' -f1 "$tmp/$1.t" | median)
+    med=$(wall "$1")
     if [ -n "$3" ]; then
         echo "| $2 | $runs | $med s | $3 s | **$(awk -v m="$med" -v t="$3" 'BEGIN {printf "%.2f", m / t}')×** |"
     else
@@ -100,8 +101,7 @@ row() { # name label target
 row study "study, $(points study) points (default --pair)" 2.0
 row pair1 "study, --pair 1 (one chain at a time a thread)"
 [ $map = 1 ] && row map "map, $rows rows, $(points map) points" 60
-s1=$(cut -d' ' -f1 "$tmp/study.t" | median) s2=$(cut -d' ' -f1 "$tmp/pair1.t" | median)
 echo
-echo "pairing and batching: --pair 1 / default = $(awk -v a="$s2" -v b="$s1" 'BEGIN {printf "%.2f", a / b}')× in wall time"
+echo "pairing and batching: --pair 1 / default = $(awk -v a="$(wall pair1)" -v b="$(wall study)" 'BEGIN {printf "%.2f", a / b}')× in wall time"
 printf "study CSVs (every round, both --pair settings): "
 same study pair1 || exit 1
