@@ -417,17 +417,37 @@ static void legend_box(cairo_t *cr, double x, double y, const double rgb[3], con
 /* The up sweep's Poincare x_n as filled dots, the down sweep's as rings
  * (a dot in a ring where they agree, either alone where they differ); at
  * the legend's (x, y) when f is NULL. */
+/* 1 if a mark at canvas height cy was drawn for this point already (the
+ * point's marks share its x); else it is added to seen. Heights are one
+ * when they round to the same 1/64 px: a period-n orbit's WG_POINT_NSEC
+ * sections fall on n spots, and one fill or stroke of the path covers
+ * circles at one spot as it covers one circle. NaN matches nothing. */
+static int spot_seen(double *seen, int *nseen, double cy)
+{
+    double q = nearbyint(cy * 64.0);
+    for (int j = 0; j < *nseen; j++)
+        if (seen[j] == q)
+            return 1;
+    seen[(*nseen)++] = q;
+    return 0;
+}
+
 static void sweep_marks(cairo_t *cr, const frame *f, const wg_point *pts, int n, int up,
                         double x, double y)
 {
     set_rgb(cr, up ? C_UP : C_DOWN, up ? 0.85 : 0.8);
     cairo_set_line_width(cr, 1.1);
-    for (int i = 0; i < (f ? n : 1); i++)
+    double seen[WG_POINT_NSEC];
+    for (int i = 0; i < (f ? n : 1); i++) {
+        int nseen = 0;
         for (int k = 0; k < (f ? pts[i].nsec : 1); k++) {
             double cx = f ? px(f, pts[i].value) : x, cy = f ? py(f, pts[i].xn[k]) : y;
+            if (spot_seen(seen, &nseen, cy))
+                continue;
             cairo_new_sub_path(cr);
             cairo_arc(cr, cx, cy, up ? 1.6 : 3.6, 0, 2 * M_PI);
         }
+    }
     if (up)
         cairo_fill(cr);
     else

@@ -5,7 +5,9 @@
 #   the Table-3 study (--values xi_p=0.08,0.10,0.12 --from 0.1 --to 2.5
 #   --step 0.01: 6 chains, 1,446 points; target 2.0 s wall), ROUNDS times
 #   (default 3), each run followed by the same study one chain at a time a
-#   thread (--pair 1: what pairing and batching save, in the same window);
+#   thread (--pair 1: what pairing and batching save, in the same window)
+#   and by the study with its figures (the three PNGs wgsweep draws by
+#   default, without --no-png: what a user who asks for them waits);
 #   with `map`, then the 201-row xi_p map once (--map xi_p=0.05:0.15:201
 #   --step 0.01: 48,441 points; target 60 s wall).
 # Prints the load average before and after, wall and CPU (user + system)
@@ -37,7 +39,7 @@ trap 'rm -rf "$tmp"' EXIT
 step=0.01 rows=201
 [ $quick = 1 ] && step=0.1 rows=5
 study=(--values xi_p=0.08,0.10,0.12 --from 0.1 --to 2.5 --step $step)
-common=(--quiet --no-png --settle 24 --threads 2)
+common=(--quiet --settle 24 --threads 2)
 
 load() { cut -d' ' -f1-3 /proc/loadavg; }
 
@@ -72,11 +74,12 @@ same() {
 echo "wgsweep: $sweep ($(nproc) CPUs; load before: $(load))"
 [ $quick = 1 ] && echo "--quick: a coarse grid; these figures are not the targets'"
 for r in $(seq 1 "$rounds"); do
-    run study "${study[@]}"
-    run pair1 "${study[@]}" --pair 1
+    run study "${study[@]}" --no-png
+    run pair1 "${study[@]}" --no-png --pair 1
+    run figs "${study[@]}"
 done
 if [ $map = 1 ]; then
-    run map --map xi_p=0.05:0.15:$rows --step $step
+    run map --map xi_p=0.05:0.15:$rows --step $step --no-png
 fi
 echo "load after: $(load)"
 echo
@@ -100,8 +103,12 @@ row() { # name label target
 }
 row study "study, $(points study) points (default --pair)" 2.0
 row pair1 "study, --pair 1 (one chain at a time a thread)"
+row figs "study with its figures (3 PNGs)" 2.0
 [ $map = 1 ] && row map "map, $rows rows, $(points map) points" 60
 echo
 echo "pairing and batching: --pair 1 / default = $(awk -v a="$(wall pair1)" -v b="$(wall study)" 'BEGIN {printf "%.2f", a / b}')× in wall time"
-printf "study CSVs (every round, both --pair settings): "
-same study pair1 || exit 1
+npng=$(ls "$tmp"/figs.*.png 2>/dev/null | wc -l)
+echo "figures: $npng PNGs from $rounds run(s) with figures"
+[ "$npng" -eq $((3 * rounds)) ] || { echo "sweep_bench.sh: expected 3 PNGs a run"; exit 1; }
+printf "study CSVs (every round, both --pair settings, with figures): "
+same study pair1 figs || exit 1

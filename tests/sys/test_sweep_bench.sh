@@ -2,7 +2,8 @@
 # test_sweep_bench.sh SRC BUILD - tests/bench/sweep_bench.sh (issue 13's
 # sweep figures) works as docs/performance.md tells: on a coarse grid
 # (--quick) it prints a row of figures for the study, the study with
-# --pair 1 and the map, and finds the CSVs the same; and given a wgsweep
+# --pair 1, the study with its figures and the map, and finds the CSVs
+# the same (and the figures drawn); and given a wgsweep
 # whose --pair 1 output differs by one byte, it says so and exits 1.
 src=$1 build=$2
 tmp=$(mktemp -d) || exit 1
@@ -17,8 +18,11 @@ grep -q "^| study, 150 points (default --pair) | $num ($num) | $num s | 2.0 s | 
     { echo "FAIL: no study row"; exit 1; }
 grep -q "^| study, --pair 1 (one chain at a time a thread) | $num ($num) | $num s |" "$tmp/out" ||
     { echo "FAIL: no --pair 1 row"; exit 1; }
+grep -q "^| study with its figures (3 PNGs) | $num ($num) | $num s | 2.0 s | \*\*$num×\*\* |$" "$tmp/out" ||
+    { echo "FAIL: no row for the study with its figures"; exit 1; }
 grep -q "^| map, 5 rows, 125 points | $num ($num) | $num s | 60 s |" "$tmp/out" ||
     { echo "FAIL: no map row"; exit 1; }
+grep -q "^figures: 3 PNGs from 1 run(s) with figures$" "$tmp/out" || { echo "FAIL: no figures"; exit 1; }
 grep -q "same bytes$" "$tmp/out" || { echo "FAIL: the CSVs not found the same"; exit 1; }
 # A wgsweep whose one-chain-at-a-time CSV differs: the script must say so.
 mkdir -p "$tmp/fake/clients"

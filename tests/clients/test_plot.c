@@ -1,0 +1,141 @@
+/* test_plot.c - the bifurcation figure draws each of a point's Poincare
+ * spots once (wgsweep's figures took 1.1 s of the Table-3 study's 3.6 s
+ * drawing a period-1 orbit's 128 coincident sections 128 times): a point
+ * whose sections repeat renders exactly as the same point with each
+ * distinct section once, and two sections a quarter pixel apart are both
+ * drawn, as is a spot at another point's height. The figures are read
+ * back as pixels with cairo. */
+#include "test.h"
+
+#include "plot.h"
+
+#include <cairo.h>
+#include <unistd.h>
+
+enum { NPTS = 21 };
+
+static char dir[64];
+
+/* Up and down sweeps over omega 1.0 ... 1.4: period 1, then period 2
+ * (sections alternating), then a point with 128 distinct sections. */
+static void make_points(wg_point *up, wg_point *down, int repeat)
+{
+    for (int i = 0; i < NPTS; i++) {
+        wg_point *p = &up[i];
+        memset(p, 0, sizeof *p);
+        p->value = 1.0 + 0.02 * i;
+        p->regime = WG_REGIME_PERIODIC;
+        p->period = i < 10 ? 1 : 2;
+        p->min_xn = 0.5;
+        double a = 1.1 + 0.01 * i, b = 1.3 - 0.005 * i;
+        int ndist = p->period;
+        if (i == NPTS - 1) { /* scattered: every section its own spot */
+            p->regime = WG_REGIME_CHAOTIC;
+            p->period = 0;
+            ndist = WG_POINT_NSEC;
+        }
+        p->nsec = repeat ? WG_POINT_NSEC : ndist;
+        for (int k = 0; k < p->nsec; k++)
+            p->xn[k] = ndist == WG_POINT_NSEC ? 1.05 + 0.003 * k : k % ndist ? b : a;
+        down[i] = *p;
+        down[i].xn[0] += 0.002; /* the down sweep's spots a little apart */
+        if (repeat)
+            for (int k = 0; k < p->nsec; k += ndist)
+                down[i].xn[k] = down[i].xn[0];
+    }
+}
+
+static cairo_surface_t *draw(const char *name, const wg_point *up, const wg_point *down)
+{
+    char path[128], why[256];
+    snprintf(path, sizeof path, "%s/%s.png", dir, name);
+    plot_bif pb = {"test: bifurcation diagram", "ω  (-)", up, down, NPTS, NPTS, 1.0, NULL, 0,
+                   {0, NULL, 0}, {0, NULL, 0}, {"png", {"caption", NULL, NULL, NULL}}};
+    ASSERT_EQ_INT(plot_bifurcation(path, &pb, why, sizeof why), 0);
+    cairo_surface_t *s = cairo_image_surface_create_from_png(path);
+    ASSERT_EQ_INT(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
+    unlink(path);
+    return s;
+}
+
+/* Channel values that differ between two figures of one size. */
+static long differ(cairo_surface_t *a, cairo_surface_t *b)
+{
+    int h = cairo_image_surface_get_height(a), st = cairo_image_surface_get_stride(a);
+    ASSERT_EQ_INT(cairo_image_surface_get_width(a), cairo_image_surface_get_width(b));
+    ASSERT_EQ_INT(h, cairo_image_surface_get_height(b));
+    const unsigned char *pa = cairo_image_surface_get_data(a), *pb = cairo_image_surface_get_data(b);
+    long n = 0;
+    for (long i = 0; pa && pb && i < (long)h * st; i++)
+        n += pa[i] != pb[i];
+    return n;
+}
+
+static void setup(void)
+{
+    snprintf(dir, sizeof dir, "/tmp/test_plot.XXXXXX");
+    ASSERT_TRUE(mkdtemp(dir) != NULL);
+}
+
+static void test_repeated_sections_drawn_once(void)
+{
+    static wg_point up[NPTS], down[NPTS], up1[NPTS], down1[NPTS];
+    setup();
+    make_points(up, down, 1);
+    make_points(up1, down1, 0);
+    cairo_surface_t *a = draw("repeat", up, down), *b = draw("once", up1, down1);
+    ASSERT_EQ_INT(differ(a, b), 0);
+    cairo_surface_destroy(a);
+    cairo_surface_destroy(b);
+    rmdir(dir);
+}
+
+/* Two spots 3e-4 apart, about a third of a pixel on this axis (x_n 1.0
+ * ... 1.45 over ~500 px), at ten sub-pixel phases: each pair renders
+ * otherwise than its first spot alone. */
+static void test_near_sections_both_drawn(void)
+{
+    static wg_point up[NPTS], down[NPTS], one[NPTS];
+    setup();
+    make_points(up, down, 1);
+    int collapsed = 0;
+    for (int j = 0; j < 10; j++) {
+        double h = 1.25 + 1.37e-4 * j; /* point 15 (period 2) at h and h + 3e-4 */
+        for (int k = 0; k < WG_POINT_NSEC; k++)
+            up[15].xn[k] = k % 2 ? h + 3e-4 : h;
+        memcpy(one, up, sizeof one);
+        for (int k = 0; k < WG_POINT_NSEC; k++)
+            one[15].xn[k] = h;
+        cairo_surface_t *a = draw("near", up, down), *b = draw("near-one", one, down);
+        if (differ(a, b) == 0) {
+            TEST_FAIL_("spots at x_n %.6f and %.6f drawn as one", h, h + 3e-4);
+            collapsed++;
+        }
+        cairo_surface_destroy(a);
+        cairo_surface_destroy(b);
+    }
+    ASSERT_EQ_INT(collapsed, 0);
+    rmdir(dir);
+}
+
+/* Each point's spots are its own: a spot at the height of another
+ * point's is drawn too. */
+static void test_each_point_its_own_spots(void)
+{
+    static wg_point up[NPTS], down[NPTS], none[NPTS];
+    setup();
+    make_points(up, down, 1);
+    for (int k = 0; k < WG_POINT_NSEC; k++)
+        up[6].xn[k] = up[5].xn[0]; /* both period 1, at one height */
+    memcpy(none, up, sizeof none);
+    none[6].nsec = 0;
+    cairo_surface_t *a = draw("shared", up, down), *b = draw("shared-none", none, down);
+    if (differ(a, b) == 0)
+        TEST_FAIL_("a point's spot at another point's height was not drawn");
+    cairo_surface_destroy(a);
+    cairo_surface_destroy(b);
+    rmdir(dir);
+}
+
+TEST_MAIN(TEST(test_repeated_sections_drawn_once), TEST(test_near_sections_both_drawn),
+          TEST(test_each_point_its_own_spots))
