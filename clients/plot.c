@@ -80,6 +80,42 @@ static double tick_step(double lo, double hi, int n)
     return (m < 1.5 ? 1.0 : m < 3.5 ? 2.0 : m < 7.5 ? 5.0 : 10.0) * p;
 }
 
+/* The ticks of [lo, hi] at multiples k st into t, at most TICKS_MAX and
+ * each once; none when st is no usable step. Each is k st, not a running
+ * sum: a step under the values' ulp once made the sum stand still (a
+ * period-1 orbit's Poincare map, whose range was 1e-15 wide, hung). */
+enum { TICKS_MAX = 64 };
+static int ticks(double lo, double hi, double st, double t[TICKS_MAX])
+{
+    int n = 0;
+    if (!(st > 0) || !isfinite(st) || !isfinite(lo) || !isfinite(hi))
+        return 0;
+    double k0 = ceil(lo / st - 1e-9);
+    for (int i = 0; n < TICKS_MAX; i++) {
+        double v = (k0 + i) * st;
+        if (v > hi + 1e-9 * st || (n > 0 && v == t[n - 1]))
+            break;
+        t[n++] = v;
+    }
+    return n;
+}
+
+/* An axis range [lo, hi] of data whose spread its tick labels cannot show
+ * (under 1e-4 of its magnitude, magnitudes under 1 counted as 1: a
+ * period-1 orbit's Poincare sections agree to ~1e-10 or to the bit) is
+ * the unit window about its middle that data all equal always had; no
+ * data at all gives [-0.5, 0.5]. */
+static void min_span(double *lo, double *hi)
+{
+    if (!isfinite(*lo) || !isfinite(*hi)) {
+        *lo = -0.5, *hi = 0.5;
+        return;
+    }
+    double mid = 0.5 * (*lo + *hi);
+    if (!(*hi - *lo >= 1e-4 * fmax(fmax(fabs(*lo), fabs(*hi)), 1.0)))
+        *lo = mid - 0.5, *hi = mid + 0.5;
+}
+
 static void axes(cairo_t *cr, const frame *f, const char *xlabel, const char *ylabel,
                  int xnumbers)
 {
@@ -89,7 +125,9 @@ static void axes(cairo_t *cr, const frame *f, const char *xlabel, const char *yl
     cairo_rectangle(cr, f->x0, f->y0, f->w, f->h);
     cairo_stroke(cr);
     double sx = tick_step(f->xmin, f->xmax, 10), sy = tick_step(f->ymin, f->ymax, 6);
-    for (double x = ceil(f->xmin / sx - 1e-9) * sx; x <= f->xmax + 1e-9 * sx; x += sx) {
+    double t[TICKS_MAX];
+    for (int i = 0, n = ticks(f->xmin, f->xmax, sx, t); i < n; i++) {
+        double x = t[i];
         cairo_move_to(cr, px(f, x), f->y0 + f->h);
         cairo_line_to(cr, px(f, x), f->y0 + f->h - 6);
         cairo_stroke(cr);
@@ -97,7 +135,8 @@ static void axes(cairo_t *cr, const frame *f, const char *xlabel, const char *yl
         if (xnumbers)
             text(cr, px(f, x), f->y0 + f->h + 18, 13, 0.5, buf);
     }
-    for (double y = ceil(f->ymin / sy - 1e-9) * sy; y <= f->ymax + 1e-9 * sy; y += sy) {
+    for (int i = 0, n = ticks(f->ymin, f->ymax, sy, t); i < n; i++) {
+        double y = t[i];
         cairo_move_to(cr, f->x0, py(f, y));
         cairo_line_to(cr, f->x0 + 6, py(f, y));
         cairo_stroke(cr);
@@ -294,8 +333,9 @@ static void scale2(cairo_t *cr, const frame *f, const plot_scale2 *sc, int where
     double st = sc->step > 0 ? sc->step : tick_step(lo, hi, vert ? 6 : 8), bot = f->y0 + f->h, right = f->x0 + f->w;
     cairo_set_source_rgb(cr, 0, 0, 0);
     cairo_set_line_width(cr, 1.0);
-    for (double u = ceil(lo / st - 1e-9) * st; u <= hi + 1e-9 * st; u += st) {
-        double d = u / sc->k;
+    double t[TICKS_MAX];
+    for (int i = 0, n = ticks(lo, hi, st, t); i < n; i++) {
+        double u = t[i], d = u / sc->k;
         snprintf(buf, sizeof buf, "%g", fabs(u) < 1e-12 * st ? 0.0 : u);
         if (where == 0) {
             cairo_move_to(cr, px(f, d), f->y0), cairo_line_to(cr, px(f, d), f->y0 + 6);
@@ -517,6 +557,7 @@ int plot_bifurcation(const char *path, const plot_bif *pb, char *why, size_t why
     }
     lo = fmin(lo, pb->b);
     hi = fmax(hi, pb->b);
+    min_span(&lo, &hi);
     double pad = 0.05 * (hi - lo + 1e-9), y = pd_page_head(cr, 1400, pb->title, &pb->pg);
     frame top = {90, y + 98, 1210, 560 - (y - 30), xlo, xhi, lo - pad, hi + pad};
     const char *shading = pb->nup ? "background: regime of the up sweep (the strips above the "
@@ -673,10 +714,8 @@ int plot_xy_write(const char *path, const plot_xy *p, char *why, size_t whylen)
         xlo = fmin(xlo, p->b), xhi = fmax(xhi, p->b);
     if (p->b > 0 && !p->b_on_x && !p->dots)
         ylo = fmin(ylo, p->b), yhi = fmax(yhi, p->b);
-    if (!(xhi > xlo))
-        xlo -= 0.5, xhi += 0.5;
-    if (!(yhi > ylo))
-        ylo -= 0.5, yhi += 0.5;
+    min_span(&xlo, &xhi);
+    min_span(&ylo, &yhi);
     double mx = 0.05 * (xhi - xlo), my = 0.05 * (yhi - ylo);
     double y = pd_page_head(cr, 1000, p->title, &p->pg), top = y + (p->x2.k > 0 ? 62 : 24);
     frame f = {105, top, p->y2.k > 0 ? 785 : 845, 790 - top, xlo - mx, xhi + mx, ylo - my,

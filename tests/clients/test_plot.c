@@ -3,8 +3,9 @@
  * drawing a period-1 orbit's 128 coincident sections 128 times): a point
  * whose sections repeat renders exactly as the same point with each
  * distinct section once, and two sections a quarter pixel apart are both
- * drawn, as is a spot at another point's height. The figures are read
- * back as pixels with cairo. */
+ * drawn, as is a spot at another point's height; and an x-y figure of
+ * data with no spread (a period-1 orbit's Poincare map) ends and shows
+ * its dot. The figures are read back as pixels with cairo. */
 #include "test.h"
 
 #include "plot.h"
@@ -137,5 +138,46 @@ static void test_each_point_its_own_spots(void)
     rmdir(dir);
 }
 
+/* A period-1 orbit's Poincare map: 2000 sections within 1e-15 of each
+ * other (and once all equal to the bit). Its axes' ticks were a running
+ * sum whose step was under the values' ulp, so the figure never ended;
+ * now it is drawn in the unit window that equal data always had, the dot
+ * in its middle. */
+static void test_poincare_of_period_one(void)
+{
+    enum { NS = 2000 };
+    static double x[NS], v[NS];
+    char path[128], why[256];
+    setup();
+    snprintf(path, sizeof path, "%s/p1.png", dir);
+    alarm(20); /* a hang fails here, not at ctest's timeout */
+    for (int same = 0; same < 2; same++) {
+        for (int i = 0; i < NS; i++) {
+            x[i] = 1.28440827724 + (same ? 0.0 : (i % 7) * 2.2e-16);
+            v[i] = -0.000819954217852 + (same ? 0.0 : (i % 5) * 1e-19);
+        }
+        plot_xy p = {"test: Poincaré map", "x_n  (b_c)", "x_n'  (b_c ω_n)", x, v, NS, 1, 1.0,
+                     1, {0, NULL, 0}, {0, NULL, 0}, "P1", {"png", {NULL, NULL, NULL, NULL}}};
+        ASSERT_EQ_INT(plot_xy_write(path, &p, why, sizeof why), 0);
+        cairo_surface_t *s = cairo_image_surface_create_from_png(path);
+        ASSERT_EQ_INT(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
+        /* the dot drawn: pixels of the data colour near the frame's middle */
+        int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
+        int st = cairo_image_surface_get_stride(s), blue = 0;
+        const unsigned char *d = cairo_image_surface_get_data(s);
+        for (int yy = h / 4; d && yy < 3 * h / 4; yy++)
+            for (int xx = w / 4; xx < 3 * w / 4; xx++) {
+                const unsigned char *px_ = d + yy * st + 4 * xx; /* B G R A */
+                blue += px_[0] > 150 && px_[2] < 120;
+            }
+        if (blue == 0)
+            TEST_FAIL_("no dot in the middle of the figure (same = %d)", same);
+        cairo_surface_destroy(s);
+    }
+    alarm(0);
+    unlink(path);
+    rmdir(dir);
+}
+
 TEST_MAIN(TEST(test_repeated_sections_drawn_once), TEST(test_near_sections_both_drawn),
-          TEST(test_each_point_its_own_spots))
+          TEST(test_each_point_its_own_spots), TEST(test_poincare_of_period_one))
