@@ -4,13 +4,16 @@
 
 #include "wormgear/wg_param.h"
 
+#include <errno.h>
 #include <math.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 int cli_usage_error(const char *prog, const char *fmt, ...)
 {
@@ -35,6 +38,34 @@ int cli_getopt(const char *prog, int argc, char **argv, const char *shortopts,
                           : cli_usage_error(prog, "unknown option or missing value '%s'",
                                             argv[optind - 1]);
     return 0;
+}
+
+int cli_opt_outdir(const char *prog, const char *opt, const char *prefix)
+{
+    char dir[4096];
+    const char *slash = strrchr(prefix, '/');
+    size_t n = slash ? (size_t)(slash - prefix) : 0;
+    if (!slash)
+        snprintf(dir, sizeof dir, ".");
+    else if (n == 0)
+        snprintf(dir, sizeof dir, "/");
+    else if (n < sizeof dir)
+        snprintf(dir, sizeof dir, "%.*s", (int)n, prefix);
+    else
+        return cli_usage_error(prog, "%s: a path of at most %zu characters, got %zu", opt,
+                               sizeof dir - 1, strlen(prefix));
+    struct stat st;
+    const char *why = NULL;
+    if (stat(dir, &st) != 0)
+        why = strerror(errno);
+    else if (!S_ISDIR(st.st_mode))
+        why = "not a directory";
+    else if (access(dir, W_OK | X_OK) != 0)
+        why = strerror(errno);
+    if (!why)
+        return 0;
+    return cli_usage_error(prog, "%s '%s': cannot write in %s: %s (the directory must exist "
+                           "and be writable)", opt, prefix, dir, why);
 }
 
 int cli_double(const char *s, double *v)

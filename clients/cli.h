@@ -47,6 +47,13 @@ int cli_opt_num(const char *prog, const char *opt, const char *s, double lo, dou
 int cli_opt_int(const char *prog, const char *opt, const char *s, int lo, int hi,
                 const char *allowed, int *v);
 
+/* The directory an output PREFIX writes into ("runs/a": "runs"; "a": the
+ * current one): 0 if it is a directory this process may write in, else
+ * CLI_EUSAGE after "prog: opt 'PREFIX': cannot write in DIR: reason (the
+ * directory must exist and be writable)". A sweep checks it before it
+ * runs, not after (a map takes a minute). */
+int cli_opt_outdir(const char *prog, const char *opt, const char *prefix);
+
 /* argv[0] .. argv[argc - 1] joined by single spaces, the command line as
  * a run records it (malloc'ed: free it), or NULL when out of memory. */
 char *cli_join_args(int argc, char **argv);

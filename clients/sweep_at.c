@@ -139,6 +139,7 @@ typedef struct fig {
     const char *note;              /* regime and Lyapunov exponent */
     plot_page pg;
     double b, omega;
+    out_files *files;              /* each figure written is added */
 } fig;
 
 static int fig_write(const fig *g, const char *what, plot_xy *p)
@@ -149,6 +150,7 @@ static int fig_write(const fig *g, const char *what, plot_xy *p)
         fprintf(stderr, "wgsweep: %s\n", why);
         return 1;
     }
+    out_files_add(g->files, path);
     return 0;
 }
 
@@ -281,11 +283,13 @@ static int write_views(FILE *out, const wg_params *p, const double *y, const wg_
     if (views_alloc(&w, ao->periods, ao->trace_periods, N) == 0 &&
         replay(p, y, o, N, ao, &w) == 0) {
         char base[1024], path[1100], title[200], tag[96], note[200], lab[32], cap[2][400];
-        const char *ext = plot_text_ext(ao->format);
         snprintf(base, sizeof base, "%s-at-%s", ao->prefix,
                  out_tag(tag, sizeof tag, ao->pname, ao->value));
         snprintf(path, sizeof path, "%s-trace.csv", base);
+        out_files files = {"", 0};
         rc = write_trace(path, &w);
+        if (!rc)
+            out_files_add(&files, path);
         snprintf(title, sizeof title, "%s, %s = %g", ao->scene ? ao->scene : "",
                  plot_text_psym(wg_param_lookup(ao->pname)), ao->value);
         int n = snprintf(note, sizeof note, "%s (%s), %s", out_label(pt, lab, sizeof lab),
@@ -295,14 +299,10 @@ static int write_views(FILE *out, const wg_params *p, const double *y, const wg_
         if (ao->scene_p)
             plot_text_caption(cap, ao->scene, p, ao->scene_p, -1, -1, o, N, N);
         fig g = {ao, base, title, note, {ao->format, {ao->scene_p ? cap[0] : NULL, cap[1],
-                 NULL, NULL}}, p->v[WG_P_B], p->v[WG_P_OMEGA]};
+                 NULL, NULL}}, p->v[WG_P_B], p->v[WG_P_OMEGA], &files};
         if (ao->png)
             rc |= write_figs(&g, &w);
-        fprintf(out, "files       %s-trace.csv", base);
-        if (ao->png)
-            fprintf(out, ", %s-phase.%s, %s-poincare.%s, %s-trace.%s", base, ext, base, ext,
-                    base, ext);
-        fputc('\n', out);
+        fprintf(out, "files       %s\n", files.n ? files.list : "none written");
     }
     views_free(&w);
     return rc;

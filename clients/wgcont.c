@@ -186,7 +186,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         o->co.ds0 = o->co.ds_max;
     if (!o->start_set)
         o->co.start = o->co.from;
-    return 0;
+    return cli_opt_outdir("wgcont", "--out", o->out);
 }
 
 /* ---- progress (stderr) and collection -------------------------------------------- */

@@ -197,7 +197,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         return cli_usage_error(PROG, "--to '': must differ from --from");
     if (!o->bins)
         o->bins = o->points;
-    return 0;
+    return cli_opt_outdir(PROG, "--out", o->out);
 }
 
 /* ---- messages ---------------------------------------------------------------- */

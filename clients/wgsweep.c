@@ -99,7 +99,8 @@ static void usage(FILE *f)
         "  --out PREFIX            output prefix (default sweep): PREFIX.csv,\n"
         "                          PREFIX-poincare.csv, PREFIX.json, PREFIX.md, PREFIX.png\n"
         "                          (--values: PREFIX-NAME-V.png per value); the files\n"
-        "                          written are listed on stderr at the end\n"
+        "                          written are listed on stderr at the end; PREFIX's\n"
+        "                          directory must exist (checked before the sweep)\n"
         "  --format png|svg|pdf    figure format (default png): every figure has a\n"
         "                          caption (scene, parameters set, N, transient and\n"
         "                          recorded periods) and axes with units (omega and\n"
@@ -370,20 +371,8 @@ static int run_all(wg_chain *cs, int n, const opts *o, double *wall)
 
 static int write_study(const opts *o, sweep_study *st, out_files *files)
 {
-    char path[1024], why[512];
-    int rc = 0;
-    snprintf(path, sizeof path, "%s.csv", o->out);
-    rc |= WRITE(files, out_points_csv, path, st, why, sizeof why);
-    snprintf(path, sizeof path, "%s-poincare.csv", o->out);
-    rc |= WRITE(files, out_poincare_csv, path, st, why, sizeof why);
-    snprintf(path, sizeof path, "%s.md", o->out);
-    rc |= WRITE(files, md_write, path, st, why, sizeof why);
-    if (o->json) {
-        snprintf(path, sizeof path, "%s.json", o->out);
-        rc |= WRITE(files, out_json, path, st, why, sizeof why);
-    }
-    if (o->png)
-        rc |= out_pngs(o->out, st, files, why, sizeof why);
+    char why[2048];
+    int rc = out_study(o->out, st, o->json, o->png, o->threads, files, why, sizeof why);
     if (rc)
         fprintf(stderr, "wgsweep: %s\n", why);
     return rc ? 1 : 0;
@@ -661,6 +650,11 @@ int main(int argc, char **argv)
         rc = 2;
     }
     unhush(hushed);
+    /* Only rank 0 writes, so only its --out is checked; every rank learns
+     * the verdict (all of them take part, whatever rc is). */
+    int bad_out = !rc && !help && rank == 0 && cli_opt_outdir(PROG, "--out", o.out) != 0;
+    if (par_any(bad_out) && !rc)
+        rc = 2;
     if (!rc) {
         o.so.model = sc.model;
         cli_on_stop_signals(on_signal);

@@ -55,6 +55,9 @@ check "Ctrl-C: exit 130 and partial csv + figure" \
 check "usage errors exit 2" '[ $r1 -eq 2 ] && [ $r2 -eq 2 ] && [ $r3 -eq 2 ] && [ $r4 -eq 2 ]'
 check "--param z2 (body data): exit 2, one refusal saying it does not change the motion" \
   '[ $r6 -eq 2 ] && grep -q "^wgcont: --param .z2.: body data, .*does not change the motion" "$dir/z2.err" && [ "$(grep -c "^wgcont:" "$dir/z2.err")" -eq 1 ]'
+"$cont" --from 0.5 --to 0.6 --out "$dir/none/c" >/dev/null 2>"$dir/od.err"; r8=$?
+check "--out in a missing directory: exit 2 before the continuation, the reason said" \
+  '[ $r8 -eq 2 ] && grep -q "^wgcont: --out .$dir/none/c.: cannot write in $dir/none: No such file or directory" "$dir/od.err" && ! grep -q omega "$dir/od.err"'
 check "a period-3 start on a period-1 attractor: exit 1, the period named" \
   '[ $r5 -eq 1 ] && grep -q "has period 1, not 3" "$dir/p3.err"'
 

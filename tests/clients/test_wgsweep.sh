@@ -22,6 +22,36 @@ check "table finds the doubling at 1.19-1.20" 'grep -q "period doubling | 1.1950
 "$sweep" --from 1.17 --to 1.22 --points 3 --transient 100 --threads 1 --values xi_p=0.08,0.10 --out "$dir/w" 2>"$dir/w.err" >/dev/null
 check "the last line names every file written" 'grep -q "; wrote $dir/w.csv, $dir/w-poincare.csv, $dir/w.md, $dir/w.json, $dir/w-xi_p-0.08.png, $dir/w-xi_p-0.1.png\$" "$dir/w.err" && [ -s "$dir/w-xi_p-0.1.png" ]'
 
+# The files written by two threads at once: the same bytes (the JSON and
+# the Markdown but for the thread count and wall time), listed in order.
+"$sweep" --from 1.17 --to 1.22 --points 3 --transient 100 --threads 2 --values xi_p=0.08,0.10 --out "$dir/w2" 2>"$dir/w2.err" >/dev/null
+check "two threads write the files: same bytes, listed in order" \
+  'grep -q "; wrote $dir/w2.csv, $dir/w2-poincare.csv, $dir/w2.md, $dir/w2.json, $dir/w2-xi_p-0.08.png, $dir/w2-xi_p-0.1.png\$" "$dir/w2.err" &&
+   for f in .csv -poincare.csv -xi_p-0.08.png -xi_p-0.1.png; do cmp -s "$dir/w$f" "$dir/w2$f" || exit 1; done &&
+   cmp -s <(sed "s/\"wall_s\":[0-9.]*,\"threads\":1,//" "$dir/w.json") <(sed "s/\"wall_s\":[0-9.]*,\"threads\":2,//" "$dir/w2.json") &&
+   [ "$(diff "$dir/w.md" "$dir/w2.md" | grep -c "^[<>]")" -eq 4 ]'
+# An --out whose directory is missing: refused before the sweep runs.
+"$sweep" --from 1.17 --to 1.22 --points 3 --transient 100 --out "$dir/none/w" >"$dir/od.out" 2>"$dir/od.err"
+rc=$?
+check "--out in a missing directory: exit 2 before any point, the reason said" \
+  '[ $rc -eq 2 ] && grep -q "^wgsweep: --out .$dir/none/w.: cannot write in $dir/none: No such file or directory (the directory must exist and be writable)\$" "$dir/od.err" && ! grep -q points "$dir/od.err"'
+# A file that cannot be written after the sweep (a directory in its way):
+# exit 1, each failed file said, the others written and listed.
+mkdir -p "$dir/blk/b.json" "$dir/blk/b-xi_p-0.1.png" "$dir/blk/a-at-omega-1.2-phase.png"
+"$sweep" --from 1.17 --to 1.22 --points 3 --transient 100 --values xi_p=0.08,0.10 --out "$dir/blk/b" >/dev/null 2>"$dir/blk.err"
+rc=$?
+check "a blocked JSON and figure: exit 1, both said, the rest listed" \
+  '[ $rc -eq 1 ] && grep -q "^wgsweep: cannot write $dir/blk/b.json: Is a directory; cannot write $dir/blk/b-xi_p-0.1.png: " "$dir/blk.err" && grep -q "; wrote $dir/blk/b.csv, $dir/blk/b-poincare.csv, $dir/blk/b.md, $dir/blk/b-xi_p-0.08.png\$" "$dir/blk.err"'
+"$sweep" --at 1.2 --at-periods 100 --out "$dir/blk/a" >"$dir/blka.out" 2>"$dir/blka.err"
+rc=$?
+check "--at with its phase portrait blocked: exit 1, only what was written listed" \
+  '[ $rc -eq 1 ] && grep -q "^files       $dir/blk/a-at-omega-1.2-trace.csv, $dir/blk/a-at-omega-1.2-poincare.png, $dir/blk/a-at-omega-1.2-trace.png\$" "$dir/blka.out" && grep -q "cannot write $dir/blk/a-at-omega-1.2-phase.png" "$dir/blka.err"'
+# A period-1 point's Poincare map (its sections agree to ~1e-15) hung
+# drawing its axes' ticks.
+timeout 60 "$sweep" --at 0.5 --at-periods 200 --out "$dir/p1" >"$dir/p1.out"
+rc=$?
+check "--at 0.5 (period 1): ends, its Poincare map drawn" '[ $rc -eq 0 ] && grep -q "regime      P1" "$dir/p1.out" && [ -s "$dir/p1-at-omega-0.5-poincare.png" ]'
+
 "$sweep" $common --threads 2 --values xi_p=0.08,0.10 --out "$dir/s2" >/dev/null
 check "threads: identical csv" 'cmp -s "$dir/s1.csv" "$dir/s2.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/s2-poincare.csv"'
 "$sweep" $common --threads 1 --pair 1 --values xi_p=0.08,0.10 --out "$dir/p1" >/dev/null
