@@ -74,6 +74,9 @@ static long differ(cairo_surface_t *a, cairo_surface_t *b)
 
 static void setup(void)
 {
+    static int once;
+    if (!once++)
+        atexit(plot_fini); /* cairo's and fontconfig's caches, as wgsweep does */
     snprintf(dir, sizeof dir, "/tmp/test_plot.XXXXXX");
     ASSERT_TRUE(mkdtemp(dir) != NULL);
 }
