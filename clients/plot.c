@@ -454,9 +454,6 @@ static void legend_box(cairo_t *cr, double x, double y, const double rgb[3], con
     text(cr, x + 19, y, 12, 0.0, label);
 }
 
-/* The up sweep's Poincare x_n as filled dots, the down sweep's as rings
- * (a dot in a ring where they agree, either alone where they differ); at
- * the legend's (x, y) when f is NULL. */
 /* 1 if a mark at canvas height cy was drawn for this point already (the
  * point's marks share its x); else it is added to seen. Heights are one
  * when they round to the same 1/64 px: a period-n orbit's WG_POINT_NSEC
@@ -472,6 +469,9 @@ static int spot_seen(double *seen, int *nseen, double cy)
     return 0;
 }
 
+/* The up sweep's Poincare x_n as filled dots, the down sweep's as rings
+ * (a dot in a ring where they agree, either alone where they differ); at
+ * the legend's (x, y) when f is NULL. */
 static void sweep_marks(cairo_t *cr, const frame *f, const wg_point *pts, int n, int up,
                         double x, double y)
 {

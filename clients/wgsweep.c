@@ -650,11 +650,17 @@ int main(int argc, char **argv)
         rc = 2;
     }
     unhush(hushed);
-    /* Only rank 0 writes, so only its --out is checked; every rank learns
-     * the verdict (all of them take part, whatever rc is). */
+    /* Only rank 0 writes, so only its --out is checked. Every rank learns
+     * whether any refused the run (all take part, whatever rc is): a rank
+     * on a host without the scene file would otherwise wait for the others
+     * forever, its message hushed. */
     int bad_out = !rc && !help && rank == 0 && cli_opt_outdir(PROG, "--out", o.out) != 0;
-    if (par_any(bad_out) && !rc)
+    if (par_any(rc > 0 || bad_out) && !rc) {
         rc = 2;
+        if (!bad_out)
+            fprintf(stderr, "wgsweep: another MPI rank refused the run (its scene or --set: "
+                            "every host needs the same build, scenes and paths)\n");
+    }
     if (!rc) {
         o.so.model = sc.model;
         cli_on_stop_signals(on_signal);

@@ -80,6 +80,15 @@ if [ -n "$mpiexec" ]; then
   rc=$?
   check "mpi -np 6 on 4 chains: exit 0, identical csv" \
     '[ $rc -eq 0 ] && cmp -s "$dir/s1.csv" "$dir/m6.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/m6-poincare.csv"'
+  # a rank that refuses what rank 0 accepts (here its own --set; on a
+  # cluster, a host without the scene): every rank stops, exit 2, said once
+  # (rank 0 waited for it forever)
+  timeout 60 "$mpiexec" --allow-run-as-root --oversubscribe -np 1 "$sweep" $common --threads 1 \
+      --values xi_p=0.08 --out "$dir/mr" : -np 1 "$sweep" $common --threads 1 --values xi_p=0.08 \
+      --out "$dir/mr" --set nope=1 >/dev/null 2>"$dir/mr.err"
+  rc=$?
+  check "mpi: one rank refusing stops them all, exit 2, said once" \
+    '[ $rc -eq 2 ] && [ $(grep -c "^wgsweep: another MPI rank refused the run" "$dir/mr.err") -eq 1 ] && ! [ -e "$dir/mr.csv" ]'
   # every rank parses the same arguments: one refusal and one --help, by rank 0
   "$mpiexec" --allow-run-as-root --oversubscribe -np 3 "$sweep" --pair 9 >/dev/null 2>"$dir/mpi9.err"
   rc=$?
