@@ -419,12 +419,34 @@ static void shade(cairo_t *cr, const frame *f, const wg_point *pts, int n, doubl
     }
 }
 
+/* 1 if a mark at canvas height cy was drawn for this point already (the
+ * point's marks share its x); else it is added to seen. Heights are one
+ * when they round to the same 1/64 px: a period-n orbit's WG_POINT_NSEC
+ * sections fall on n spots, and one fill or stroke of the path covers
+ * circles at one spot as it covers one circle. NaN matches nothing. */
+static int spot_seen(double *seen, int *nseen, double cy)
+{
+    double q = nearbyint(cy * 64.0);
+    for (int j = 0; j < *nseen; j++)
+        if (seen[j] == q)
+            return 1;
+    seen[(*nseen)++] = q;
+    return 0;
+}
+
+/* Each point's Poincare spots as small squares, each spot once. */
 static void dots(cairo_t *cr, const frame *f, const wg_point *pts, int n, const double c[3])
 {
     set_rgb(cr, c, 0.7);
-    for (int i = 0; i < n; i++)
-        for (int k = 0; k < pts[i].nsec; k++)
-            cairo_rectangle(cr, px(f, pts[i].value) - 1.2, py(f, pts[i].xn[k]) - 1.2, 2.4, 2.4);
+    double seen[WG_POINT_NSEC];
+    for (int i = 0; i < n; i++) {
+        int nseen = 0;
+        for (int k = 0; k < pts[i].nsec; k++) {
+            double cy = py(f, pts[i].xn[k]);
+            if (!spot_seen(seen, &nseen, cy))
+                cairo_rectangle(cr, px(f, pts[i].value) - 1.2, cy - 1.2, 2.4, 2.4);
+        }
+    }
     cairo_fill(cr);
 }
 
@@ -452,21 +474,6 @@ static void legend_box(cairo_t *cr, double x, double y, const double rgb[3], con
     cairo_stroke(cr);
     cairo_set_source_rgb(cr, 0, 0, 0);
     text(cr, x + 19, y, 12, 0.0, label);
-}
-
-/* 1 if a mark at canvas height cy was drawn for this point already (the
- * point's marks share its x); else it is added to seen. Heights are one
- * when they round to the same 1/64 px: a period-n orbit's WG_POINT_NSEC
- * sections fall on n spots, and one fill or stroke of the path covers
- * circles at one spot as it covers one circle. NaN matches nothing. */
-static int spot_seen(double *seen, int *nseen, double cy)
-{
-    double q = nearbyint(cy * 64.0);
-    for (int j = 0; j < *nseen; j++)
-        if (seen[j] == q)
-            return 1;
-    seen[(*nseen)++] = q;
-    return 0;
 }
 
 /* The up sweep's Poincare x_n as filled dots, the down sweep's as rings
