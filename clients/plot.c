@@ -80,23 +80,39 @@ static double tick_step(double lo, double hi, int n)
     return (m < 1.5 ? 1.0 : m < 3.5 ? 2.0 : m < 7.5 ? 5.0 : 10.0) * p;
 }
 
-/* The ticks of [lo, hi] at multiples k st into t, at most TICKS_MAX and
- * each once; none when st is no usable step. Each is k st, not a running
- * sum: a step under the values' ulp once made the sum stand still (a
- * period-1 orbit's Poincare map, whose range was 1e-15 wide, hung). */
-enum { TICKS_MAX = 64 };
-static int ticks(double lo, double hi, double st, double t[TICKS_MAX])
+/* Significant digits that tell ticks st apart up to |t| (%g's 6 when
+ * those do, at most 15): a sweep over omega 1.37880 ... 1.37881 is
+ * labelled 1.378801, 1.378802, ..., not 1.3788 ten times. */
+static int tick_digits(const double *t, int n, double st)
+{
+    double mx = 0.0;
+    for (int i = 0; i < n; i++)
+        mx = fmax(mx, fabs(t[i]));
+    if (!(mx > 0) || !(st > 0))
+        return 6;
+    int d = (int)floor(log10(mx)) - (int)floor(log10(st)) + 1;
+    return d < 6 ? 6 : d > 15 ? 15 : d;
+}
+
+/* Each tick is k st, not a running sum: a step under the values' ulp
+ * once made the sum stand still (a period-1 orbit's Poincare map, whose
+ * range was 1e-15 wide, hung). */
+int pd_ticks(double lo, double hi, double st, double t[PD_TICKS_MAX],
+             char lab[PD_TICKS_MAX][PD_TICK_LABEL])
 {
     int n = 0;
     if (!(st > 0) || !isfinite(st) || !isfinite(lo) || !isfinite(hi))
         return 0;
     double k0 = ceil(lo / st - 1e-9);
-    for (int i = 0; n < TICKS_MAX; i++) {
+    for (int i = 0; n < PD_TICKS_MAX; i++) {
         double v = (k0 + i) * st;
         if (v > hi + 1e-9 * st || (n > 0 && v == t[n - 1]))
             break;
         t[n++] = v;
     }
+    int dg = tick_digits(t, n, st);
+    for (int i = 0; i < n; i++)
+        snprintf(lab[i], PD_TICK_LABEL, "%.*g", dg, fabs(t[i]) < 1e-12 * st ? 0.0 : t[i]);
     return n;
 }
 
@@ -119,29 +135,27 @@ static void min_span(double *lo, double *hi)
 static void axes(cairo_t *cr, const frame *f, const char *xlabel, const char *ylabel,
                  int xnumbers)
 {
-    char buf[32];
+    double t[PD_TICKS_MAX];
+    char lab[PD_TICKS_MAX][PD_TICK_LABEL];
     cairo_set_source_rgb(cr, 0, 0, 0);
     cairo_set_line_width(cr, 1.0);
     cairo_rectangle(cr, f->x0, f->y0, f->w, f->h);
     cairo_stroke(cr);
     double sx = tick_step(f->xmin, f->xmax, 10), sy = tick_step(f->ymin, f->ymax, 6);
-    double t[TICKS_MAX];
-    for (int i = 0, n = ticks(f->xmin, f->xmax, sx, t); i < n; i++) {
+    for (int i = 0, n = pd_ticks(f->xmin, f->xmax, sx, t, lab); i < n; i++) {
         double x = t[i];
         cairo_move_to(cr, px(f, x), f->y0 + f->h);
         cairo_line_to(cr, px(f, x), f->y0 + f->h - 6);
         cairo_stroke(cr);
-        snprintf(buf, sizeof buf, "%g", fabs(x) < 1e-12 * sx ? 0.0 : x);
         if (xnumbers)
-            text(cr, px(f, x), f->y0 + f->h + 18, 13, 0.5, buf);
+            text(cr, px(f, x), f->y0 + f->h + 18, 13, 0.5, lab[i]);
     }
-    for (int i = 0, n = ticks(f->ymin, f->ymax, sy, t); i < n; i++) {
+    for (int i = 0, n = pd_ticks(f->ymin, f->ymax, sy, t, lab); i < n; i++) {
         double y = t[i];
         cairo_move_to(cr, f->x0, py(f, y));
         cairo_line_to(cr, f->x0 + 6, py(f, y));
         cairo_stroke(cr);
-        snprintf(buf, sizeof buf, "%g", fabs(y) < 1e-12 * sy ? 0.0 : y);
-        text(cr, f->x0 - 6, py(f, y) + 5, 13, 1.0, buf);
+        text(cr, f->x0 - 6, py(f, y) + 5, 13, 1.0, lab[i]);
     }
     if (xlabel && xnumbers)
         text(cr, f->x0 + f->w / 2, f->y0 + f->h + 40, 15, 0.5, xlabel);
@@ -325,7 +339,6 @@ int pd_finish(cairo_surface_t *s, cairo_t *cr, const char *path, const char *for
  * the x numbers, 2 on the right. Ticks at its own round values. */
 static void scale2(cairo_t *cr, const frame *f, const plot_scale2 *sc, int where)
 {
-    char buf[32];
     if (!(sc->k > 0))
         return;
     int vert = where == 2;
@@ -333,19 +346,19 @@ static void scale2(cairo_t *cr, const frame *f, const plot_scale2 *sc, int where
     double st = sc->step > 0 ? sc->step : tick_step(lo, hi, vert ? 6 : 8), bot = f->y0 + f->h, right = f->x0 + f->w;
     cairo_set_source_rgb(cr, 0, 0, 0);
     cairo_set_line_width(cr, 1.0);
-    double t[TICKS_MAX];
-    for (int i = 0, n = ticks(lo, hi, st, t); i < n; i++) {
+    double t[PD_TICKS_MAX];
+    char lab[PD_TICKS_MAX][PD_TICK_LABEL];
+    for (int i = 0, n = pd_ticks(lo, hi, st, t, lab); i < n; i++) {
         double u = t[i], d = u / sc->k;
-        snprintf(buf, sizeof buf, "%g", fabs(u) < 1e-12 * st ? 0.0 : u);
         if (where == 0) {
             cairo_move_to(cr, px(f, d), f->y0), cairo_line_to(cr, px(f, d), f->y0 + 6);
-            text(cr, px(f, d), f->y0 - 7, 13, 0.5, buf);
+            text(cr, px(f, d), f->y0 - 7, 13, 0.5, lab[i]);
         } else if (where == 1) {
             cairo_move_to(cr, px(f, d), bot), cairo_line_to(cr, px(f, d), bot + 5);
-            text(cr, px(f, d), bot + 64, 13, 0.5, buf);
+            text(cr, px(f, d), bot + 64, 13, 0.5, lab[i]);
         } else {
             cairo_move_to(cr, right, py(f, d)), cairo_line_to(cr, right - 6, py(f, d));
-            text(cr, right + 6, py(f, d) + 5, 13, 0.0, buf);
+            text(cr, right + 6, py(f, d) + 5, 13, 0.0, lab[i]);
         }
         cairo_stroke(cr);
     }

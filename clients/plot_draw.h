@@ -26,6 +26,15 @@ static inline double py(const frame *f, double y)
     return f->y0 + f->h - (y - f->ymin) / (f->ymax - f->ymin) * f->h;
 }
 
+/* The ticks of an axis over [lo, hi] at the multiples of st in it (at
+ * most PD_TICKS_MAX, each once; none for a step that is not a positive
+ * finite number) into t, and their labels into lab, with the significant
+ * digits that tell neighbours apart (%g's 6 where those do, at most 15).
+ * Returns how many. */
+enum { PD_TICKS_MAX = 64, PD_TICK_LABEL = 32 };
+int pd_ticks(double lo, double hi, double st, double t[PD_TICKS_MAX],
+             char lab[PD_TICKS_MAX][PD_TICK_LABEL]);
+
 /* What a figure says in words (title, caption, axis labels): an SVG's
  * <title> and <desc>, a PDF's Title and Subject. */
 typedef struct pd_doc {

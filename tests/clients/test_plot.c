@@ -5,10 +5,12 @@
  * distinct section once, and two sections a quarter pixel apart are both
  * drawn, as is a spot at another point's height; and an x-y figure of
  * data with no spread (a period-1 orbit's Poincare map) ends and shows
- * its dot. The figures are read back as pixels with cairo. */
+ * its dot; axis ticks end and their labels tell them apart. The figures
+ * are read back as pixels with cairo. */
 #include "test.h"
 
 #include "plot.h"
+#include "plot_draw.h"
 
 #include <cairo.h>
 #include <unistd.h>
@@ -182,5 +184,37 @@ static void test_poincare_of_period_one(void)
     rmdir(dir);
 }
 
-TEST_MAIN(TEST(test_repeated_sections_drawn_once), TEST(test_near_sections_both_drawn),
+/* Axis ticks: k * step, each once, at most PD_TICKS_MAX, labelled with
+ * the digits that tell them apart. */
+static void test_ticks(void)
+{
+    double t[PD_TICKS_MAX];
+    char lab[PD_TICKS_MAX][PD_TICK_LABEL];
+    int n = pd_ticks(0.0, 2.5, 0.2, t, lab);
+    ASSERT_EQ_INT(n, 13);
+    ASSERT_STR(lab[0], "0");
+    ASSERT_STR(lab[3], "0.6"); /* 3 * 0.2 = 0.6000000000000001 */
+    ASSERT_STR(lab[12], "2.4");
+    /* a zoom into the period-doubling cascade: ten distinct labels */
+    n = pd_ticks(1.3788, 1.37881, 1e-6, t, lab);
+    ASSERT_EQ_INT(n, 11);
+    ASSERT_STR(lab[1], "1.378801");
+    for (int i = 1; i < n; i++)
+        if (!strcmp(lab[i], lab[i - 1]))
+            TEST_FAIL_("ticks %d and %d both labelled %s", i - 1, i, lab[i]);
+    n = pd_ticks(1.0, 1.0000001, 1e-8, t, lab);
+    ASSERT_TRUE(n == 10 || n == 11);
+    ASSERT_STR(lab[1], "1.00000001");
+    /* a step under the values' ulp: ends, each value once */
+    double x = 1.28440827724;
+    n = pd_ticks(x - 1e-15, x + 1e-15, 1e-17, t, lab);
+    ASSERT_TRUE(n >= 1 && n <= PD_TICKS_MAX);
+    for (int i = 1; i < n; i++)
+        ASSERT_TRUE(t[i] > t[i - 1]);
+    ASSERT_EQ_INT(pd_ticks(0.0, 1.0, 0.0, t, lab), 0);
+    ASSERT_EQ_INT(pd_ticks(0.0, 1.0, NAN, t, lab), 0);
+    ASSERT_EQ_INT(pd_ticks(0.0, INFINITY, 0.1, t, lab), 0);
+}
+
+TEST_MAIN(TEST(test_ticks), TEST(test_repeated_sections_drawn_once), TEST(test_near_sections_both_drawn),
           TEST(test_each_point_its_own_spots), TEST(test_poincare_of_period_one))
