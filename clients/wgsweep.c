@@ -19,6 +19,7 @@
 #include <float.h>
 #include <getopt.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,10 +27,12 @@
 
 static volatile sig_atomic_t g_stop; /* set by the signal handler only */
 
+/* The first Ctrl-C (or SIGTERM) asks a sweep to stop after its current
+ * points and write them; the second ends wgsweep at once. */
 static void on_signal(int sig)
 {
-    (void)sig;
     g_stop = 1;
+    signal(sig, SIG_DFL);
 }
 
 typedef struct opts {
@@ -120,7 +123,8 @@ static void usage(FILE *f)
         "                          group, in order)\n"
         "  --quiet                 no progress bar\n"
         "  -h, --help              this text\n\n"
-        "Ctrl-C stops after the current points and writes what is done (exit 130).\n"
+        "Ctrl-C stops a sweep after the current points and writes what is done (exit\n"
+        "130); a second Ctrl-C, or one during --at, ends it at once.\n"
         "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted.\n");
 }
 
@@ -663,7 +667,8 @@ int main(int argc, char **argv)
     }
     if (!rc) {
         o.so.model = sc.model;
-        cli_on_stop_signals(on_signal);
+        if (!o.table_from && !o.at_set) /* --at and --table-from stop at once */
+            cli_on_stop_signals(on_signal);
         char *cmd = cli_join_args(argc, argv);
         if (o.table_from)
             rc = rank == 0 ? do_table(&o, &sc, cmd) : 0;

@@ -117,6 +117,18 @@ check "interrupt exits 130" '[ $rc -eq 130 ]'
 check "interrupt leaves partial results" \
   'grep -q "\"partial\":true" "$dir/int.json" && [ $(wc -l < "$dir/int.csv") -gt 1 ] && [ $(wc -l < "$dir/int.csv") -lt 800 ] && grep -q PARTIAL "$dir/int.md" && [ -s "$dir/int.png" ]'
 
+# A stop signal during --at (which has no points to stop after) ends it at
+# once; it used to be caught and ignored until the point was done (here:
+# 1e7 periods). SIGTERM: a script's background job ignores SIGINT.
+"$sweep" --at 0.85 --at-periods 10000000 --out "$dir/atint" >/dev/null 2>&1 &
+pid=$!
+sleep 1
+kill -TERM $pid
+t0=$(date +%s)
+while kill -0 $pid 2>/dev/null && [ $(($(date +%s) - t0)) -lt 10 ]; do sleep 0.1; done
+kill -0 $pid 2>/dev/null && { kill -9 $pid; rc=timeout; } || { wait $pid; rc=$?; }
+check "SIGTERM during --at: ended at once by the signal" '[ "$rc" = 143 ]'
+
 "$sweep" --at 0.85 --at-periods 200 --out "$dir/at" > "$dir/at.txt"
 check "--at summary and views" 'grep -q "regime      P1" "$dir/at.txt" && grep -q floquet "$dir/at.txt" && [ -s "$dir/at-at-omega-0.85-phase.png" ] && [ -s "$dir/at-at-omega-0.85-poincare.png" ] && [ -s "$dir/at-at-omega-0.85-trace.csv" ]'
 check "--at names every file, none with '='" 'grep -q "^files       $dir/at-at-omega-0.85-trace.csv, $dir/at-at-omega-0.85-phase.png, $dir/at-at-omega-0.85-poincare.png, $dir/at-at-omega-0.85-trace.png\$" "$dir/at.txt" && ! ls "$dir" | grep -q ='
