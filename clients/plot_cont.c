@@ -146,15 +146,16 @@ static int overlaps(const boxes *bx, double x0, double y0, double x1, double y1)
 }
 
 /* A label near (x, y): the first of a few heights that overlaps no earlier
- * label; none if all do (the marker stays, the CSV has every value). */
+ * label and no marker; none if all do (the marker stays, the CSV has
+ * every value). */
 static void place_label(cairo_t *cr, const frame *f, boxes *bx, double x, double y,
                         const char *lab)
 {
-    static const double dy[6] = {-10, 6, -24, 20, -38, 34};
+    static const double dy[8] = {-10, 6, -24, 20, -38, 34, -52, 48};
     cairo_text_extents_t e;
     cairo_set_font_size(cr, 10.5);
     cairo_text_extents(cr, lab, &e);
-    for (int k = 0; k < 6 && bx->n < 256; k++) {
+    for (int k = 0; k < 8 && bx->n < 256; k++) {
         double ly = fmin(fmax(y + dy[k], f->y0 + 12), f->y0 + f->h - 4);
         double x0 = x + 9, y0 = ly - 10, x1 = x0 + e.x_advance, y1 = ly + 2;
         if (overlaps(bx, x0, y0, x1, y1))
@@ -173,6 +174,14 @@ static void bifurcations(cairo_t *cr, const frame *top, const frame *bot, const 
 {
     char lab[48];
     boxes *bx = calloc(1, sizeof *bx);
+    /* the top panel's markers first, so that no label covers one */
+    for (int i = 0; i < r->nbif && bx && bx->n < 128; i++) {
+        const wg_bif *b = &r->bif[i];
+        if (b->value < top->xmin || b->value > top->xmax)
+            continue;
+        double x = px(top, b->value), y = py(top, b->xn), *m = bx->x[bx->n++];
+        m[0] = x - 8, m[1] = y - 9, m[2] = x + 8, m[3] = y + 9;
+    }
     for (int i = 0; i < r->nbif && bx; i++) {
         const wg_bif *b = &r->bif[i];
         if (b->value < top->xmin || b->value > top->xmax)
