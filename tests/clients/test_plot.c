@@ -2,8 +2,8 @@
  * spots once (wgsweep's figures took 1.1 s of the Table-3 study's 3.6 s
  * drawing a period-1 orbit's 128 coincident sections 128 times): a point
  * whose sections repeat renders exactly as the same point with each
- * distinct section once, and two sections a quarter pixel apart are both
- * drawn, as is a spot at another point's height; and an x-y figure of
+ * distinct section once, and two sections a third of a pixel apart are
+ * both drawn, as is a spot at another point's height; and an x-y figure of
  * data with no spread (a period-1 orbit's Poincare map) ends and shows
  * its dot; axis ticks end and their labels tell them apart. The figures
  * are read back as pixels with cairo. */
