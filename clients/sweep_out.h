@@ -70,13 +70,13 @@ const char *out_tag(char *buf, size_t len, const char *name, double v);
 int out_pngs(const char *prefix, const sweep_study *st, out_files *files, char *why,
              size_t whylen);
 
-/* The study's files, each written at once by one of up to `threads`
- * threads (the figures are the slow part of a sweep's output): PREFIX.csv,
- * PREFIX-poincare.csv, PREFIX.md, with json PREFIX.json, with figures
- * out_pngs' diagrams; listed on files in that order, each once written.
- * On a failure every failed file's message goes to why ("; " between)
- * and -1 is returned; the others are still written. */
-enum { OUT_MAX_THREADS = 64 };
+/* The study's files: PREFIX.csv, PREFIX-poincare.csv, PREFIX.md, with
+ * json PREFIX.json, with figures out_pngs' diagrams; with threads > 1 the
+ * figures (or, without them, the JSON) are written on another thread
+ * while this one writes the rest. Listed on files in that order, each once
+ * written. On a failure
+ * every failed file's message goes to why ("; " between) and -1 is
+ * returned; the others are still written. */
 int out_study(const char *prefix, const sweep_study *st, int json, int figures, int threads,
               out_files *files, char *why, size_t whylen);
 
