@@ -132,8 +132,9 @@ static void marker(cairo_t *cr, int kind, double x, double y)
 }
 
 /* Labels placed so far (device boxes), to keep new ones off them. */
+enum { BOXES_MAX = 256 };
 typedef struct boxes {
-    double x[256][4];
+    double x[BOXES_MAX][4];
     int n;
 } boxes;
 
@@ -151,11 +152,11 @@ static int overlaps(const boxes *bx, double x0, double y0, double x1, double y1)
 static void place_label(cairo_t *cr, const frame *f, boxes *bx, double x, double y,
                         const char *lab)
 {
-    static const double dy[8] = {-10, 6, -24, 20, -38, 34, -52, 48};
+    static const double dy[] = {-10, 6, -24, 20, -38, 34, -52, 48};
     cairo_text_extents_t e;
     cairo_set_font_size(cr, 10.5);
     cairo_text_extents(cr, lab, &e);
-    for (int k = 0; k < 8 && bx->n < 256; k++) {
+    for (unsigned k = 0; k < sizeof dy / sizeof dy[0] && bx->n < BOXES_MAX; k++) {
         double ly = fmin(fmax(y + dy[k], f->y0 + 12), f->y0 + f->h - 4);
         double x0 = x + 9, y0 = ly - 10, x1 = x0 + e.x_advance, y1 = ly + 2;
         if (overlaps(bx, x0, y0, x1, y1))
@@ -174,8 +175,9 @@ static void bifurcations(cairo_t *cr, const frame *top, const frame *bot, const 
 {
     char lab[48];
     boxes *bx = calloc(1, sizeof *bx);
-    /* the top panel's markers first, so that no label covers one */
-    for (int i = 0; i < r->nbif && bx && bx->n < 128; i++) {
+    /* the top panel's markers first, so that no label covers one (half
+     * the boxes at most: the rest are the labels') */
+    for (int i = 0; i < r->nbif && bx && bx->n < BOXES_MAX / 2; i++) {
         const wg_bif *b = &r->bif[i];
         if (b->value < top->xmin || b->value > top->xmax)
             continue;

@@ -74,9 +74,8 @@ int out_pngs(const char *prefix, const sweep_study *st, out_files *files, char *
  * json PREFIX.json, with figures out_pngs' diagrams; with threads > 1 the
  * figures (or, without them, the JSON) are written on another thread
  * while this one writes the rest. Listed on files in that order, each once
- * written. On a failure
- * every failed file's message goes to why ("; " between) and -1 is
- * returned; the others are still written. */
+ * written. On a failure every failed file's message goes to why ("; "
+ * between) and -1 is returned; the others are still written. */
 int out_study(const char *prefix, const sweep_study *st, int json, int figures, int threads,
               out_files *files, char *why, size_t whylen);
 
