@@ -132,6 +132,31 @@ static void min_span(double *lo, double *hi)
         *lo = mid - 0.5, *hi = mid + 0.5;
 }
 
+/* The widest of n y tick labels at *size (13 px), the size made smaller
+ * (not under 8) when they would not fit between the page's left edge,
+ * with the axis title's 22 px, and the frame at x0: a Poincare map of
+ * velocities near -0.0008 labelled -0.00085, wider than the 52 px the
+ * title left them, wrote its title over them. */
+static double ylabel_room(cairo_t *cr, char lab[][PD_TICK_LABEL], int n, double x0,
+                          double *size)
+{
+    double wide = 0.0;
+    cairo_text_extents_t e;
+    cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, *size);
+    for (int i = 0; i < n; i++) {
+        cairo_text_extents(cr, lab[i], &e);
+        wide = fmax(wide, e.x_advance);
+    }
+    double room = x0 - 6 - 8 - 22;
+    if (wide > room) {
+        double s0 = *size;
+        *size = fmax(8.0, floor(s0 * room / wide));
+        wide *= *size / s0;
+    }
+    return wide;
+}
+
 static void axes(cairo_t *cr, const frame *f, const char *xlabel, const char *ylabel,
                  int xnumbers)
 {
@@ -150,17 +175,20 @@ static void axes(cairo_t *cr, const frame *f, const char *xlabel, const char *yl
         if (xnumbers)
             text(cr, px(f, x), f->y0 + f->h + 18, 13, 0.5, lab[i]);
     }
-    for (int i = 0, n = pd_ticks(f->ymin, f->ymax, sy, t, lab); i < n; i++) {
+    int ny = pd_ticks(f->ymin, f->ymax, sy, t, lab);
+    double size = 13, wide = ylabel_room(cr, lab, ny, f->x0, &size);
+    for (int i = 0; i < ny; i++) {
         double y = t[i];
         cairo_move_to(cr, f->x0, py(f, y));
         cairo_line_to(cr, f->x0 + 6, py(f, y));
         cairo_stroke(cr);
-        text(cr, f->x0 - 6, py(f, y) + 5, 13, 1.0, lab[i]);
+        text(cr, f->x0 - 6, py(f, y) + 5, size, 1.0, lab[i]);
     }
     if (xlabel && xnumbers)
         text(cr, f->x0 + f->w / 2, f->y0 + f->h + 40, 15, 0.5, xlabel);
-    if (ylabel)
-        vtext(cr, f->x0 - 58, f->y0 + f->h / 2, 15, ylabel);
+    if (ylabel) /* left of the widest tick label, its glyphs (15 px) on the page */
+        vtext(cr, fmax(fmin(f->x0 - 58, f->x0 - 6 - wide - 8), 15), f->y0 + f->h / 2, 15,
+              ylabel);
 }
 
 /* A dashed grey guide line from (x0, y0) to (x1, y1) in device units. */

@@ -5,7 +5,8 @@
  * distinct section once, and two sections a third of a pixel apart are
  * both drawn, as is a spot at another point's height; and an x-y figure of
  * data with no spread (a period-1 orbit's Poincare map) ends and shows
- * its dot; axis ticks end and their labels tell them apart. The figures
+ * its dot; axis ticks end and their labels tell them apart, and the y
+ * axis title keeps clear of long tick labels. The figures
  * are read back as pixels with cairo. */
 #include "test.h"
 
@@ -184,6 +185,52 @@ static void test_poincare_of_period_one(void)
     rmdir(dir);
 }
 
+/* The y axis title keeps clear of long tick labels: a Poincare map of
+ * velocities near -0.0008 (labels -0.00085, ...) had its title written
+ * over them. Drawn with and without the title: the pixels the title adds
+ * all lie left of the tick labels' leftmost ink, with a gap. */
+static void test_ylabel_clear_of_ticks(void)
+{
+    enum { NS = 300 };
+    static double x[NS], v[NS];
+    char path[2][128], why[256];
+    setup();
+    for (int i = 0; i < NS; i++) {
+        x[i] = 1.2844 + 1e-3 * sin(0.1 * i);
+        v[i] = -0.00082 + 1.2e-4 * cos(0.1 * i);
+    }
+    cairo_surface_t *s[2];
+    for (int t = 0; t < 2; t++) {
+        snprintf(path[t], sizeof path[t], "%s/yl%d.png", dir, t);
+        plot_xy p = {"test: Poincaré map", "x_n  (b_c)", t ? "x_n'  (b_c ω_n)" : "", x, v, NS,
+                     1, 1.0, 1, {0, NULL, 0}, {0, NULL, 0}, NULL, {"png", {NULL, NULL, NULL, NULL}}};
+        ASSERT_EQ_INT(plot_xy_write(path[t], &p, why, sizeof why), 0);
+        s[t] = cairo_image_surface_create_from_png(path[t]);
+        ASSERT_EQ_INT(cairo_surface_status(s[t]), CAIRO_STATUS_SUCCESS);
+        unlink(path[t]);
+    }
+    int w = cairo_image_surface_get_width(s[0]), h = cairo_image_surface_get_height(s[0]);
+    int st = cairo_image_surface_get_stride(s[0]);
+    const unsigned char *a = cairo_image_surface_get_data(s[0]), *b = cairo_image_surface_get_data(s[1]);
+    int label_left = w, title_right = -1;
+    for (int yy = 100; a && b && yy < h - 100; yy++)
+        for (int xx = 0; xx < 100; xx++) { /* left of the frame (x0 105) */
+            const unsigned char *pa = a + yy * st + 4 * xx, *pb = b + yy * st + 4 * xx;
+            if (pa[0] < 200 || pa[1] < 200 || pa[2] < 200)
+                label_left = xx < label_left ? xx : label_left;
+            if (memcmp(pa, pb, 4))
+                title_right = xx > title_right ? xx : title_right;
+        }
+    ASSERT_TRUE(title_right >= 0);  /* the title was drawn */
+    ASSERT_TRUE(label_left < w);    /* and so were the labels */
+    if (!(title_right + 2 < label_left))
+        TEST_FAIL_("the y axis title reaches x = %d px, the tick labels start at %d px",
+                   title_right, label_left);
+    cairo_surface_destroy(s[0]);
+    cairo_surface_destroy(s[1]);
+    rmdir(dir);
+}
+
 /* Axis ticks: k * step, each once, at most PD_TICKS_MAX, labelled with
  * the digits that tell them apart. */
 static void test_ticks(void)
@@ -217,4 +264,5 @@ static void test_ticks(void)
 }
 
 TEST_MAIN(TEST(test_ticks), TEST(test_repeated_sections_drawn_once), TEST(test_near_sections_both_drawn),
-          TEST(test_each_point_its_own_spots), TEST(test_poincare_of_period_one))
+          TEST(test_each_point_its_own_spots), TEST(test_poincare_of_period_one),
+          TEST(test_ylabel_clear_of_ticks))
