@@ -121,7 +121,7 @@ int pd_ticks(double lo, double hi, double st, double t[PD_TICKS_MAX],
  * period-1 orbit's Poincare sections agree to ~1e-10 or to the bit) is
  * the unit window about its middle that data all equal always had; no
  * data at all gives [-0.5, 0.5]. */
-static void min_span(double *lo, double *hi)
+void pd_min_span(double *lo, double *hi)
 {
     if (!isfinite(*lo) || !isfinite(*hi)) {
         *lo = -0.5, *hi = 0.5;
@@ -605,7 +605,7 @@ int plot_bifurcation(const char *path, const plot_bif *pb, char *why, size_t why
     }
     lo = fmin(lo, pb->b);
     hi = fmax(hi, pb->b);
-    min_span(&lo, &hi);
+    pd_min_span(&lo, &hi);
     double pad = 0.05 * (hi - lo + 1e-9), y = pd_page_head(cr, 1400, pb->title, &pb->pg);
     frame top = {90, y + 98, 1210, 560 - (y - 30), xlo, xhi, lo - pad, hi + pad};
     const char *shading = pb->nup ? "background: regime of the up sweep (the strips above the "
@@ -762,8 +762,8 @@ int plot_xy_write(const char *path, const plot_xy *p, char *why, size_t whylen)
         xlo = fmin(xlo, p->b), xhi = fmax(xhi, p->b);
     if (p->b > 0 && !p->b_on_x && !p->dots)
         ylo = fmin(ylo, p->b), yhi = fmax(yhi, p->b);
-    min_span(&xlo, &xhi);
-    min_span(&ylo, &yhi);
+    pd_min_span(&xlo, &xhi);
+    pd_min_span(&ylo, &yhi);
     double mx = 0.05 * (xhi - xlo), my = 0.05 * (yhi - ylo);
     double y = pd_page_head(cr, 1000, p->title, &p->pg), top = y + (p->x2.k > 0 ? 62 : 24);
     frame f = {105, top, p->y2.k > 0 ? 785 : 845, 790 - top, xlo - mx, xhi + mx, ylo - my,

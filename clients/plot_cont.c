@@ -47,6 +47,7 @@ static void yrange(const plot_cont *pc, int bot, double *lo, double *hi)
         }
     if (*lo < 0.0)
         *lo = fmin(*lo, -pc->b);
+    pd_min_span(lo, hi); /* no points (stopped in the transient): +b alone */
     double pad = 0.05 * (*hi - *lo + 1e-9);
     *lo -= pad, *hi += pad;
 }

@@ -35,6 +35,11 @@ enum { PD_TICKS_MAX = 64, PD_TICK_LABEL = 32 };
 int pd_ticks(double lo, double hi, double st, double t[PD_TICKS_MAX],
              char lab[PD_TICKS_MAX][PD_TICK_LABEL]);
 
+/* [lo, hi] made the unit window about its middle where its spread is
+ * under 1e-4 of its magnitude (magnitudes under 1 counted as 1; no data,
+ * non-finite ends: [-0.5, 0.5]), so ticks can show it. */
+void pd_min_span(double *lo, double *hi);
+
 /* What a figure says in words (title, caption, axis labels): an SVG's
  * <title> and <desc>, a PDF's Title and Subject. */
 typedef struct pd_doc {

@@ -24,10 +24,12 @@
 
 static volatile sig_atomic_t g_stop; /* set by the signal handler only */
 
+/* The first Ctrl-C (or SIGTERM) asks the run to stop after its current
+ * point and write what is done; the second ends wgcont at once. */
 static void on_signal(int sig)
 {
-    (void)sig;
     g_stop = 1;
+    signal(sig, SIG_DFL);
 }
 
 typedef struct opts {
@@ -71,7 +73,8 @@ static void usage(FILE *f)
         "  --out PREFIX            PREFIX-branch.csv, PREFIX-bifurcations.csv, PREFIX.png\n"
         "  --quiet                 no progress on stderr\n"
         "  -h, --help              this text\n\n"
-        "Ctrl-C stops after the current point and writes what is done (exit 130).\n"
+        "Ctrl-C stops after the current point and writes what is done (exit\n"
+        "130); a second Ctrl-C ends wgcont at once.\n"
         "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted.\n");
 }
 

@@ -441,14 +441,34 @@ static int least_period(const cont *c, const sol *s)
     return s->n;
 }
 
+/* The transient before the first point, TRANSIENT_CHUNK periods at a
+ * time so that a stop asked for ends it (a --transient of 1e7 periods
+ * ran 80 s past Ctrl-C). 1 when stopped, else wg_sim_run's status. */
+enum { TRANSIENT_CHUNK = 64 };
+static int run_transient(cont *c)
+{
+    uint64_t spp = (uint64_t)c->sim.cfg.steps_per_period;
+    for (int left = c->o->transient; left > 0;) {
+        if (c->stop && *c->stop)
+            return 1;
+        int n = left < TRANSIENT_CHUNK ? left : TRANSIENT_CHUNK;
+        int rc = wg_sim_run(&c->sim, (uint64_t)n * spp, NULL, NULL);
+        if (rc)
+            return rc;
+        left -= n;
+    }
+    return WG_OK;
+}
+
 /* The first point: the orbit reached from y0 after the transient, refined
- * at fixed parameter. */
+ * at fixed parameter. 1: stopped in the transient, nothing found. */
 static int first_point(cont *c, const double *y0, sol *S)
 {
     const wg_cont_opts *o = c->o;
     wg_sim_set_state(&c->sim, y0, 0, 0.0);
-    int rc = wg_sim_run(&c->sim, (uint64_t)o->transient * (uint64_t)c->sim.cfg.steps_per_period,
-                        NULL, NULL);
+    int rc = run_transient(c);
+    if (rc == 1)
+        return 1;
     double up[UMAX], a[UMAX] = {0}, t[UMAX] = {0};
     memcpy(c->base, c->sim.y, sizeof c->base);
     for (int i = 0; i < c->d; i++)
@@ -481,6 +501,10 @@ static int run(cont *c, const double *y0)
     if (!S)
         return WG_ENOMEM;
     int rc = first_point(c, y0, S);
+    if (rc == 1) { /* stopped before the first point */
+        free(S);
+        return WG_OK;
+    }
     if (!rc) {
         sol *S2 = malloc(sizeof *S2);
         if (S2)

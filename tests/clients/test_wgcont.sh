@@ -46,6 +46,19 @@ rc=$?
 check "Ctrl-C: exit 130 and partial csv + figure" \
   '[ $rc -eq 130 ] && [ $(wc -l < "$dir/int-branch.csv") -gt 2 ] && [ -s "$dir/int.png" ]'
 
+# A stop during the transient before the first point: it used to run on
+# to the transient's end (1e7 periods here: 80 s in a Release build); now
+# it ends within a few periods, exit 130, the files written without points.
+"$cont" --from 0.5 --to 0.6 --transient 10000000 --sweep-points 0 --out "$dir/tr" 2>"$dir/tr.err" &
+pid=$!
+sleep 1
+kill -TERM $pid
+t0=$(date +%s)
+while kill -0 $pid 2>/dev/null && [ $(($(date +%s) - t0)) -lt 10 ]; do sleep 0.1; done
+kill -0 $pid 2>/dev/null && { kill -9 $pid; rc=timeout; } || { wait $pid; rc=$?; }
+check "SIGTERM during the transient: exit 130 at once, the files written with no points" \
+  '[ "$rc" = 130 ] && [ $(wc -l < "$dir/tr-branch.csv") -eq 1 ] && [ -s "$dir/tr.png" ] && grep -q "^wgcont: 0 points" "$dir/tr.err"'
+
 "$cont" >/dev/null 2>&1; r1=$?
 "$cont" --from 0.5 >/dev/null 2>&1; r2=$?
 "$cont" --from 0.5 --to 0.6 --format gif >/dev/null 2>&1; r3=$?
