@@ -32,6 +32,7 @@ typedef struct run {
     int npt;
     wg_bif bif[MAXBIF];
     int nbif, notes;
+    volatile sig_atomic_t *stop_at_first; /* raised by the first point (NULL: not) */
 } run;
 
 static void on_point(void *ctx, const wg_cont_point *p)
@@ -39,6 +40,8 @@ static void on_point(void *ctx, const wg_cont_point *p)
     run *r = ctx;
     if (r->npt < MAXPT)
         r->pt[r->npt++] = *p;
+    if (r->stop_at_first)
+        *r->stop_at_first = 1;
 }
 
 static void on_bif(void *ctx, const wg_bif *b)
@@ -361,7 +364,8 @@ static void test_refused_and_stopped(void)
     o.transient = 50;
     ASSERT_EQ_INT(wg_cont_run(&p, y, &o, NULL, NULL, why, sizeof why), WG_ERANGE);
     ASSERT_CONTAINS(why, "has period 1, not 3");
-    /* a stop flag raised before the run: the first point only */
+    /* a stop flag raised before the run: it ends in the first point's
+     * transient, nothing reported; raised by the first point: that one */
     run *r = calloc(1, sizeof *r);
     r->pt = malloc(sizeof *r->pt * MAXPT);
     wg_cont_sink sink = {r, on_point, on_bif, on_note};
@@ -369,6 +373,10 @@ static void test_refused_and_stopped(void)
     wg_cont_opts_default(&o);
     o.from = o.start = 0.5;
     o.to = 0.6;
+    ASSERT_EQ_INT(wg_cont_run(&p, y, &o, &sink, &stop, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(r->npt, 0);
+    stop = 0;
+    r->stop_at_first = &stop;
     ASSERT_EQ_INT(wg_cont_run(&p, y, &o, &sink, &stop, why, sizeof why), WG_OK);
     ASSERT_EQ_INT(r->npt, 1);
     run_free(r);
