@@ -63,11 +63,13 @@ static int parse_point(char **f, int n, wg_point *pt, int *dir)
     return pt->regime < 0 || pt->motion < 0 ? -1 : 0;
 }
 
-/* The group of value gval (created on first use). */
+/* The group of value gval (created on first use); NAN, a file without a
+ * group column, is one group (NAN == NAN is false: every row of a plain
+ * sweep's CSV was once a group of its own). */
 static sweep_group *group_of(sweep_study *st, double gval)
 {
     for (int k = 0; k < st->ngroups; k++)
-        if (st->g[k].gval == gval)
+        if (st->g[k].gval == gval || (isnan(gval) && isnan(st->g[k].gval)))
             return &st->g[k];
     if (st->ngroups == STUDY_MAX_GROUPS)
         return NULL;

@@ -78,6 +78,12 @@ check "a period-3 start on a period-1 attractor: exit 1, the period named" \
     --exact "$dir/pd-bifurcations.csv" --out "$dir/sw" >/dev/null
 check "wgsweep --exact: the column and the located doubling" \
   'grep -q "| exact (continuation) |" "$dir/sw.md" && grep "period doubling | 1.1950" "$dir/sw.md" | grep -q "1.1976546 (period_doubling P1)"'
+# docs/analysis.md's "From a sweep to exact points", step 3: the table of a
+# sweep without --values recomputed with the located points (every row of
+# such a CSV was read as a group of its own: "1 file(s) for 6 group(s)")
+"$sweep" --table-from "$dir/sw.csv" --exact "$dir/pd-bifurcations.csv" --out "$dir/swt" >/dev/null 2>"$dir/swt.err"; r9=$?
+check "wgsweep --table-from a plain sweep's CSV --exact: its table with the located doubling" \
+  '[ $r9 -eq 0 ] && grep "period doubling | 1.1950" "$dir/swt.md" | grep -q "1.1976546 (period_doubling P1)"'
 "$sweep" --from 1.17 --to 1.22 --points 6 --quiet --no-png --values xi_p=0.08,0.1 \
     --exact "$dir/pd-bifurcations.csv" --out "$dir/sw2" >/dev/null 2>&1; r6=$?
 "$sweep" --from 1.17 --to 1.22 --points 6 --quiet --no-png --param xi_p \

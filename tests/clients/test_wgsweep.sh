@@ -106,6 +106,12 @@ check "--verify-steps: 2N check columns and summary" 'grep -q "6 of 6 attractors
 "$sweep" --table-from "$dir/s1.csv" --out "$dir/re" >/dev/null
 check "--table-from recomputes the same doubling" 'grep -q "period doubling | 1.1950 (1.1900-1.2000)" "$dir/re.md" && grep -q "recomputed from" "$dir/re.md"'
 
+# a sweep without --values has no group column: one group, its own table
+# (each row was read as a group of its own, each table "(none found)")
+"$sweep" --table-from "$dir/v.csv" --out "$dir/rv" >/dev/null
+check "--table-from a sweep without --values: one table, the sweep's doublings" \
+  '[ "$(grep -c "^| transition" "$dir/rv.md")" -eq 1 ] && [ "$(grep "^| period doubling" "$dir/rv.md")" = "$(grep "^| period doubling" "$dir/v.md")" ] && grep -q "^| period doubling | 1.1950" "$dir/rv.md"'
+
 # Ctrl-C: a long sweep interrupted after a second
 "$sweep" --from 0.6 --to 1.0 --points 400 --threads 1 --quiet --out "$dir/int" >/dev/null 2>&1 &
 pid=$!
