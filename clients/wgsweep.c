@@ -130,26 +130,59 @@ static void usage(FILE *f)
 
 #define PROG "wgsweep"
 
-/* NAME=v1,v2,... */
+/* The parameter NAME of "NAME=..." for option opt into *id, refused with
+ * its reason. */
+static int vary_name(const char *opt, const char *arg, char *name, int *id)
+{
+    if (!*name)
+        return cli_usage_error(PROG, "%s '%s': need NAME=... (a parameter of the equations)",
+                               opt, arg);
+    int rc = cli_vary_param(name);
+    if (rc < 0)
+        return cli_vary_param_error(PROG, opt, name, rc);
+    *id = rc;
+    return 0;
+}
+
+/* A value of parameter id for option opt, in the table's range. */
+static int vary_value(const char *opt, const char *arg, const char *t, int id, double *v)
+{
+    char why[160];
+    if (cli_num(t, -DBL_MAX, DBL_MAX, v))
+        return cli_usage_error(PROG, "%s '%s': '%s' is not a number", opt, arg, t);
+    if (wg_param_check(id, *v, why, sizeof why))
+        return cli_usage_error(PROG, "%s '%s': %s", opt, arg, why);
+    return 0;
+}
+
+/* NAME=v1,v2,... (no empty item: "0.1,,0.2" was read as two values) */
 static int parse_values(const char *arg, opts *o)
 {
-    char buf[1024], *save = NULL;
+    char buf[1024];
     snprintf(buf, sizeof buf, "%s", arg);
     char *eq = strchr(buf, '=');
     if (!eq)
-        return -1;
+        return cli_usage_error(PROG, "--values '%s': need NAME=v1,v2,... (a parameter of the "
+                               "equations, up to %d values)", arg, STUDY_MAX_GROUPS);
     *eq = 0;
-    if ((o->gparam = cli_vary_param(buf)) < 0)
-        return -1;
+    if (vary_name("--values", arg, buf, &o->gparam))
+        return 2;
     o->ngvals = 0;
-    for (char *t = strtok_r(eq + 1, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
-        double v;
-        if (o->ngvals == STUDY_MAX_GROUPS || cli_num(t, -DBL_MAX, DBL_MAX, &v) ||
-            wg_param_check(o->gparam, v, NULL, 0))
-            return -1;
-        o->gvals[o->ngvals++] = v;
+    for (char *t = eq + 1, *end;; t = end + 1) {
+        if ((end = strchr(t, ',')))
+            *end = 0;
+        if (!*t)
+            return cli_usage_error(PROG, "--values '%s': an empty value (need NAME=v1,v2,...)",
+                                   arg);
+        if (o->ngvals == STUDY_MAX_GROUPS)
+            return cli_usage_error(PROG, "--values '%s': at most %d values", arg,
+                                   STUDY_MAX_GROUPS);
+        if (vary_value("--values", arg, t, o->gparam, &o->gvals[o->ngvals]))
+            return 2;
+        o->ngvals++;
+        if (!end)
+            return 0;
     }
-    return o->ngvals ? 0 : -1;
 }
 
 /* NAME=A:B:M */
@@ -160,12 +193,17 @@ static int parse_map(const char *arg, opts *o)
     char *eq = strchr(buf, '='), *c1 = eq ? strchr(eq + 1, ':') : NULL;
     char *c2 = c1 ? strchr(c1 + 1, ':') : NULL;
     if (!c2)
-        return -1;
+        return cli_usage_error(PROG, "--map '%s': need NAME=A:B:M (a parameter of the "
+                               "equations from A to B in M rows, 1..100000)", arg);
     *eq = *c1 = *c2 = 0;
-    if ((o->mparam = cli_vary_param(buf)) < 0 || cli_num(eq + 1, -DBL_MAX, DBL_MAX, &o->mfrom) ||
-        cli_num(c1 + 1, -DBL_MAX, DBL_MAX, &o->mto) || cli_int(c2 + 1, 1, 100000, &o->mrows))
-        return -1;
-    return wg_param_check(o->mparam, o->mfrom, NULL, 0) || wg_param_check(o->mparam, o->mto, NULL, 0);
+    if (vary_name("--map", arg, buf, &o->mparam) ||
+        vary_value("--map", arg, eq + 1, o->mparam, &o->mfrom) ||
+        vary_value("--map", arg, c1 + 1, o->mparam, &o->mto))
+        return 2;
+    if (cli_int(c2 + 1, 1, 100000, &o->mrows))
+        return cli_usage_error(PROG, "--map '%s': M, the rows, need 1..100000, got '%s'", arg,
+                               c2 + 1);
+    return 0;
 }
 
 /* Options that set analysis numbers (wg_sweep_opts). "> 0": from
@@ -180,7 +218,7 @@ static int parse_numeric(int c, const char *a, opts *o)
     case 'w': bad = cli_int(a, 16, 4096, &s->settle), need = "--settle: need 16..4096, got"; break;
     case 'R': bad = cli_int(a, 64, 4096, &s->record), need = "--record: need 64..4096, got"; break;
     case 'E': bad = cli_int(a, 0, 1000, &s->extend), need = "--extend: need 0..1000, got"; break;
-    case 'L': bad = cli_int(a, 1, 100000000, &s->lle_periods), need = "--lle-periods: need >= 1, got"; break;
+    case 'L': bad = cli_int(a, 1, 100000000, &s->lle_periods), need = "--lle-periods: need 1..1e8, got"; break;
     case 'l': bad = cli_num(a, DBL_TRUE_MIN, DBL_MAX, &s->lle_tol), need = "--lle-tol: need > 0, got"; break;
     case 'F':
         bad = cli_num(a, DBL_TRUE_MIN, DBL_MAX, &s->tol_factor), need = "--tol-factor: need > 0, got";
@@ -223,18 +261,43 @@ static int parse_range(int c, const char *a, opts *o)
     case 'p':
         return (o->param = cli_vary_param(a)) < 0 ? cli_vary_param_error(PROG, "--param", a, o->param)
                                                    : 0;
-    case 'V': bad = parse_values(a, o), need = "--values: need NAME=v1,v2,... (a parameter of the equations) in range, got"; break;
-    case 'M': bad = parse_map(a, o), need = "--map: need NAME=A:B:M (a parameter of the equations) in range, got"; break;
+    case 'V': return parse_values(a, o);
+    case 'M': return parse_map(a, o);
     case 'Z': o->at_state = a; return 0;
     case 'A':
         o->at_set = 1, bad = cli_num(a, -DBL_MAX, DBL_MAX, &o->at), need = "--at: not a number:";
         break;
-    case 'P': bad = cli_int(a, 1, 10000000, &o->at_periods), need = "--at-periods: need >= 1, got"; break;
+    case 'P': bad = cli_int(a, 1, 10000000, &o->at_periods), need = "--at-periods: need 1..1e7, got"; break;
     case 'j': bad = cli_int(a, 1, 256, &o->threads), need = "--threads: need 1..256, got"; break;
     case 'I': bad = cli_int(a, 1, 8, &o->so.pair), need = "--pair: need 1..8, got"; break;
     default: return parse_numeric(c, a, o);
     }
     return bad ? cli_usage_error(PROG, "%s '%s'", need, a) : 0;
+}
+
+/* What the options mean together, refused before anything runs: a range
+ * out of the parameter's (found only when the chain reached it, exit 1
+ * with the files marked complete), --values or --map of the swept
+ * parameter itself (its values were lost), both at once (--values was
+ * dropped). */
+static int check_combination(const opts *o)
+{
+    const char *pn = wg_param_info_get(o->param)->name;
+    char why[160];
+    if (o->gparam >= 0 && o->mparam >= 0)
+        return cli_usage_error(PROG, "--values and --map: give one (--values sweeps once per "
+                               "value, --map once per row)");
+    int other = o->gparam >= 0 ? o->gparam : o->mparam;
+    if (other == o->param && !o->at_set && !o->table_from)
+        return cli_usage_error(PROG, "%s %s: the parameter swept (--param %s); give another "
+                               "(--param NAME chooses the swept one)",
+                               o->gparam >= 0 ? "--values" : "--map", pn, pn);
+    const char *opt[3] = {"--at", "--from", "--to"};
+    double v[3] = {o->at, o->from, o->to};
+    for (int i = o->at_set ? 0 : 1; i < (o->at_set ? 1 : 3) && !o->table_from; i++)
+        if (wg_param_check(o->param, v[i], why, sizeof why))
+            return cli_usage_error(PROG, "%s: %s", opt[i], why);
+    return 0;
 }
 
 static void opts_default(opts *o)
@@ -305,6 +368,8 @@ static int parse_opts(int argc, char **argv, opts *o)
         return cli_usage_error(PROG, "unexpected argument '%s'", argv[optind]);
     if (o->at_state && !o->at_set)
         return cli_usage_error(PROG, "--at-state needs --at V (the point to analyse)");
+    if ((rc = check_combination(o)))
+        return rc;
     if (o->step > 0)
         o->points = (int)floor(fabs(o->to - o->from) / o->step + 1.5e-9) + 1;
     return 0;

@@ -66,6 +66,30 @@ check "the JSON and the Markdown record --pair" \
 rc=$?
 check "--pair 9 refused: exit 2 and what is allowed" '[ $rc -eq 2 ] && grep -q "^wgsweep: --pair: need 1..8, got .9.$" "$dir/pair.err"'
 
+# options that contradict each other or leave the parameter's range:
+# refused before any point (exit 2), once, with what is wrong and allowed.
+# Each ran before: --to 11 until the chain reached it (exit 1, the files
+# marked complete), --values/--map of the swept parameter losing their
+# values, --values beside --map dropped, an empty value skipped.
+refuse() { # EXPECTED-TEXT ARGS...
+  local want=$1 rc
+  shift
+  "$sweep" "$@" --quiet --out "$dir/refused" >/dev/null 2>"$dir/ref.err"
+  rc=$?
+  check "refused: $*" '[ $rc -eq 2 ] && [ "$(grep -c "^wgsweep:" "$dir/ref.err")" -eq 1 ] && grep -q -- "$want" "$dir/ref.err" && ! ls "$dir"/refused* >/dev/null 2>&1'
+}
+refuse "^wgsweep: --to: omega = 11 out of range \[0.01, 10\]" --from 9 --to 11 --points 2
+refuse "^wgsweep: --from: b = -1 out of range \[0, 100\]" --param b --from -1 --to 1
+refuse "^wgsweep: --at: omega = 11 out of range" --at 11
+refuse "^wgsweep: --map omega: the parameter swept (--param omega)" --map omega=0.5:1:2
+refuse "^wgsweep: --values omega: the parameter swept" --values omega=1,2
+refuse "^wgsweep: --values and --map: give one" --values xi_p=0.1 --map k_a=0.1:0.2:2
+refuse "an empty value" --values xi_p=0.1,,0.2
+refuse "xi_p = 5 out of range \[0, 2\]" --values xi_p=5
+refuse "xi_p = -1 out of range \[0, 2\]" --map xi_p=-1:0.1:2
+refuse "M, the rows, need 1..100000" --map xi_p=0.1:0.2:0
+refuse "need 1..1e7" --at 1 --at-periods 99999999
+
 if [ -n "$mpiexec" ]; then
   "$mpiexec" --allow-run-as-root --oversubscribe -np 2 "$sweep" ${common/--quiet/} --threads 1 \
       --values xi_p=0.08,0.10 --out "$dir/m2" >/dev/null 2>"$dir/mpi.err"
