@@ -568,6 +568,29 @@ static void bif_legend(cairo_t *cr, double x, double y, const char *shading)
     text(cr, x, y + 22, 12, 0.0, shading);
 }
 
+/* The guides x_n = +-b where b is the swept parameter itself (the x
+ * axis): two dashed diagonals, clipped to the frame, the +b one labelled
+ * (labelled != 0) under its rightmost point in the frame. */
+static void b_swept(cairo_t *cr, const frame *f, int labelled)
+{
+    cairo_save(cr);
+    cairo_rectangle(cr, f->x0, f->y0, f->w, f->h);
+    cairo_clip(cr);
+    for (int sgn = -1; sgn <= 1; sgn += 2)
+        dashed(cr, px(f, f->xmin), py(f, sgn * f->xmin), px(f, f->xmax), py(f, sgn * f->xmax));
+    cairo_restore(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    /* the label under the line's rightmost point inside the frame */
+    for (int i = 20; labelled && i >= 0; i--) {
+        double x = f->xmin + (f->xmax - f->xmin) * i / 20.0;
+        if (x >= f->ymin && x <= f->ymax) {
+            text(cr, px(f, x) - 4, fmin(py(f, x) + 16, f->y0 + f->h - 4), 12, 1.0,
+                 "x_n = +b (b swept)");
+            break;
+        }
+    }
+}
+
 /* The strips "up"/"down" and the main panel with shading, dots, guides. */
 static void bif_main(cairo_t *cr, const plot_bif *pb, const frame *f, const char *ylabel)
 {
@@ -581,13 +604,17 @@ static void bif_main(cairo_t *cr, const plot_bif *pb, const frame *f, const char
     sweep_marks(cr, f, pb->down, pb->ndown, 0, 0, 0);
     sweep_marks(cr, f, pb->up, pb->nup, 1, 0, 0);
     char lab[32];
-    snprintf(lab, sizeof lab, "+b = %g", pb->b);
-    hguide(cr, f, pb->b, lab);
-    snprintf(lab, sizeof lab, "-b = %g", -pb->b);
-    if (-pb->b >= f->ymin)
-        hguide(cr, f, -pb->b, lab);
-    else
-        text(cr, f->x0 + f->w - 5, f->y0 + f->h - 6, 12, 1.0, "(-b below)");
+    if (isnan(pb->b)) {
+        b_swept(cr, f, 1);
+    } else {
+        snprintf(lab, sizeof lab, "+b = %g", pb->b);
+        hguide(cr, f, pb->b, lab);
+        snprintf(lab, sizeof lab, "-b = %g", -pb->b);
+        if (-pb->b >= f->ymin)
+            hguide(cr, f, -pb->b, lab);
+        else
+            text(cr, f->x0 + f->w - 5, f->y0 + f->h - 6, 12, 1.0, "(-b below)");
+    }
     axes(cr, f, pb->xlabel, ylabel, 0);
     scale2(cr, f, &pb->y2, 2);
 }
@@ -603,7 +630,7 @@ int plot_bifurcation(const char *path, const plot_bif *pb, char *why, size_t why
         lo = pb->b - 1.0;
         hi = pb->b + 1.0;
     }
-    lo = fmin(lo, pb->b);
+    lo = fmin(lo, pb->b); /* fmin, fmax: a swept b (NAN) adds nothing */
     hi = fmax(hi, pb->b);
     pd_min_span(&lo, &hi);
     double pad = 0.05 * (hi - lo + 1e-9), y = pd_page_head(cr, 1400, pb->title, &pb->pg);
@@ -614,8 +641,8 @@ int plot_bifurcation(const char *path, const plot_bif *pb, char *why, size_t why
                                     "panel: up, then down)";
     bif_legend(cr, 90, y + 30, shading);
     bif_main(cr, pb, &top, ylab);
-    /* min x_n panel, spanning +-b */
-    double mlo = -pb->b, mhi = pb->b;
+    /* min x_n panel, spanning +-b (the data alone where b is swept) */
+    double mlo = isnan(pb->b) ? INFINITY : -pb->b, mhi = isnan(pb->b) ? -INFINITY : pb->b;
     const wg_point *sets[2] = {pb->up, pb->down};
     int ns[2] = {pb->nup, pb->ndown};
     for (int k = 0; k < 2; k++)
@@ -624,12 +651,18 @@ int plot_bifurcation(const char *path, const plot_bif *pb, char *why, size_t why
                 mlo = fmin(mlo, sets[k][i].min_xn);
                 mhi = fmax(mhi, sets[k][i].min_xn);
             }
+    if (isnan(pb->b))
+        pd_min_span(&mlo, &mhi);
     double mp = 0.06 * (mhi - mlo);
     frame bot = {90, top.y0 + top.h + 30, 1210, 200, xlo, xhi, mlo - mp, mhi + mp};
     min_curve(cr, &bot, pb->down, pb->ndown, C_DOWN);
     min_curve(cr, &bot, pb->up, pb->nup, C_UP);
-    hguide(cr, &bot, pb->b, "+b");
-    hguide(cr, &bot, -pb->b, "-b");
+    if (isnan(pb->b)) {
+        b_swept(cr, &bot, 0); /* the lower panel's too narrow for the label */
+    } else {
+        hguide(cr, &bot, pb->b, "+b");
+        hguide(cr, &bot, -pb->b, "-b");
+    }
     axes(cr, &bot, pb->xlabel, ylab2, 1);
     scale2(cr, &bot, &pb->y2, 2);
     scale2(cr, &bot, &pb->x2, 1);

@@ -37,7 +37,8 @@ typedef struct plot_bif {
     const char *xlabel;      /* symbol and unit, e.g. "ω = mesh frequency / ω_n  (-)" */
     const wg_point *up, *down;
     int nup, ndown;          /* points in run order */
-    double b;                /* backlash: the +-b lines */
+    double b;                /* backlash: the +-b lines (NAN: b is the swept parameter,
+                                the lines x_n = +-value) */
     const wg_transition *tr; /* marked as ticks under the title (may be NULL) */
     int ntr;
     plot_scale2 x2;          /* under the parameter's numbers (Hz for omega) */

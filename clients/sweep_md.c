@@ -236,7 +236,8 @@ static void group_table(FILE *f, const sweep_study *st, const sweep_group *g)
     if (!t)
         return;
     int n = wg_transitions(g->up ? g->up->pts : NULL, g->up ? g->up->ndone : 0,
-                           g->down ? g->down->pts : NULL, g->down ? g->down->ndone : 0, st->b, t,
+                           g->down ? g->down->pts : NULL, g->down ? g->down->ndone : 0,
+                           out_group_b(st, g), t,
                            STUDY_MAX_TRANS);
     const wg_chain *c = g->up ? g->up : g->down;
     double h = grid_step(c);

@@ -15,6 +15,11 @@ const char *out_pname(int id)
     return r ? r->name : "?";
 }
 
+double out_group_b(const sweep_study *st, const sweep_group *g)
+{
+    return st->param == WG_P_B ? NAN : st->gparam == WG_P_B ? g->gval : st->b;
+}
+
 FILE *out_open(const char *path, char *why, size_t whylen)
 {
     FILE *f = fopen(path, "w");
@@ -217,7 +222,7 @@ static void json_transitions(FILE *f, const sweep_study *st, const sweep_group *
     wg_transition *t = malloc(sizeof *t * STUDY_MAX_TRANS);
     int n = t ? wg_transitions(g->up ? g->up->pts : NULL, g->up ? g->up->ndone : 0,
                                g->down ? g->down->pts : NULL, g->down ? g->down->ndone : 0,
-                               st->b, t, STUDY_MAX_TRANS)
+                               out_group_b(st, g), t, STUDY_MAX_TRANS)
               : 0;
     fputs(",\"transitions\":[", f);
     for (int i = 0; i < n; i++) {
@@ -330,7 +335,7 @@ static int out_png_group(const char *prefix, const sweep_study *st, int k, char 
                           nhi);
     plot_bif pb = {title, plot_text_plabel(st->param, xl, sizeof xl), g->up ? g->up->pts : NULL,
                    g->down ? g->down->pts : NULL, g->up ? g->up->ndone : 0,
-                   g->down ? g->down->ndone : 0, st->b, NULL, 0,
+                   g->down ? g->down->ndone : 0, out_group_b(st, g), NULL, 0,
                    c ? plot_text_pscale(st->param, &c->base, &st->us, x2l, sizeof x2l)
                      : (plot_scale2){0, NULL, 0},
                    {units_scale_ok(&st->us) ? units_um_per_x(&st->us) : 0, PLOT_XN_UM, 0},

@@ -88,6 +88,10 @@ const char *out_label(const wg_point *p, char *buf, size_t len);
 /* The name of parameter id, "?" if there is none. */
 const char *out_pname(int id);
 
+/* The backlash of group g: the scene's, the group's value under --values
+ * b=..., NAN where b is the swept parameter (each point's value). */
+double out_group_b(const sweep_study *st, const sweep_group *g);
+
 /* Open path for writing: the file, or NULL with "cannot write PATH" in why. */
 FILE *out_open(const char *path, char *why, size_t whylen);
 

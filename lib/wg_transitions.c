@@ -52,10 +52,17 @@ static wg_transition bracket(int kind, int dir, const wg_point *lo, const wg_poi
     return t;
 }
 
+/* The backlash at point p: b, or where b is the swept parameter (NAN) the
+ * point's own value. */
+static double b_at(const wg_point *p, double b)
+{
+    return isnan(b) ? p->value : b;
+}
+
 /* Contact changes between neighbours lo < hi (in parameter value). */
 static void contact_events(tlist *t, int dir, const wg_point *lo, const wg_point *hi, double b)
 {
-    double glo = lo->min_xn - b, ghi = hi->min_xn - b;
+    double glo = lo->min_xn - b_at(lo, b), ghi = hi->min_xn - b_at(hi, b);
     if ((glo > 0) != (ghi > 0)) {
         wg_transition tr = bracket(WG_TR_GRAZING, dir, lo, hi, lo->motion, hi->motion);
         tr.at = lo->value + (hi->value - lo->value) * glo / (glo - ghi);
@@ -129,7 +136,8 @@ static int differ(const wg_point *u, const wg_point *d, double b)
 {
     if (!valid(u) || !valid(d))
         return 0;
-    double tol = (!label(u) && !label(d) ? JUMP_TOL_APERIODIC : JUMP_TOL) * (b > 0 ? b : 1.0);
+    double bu = b_at(u, b);
+    double tol = (!label(u) && !label(d) ? JUMP_TOL_APERIODIC : JUMP_TOL) * (bu > 0 ? bu : 1.0);
     return fabs(u->max_xn - d->max_xn) > tol || fabs(u->min_xn - d->min_xn) > tol;
 }
 

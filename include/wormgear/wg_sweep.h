@@ -186,8 +186,10 @@ typedef struct wg_transition {
 const char *wg_trans_name(int kind);
 
 /* Transitions of an up sweep and a down sweep over the same grid (either
- * may be NULL/0 points; points in run order). b is the backlash. Writes at
- * most max entries to out, sorted by parameter value; returns the count. */
+ * may be NULL/0 points; points in run order). b is the backlash, NAN where
+ * the sweep varies b itself (each point's value is its b: grazing is where
+ * min x_n crosses it). Writes at most max entries to out, sorted by
+ * parameter value; returns the count. */
 int wg_transitions(const wg_point *up, int nup, const wg_point *down, int ndown, double b,
                    wg_transition *out, int max);
 

@@ -136,6 +136,13 @@ check "--table-from recomputes the same doubling" 'grep -q "period doubling | 1.
 check "--table-from a sweep without --values: one table, the sweep's doublings" \
   '[ "$(grep -c "^| transition" "$dir/rv.md")" -eq 1 ] && [ "$(grep "^| period doubling" "$dir/rv.md")" = "$(grep "^| period doubling" "$dir/v.md")" ] && grep -q "^| period doubling | 1.1950" "$dir/rv.md"'
 
+# a sweep of b itself: grazing is min x_n against each point's own b (at
+# omega 1.2 the orbit impacts at every b; the table once reported "grazing:
+# impacts end" where min x_n passed the scene's b = 1); the figure draws.
+"$sweep" --param b --from 0 --to 1.5 --points 4 --set omega=1.2 --transient 100 --quiet --out "$dir/pb" >/dev/null
+check "--param b: no grazing in the table (min x_n stays under the swept b), the figure written" \
+  '! grep -q "^| grazing" "$dir/pb.md" && grep -q "^| transition" "$dir/pb.md" && [ -s "$dir/pb.png" ]'
+
 # Ctrl-C: a long sweep interrupted after a second
 "$sweep" --from 0.6 --to 1.0 --points 400 --threads 1 --quiet --out "$dir/int" >/dev/null 2>&1 &
 pid=$!

@@ -134,4 +134,31 @@ static void test_partial_and_empty(void)
     ASSERT_EQ_INT(wg_transitions(up, NP, down, NP, 1.0, t, 3), 3);
 }
 
-TEST_MAIN(TEST(test_synthetic_table), TEST(test_partial_and_empty))
+/* A sweep of b itself (b = NAN): grazing is where min x_n crosses each
+ * point's own b. Here min x_n = 0.25 + 0.5 v at b = v: it crosses b at
+ * v = 0.5 alone, and never crosses a fixed b = 1 (the scene's, which the
+ * table once used: it reported grazing where min x_n met 1). */
+static void test_b_swept(void)
+{
+    static wg_point up[NP];
+    for (int i = 0; i < NP; i++) {
+        wg_point *p = &up[i];
+        memset(p, 0, sizeof *p);
+        p->value = i / 100.0;
+        p->regime = WG_REGIME_PERIODIC;
+        p->period = p->converged = 1;
+        p->min_xn = 0.25 + 0.5 * p->value;
+        p->max_xn = p->min_xn + 1.0;
+        p->motion = p->min_xn > p->value ? WG_MOTION_NO_IMPACT : WG_MOTION_SINGLE;
+    }
+    wg_transition t[64];
+    int n = wg_transitions(up, NP, NULL, 0, NAN, t, 64);
+    ASSERT_EQ_INT(count(t, n, WG_TR_GRAZING, +1), 1);
+    const wg_transition *g = find(t, n, WG_TR_GRAZING, +1, 0);
+    ASSERT_TRUE(g != NULL);
+    ASSERT_NEAR(g->at, 0.5, 1e-12); /* linear: interpolated exactly */
+    n = wg_transitions(up, NP, NULL, 0, 1.0, t, 64); /* min x_n stays under b = 1 */
+    ASSERT_EQ_INT(count(t, n, WG_TR_GRAZING, +1), 0);
+}
+
+TEST_MAIN(TEST(test_synthetic_table), TEST(test_partial_and_empty), TEST(test_b_swept))
