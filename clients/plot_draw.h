@@ -26,6 +26,9 @@ static inline double py(const frame *f, double y)
     return f->y0 + f->h - (y - f->ymin) / (f->ymax - f->ymin) * f->h;
 }
 
+/* The figures' font. */
+#define PD_FONT "DejaVu Sans"
+
 /* The ticks of an axis over [lo, hi] at the multiples of st in it (at
  * most PD_TICKS_MAX, each once; none for a step that is not a positive
  * finite number) into t, and their labels into lab, with the significant
