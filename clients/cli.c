@@ -43,8 +43,18 @@ int cli_getopt(const char *prog, int argc, char **argv, const char *shortopts,
 int cli_opt_outdir(const char *prog, const char *opt, const char *prefix)
 {
     char dir[4096];
-    const char *slash = strrchr(prefix, '/');
+    const char *slash = strrchr(prefix, '/'), *base = slash ? slash + 1 : prefix;
     size_t n = slash ? (size_t)(slash - prefix) : 0;
+    /* PREFIX names files: "runs/" or "" gave runs/.csv, hidden; "-" gave
+     * "--poincare.csv"; a name past NAME_MAX less the suffixes failed
+     * only when the run was done */
+    if (!*base || !strcmp(base, "-") || !strcmp(base, ".") || !strcmp(base, ".."))
+        return cli_usage_error(prog, "%s '%s': need a file name prefix (e.g. runs/a: "
+                               "runs/a.csv, ...), not a directory or '-'", opt, prefix);
+    if (strlen(base) > CLI_PREFIX_NAME_MAX)
+        return cli_usage_error(prog, "%s: a file name prefix of at most %d characters (the "
+                               "outputs add suffixes such as -bifurcations.csv), got %zu", opt,
+                               CLI_PREFIX_NAME_MAX, strlen(base));
     if (!slash)
         snprintf(dir, sizeof dir, ".");
     else if (n == 0)

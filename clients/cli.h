@@ -50,8 +50,12 @@ int cli_opt_int(const char *prog, const char *opt, const char *s, int lo, int hi
 /* The directory an output PREFIX writes into ("runs/a": "runs"; "a": the
  * current one): 0 if it is a directory this process may write in, else
  * CLI_EUSAGE after "prog: opt 'PREFIX': cannot write in DIR: reason (the
- * directory must exist and be writable)". A sweep checks it before it
- * runs, not after (a map takes a minute). */
+ * directory must exist and be writable)". PREFIX's last part must be a
+ * file name prefix (not empty, '-', '.' or '..') of at most
+ * CLI_PREFIX_NAME_MAX characters, leaving the suffixes room in NAME_MAX
+ * (255). A sweep checks it before it runs, not after (a map takes a
+ * minute). */
+enum { CLI_PREFIX_NAME_MAX = 180 };
 int cli_opt_outdir(const char *prog, const char *opt, const char *prefix);
 
 /* argv[0] .. argv[argc - 1] joined by single spaces, the command line as

@@ -228,7 +228,7 @@ static void print_floquet(FILE *out, const wg_params *p, const double *y, const 
 static void summary(FILE *out, const wg_point *pt, double v, const at_opts *ao)
 {
     char lab[32];
-    fprintf(out, "point       %s = %g\n", ao->pname, v);
+    fprintf(out, "point       %s = %.15g\n", ao->pname, v);
     fprintf(out, "regime      %s (%s%s)\n", out_label(pt, lab, sizeof lab),
             wg_regime_name(pt->regime),
             pt->regime == WG_REGIME_PERIODIC && !pt->converged ? ", period from LLE < 0" : "");
@@ -290,7 +290,7 @@ static int write_views(FILE *out, const wg_params *p, const double *y, const wg_
         rc = write_trace(path, &w);
         if (!rc)
             out_files_add(&files, path);
-        snprintf(title, sizeof title, "%s, %s = %g", ao->scene ? ao->scene : "",
+        snprintf(title, sizeof title, "%s, %s = %.15g", ao->scene ? ao->scene : "",
                  plot_text_psym(wg_param_lookup(ao->pname)), ao->value);
         int n = snprintf(note, sizeof note, "%s (%s), %s", out_label(pt, lab, sizeof lab),
                          wg_regime_name(pt->regime), wg_motion_name(pt->motion));

@@ -13,6 +13,17 @@ static double grid_step(const wg_chain *c)
     return c && c->npts > 1 ? fabs(c->v1 - c->v0) / (c->npts - 1) : 0.0;
 }
 
+/* Decimals that show grid step h: 4 (the study's 0.0025 and coarser),
+ * more for finer grids (a zoom with step 5e-8 read [1.3788, 1.3788]),
+ * at most 12. */
+static int decimals(double h)
+{
+    if (!(h > 0) || !isfinite(h))
+        return 4;
+    int d = (int)ceil(-log10(h) - 1e-9) + 1;
+    return d < 4 ? 4 : d > 12 ? 12 : d;
+}
+
 static const char *per_name(int n, char *buf, size_t len)
 {
     if (n)
@@ -23,7 +34,7 @@ static const char *per_name(int n, char *buf, size_t len)
 }
 
 /* Text of one sweep's side of a row. */
-static void cell(const wg_transition *t, char *buf, size_t len)
+static void cell(const wg_transition *t, int dg, char *buf, size_t len)
 {
     if (!t) {
         snprintf(buf, len, "-");
@@ -32,13 +43,13 @@ static void cell(const wg_transition *t, char *buf, size_t len)
     switch (t->kind) {
     case WG_TR_CHAOS:
     case WG_TR_QUASI:
-        snprintf(buf, len, "[%.4f, %.4f] (%d pts%s%d other)", t->lo, t->hi, t->from,
+        snprintf(buf, len, "[%.*f, %.*f] (%d pts%s%d other)", dg, t->lo, dg, t->hi, t->from,
                  t->to ? ", " : "", t->to);
         if (!t->to) /* drop the ", 0 other" */
-            snprintf(buf, len, "[%.4f, %.4f] (%d pts)", t->lo, t->hi, t->from);
+            snprintf(buf, len, "[%.*f, %.*f] (%d pts)", dg, t->lo, dg, t->hi, t->from);
         break;
     default:
-        snprintf(buf, len, "%.4f (%.4f-%.4f)", t->at, t->lo, t->hi);
+        snprintf(buf, len, "%.*f (%.*f-%.*f)", dg, t->at, dg, t->lo, dg, t->hi);
     }
 }
 
@@ -96,17 +107,18 @@ static void exact_col(FILE *f, const cont_bifs *ex, const wg_transition *up,
     fprintf(f, " %s |", buf);
 }
 
-static void jump_row(FILE *f, const wg_transition *t, const cont_bifs *ex, double win)
+static void jump_row(FILE *f, const wg_transition *t, const cont_bifs *ex, double win, int dg)
 {
-    fprintf(f, "| jump (hysteresis) | %.4f (%.4f-%.4f) | %.4f (%.4f-%.4f) | up and down "
-               "attractors differ over [%.4f, %.4f]; up: %s -> %s |",
-            0.5 * (t->lo + t->hi), t->lo, t->hi, 0.5 * (t->lo2 + t->hi2), t->lo2, t->hi2, t->hi2,
-            t->lo, t->from ? "periodic" : "aperiodic", t->to ? "periodic" : "aperiodic");
+    fprintf(f, "| jump (hysteresis) | %.*f (%.*f-%.*f) | %.*f (%.*f-%.*f) | up and down "
+               "attractors differ over [%.*f, %.*f]; up: %s -> %s |",
+            dg, 0.5 * (t->lo + t->hi), dg, t->lo, dg, t->hi, dg, 0.5 * (t->lo2 + t->hi2), dg,
+            t->lo2, dg, t->hi2, dg, t->hi2, dg, t->lo, t->from ? "periodic" : "aperiodic",
+            t->to ? "periodic" : "aperiodic");
     exact_col(f, ex, t, NULL, win);
     fputc('\n', f);
 }
 
-static void rows(FILE *f, wg_transition *t, int n, double win, const cont_bifs *ex)
+static void rows(FILE *f, wg_transition *t, int n, double win, const cont_bifs *ex, int dg)
 {
     char *used = calloc((size_t)n + 1, 1);
     if (!used)
@@ -116,7 +128,7 @@ static void rows(FILE *f, wg_transition *t, int n, double win, const cont_bifs *
             continue;
         used[i] = 1;
         if (t[i].kind == WG_TR_JUMP) {
-            jump_row(f, &t[i], ex, win);
+            jump_row(f, &t[i], ex, win, dg);
             continue;
         }
         const wg_transition *up = t[i].dir > 0 ? &t[i] : NULL, *dn = up ? NULL : &t[i];
@@ -134,8 +146,8 @@ static void rows(FILE *f, wg_transition *t, int n, double win, const cont_bifs *
                 up = &t[bj];
         }
         char cu[96], cd[96], de[96];
-        cell(up, cu, sizeof cu);
-        cell(dn, cd, sizeof cd);
+        cell(up, dg, cu, sizeof cu);
+        cell(dn, dg, cd, sizeof cd);
         detail(&t[i], de, sizeof de);
         fprintf(f, "| %s | %s | %s | %s |", row_name(&t[i]), cu, cd, de);
         exact_col(f, ex, up, dn, win);
@@ -155,7 +167,7 @@ static int doubling(const wg_transition *t)
 
 /* Period-doubling cascades of one sweep: the doublings since the last
  * return to period-1 before each chaotic interval (t sorted by value). */
-static void cascades(FILE *f, const wg_transition *t, int n, int dir)
+static void cascades(FILE *f, const wg_transition *t, int n, int dir, int dg)
 {
     for (int i = 0; i < n; i++) {
         if (t[i].kind != WG_TR_CHAOS || t[i].dir != dir)
@@ -172,13 +184,13 @@ static void cascades(FILE *f, const wg_transition *t, int n, int dir)
         fprintf(f, "- %s sweep: ", dir > 0 ? "up" : "down");
         for (int j = first; j < i; j++)
             if (t[j].dir == dir && doubling(&t[j]))
-                fprintf(f, "P%d->P%d at %.4f, ", t[j].from, t[j].to, t[j].at);
-        fprintf(f, "chaos from %.4f to %.4f\n", t[i].lo, t[i].hi);
+                fprintf(f, "P%d->P%d at %.*f, ", t[j].from, t[j].to, dg, t[j].at);
+        fprintf(f, "chaos from %.*f to %.*f\n", dg, t[i].lo, dg, t[i].hi);
     }
 }
 
 /* The up sweep as a sequence of regime segments. */
-static void route(FILE *f, const wg_chain *c)
+static void route(FILE *f, const wg_chain *c, int dg)
 {
     char a[24], b[24];
     fputs("Route of the up sweep: ", f);
@@ -188,9 +200,10 @@ static void route(FILE *f, const wg_chain *c)
         while (j + 1 < c->ndone && strcmp(out_label(&c->pts[j + 1], b, sizeof b), a) == 0)
             j++;
         if (j > i)
-            fprintf(f, "%s%s %.4f-%.4f", i ? " | " : "", a, c->pts[i].value, c->pts[j].value);
+            fprintf(f, "%s%s %.*f-%.*f", i ? " | " : "", a, dg, c->pts[i].value, dg,
+                    c->pts[j].value);
         else
-            fprintf(f, "%s%s %.4f", i ? " | " : "", a, c->pts[i].value);
+            fprintf(f, "%s%s %.*f", i ? " | " : "", a, dg, c->pts[i].value);
         i = j + 1;
     }
     fputs("\n\n", f);
@@ -198,7 +211,7 @@ static void route(FILE *f, const wg_chain *c)
 
 /* Step-halving check of one chain: how many points keep their
  * classification (regime, period, motion class) with 2N steps. */
-static void halving(FILE *f, const char *dir, const wg_chain *c)
+static void halving(FILE *f, const char *dir, const wg_chain *c, int dg)
 {
     int n = 0, same = 0, shown = 0;
     for (int i = 0; c && i < c->ndone; i++) {
@@ -222,7 +235,7 @@ static void halving(FILE *f, const char *dir, const wg_chain *c)
         wg_point q = *p;
         q.regime = p->check_regime, q.period = p->check_period;
         char a[24], b[24];
-        fprintf(f, "%s%.4f %s/%s -> %s/%s", shown++ ? "; " : "; differ: ", p->value,
+        fprintf(f, "%s%.*f %s/%s -> %s/%s", shown++ ? "; " : "; differ: ", dg, p->value,
                 out_label(p, a, sizeof a), wg_motion_name(p->motion), out_label(&q, b, sizeof b),
                 wg_motion_name(p->check_motion));
     }
@@ -241,11 +254,12 @@ static void group_table(FILE *f, const sweep_study *st, const sweep_group *g)
                            STUDY_MAX_TRANS);
     const wg_chain *c = g->up ? g->up : g->down;
     double h = grid_step(c);
+    int dg = decimals(h);
     const char *p = out_pname(st->param);
     const cont_bifs *ex = st->exact[g - st->g];
     fprintf(f, "| transition | up sweep: %s | down sweep: %s | detail |%s\n|---|---|---|---|%s\n",
             p, p, ex ? " exact (continuation) |" : "", ex ? "---|" : "");
-    rows(f, t, n, fmax(4.0 * h, 0.01 * (c ? fabs(c->v1 - c->v0) : 0.0)), ex);
+    rows(f, t, n, fmax(4.0 * h, 0.01 * (c ? fabs(c->v1 - c->v0) : 0.0)), ex, dg);
     if (!n)
         fprintf(f, "| (none found) | - | - | - |%s\n", ex ? " - |" : "");
     fprintf(f, "\nLocations are brackets between neighbouring grid points (step %.4g); grazing "
@@ -253,19 +267,19 @@ static void group_table(FILE *f, const sweep_study *st, const sweep_group *g)
             h, ex ? " The exact column: the same events located on the orbits' branches by "
                     "wgcont (docs/analysis.md, \"From a sweep to exact points\")." : "");
     fputs("Routes into chaos (doublings since the last period-1):\n\n", f);
-    cascades(f, t, n, +1);
-    cascades(f, t, n, -1);
+    cascades(f, t, n, +1, dg);
+    cascades(f, t, n, -1, dg);
     fputs("\n", f);
     if ((g->up && g->up->ndone && g->up->pts[0].checked) ||
         (g->down && g->down->ndone && g->down->pts[0].checked)) {
         fputs("Step-halving check (each point's final state re-analysed with twice the steps "
               "per period):\n\n", f);
-        halving(f, "up", g->up);
-        halving(f, "down", g->down);
+        halving(f, "up", g->up, dg);
+        halving(f, "down", g->down, dg);
         fputs("\n", f);
     }
     if (g->up)
-        route(f, g->up);
+        route(f, g->up, dg);
     free(t);
 }
 

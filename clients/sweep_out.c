@@ -293,7 +293,7 @@ void out_files_add(out_files *files, const char *path)
 
 const char *out_tag(char *buf, size_t len, const char *name, double v)
 {
-    snprintf(buf, len, "%s-%g", name, v);
+    snprintf(buf, len, "%s-%.15g", name, v); /* 1.37880005 and 1.37880006 apart */
     return buf;
 }
 
@@ -321,7 +321,7 @@ static int out_png_group(const char *prefix, const sweep_study *st, int k, char 
     if (st->gparam >= 0) {
         snprintf(path, len, "%s-%s.%s", prefix,
                  out_tag(tag, sizeof tag, out_pname(st->gparam), g->gval), ext);
-        snprintf(title, sizeof title, "%s: bifurcation diagram in %s, %s = %g%s", st->scene,
+        snprintf(title, sizeof title, "%s: bifurcation diagram in %s, %s = %.15g%s", st->scene,
                  plot_text_psym(st->param), plot_text_psym(st->gparam), g->gval, st->partial ? " (partial)" : "");
     } else {
         snprintf(path, len, "%s.%s", prefix, ext);

@@ -60,8 +60,9 @@ typedef struct out_files {
 /* Add path to the list (NULL-safe: files may be NULL). */
 void out_files_add(out_files *files, const char *path);
 
-/* "NAME-V" for file names: the parameter and its value (%g), no '=' (a
- * shell and a URL take it as it is). Returns buf. */
+/* "NAME-V" for file names: the parameter and its value (%.15g: the digits
+ * given, 1.37880005 not 1.3788), no '=' (a shell and a URL take it as it
+ * is). Returns buf. */
 const char *out_tag(char *buf, size_t len, const char *name, double v);
 
 /* One bifurcation diagram per group: prefix.png, or prefix-NAME-V.png

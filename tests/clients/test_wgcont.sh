@@ -71,6 +71,9 @@ check "--param z2 (body data): exit 2, one refusal saying it does not change the
 "$cont" --from 0.5 --to 0.6 --out "$dir/none/c" >/dev/null 2>"$dir/od.err"; r8=$?
 check "--out in a missing directory: exit 2 before the continuation, the reason said" \
   '[ $r8 -eq 2 ] && grep -q "^wgcont: --out .$dir/none/c.: cannot write in $dir/none: No such file or directory" "$dir/od.err" && ! grep -q omega "$dir/od.err"'
+"$cont" --from 0.5 --to 0.6 --out "$dir/" >/dev/null 2>"$dir/os.err"; r10=$?
+check "--out ending in /: exit 2, a file name prefix asked for" \
+  '[ $r10 -eq 2 ] && grep -q "^wgcont: --out .*need a file name prefix" "$dir/os.err" && ! [ -e "$dir/.png" ]'
 check "a period-3 start on a period-1 attractor: exit 1, the period named" \
   '[ $r5 -eq 1 ] && grep -q "has period 1, not 3" "$dir/p3.err"'
 

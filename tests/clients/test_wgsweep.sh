@@ -90,6 +90,26 @@ refuse "xi_p = -1 out of range \[0, 2\]" --map xi_p=-1:0.1:2
 refuse "M, the rows, need 1..100000" --map xi_p=0.1:0.2:0
 refuse "need 1..1e7" --at 1 --at-periods 99999999
 
+# --out names files: a directory, '', '-' or a name leaving the suffixes
+# no room under NAME_MAX are refused first (they wrote runs/.csv, hidden;
+# --poincare.csv; or failed after the sweep with "File name too long")
+for o in "$dir/" "" "-" "$dir/$(printf 'y%.0s' $(seq 1 230))"; do
+  "$sweep" --from 1 --to 1.1 --points 2 --out "$o" >/dev/null 2>"$dir/ref.err"
+  rc=$?
+  check "--out '${o:0:40}': refused before the sweep" \
+    '[ $rc -eq 2 ] && [ "$(grep -c "^wgsweep: --out" "$dir/ref.err")" -eq 1 ] && ! ls "$dir"/.csv "$dir"/y* ./--poincare.csv >/dev/null 2>&1'
+done
+
+# digits as given: two --at points 1e-8 apart have their own files and
+# say their own omega; a zoomed table shows the grid's digits
+"$sweep" --at 1.37880005 --at-periods 20 --no-png --out "$dir/z" >"$dir/z1.txt" &&
+"$sweep" --at 1.37880006 --at-periods 20 --no-png --out "$dir/z" >"$dir/z2.txt"
+check "--at 1.37880005 and 1.37880006: their own files and omega" \
+  '[ -f "$dir/z-at-omega-1.37880005-trace.csv" ] && [ -f "$dir/z-at-omega-1.37880006-trace.csv" ] && grep -q "omega = 1.37880006$" "$dir/z2.txt"'
+"$sweep" --from 1.3788 --to 1.3788001 --points 3 --transient 50 --quiet --no-png --out "$dir/zoom"
+check "a 5e-8 grid: the table's brackets tell its points apart" \
+  'grep -q "1.378800000, 1.378800100\|1.378800000-1.378800100" "$dir/zoom.md"'
+
 if [ -n "$mpiexec" ]; then
   "$mpiexec" --allow-run-as-root --oversubscribe -np 2 "$sweep" ${common/--quiet/} --threads 1 \
       --values xi_p=0.08,0.10 --out "$dir/m2" >/dev/null 2>"$dir/mpi.err"
