@@ -4,6 +4,7 @@
  * points have nsec = 0. */
 #include "sweep_load.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,32 +34,49 @@ static int split(char *line, char **f, int max)
     return n;
 }
 
-/* One data row (fields after the optional group column) into pt. */
+/* f as a whole number (nan, inf included), or -1. */
+static int fnum(const char *f, double *v)
+{
+    char *end;
+    *v = strtod(f, &end);
+    return end == f || *end ? -1 : 0;
+}
+
+static int fint(const char *f, int *v)
+{
+    double x;
+    if (fnum(f, &x) || !(x == floor(x)) || fabs(x) > 1e9)
+        return -1;
+    *v = (int)x;
+    return 0;
+}
+
+/* One data row (fields after the optional group column) into pt; -1 if a
+ * field the table needs is not what out_points_csv writes there. */
 static int parse_point(char **f, int n, wg_point *pt, int *dir)
 {
-    if (n < 15)
+    if (n < 15 || (strcmp(f[0], "up") && strcmp(f[0], "down")))
         return -1;
     memset(pt, 0, sizeof *pt);
     *dir = strcmp(f[0], "down") == 0 ? -1 : 1;
-    pt->value = strtod(f[2], NULL);
+    double *num[9] = {&pt->value, &pt->impacts, &pt->min_xn, &pt->max_xn, &pt->lle,
+                      &pt->err, &pt->tol, &pt->resid, NULL};
+    static const int at[8] = {2, 7, 8, 9, 10, 11, 12, 13};
+    for (int i = 0; num[i]; i++)
+        if (fnum(f[at[i]], num[i]))
+            return -1;
+    if (fint(f[4], &pt->period) || fint(f[5], &pt->converged) || fint(f[14], &pt->steps) ||
+        !isfinite(pt->value))
+        return -1;
     pt->regime = lookup(wg_regime_name, WG_REGIME_DIVERGED + 1, f[3]);
-    pt->period = atoi(f[4]);
-    pt->converged = atoi(f[5]);
     pt->motion = lookup(wg_motion_name, WG_MOTION_DOUBLE + 1, f[6]);
-    pt->impacts = strtod(f[7], NULL);
-    pt->min_xn = strtod(f[8], NULL);
-    pt->max_xn = strtod(f[9], NULL);
-    pt->lle = strtod(f[10], NULL);
-    pt->err = strtod(f[11], NULL);
-    pt->tol = strtod(f[12], NULL);
-    pt->resid = strtod(f[13], NULL);
-    pt->steps = atoi(f[14]);
     pt->value2 = NAN;
     if (n >= 21 && f[18][0]) { /* the 2N check, when the run had --verify-steps */
         pt->checked = 1;
         pt->check_regime = lookup(wg_regime_name, WG_REGIME_DIVERGED + 1, f[18]);
-        pt->check_period = atoi(f[19]);
         pt->check_motion = lookup(wg_motion_name, WG_MOTION_DOUBLE + 1, f[20]);
+        if (fint(f[19], &pt->check_period) || pt->check_regime < 0 || pt->check_motion < 0)
+            return -1;
     }
     return pt->regime < 0 || pt->motion < 0 ? -1 : 0;
 }
@@ -118,42 +136,88 @@ static void finish_chains(sweep_study *st)
     }
 }
 
-/* Header: [group,]dir,index,PARAM,... */
-static int parse_header(char *line, sweep_study *st)
+/* The columns after PARAM that the table reads, as out_points_csv names
+ * them (later columns may follow). */
+static const char *const COLS[] = {"regime", "period", "converged", "motion",
+                                   "impacts_per_period", "min_xn", "max_xn", "lle_per_period",
+                                   "err", "tol", "resid", "steps_per_period"};
+enum { NCOLS = sizeof COLS / sizeof COLS[0] };
+
+/* Header: [group,]dir,index,PARAM,regime,...: the group column's offset
+ * (0, 1), or -1. *nf: its field count, which every row must have. */
+static int parse_header(char *line, sweep_study *st, int *nf)
 {
-    char *f[32];
-    int n = split(line, f, 32);
+    char *f[64];
+    int n = *nf = split(line, f, 64);
     int off = n > 0 && strcmp(f[0], "dir") != 0;
-    if (n < 4 + off)
+    if (n < 3 + off + NCOLS || strcmp(f[off], "dir") || strcmp(f[off + 1], "index"))
         return -1;
+    for (int i = 0; i < NCOLS; i++)
+        if (strcmp(f[off + 3 + i], COLS[i]))
+            return -1;
     st->gparam = off ? wg_param_lookup(f[0]) : -1;
     st->param = wg_param_lookup(f[2 + off]);
     return (off && st->gparam < 0) || st->param < 0 ? -1 : off;
 }
 
+/* A whole line into line (1), EOF (0), or -1: cut short (no end of line:
+ * a file still being written, or truncated) or longer than len. */
+static int read_line(FILE *fp, char *line, size_t len)
+{
+    if (!fgets(line, (int)len, fp))
+        return 0;
+    return strchr(line, '\n') ? 1 : -1;
+}
+
+/* The file is verified as it is read: a header naming out_points_csv's
+ * columns, rows of as many fields, each field the table uses a number or
+ * a name it knows, every line whole, at least one row. A torn or foreign
+ * file is refused with the line at fault (it once gave an empty table and
+ * exit 0). */
 int load_points_csv(const char *path, sweep_study *st, char *why, size_t whylen)
 {
     FILE *fp = fopen(path, "r");
-    char line[2048];
+    char line[4096];
     if (!fp) {
-        snprintf(why, whylen, "cannot read %s", path);
+        snprintf(why, whylen, "cannot read %s: %s", path, strerror(errno));
         return -1;
     }
-    int off = fgets(line, sizeof line, fp) ? parse_header(line, st) : -1, lineno = 1, rc = 0;
+    int nf = 0, lineno = 1, rc = 0, rows = 0;
+    int off = read_line(fp, line, sizeof line) == 1 ? parse_header(line, st, &nf) : -1;
     if (off < 0) {
-        snprintf(why, whylen, "%s:1: not a wgsweep points CSV header", path);
+        snprintf(why, whylen, "%s:1: not a wgsweep points CSV header ([group,]dir,index,PARAM,"
+                 "regime,period,... as wgsweep writes PREFIX.csv)", path);
         rc = -1;
     }
-    while (!rc && fgets(line, sizeof line, fp)) {
-        char *f[32];
+    for (int got; !rc && (got = read_line(fp, line, sizeof line)) != 0; rows++) {
+        char *f[64];
         wg_point pt;
-        int dir, n = split(line, f, 32);
         lineno++;
-        sweep_group *g = n > off ? group_of(st, off ? strtod(f[0], NULL) : NAN) : NULL;
+        if (got < 0) {
+            snprintf(why, whylen, "%s:%d: the line is cut short (no end of line): a file still "
+                     "being written, or truncated", path, lineno);
+            rc = -1;
+            break;
+        }
+        int dir, n = split(line, f, 64);
+        double gv = NAN;
+        if (n != nf || (off && fnum(f[0], &gv))) {
+            snprintf(why, whylen, "%s:%d: %d fields, the header has %d", path, lineno, n, nf);
+            rc = -1;
+            break;
+        }
+        sweep_group *g = group_of(st, gv);
         if (!g || parse_point(f + off, n - off, &pt, &dir) || append(g, dir, &pt)) {
-            snprintf(why, whylen, "%s:%d: malformed row (or too many groups)", path, lineno);
+            snprintf(why, whylen, "%s:%d: %s", path, lineno,
+                     g ? "a field is not what wgsweep writes there (a number, a regime or a "
+                         "motion name)"
+                       : "too many groups");
             rc = -1;
         }
+    }
+    if (!rc && !rows) {
+        snprintf(why, whylen, "%s: no points after the header", path);
+        rc = -1;
     }
     fclose(fp);
     finish_chains(st);

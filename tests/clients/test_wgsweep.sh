@@ -163,6 +163,23 @@ check "--table-from a sweep without --values: one table, the sweep's doublings" 
 check "--param b: no grazing in the table (min x_n stays under the swept b), the figure written" \
   '! grep -q "^| grazing" "$dir/pb.md" && grep -q "^| transition" "$dir/pb.md" && [ -s "$dir/pb.png" ]'
 
+# a points file read back is verified first: a torn header, a torn row, a
+# header alone, a foreign regime name and a row of too few fields are each
+# refused with the line at fault (a torn header once gave an empty table)
+head -c 150 "$dir/v.csv" >"$dir/t1.csv"
+head -c 700 "$dir/v.csv" >"$dir/t2.csv"
+head -1 "$dir/v.csv" >"$dir/t3.csv"
+sed 's/periodic/periodik/' "$dir/v.csv" >"$dir/t4.csv"
+{ head -2 "$dir/v.csv"; echo "up,1,1.2"; } >"$dir/t5.csv"
+i=0
+for want in ":1: not a wgsweep points CSV header" ":3: the line is cut short" ": no points after the header" \
+            ":2: a field is not what wgsweep writes there" ":3: 3 fields, the header has"; do
+  i=$((i + 1))
+  "$sweep" --table-from "$dir/t$i.csv" --out "$dir/tt$i" >/dev/null 2>"$dir/tt.err"; rc=$?
+  check "--table-from a damaged file ($i): exit 1, '$want'" \
+    '[ $rc -eq 1 ] && grep -q -- "^wgsweep: $dir/t$i.csv$want" "$dir/tt.err" && ! [ -e "$dir/tt$i.md" ]'
+done
+
 # Ctrl-C: a long sweep interrupted after a second
 "$sweep" --from 0.6 --to 1.0 --points 400 --threads 1 --quiet --out "$dir/int" >/dev/null 2>&1 &
 pid=$!
