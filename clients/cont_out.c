@@ -2,6 +2,7 @@
 #include "cont_out.h"
 #include "wormgear/wg_scene.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -203,18 +204,24 @@ int cont_read_bifs(const char *path, cont_bifs *b, char *why, size_t whylen)
     memset(b, 0, sizeof *b);
     FILE *f = fopen(path, "r");
     if (!f) {
-        snprintf(why, whylen, "cannot read %s", path);
+        snprintf(why, whylen, "cannot read %s: %s", path, strerror(errno));
         return -1;
     }
     char line[4096];
     int col[6], cap = 0, rc = 0, lno = 1;
-    if (!fgets(line, sizeof line, f) || header(line, b, col)) {
+    if (!fgets(line, sizeof line, f) || !strchr(line, '\n') || header(line, b, col)) {
         snprintf(why, whylen, "%s: not a bifurcations CSV of wgcont (header type,PARAM,...)",
                  path);
         rc = -1;
     }
     while (!rc && fgets(line, sizeof line, f)) {
         lno++;
+        if (!strchr(line, '\n')) { /* "period_doubling,1.19" of 1.1976546 read as 1.19 */
+            snprintf(why, whylen, "%s:%d: the line is cut short (no end of line): a file still "
+                     "being written, or truncated", path, lno);
+            rc = -1;
+            break;
+        }
         if (b->n == cap) {
             cap = cap ? 2 * cap : 64;
             cont_row *q = realloc(b->row, sizeof *q * (size_t)cap);

@@ -94,6 +94,12 @@ check "wgsweep --exact: the column and the located doubling" \
 "$sweep" --table-from "$dir/sw.csv" --exact "$dir/pd-bifurcations.csv" --out "$dir/swt" >/dev/null 2>"$dir/swt.err"; r9=$?
 check "wgsweep --table-from a plain sweep's CSV --exact: its table with the located doubling" \
   '[ $r9 -eq 0 ] && grep "period doubling | 1.1950" "$dir/swt.md" | grep -q "1.1976546 (period_doubling P1)"'
+# a bifurcations file cut inside its last row is refused (its value, cut
+# to 1.19, was read as a located doubling)
+head -c $(($(wc -c <"$dir/pd-bifurcations.csv") - 40)) "$dir/pd-bifurcations.csv" >"$dir/cut.csv"
+"$sweep" --table-from "$dir/sw.csv" --exact "$dir/cut.csv" --out "$dir/swc" >/dev/null 2>"$dir/swc.err"; r11=$?
+check "wgsweep --exact with a torn bifurcations file: exit 2, the line cut short said" \
+  '[ $r11 -eq 2 ] && grep -q "cut.csv:[0-9]*: the line is cut short" "$dir/swc.err"'
 "$sweep" --from 1.17 --to 1.22 --points 6 --quiet --no-png --values xi_p=0.08,0.1 \
     --exact "$dir/pd-bifurcations.csv" --out "$dir/sw2" >/dev/null 2>&1; r6=$?
 "$sweep" --from 1.17 --to 1.22 --points 6 --quiet --no-png --param xi_p \
