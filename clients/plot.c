@@ -293,8 +293,10 @@ static void bif_range(const plot_bif *pb, double *lo, double *hi, double *xlo, d
                 *hi = fmax(*hi, p->xn[k]);
             }
         }
-    if (!(*xhi > *xlo))
-        *xhi = *xlo + 1.0;
+    if (!(*xhi > *xlo)) { /* one value (or none): a window about it, 5 % a side */
+        double x = isfinite(*xlo) ? *xlo : 1.0, d = x != 0.0 ? 0.05 * fabs(x) : 0.5;
+        *xlo = x - d, *xhi = x + d;
+    }
 }
 
 /* Shade cells of the points' regimes between y0 and y0 + h (pixels). */
@@ -308,6 +310,8 @@ static void shade(cairo_t *cr, const frame *f, const wg_point *pts, int n, doubl
             a = v - (b - v);
         if (i + 1 == n && n > 1)
             b = v + (v - a);
+        if (n == 1) /* a band of 2 % of the axis, not none */
+            a = v - 0.01 * (f->xmax - f->xmin), b = v + 0.01 * (f->xmax - f->xmin);
         double xa = px(f, fmin(a, b)), xb = px(f, fmax(a, b));
         xa = fmax(xa, f->x0);
         xb = fmin(xb, f->x0 + f->w);
@@ -355,10 +359,15 @@ static void min_curve(cairo_t *cr, const frame *f, const wg_point *pts, int n, c
     cairo_set_line_width(cr, 1.4);
     for (int i = 0; i < n; i++) {
         double x = px(f, pts[i].value), y = py(f, fmax(f->ymin, pts[i].min_xn));
-        if (i == 0)
+        if (n == 1) { /* one point: a dot, as a line of one point draws nothing */
+            cairo_new_sub_path(cr);
+            cairo_arc(cr, x, y, 2.5, 0, 2 * M_PI);
+            cairo_fill(cr);
+        } else if (i == 0) {
             cairo_move_to(cr, x, y);
-        else
+        } else {
             cairo_line_to(cr, x, y);
+        }
     }
     cairo_stroke(cr);
 }
@@ -586,7 +595,10 @@ int plot_regime_map(const char *path, const plot_map *pm, char *why, size_t whyl
         yhi = fmax(yhi, c->base.v[c->param2]);
     }
     int nr = pm->nrows, nx = pm->nrows ? pm->rows[0].npts : 1;
-    double dx = nx > 1 ? (xhi - xlo) / (nx - 1) : 1.0, dy = nr > 1 ? (yhi - ylo) / (nr - 1) : 1.0;
+    /* one row (or column): a cell 10 % of its value wide, so the axis
+     * keeps the parameter's sign (xi_p 0.05 spanned -0.45 ... 0.55) */
+    double dx = nx > 1 ? (xhi - xlo) / (nx - 1) : xhi != 0.0 ? 0.1 * fabs(xhi) : 1.0;
+    double dy = nr > 1 ? (yhi - ylo) / (nr - 1) : yhi != 0.0 ? 0.1 * fabs(yhi) : 1.0;
     double y = pd_page_head(cr, 1200, pm->title, &pm->pg);
     frame f = {110, y + 95, 960, 790 - (y + 95), xlo - dx / 2, xhi + dx / 2, ylo - dy / 2,
                yhi + dy / 2};

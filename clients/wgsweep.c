@@ -459,8 +459,13 @@ static int write_map(const opts *o, const char *scene, const wg_chain *rows, int
     plot_scale2 sx = plot_text_pscale(o->param, &rows[0].base, &o->us, x2, sizeof x2);
     plot_scale2 sy = plot_text_pscale(o->mparam, &rows[0].base, &o->us, y2, sizeof y2);
     plot_text_caption(cap, scene, &rows[0].base, &o->scene_p, o->param, o->mparam, &o->so, 0, 0);
-    snprintf(what, sizeof what, "%d rows of %s in [%g, %g], each an up sweep of %d points in %s",
-             n, plot_text_psym(o->mparam), o->mfrom, o->mto, o->points, plot_text_psym(o->param));
+    if (n == 1) /* the one row is at mfrom: "1 rows ... in [0.05, 0.1]" said otherwise */
+        snprintf(what, sizeof what, "1 row, %s = %g, an up sweep of %d points in %s",
+                 plot_text_psym(o->mparam), o->mfrom, o->points, plot_text_psym(o->param));
+    else
+        snprintf(what, sizeof what, "%d rows of %s in [%g, %g], each an up sweep of %d points "
+                 "in %s", n, plot_text_psym(o->mparam), o->mfrom, o->mto, o->points,
+                 plot_text_psym(o->param));
     for (int mode = 0; o->png && mode < 2 && !rc; mode++) {
         snprintf(path, sizeof path, "%s-map%s.%s", o->out, mode ? "-motion" : "", o->format);
         snprintf(title, sizeof title, "%s: %s over (%s, %s), up sweeps%s", scene,

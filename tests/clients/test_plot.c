@@ -231,6 +231,50 @@ static void test_ylabel_clear_of_ticks(void)
     rmdir(dir);
 }
 
+/* A sweep of one point (--from 1 --to 1 --points 1): its dot in the
+ * middle of the frame, not on its left edge in an axis invented as 1 ... 2,
+ * and its min x_n drawn as a dot (a line of one point drew nothing). */
+static void test_single_point(void)
+{
+    static wg_point up[1], down[1];
+    setup();
+    memset(up, 0, sizeof up);
+    up[0].value = 1.0;
+    up[0].regime = WG_REGIME_PERIODIC;
+    up[0].period = 1;
+    up[0].min_xn = 0.5;
+    up[0].nsec = 1;
+    up[0].xn[0] = 1.2;
+    down[0] = up[0];
+    char path[128], why[256];
+    snprintf(path, sizeof path, "%s/one.png", dir);
+    plot_bif pb = {"test: one point", "ω  (-)", up, down, 1, 1, 1.0, NULL, 0,
+                   {0, NULL, 0}, {0, NULL, 0}, {"png", {"caption", NULL, NULL, NULL}}};
+    ASSERT_EQ_INT(plot_bifurcation(path, &pb, why, sizeof why), 0);
+    cairo_surface_t *s = cairo_image_surface_create_from_png(path);
+    ASSERT_EQ_INT(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
+    int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
+    int st = cairo_image_surface_get_stride(s);
+    const unsigned char *d = cairo_image_surface_get_data(s);
+    long n[2] = {0, 0}, sx[2] = {0, 0}; /* coloured pixels in the top / bottom half */
+    for (int yy = 150; d && yy < h - 120; yy++)
+        for (int xx = 95; xx < w - 110; xx++) {
+            const unsigned char *q = d + yy * st + 4 * xx; /* B G R */
+            int coloured = abs(q[0] - q[2]) > 60; /* the up blue or the down red */
+            int half = yy > h * 0.62;
+            n[half] += coloured, sx[half] += coloured ? xx : 0;
+        }
+    ASSERT_TRUE(n[0] > 0 && n[1] > 0);
+    for (int k = 0; k < 2; k++) {
+        double mx = n[k] ? (double)sx[k] / n[k] : 0.0;
+        if (!(fabs(mx - 0.5 * (90 + 1300)) < 30))
+            TEST_FAIL_("panel %d: the point drawn at x = %.0f px, the frame's middle is 695", k, mx);
+    }
+    cairo_surface_destroy(s);
+    unlink(path);
+    rmdir(dir);
+}
+
 /* Axis ticks: k * step, each once, at most PD_TICKS_MAX, labelled with
  * the digits that tell them apart. */
 static void test_ticks(void)
@@ -265,4 +309,4 @@ static void test_ticks(void)
 
 TEST_MAIN(TEST(test_ticks), TEST(test_repeated_sections_drawn_once), TEST(test_near_sections_both_drawn),
           TEST(test_each_point_its_own_spots), TEST(test_poincare_of_period_one),
-          TEST(test_ylabel_clear_of_ticks))
+          TEST(test_ylabel_clear_of_ticks), TEST(test_single_point))
