@@ -52,18 +52,71 @@ static void yrange(const plot_cont *pc, int bot, double *lo, double *hi)
     *lo -= pad, *hi += pad;
 }
 
-/* Stroke one run of segments [i0, i1] of section k: solid or dashed. */
+/* Where on segment (i, i + 1) its stability changes: the fraction of the
+ * way to a located bifurcation of the branch between the two points, or
+ * -1 (none located: the segment counts as unstable, as before). */
+static double change_at(const cont_result *r, int i)
+{
+    const wg_cont_point *a = &r->pt[i], *b = &r->pt[i + 1];
+    for (int j = 0; j < r->nbif; j++) {
+        const wg_bif *f = &r->bif[j];
+        if (f->branch != a->branch || f->kind == WG_BIF_GRAZING || b->value == a->value)
+            continue;
+        double t = (f->value - a->value) / (b->value - a->value);
+        if (t > 0.0 && t < 1.0)
+            return t;
+    }
+    return -1.0;
+}
+
+/* The point t of the way along segment (i, i + 1) of section k, device. */
+static void seg_at(const frame *f, const cont_result *r, int i, int k, int bot, double t,
+                   double *x, double *y)
+{
+    const wg_cont_point *a = &r->pt[i], *b = &r->pt[i + 1];
+    *x = px(f, a->value + t * (b->value - a->value));
+    *y = py(f, yval(a, k, bot) + t * (yval(b, k, bot) - yval(a, k, bot)));
+}
+
+/* Stroke one run of segments [i0, i1] of section k: solid or dashed. A
+ * dashed run whose end segment has a stable end starts (or ends) at the
+ * bifurcation located on that segment, and the piece up to it is solid:
+ * the curve turned dashed at the last stable point, not at the doubling. */
 static void run_stroke(cairo_t *cr, const frame *f, const cont_result *r, int i0, int i1, int k,
                        int bot, int stable)
 {
     static const double dash[] = {7.0, 5.0};
-    double rgb[3];
+    double rgb[3], x, y;
     period_rgb(r->pt[i1].period, rgb);
     cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
+    double t0 = !stable && r->pt[i0].stable ? change_at(r, i0) : -1.0;
+    double t1 = !stable && r->pt[i1].stable ? change_at(r, i1 - 1) : -1.0;
+    cairo_set_dash(cr, dash, 0, 0); /* the solid pieces */
+    if (t0 > 0.0) {
+        cairo_move_to(cr, px(f, r->pt[i0].value), py(f, yval(&r->pt[i0], k, bot)));
+        seg_at(f, r, i0, k, bot, t0, &x, &y);
+        cairo_line_to(cr, x, y);
+    }
+    if (t1 > 0.0) {
+        seg_at(f, r, i1 - 1, k, bot, t1, &x, &y);
+        cairo_move_to(cr, x, y);
+        cairo_line_to(cr, px(f, r->pt[i1].value), py(f, yval(&r->pt[i1], k, bot)));
+    }
+    cairo_stroke(cr);
     cairo_set_dash(cr, dash, stable ? 0 : 2, 0);
-    cairo_move_to(cr, px(f, r->pt[i0].value), py(f, yval(&r->pt[i0], k, bot)));
-    for (int i = i0 + 1; i <= i1; i++)
-        cairo_line_to(cr, px(f, r->pt[i].value), py(f, yval(&r->pt[i], k, bot)));
+    if (t0 > 0.0) {
+        seg_at(f, r, i0, k, bot, t0, &x, &y);
+        cairo_move_to(cr, x, y);
+    } else {
+        cairo_move_to(cr, px(f, r->pt[i0].value), py(f, yval(&r->pt[i0], k, bot)));
+    }
+    for (int i = i0 + 1; i <= i1; i++) {
+        if (i == i1 && t1 > 0.0)
+            seg_at(f, r, i1 - 1, k, bot, t1, &x, &y);
+        else
+            x = px(f, r->pt[i].value), y = py(f, yval(&r->pt[i], k, bot));
+        cairo_line_to(cr, x, y);
+    }
     cairo_stroke(cr);
 }
 
@@ -147,9 +200,10 @@ static int overlaps(const boxes *bx, double x0, double y0, double x1, double y1)
     return 0;
 }
 
-/* A label near (x, y): the first of a few heights that overlaps no earlier
- * label and no marker; none if all do (the marker stays, the CSV has
- * every value). */
+/* A label near (x, y): the first of a few heights, right of the marker or
+ * else left of it, that stays in the frame (one ran over the right axis's
+ * numbers) and overlaps no earlier label and no marker; none if all do
+ * (the marker stays, the CSV has every value). */
 static void place_label(cairo_t *cr, const frame *f, boxes *bx, double x, double y,
                         const char *lab)
 {
@@ -159,14 +213,17 @@ static void place_label(cairo_t *cr, const frame *f, boxes *bx, double x, double
     cairo_text_extents(cr, lab, &e);
     for (unsigned k = 0; k < sizeof dy / sizeof dy[0] && bx->n < BOXES_MAX; k++) {
         double ly = fmin(fmax(y + dy[k], f->y0 + 12), f->y0 + f->h - 4);
-        double x0 = x + 9, y0 = ly - 10, x1 = x0 + e.x_advance, y1 = ly + 2;
-        if (overlaps(bx, x0, y0, x1, y1))
-            continue;
-        double *b = bx->x[bx->n++];
-        b[0] = x0, b[1] = y0, b[2] = x1, b[3] = y1;
-        cairo_set_source_rgb(cr, 0.55, 0.0, 0.0);
-        pd_text(cr, x0, ly, 10.5, 0.0, lab);
-        return;
+        for (int side = 0; side < 2; side++) {
+            double x0 = side ? x - 9 - e.x_advance : x + 9, y0 = ly - 10;
+            double x1 = x0 + e.x_advance, y1 = ly + 2;
+            if (x0 < f->x0 + 2 || x1 > f->x0 + f->w - 2 || overlaps(bx, x0, y0, x1, y1))
+                continue;
+            double *b = bx->x[bx->n++];
+            b[0] = x0, b[1] = y0, b[2] = x1, b[3] = y1;
+            cairo_set_source_rgb(cr, 0.55, 0.0, 0.0);
+            pd_text(cr, x0, ly, 10.5, 0.0, lab);
+            return;
+        }
     }
 }
 

@@ -299,7 +299,8 @@ static int run_sweep(const wg_params *p, const wg_cont_opts *co, const opts *o, 
 
 /* Caption: scene, damping, N, the run; the parameters set away from the
  * scene; what the figure holds. */
-static void captions(const opts *o, const wg_scene *sc, const ctx *c, char cap[3][400])
+static void captions(const opts *o, const wg_scene *sc, const ctx *c, const wg_chain *sw,
+                     char cap[3][400])
 {
     const wg_cont_opts *co = &o->co;
     char xi[32];
@@ -320,7 +321,8 @@ static void captions(const opts *o, const wg_scene *sc, const ctx *c, char cap[3
         snprintf(cap[1], 400, "every other parameter as in the scene");
     snprintf(cap[2], 400, "%d branch points, %d bifurcations, %d Newton failures (step "
              "halved)%s%s", c->r.npt, c->r.nbif, c->r.newton_fails,
-             o->sweep_points ? "; dots: sweep with continuation, up and down" : "",
+             sw && (sw[0].ndone || sw[1].ndone) ? "; dots: sweep with continuation, up and "
+                                                  "down" : "",
              g_stop ? "; INTERRUPTED" : "");
 }
 
@@ -332,7 +334,7 @@ static int write_all(const opts *o, const wg_scene *sc, const ctx *c, const wg_c
     rc |= cont_write_branch(path, &c->r, o->co.param, nstate, why, sizeof why);
     snprintf(path, sizeof path, "%s-bifurcations.csv", o->out);
     rc |= cont_write_bifs(path, &c->r, o->co.param, nstate, why, sizeof why);
-    captions(o, sc, c, cap);
+    captions(o, sc, c, sw, cap);
     plot_text_plabel(o->co.param, xl, sizeof xl);
     snprintf(title, sizeof title, "Continuation of periodic orbits in %s: scene %s", c->pname,
              sc->name);
@@ -387,8 +389,8 @@ static int run(opts *o, const wg_scene *sc)
     if (rc)
         fprintf(stderr, "wgcont: %s\n", why);
     if (!rc && !o->quiet)
-        fprintf(stderr, "wgcont: %d points, %d bifurcations in %.1f s\n", c.r.npt, c.r.nbif,
-                now_s() - c.t0);
+        fprintf(stderr, "wgcont: %d points, %d bifurcations in %.1f s%s\n", c.r.npt, c.r.nbif,
+                now_s() - c.t0, g_stop ? " (interrupted: the rest and the sweep not run)" : "");
     wg_chain sw[2];
     memset(sw, 0, sizeof sw);
     double t1 = now_s();
