@@ -371,6 +371,11 @@ static int parse_opts(int argc, char **argv, opts *o)
         return cli_usage_error(PROG, "--at-state needs --at V (the point to analyse)");
     if ((rc = check_combination(o)))
         return rc;
+    if (o->step > 0 && o->step > fabs(o->to - o->from) * (1 + 1e-12) && o->to != o->from &&
+        !o->at_set && !o->table_from) /* it gave one point, --from's, silently */
+        return cli_usage_error(PROG, "--step %g: more than the range %g (--from %g --to %g); "
+                               "need a step up to the range", o->step, fabs(o->to - o->from),
+                               o->from, o->to);
     if (o->step > 0)
         o->points = (int)floor(fabs(o->to - o->from) / o->step + 1.5e-9) + 1;
     return 0;

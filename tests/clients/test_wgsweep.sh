@@ -89,6 +89,7 @@ refuse "xi_p = 5 out of range \[0, 2\]" --values xi_p=5
 refuse "xi_p = -1 out of range \[0, 2\]" --map xi_p=-1:0.1:2
 refuse "M, the rows, need 1..100000" --map xi_p=0.1:0.2:0
 refuse "need 1..1e7" --at 1 --at-periods 99999999
+refuse "^wgsweep: --step 5: more than the range 0.2" --from 1 --to 1.2 --step 5
 
 # --out names files: a directory, '', '-' or a name leaving the suffixes
 # no room under NAME_MAX are refused first (they wrote runs/.csv, hidden;
