@@ -726,6 +726,8 @@ int main(int argc, char **argv)
         cli_on_stop_signals(on_signal);
         struct sigaction sa = {.sa_handler = on_signal}; /* a resize wakes the loop too */
         sigaction(SIGWINCH, &sa, NULL);
+        sigaction(SIGHUP, &sa, NULL); /* a closed terminal: quit, the tty restored (it was
+                                         left without echo and line editing) */
         signal(SIGPIPE, SIG_IGN);
         term_size(m);
         rc = setup(m);

@@ -178,6 +178,18 @@ if command -v tmux >/dev/null; then
     i=0
     while [ ! -s "$tmp/rc" ] && [ $i -lt 30 ]; do sleep 0.1; i=$((i + 1)); done
     [ "$(cat "$tmp/rc" 2>/dev/null)" = 0 ] || fail "q did not quit with 0: $(cat "$tmp/rc" 2>/dev/null)"
+    # SIGHUP (the terminal closed): quits with the terminal restored, as
+    # q and SIGTERM do; it was left without echo and line editing
+    rm -f "$tmp/rc"
+    tmux -L "$sock" -f /dev/null new-session -d -x 120 -y 40 "sh -c 'echo \$\$ >$tmp/mpid; exec $M --fps 10'; echo \$? >$tmp/rc; stty -a >$tmp/stty"
+    i=0
+    while [ ! -s "$tmp/mpid" ] && [ $i -lt 30 ]; do sleep 0.1; i=$((i + 1)); done
+    sleep 1
+    kill -HUP "$(cat "$tmp/mpid")"
+    i=0
+    while [ ! -s "$tmp/stty" ] && [ $i -lt 50 ]; do sleep 0.1; i=$((i + 1)); done
+    grep -q -- " icanon" "$tmp/stty" && grep -q -- " echo " "$tmp/stty" ||
+        fail "SIGHUP left the terminal raw: $(grep -o -- '-*icanon\|-*echo ' "$tmp/stty" | tr '\n' ' ')"
 else
     echo "tmux not installed: interactive checks skipped"
 fi
