@@ -126,8 +126,20 @@ static int other_from_json(web_cmd *c, const cJSON *j, char *why, size_t whylen)
     if (!strcmp(c->op, "step")) {
         if (get_num(j, "nsteps", &v, 1, why, whylen))
             return -1;
-        if (!(v >= 1 && v <= 1e12)) {
-            snprintf(why, whylen, "step: 'nsteps' must be in [1, 1e12]");
+        if (!(v >= 1 && v <= 1e12) || v != floor(v)) { /* 1.5 went on as 1 */
+            snprintf(why, whylen, "step: 'nsteps' must be a whole number in [1, 1e12]");
+            return -1;
+        }
+        c->cmd.nsteps = (int64_t)v;
+        return 0;
+    }
+    if (!strcmp(c->op, "contacts")) { /* wgctl contacts all|mesh|none [N] */
+        if (get_str(j, "which", c->name, sizeof c->name, 1, why, whylen) ||
+            get_num(j, "every", &v, 0, why, whylen))
+            return -1;
+        if (cJSON_GetObjectItemCaseSensitive(j, "every") &&
+            (!(v >= 1 && v <= 9.007199254740992e15) || v != floor(v))) {
+            snprintf(why, whylen, "contacts: 'every' must be a whole number >= 1");
             return -1;
         }
         c->cmd.nsteps = (int64_t)v;
@@ -136,7 +148,8 @@ static int other_from_json(web_cmd *c, const cJSON *j, char *why, size_t whylen)
     if (!strcmp(c->op, "pause") || !strcmp(c->op, "resume") || !strcmp(c->op, "get"))
         return 0;
     snprintf(why, whylen,
-             "unknown command op '%s' (set ramp pause resume reset step save restore get mode)",
+             "unknown command op '%s' (set ramp pause resume reset step save restore get mode "
+             "contacts)",
              c->op);
     return -1;
 }

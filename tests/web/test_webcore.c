@@ -174,7 +174,16 @@ static void test_cmd_json(void)
     ASSERT_EQ_INT(c.cmd.has_from, 1);
     ASSERT_STR(c.cmd.unit, "s");
     cJSON_Delete(j);
+    /* contacts, as wgctl's: which, and every N (absent: 0, the daemon's default) */
+    j = cJSON_Parse("{\"op\":\"contacts\",\"which\":\"mesh\",\"every\":4}");
+    ASSERT_EQ_INT(web_cmd_from_json(&c, j, why, sizeof why), 0);
+    ASSERT_STR(c.cmd.op, "contacts");
+    ASSERT_STR(c.cmd.name, "mesh");
+    ASSERT_TRUE(c.cmd.nsteps == 4);
+    cJSON_Delete(j);
     const char *bad[] = {"[]", "{}", "{\"op\":7}", "{\"op\":\"fly\"}", "{\"op\":\"set\"}",
+                         "{\"op\":\"step\",\"nsteps\":1.5}", "{\"op\":\"contacts\"}",
+                         "{\"op\":\"contacts\",\"which\":\"all\",\"every\":0.5}",
                          "{\"op\":\"set\",\"params\":{\"omega\":\"x\"}}",
                          "{\"op\":\"ramp\",\"param\":\"omega\"}", "{\"op\":\"step\",\"nsteps\":0}",
                          "{\"op\":\"save\"}", "{\"op\":\"set\",\"params\":{\"omega\":1},\"at_section\":3}"};
