@@ -168,12 +168,28 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
     cli_text(a->message, sizeof a->message, m->message);
 }
 
+int bus_prefix_ok(const char *p)
+{
+    size_t n = strspn(p, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-");
+    return p[n] == 0 && n <= BUS_PREFIX_MAX;
+}
+
 int bus_open(bus *c, const char *url, const char *prefix, const char *name, char *why,
              size_t whylen)
 {
     char host[64] = "host", ch[128];
     memset(c, 0, sizeof *c);
+    prefix = prefix ? prefix : bus_default_prefix();
+    if (!bus_prefix_ok(prefix)) { /* the daemon's rule: 'a b' was sent, 100 chars failed in LCM */
+        snprintf(why, whylen, "prefix '%.60s': must match [A-Za-z0-9_.-]{0,%d}, as the daemon's",
+                 prefix, BUS_PREFIX_MAX);
+        return -1;
+    }
     url = url ? url : bus_default_url();
+    if (!*url) {
+        snprintf(why, whylen, "an empty LCM URL (give one, e.g. udpm://239.255.76.67:7667?ttl=0)");
+        return -1;
+    }
     snprintf(c->url, sizeof c->url, "%s", url);
     snprintf(c->prefix, sizeof c->prefix, "%s", prefix ? prefix : bus_default_prefix());
     gethostname(host, sizeof host - 1);

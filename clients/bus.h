@@ -117,6 +117,10 @@ int bus_stream_replayed(const bus_stream *s);
 const char *bus_default_url(void);
 const char *bus_default_prefix(void);
 
+/* 1 if p is a channel prefix the daemon accepts: [A-Za-z0-9_.-]{0,40}. */
+enum { BUS_PREFIX_MAX = 40 };
+int bus_prefix_ok(const char *p);
+
 /* Open LCM on url (NULL: default) with prefix (NULL: default); name is the
  * program name used in the client id. Commands are signed with the key in
  * $WORMGEAR_KEY_FILE when that is set (bus_set_key). 0, or -1 with a

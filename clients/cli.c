@@ -151,7 +151,7 @@ int cli_duration(const char *s, double *v, const char **unit)
              {"min", 60, "s"}, {"h", 3600, "s"}, {"tau", 1, "tau"}};
     char *end;
     *v = strtod(s, &end);
-    if (end == s)
+    if (end == s || !isfinite(*v)) /* "infs" was a duration */
         return -1;
     for (unsigned i = 0; i < sizeof u / sizeof u[0]; i++)
         if (strcmp(end, u[i].suffix) == 0) {

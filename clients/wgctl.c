@@ -10,6 +10,7 @@
 #include "wormgear/wg_param.h"
 
 #include <float.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -45,6 +46,7 @@ static void usage(FILE *f)
             "  ramp NAME [FROM] TO --over DURATION\n"
             "                             ramp a parameter phase-continuously; DURATION is\n"
             "                             simulated time: 60s, 250ms, 2min, or 5000tau\n"
+            "                             (a bare number is seconds)\n"
             "  pause | resume             stop / continue the simulation (resume clears a fault)\n"
             "  reset [--params]           back to the scene's initial state (and parameters)\n"
             "  step N                     advance N RK4 steps (lockstep mode, or paused)\n"
@@ -479,7 +481,10 @@ static void print_status(const ctl *t, const wormgear_status_t *s)
            s->run, s->health, s->fault[0] ? ": " : "", s->fault);
     printf("time      t = %.6f s, tau = %.9g, step %lld, period %lld (N = %d)\n", s->t_s, s->tau,
            (long long)s->steps, (long long)s->period, s->steps_per_period);
-    printf("omega     %.9g%s\n", s->omega, s->ramp_active ? " (ramping)" : "");
+    printf("omega     %.9g\n", s->omega); /* "(ramping)" was here for a ramp of any
+                                                  parameter: STATUS does not say which */
+    if (s->ramp_active)
+        printf("ramp      a parameter is ramping (wgctl get names it)\n");
     printf("pace      real-time factor %.4f, lag %.3f ms, overruns %lld\n", s->rtf,
            s->lag_s * 1e3, (long long)s->overruns);
     printf("load      %.4g steps/s, cpu %.1f%%, loop %.1f us mean / %.1f us max\n",
@@ -509,6 +514,21 @@ static int do_status(ctl *t)
     return 0;
 }
 
+/* A range's bound in 6 significant digits, rounded inwards (dir +1: up,
+ * -1: down) so that the value shown is accepted: phi1's [-2 pi, 2 pi] read
+ * [-6.28319, 6.28319] and set phi1=-6.28319 was out of range. */
+static double bound(double v, int dir)
+{
+    char buf[32];
+    snprintf(buf, sizeof buf, "%.6g", v);
+    double r = strtod(buf, NULL);
+    if (r == v || v == 0.0 || !isfinite(v))
+        return r;
+    double p = pow(10.0, 5 - floor(log10(fabs(v))));
+    r = (dir > 0 ? ceil(v * p) : floor(v * p)) / p;
+    return dir > 0 ? (r < v ? nextafter(r, INFINITY) : r) : (r > v ? nextafter(r, -INFINITY) : r);
+}
+
 static int do_params(const ctl *t)
 {
     if (!t->o.json)
@@ -525,7 +545,7 @@ static int do_params(const ctl *t)
         } else {
             char range[48];
             const char *rule = units_param_rule(i);
-            snprintf(range, sizeof range, "[%g, %g]", r->min, r->max);
+            snprintf(range, sizeof range, "[%.10g, %.10g]", bound(r->min, +1), bound(r->max, -1));
             printf("%-5s %-4s %-19s %-9.6g %s%s%s%s\n", r->name, units_shown(r->unit), range,
                    r->def, r->help,
                    r->flags & WG_PF_RAMP ? " (rampable)" : "", *rule ? "; physical: " : "", rule);
@@ -581,20 +601,33 @@ static int dispatch(ctl *t, const char *cmd, int n, char **args)
     return cli_usage_error(PROG, "unknown command '%s'", cmd);
 }
 
-int main(int argc, char **argv)
+/* With --json, a run that ends before anything was sent (a usage error,
+ * the bus not opened) still writes one object on stdout, as a timeout
+ * does: it wrote nothing there. The reason is on stderr. */
+static int json_end(int argc, char **argv, int rc, const char *code)
 {
-    static ctl t;
+    for (int i = 1; i < argc; i++)
+        if (!strcmp(argv[i], "--json")) {
+            printf("{\"accepted\":false,\"code\":\"%s\",\"message\":\"%s (see stderr)\"}\n",
+                   code, rc == CLI_EUSAGE ? "usage error" : "not sent");
+            break;
+        }
+    return rc;
+}
+
+static int run(ctl *t, int argc, char **argv)
+{
     char *pos[256], why[256];
     int npos;
     if (argc > 256)
         return cli_usage_error(PROG, "too many arguments");
-    int rc = parse_opts(argc, argv, &t.o, pos, &npos);
+    int rc = parse_opts(argc, argv, &t->o, pos, &npos);
     if (rc)
         return rc;
     if (npos == 0)
         return cli_usage_error(PROG, "no command given");
     if (!strcmp(pos[0], "params"))
-        return npos > 1 ? cli_usage_error(PROG, "params takes no arguments") : do_params(&t);
+        return npos > 1 ? cli_usage_error(PROG, "params takes no arguments") : do_params(t);
     if (!strcmp(pos[0], "keygen"))
         return npos != 2 ? cli_usage_error(PROG, "keygen: expected one FILE") : do_keygen(pos[1]);
     static const char *const known[] = {"set", "ramp", "step", "save", "restore", "mode",
@@ -604,13 +637,25 @@ int main(int argc, char **argv)
         k++;
     if (k == sizeof known / sizeof known[0])
         return cli_usage_error(PROG, "unknown command '%s'", pos[0]);
-    if (bus_open(&t.c, t.o.url, t.o.prefix, "wgctl", why, sizeof why) ||
-        (t.o.key_file && bus_set_key(&t.c, t.o.key_file, why, sizeof why))) {
+    if (t->o.prefix && !bus_prefix_ok(t->o.prefix))
+        return cli_usage_error(PROG, "--prefix '%.60s': need [A-Za-z0-9_.-], at most %d "
+                               "characters (the daemon's rule)", t->o.prefix, BUS_PREFIX_MAX);
+    if (t->o.url && !*t->o.url)
+        return cli_usage_error(PROG, "--url '': need an LCM URL (e.g. %s)", bus_default_url());
+    if (bus_open(&t->c, t->o.url, t->o.prefix, "wgctl", why, sizeof why) ||
+        (t->o.key_file && bus_set_key(&t->c, t->o.key_file, why, sizeof why))) {
         fprintf(stderr, "wgctl: %s\n", why);
-        bus_close(&t.c);
-        return 1;
+        bus_close(&t->c);
+        return json_end(argc, argv, 1, "EBUS");
     }
-    rc = dispatch(&t, pos[0], npos - 1, pos + 1);
-    bus_close(&t.c);
+    rc = dispatch(t, pos[0], npos - 1, pos + 1);
+    bus_close(&t->c);
     return rc;
+}
+
+int main(int argc, char **argv)
+{
+    static ctl t;
+    int rc = run(&t, argc, argv);
+    return rc == CLI_EUSAGE ? json_end(argc, argv, rc, "EUSAGE") : rc;
 }

@@ -29,6 +29,20 @@ has out "physical: Hz = omega omega_n / 2 pi"
 has out "^b     -    .*physical: µm = b b_c"
 has out "^phi1  rad "
 hasnt out " 1 \[0"
+# a range as shown is accepted: 2 pi rounded inwards (it read 6.28319 > 2 pi)
+has out "^phi1  rad  \[-6.28318, 6.28318\] "
+# ---- refused before sending: a prefix the daemon would not take, an empty
+# URL, an infinite duration (each was sent, or failed inside LCM); with
+# --json the refusal is an object on stdout too
+expect 2 "$C" --prefix 'a b' status
+has err "^wgctl: --prefix 'a b': need \[A-Za-z0-9_.-\], at most 40 characters"
+expect 2 "$C" --prefix "$(printf 'p%.0s' $(seq 1 100))" status
+expect 2 "$C" --url= status
+has err "^wgctl: --url '': need an LCM URL"
+expect 2 "$C" ramp omega 1 --over infs
+has err "^wgctl: --over 'infs': a positive duration"
+expect 2 "$C" --json ramp omega 1 --over infs
+has out '^{"accepted":false,"code":"EUSAGE","message":"usage error (see stderr)"}$'
 # ---- get NAME: names are checked before any message is sent
 expect 2 "$C" get nosuch
 has err "get: 'nosuch' is not a parameter (wgctl params lists them)"
@@ -65,6 +79,12 @@ has out "^  b_j   = 1 .*100 µm"
 expect 0 "$C" --json get omega
 has out '"params":{"omega":1},"physical":{"omega":{"value":5077.20'
 has out '"length_m":0.0001'
+# a ramp of xi_p: status says a ramp runs, not that omega is ramping
+expect 0 "$C" ramp xi_p 0.2 --over 1000s
+i=0
+until "$C" status >"$tmp/st" 2>&1 && grep -q "^ramp " "$tmp/st" || [ $i -ge 20 ]; do i=$((i + 1)); done
+has st "^ramp      a parameter is ramping (wgctl get names it)$"
+hasnt st "(ramping)"
 kill -TERM "$pid"; wait "$pid"; pid=
 
 # ---- status from a hostile sender: STATUS strings with markup, quotes,
