@@ -1,5 +1,5 @@
 /* auth.c - signed commands: key, MAC, time window, per-client counters and
- * the floor for clients not tracked. */
+ * the floor that stands in for the counters of clients not tracked. */
 #include "auth.h"
 
 #include "wormgear/wg_status.h"
@@ -20,6 +20,7 @@ static void start_afresh(auth *a, int64_t now_us)
 {
     memset(a->seen, 0, sizeof a->seen);
     a->since_us = now_us;
+    a->forgot_us = INT64_MIN;
 }
 
 int auth_load(auth *a, const char *path, int64_t now_us, char *why, size_t whylen)
@@ -58,44 +59,84 @@ void auth_fini(auth *a)
     a->path[0] = 0;
 }
 
-/* The slot tracking id, or NULL. */
-static auth_client *find(auth *a, const char *id)
+/* A command from an id not tracked must be signed after this (us): after
+ * the key was taken, and after every command of every id let go. */
+static int64_t floor_us(const auth *a)
 {
-    for (int i = 0; i < AUTH_CLIENTS; i++)
-        if (a->seen[i].id[0] && !strcmp(a->seen[i].id, id))
-            return &a->seen[i];
+    int64_t open = auth_open_us(a);
+    return a->forgot_us > open ? a->forgot_us : open;
+}
+
+static uint64_t id_hash(const char *id) /* FNV-1a: a quick first test */
+{
+    uint64_t h = 14695981039346656037u;
+    for (; *id; id++)
+        h = (h ^ (unsigned char)*id) * 1099511628211u;
+    return h;
+}
+
+/* Stop tracking c. Its commands, all signed no later than its max_utime,
+ * stay refused through the floor. */
+static void forget(auth *a, auth_client *c)
+{
+    if (c->max_utime > a->forgot_us)
+        a->forgot_us = c->max_utime;
+    *c = (auth_client){0};
+}
+
+/* The slot tracking id, or NULL. A slot whose commands are all stale by
+ * now is let go: they are refused as stale anyway, and the id may be a new
+ * process with a reused pid, counting from 1 again. */
+static auth_client *find(auth *a, const char *id, uint64_t h, int64_t now_us)
+{
+    for (int i = 0; i < AUTH_CLIENTS; i++) {
+        auth_client *c = &a->seen[i];
+        if (!c->used || c->hash != h || strcmp(c->id, id) != 0)
+            continue;
+        if (((double)now_us - (double)c->max_utime) / US > AUTH_WINDOW_S) {
+            forget(a, c);
+            return NULL;
+        }
+        return c;
+    }
     return NULL;
 }
 
-/* A slot for a new id: a free one, or the one least recently used (an id
- * older than the window can no longer replay: its messages are stale).
- * NULL when every slot is in use within the window. */
-static auth_client *take(auth *a, const char *id, int64_t now_us)
+/* A slot for id: a free one, else the one whose latest command is oldest
+ * (forgetting it raises the floor the least). Never refuses: a full table
+ * costs only clients whose clocks lag, through the floor. */
+static auth_client *take(auth *a, const char *id, uint64_t h)
 {
-    auth_client *old = NULL;
-    for (int i = 0; i < AUTH_CLIENTS; i++)
-        if (!old || a->seen[i].last_us < old->last_us)
+    auth_client *old = &a->seen[0];
+    for (int i = 0; i < AUTH_CLIENTS && old->used; i++)
+        if (!a->seen[i].used || a->seen[i].max_utime < old->max_utime)
             old = &a->seen[i];
-    if (old->id[0] && (double)(now_us - old->last_us) / US < AUTH_WINDOW_S)
-        return NULL;
-    *old = (auth_client){.last_seq = INT64_MIN};
+    if (old->used)
+        forget(a, old);
+    *old = (auth_client){.used = 1, .hash = h, .last_seq = INT64_MIN, .max_utime = INT64_MIN};
     snprintf(old->id, sizeof old->id, "%s", id);
     return old;
 }
 
-/* Why a command from an id not tracked, signed at utime before the daemon
- * opened, is refused, and when signing it again helps. */
+/* Why a command from an id not tracked, signed at utime, is refused, and
+ * when signing it again helps. */
 static void say_too_early(const auth *a, int64_t utime, int64_t now_us, char *why, size_t len)
 {
     int64_t open = auth_open_us(a);
-    double wait = ((double)open - (double)now_us) / US;
+    double wait = ((double)floor_us(a) - (double)now_us) / US;
     char again[48] = "sign it again";
     if (wait > 0)
         snprintf(again, sizeof again, "sign it again in %.3f s", wait);
-    snprintf(why, len, "signed %.3f s before this daemon started taking signed commands "
-             "(%g s after its start or key change), so it may be a replay of one an "
-             "earlier run or another key accepted: %s (if this repeats, this host's clock "
-             "lags the daemon's)", ((double)open - (double)utime) / US, AUTH_AHEAD_S, again);
+    if (utime <= open)
+        snprintf(why, len, "signed %.3f s before this daemon started taking signed commands "
+                 "(%g s after its start or key change), so it may be a replay of one an "
+                 "earlier run or another key accepted: %s (if this repeats, this host's clock "
+                 "lags the daemon's)", ((double)open - (double)utime) / US, AUTH_AHEAD_S, again);
+    else
+        snprintf(why, len, "signed no later than a command of a client this daemon stopped "
+                 "tracking to make room (it tracks %d signing clients; one it does not could "
+                 "replay): %s (if this repeats, this host's clock lags the daemon's)",
+                 AUTH_CLIENTS, again);
 }
 
 /* The time checks: the window, then the counter or the floor. */
@@ -103,6 +144,7 @@ static int fresh_ok(auth *a, const char *client, int64_t seq, int64_t utime, int
                     char *why, size_t whylen)
 {
     double skew = ((double)utime - (double)now_us) / US;
+    uint64_t h = id_hash(client);
     auth_client *c = NULL;
     if (!(skew >= -AUTH_WINDOW_S))
         snprintf(why, whylen, "stale command: signed %.3g s before the daemon's clock (it "
@@ -112,16 +154,15 @@ static int fresh_ok(auth *a, const char *client, int64_t seq, int64_t utime, int
         snprintf(why, whylen, "signed %.3g s ahead of the daemon's clock (it accepts up to %g s "
                  "ahead, as a command from further ahead could outlive a daemon restart, and "
                  "%g s before): check the clocks (NTP)", skew, AUTH_AHEAD_S, AUTH_WINDOW_S);
-    else if (!(c = find(a, client)) && utime <= auth_open_us(a))
+    else if (!(c = find(a, client, h, now_us)) && utime <= floor_us(a))
         say_too_early(a, utime, now_us, why, whylen);
-    else if (!c && !(c = take(a, client, now_us)))
-        snprintf(why, whylen, "too many signing clients within %g s (limit %d)", AUTH_WINDOW_S,
-                 AUTH_CLIENTS);
-    else if (seq <= c->last_seq)
+    else if (c && seq <= c->last_seq)
         snprintf(why, whylen, "replayed or reordered command: seq %" PRId64 " is not above %"
                  PRId64 ", the last accepted from this client", seq, c->last_seq);
     else {
-        c->last_seq = seq, c->last_us = now_us;
+        c = c ? c : take(a, client, h);
+        c->last_seq = seq;
+        c->max_utime = utime > c->max_utime ? utime : c->max_utime;
         return WG_OK;
     }
     return WG_EAUTH;

@@ -7,9 +7,11 @@
  * message before mac_len; (2) its utime is at most AUTH_WINDOW_S behind and
  * AUTH_AHEAD_S ahead of the daemon's clock; (3) its seq is above the last
  * one accepted from the same client id, or, for an id the daemon does not
- * track, its utime is after the daemon took the key plus AUTH_AHEAD_S: a
- * command an earlier run accepted (before a restart, a crash) was signed
- * before then, and the new run tracks nobody. Anything else gets
+ * track (new, or forgotten to make room), its utime is after the daemon
+ * took the key plus AUTH_AHEAD_S and after the latest utime of every id it
+ * forgot. (3) is what makes a replay fail: every command accepted before,
+ * by this run or an earlier one (a restart, a crash), is either under its
+ * id's counter or signed no later than that floor. Anything else gets
  * EAUTH and changes nothing. The key file holds the key as 64 hexadecimal
  * digits (wgctl keygen FILE writes one; wormgear/wg_key.h); a relative name
  * is looked up in $CREDENTIALS_DIRECTORY (systemd LoadCredential=). Without
@@ -24,14 +26,16 @@
 #include "wire.h"
 #include "wormgear/wg_key.h"
 
-enum { AUTH_CLIENTS = 256 };
+enum { AUTH_CLIENTS = 1024 };
 #define AUTH_WINDOW_S 30.0 /* utime may be this far behind the daemon's clock, seconds */
 #define AUTH_AHEAD_S 1.0   /* and this far ahead (the wait after taking a key) */
 
 typedef struct auth_client {
+    int used;                  /* 0: a free slot ("" is an id like any other) */
     char id[WIRE_MAX_CLIENT + 1];
+    uint64_t hash;             /* of id: most slots are passed over on it */
     int64_t last_seq;          /* highest seq accepted from this id */
-    int64_t last_us;           /* wall time of that acceptance */
+    int64_t max_utime;         /* latest utime accepted from this id */
 } auth_client;
 
 typedef struct auth {
@@ -39,6 +43,7 @@ typedef struct auth {
     unsigned char key[WG_KEY_BYTES];
     char path[600];            /* where it was read from */
     int64_t since_us;          /* daemon clock when this key was taken */
+    int64_t forgot_us;         /* latest utime of an id no longer tracked */
     auth_client seen[AUTH_CLIENTS];
     uint64_t refused;          /* commands refused with EAUTH */
 } auth;
