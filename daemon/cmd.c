@@ -9,10 +9,12 @@
 #include "wormgear/wg_status.h"
 
 #include <ctype.h>
+#include <errno.h>
 #include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 
 enum { CMD_PENDING = 1, ACK_TEXT = 640, /* ACK_TEXT: room for an ACK's message */
        CMD_QUEUE = 16384 };                 /* CMD/TICK messages LCM may hold for us */
@@ -668,17 +670,32 @@ uint64_t cmd_tick_progress(wgd *d, uint64_t max)
     return done;
 }
 
+/* Sleep until the wall clock passes t_us (at most AUTH_AHEAD_S here). Before
+ * then auth refuses a command signed now (it cannot tell it from one an
+ * earlier run accepted); subscribing after it, the daemon never answers a
+ * client whose clock agrees with that refusal. */
+static void wait_until_us(int64_t t_us)
+{
+    int64_t left = t_us - lcmio_now_us() + 1;
+    struct timespec ts = {left / 1000000, left % 1000000 * 1000};
+    while (left > 0 && nanosleep(&ts, &ts) != 0 && errno == EINTR)
+        ;
+}
+
 int cmd_init(wgd *d)
 {
     if (inbox_init(&d->in, INBOX_BYTES)) {
         snprintf(d->init_why, sizeof d->init_why, "out of memory for the command inbox");
         return WG_ENOMEM;
     }
-    int rc = auth_load(&d->auth, d->conf.command_key_file, d->init_why, sizeof d->init_why);
+    int rc = auth_load(&d->auth, d->conf.command_key_file, lcmio_now_us(), d->init_why,
+                       sizeof d->init_why);
     if (rc)
         return rc;
-    if (d->auth.on)
+    if (d->auth.on) {
         log_msg(&d->log, LOG_INFO, "signed commands only (key %s)", d->auth.path);
+        wait_until_us(auth_open_us(&d->auth));
+    }
     lcm_subscription_t *a = lcm_subscribe(d->io.lcm, d->io.ch[CH_CMD], on_cmd, d);
     lcm_subscription_t *b = lcm_subscribe(d->io.lcm, d->io.ch[CH_TICK], on_tick, d);
     if (!a || !b) {

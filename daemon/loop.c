@@ -239,7 +239,7 @@ static void apply_key(void *ctx, const conf *was)
 {
     wgd *d = ctx;
     char why[640];
-    if (auth_load(&d->auth, d->conf.command_key_file, why, sizeof why)) {
+    if (auth_load(&d->auth, d->conf.command_key_file, lcmio_now_us(), why, sizeof why)) {
         log_msg(&d->log, LOG_ERR, "reload: %s; keeping the previous key", why);
         snprintf(d->conf.command_key_file, sizeof d->conf.command_key_file, "%s",
                  was->command_key_file);
