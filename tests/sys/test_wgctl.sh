@@ -43,9 +43,17 @@ expect 0 "$D" --accept-commands no --start-paused=yes --check-config
 expect 2 "$D" --accept-commands maybe --check-config
 expect 0 "$D" --help
 has out "--state-rate-hz"
+# a config file is read only when it is a regular file (/dev/zero was read
+# forever), of at most 1 MiB, text, each key once
+expect 2 timeout 10 "$D" --check-config -c /dev/zero
+has err "config file /dev/zero is a character device, not a regular file"
+printf '[wormgeard]\nrate = 2\nrate = 3\n' >"$tmp/dup.conf"
+expect 2 "$D" -c "$tmp/dup.conf" --check-config
+has err "dup.conf:3: rate: set again (first set at line 2)"
 
 # ---- the daemon, in the foreground with its one-line status
-"$D" -F --rate 0.05 --state-dir "$tmp/state" >"$tmp/fg" 2>"$tmp/log" &
+printf '[wormgeard]\nstatus_hz = 4\n' >"$tmp/run.conf"
+"$D" -F -c "$tmp/run.conf" --rate 0.05 --state-dir "$tmp/state" >"$tmp/fg" 2>"$tmp/log" &
 pid=$!
 i=0
 until "$C" --timeout 0.5 status >/dev/null 2>&1; do
@@ -148,6 +156,15 @@ expect 1 "$C" mode realtime 5000
 expect 0 "$C" reset --params
 expect 1 "$C" --prefix NOBODY_ --timeout 0.3 pause
 has err "no answer"
+# a FIFO in place of the config file at SIGHUP: the reload blocked in open()
+# for good (no STATUS, no ACK); now refused in one line, the daemon serving
+mv "$tmp/run.conf" "$tmp/run.conf.was" && mkfifo "$tmp/run.conf"
+kill -HUP "$pid"
+expect 0 "$C" set xi_p=0.09
+expect 0 "$C" status
+[ "$(grep -c 'reload: config file .*run.conf is a FIFO, not a regular file; keeping the running configuration' "$tmp/log")" -eq 1 ] ||
+    fail "FIFO reload: not one refusal line: $(grep reload "$tmp/log")"
+rm -f "$tmp/run.conf" && mv "$tmp/run.conf.was" "$tmp/run.conf"
 sleep 1.2
 [ "$(grep -c 'realtime x0.05 running' "$tmp/fg")" -ge 1 ] || fail "no foreground status line: $(cat "$tmp/fg")"
 grep -q "impacts/period" "$tmp/fg" || fail "foreground line without impacts/period: $(tail -1 "$tmp/fg")"
