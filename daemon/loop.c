@@ -5,6 +5,7 @@
 #include "engine.h"
 #include "report.h"
 #include "sdn.h"
+#include "snap.h"
 #include "wgd.h"
 #include "wormgear/wg_status.h"
 
@@ -268,9 +269,12 @@ static void reload(wgd *d)
 {
     conf c;
     char why[640], kept[200];
+    int state;
     d->reload = 0;
     sdn_reloading(&d->sd);
-    if (conf_load(&c, d->argc, d->argv, why, sizeof why)) {
+    if (conf_load(&c, d->argc, d->argv, why, sizeof why) ||
+        (strcmp(c.state_dir, d->conf.state_dir) && /* a new one is checked as at start */
+         snap_dir_check(c.state_dir, 1, &state, why, sizeof why))) {
         log_msg(&d->log, LOG_ERR, "reload: %s; keeping the running configuration", why);
     } else {
         conf_reload(&d->conf, &c, hooks, d, kept, sizeof kept);

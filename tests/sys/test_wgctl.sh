@@ -50,10 +50,15 @@ has err "config file /dev/zero is a character device, not a regular file"
 printf '[wormgeard]\nrate = 2\nrate = 3\n' >"$tmp/dup.conf"
 expect 2 "$D" -c "$tmp/dup.conf" --check-config
 has err "dup.conf:3: rate: set again (first set at line 2)"
+# the state directory is checked at start, not at the first save
+expect 2 "$D" --check-config --state-dir "$tmp/none/sub"
+has err "state dir $tmp/none/sub does not exist, and cannot be made in $tmp/none"
+expect 2 "$D" --check-config --state-dir "$tmp/dup.conf"
+has err "is not a directory (state_dir must be a directory this process can write"
 
 # ---- the daemon, in the foreground with its one-line status
-printf '[wormgeard]\nstatus_hz = 4\n' >"$tmp/run.conf"
-"$D" -F -c "$tmp/run.conf" --rate 0.05 --state-dir "$tmp/state" >"$tmp/fg" 2>"$tmp/log" &
+printf '[wormgeard]\nstatus_hz = 4\nstate_dir = %s/state\n' "$tmp" >"$tmp/run.conf"
+"$D" -F -c "$tmp/run.conf" --rate 0.05 >"$tmp/fg" 2>"$tmp/log" &
 pid=$!
 i=0
 until "$C" --timeout 0.5 status >/dev/null 2>&1; do
@@ -165,6 +170,12 @@ expect 0 "$C" status
 [ "$(grep -c 'reload: config file .*run.conf is a FIFO, not a regular file; keeping the running configuration' "$tmp/log")" -eq 1 ] ||
     fail "FIFO reload: not one refusal line: $(grep reload "$tmp/log")"
 rm -f "$tmp/run.conf" && mv "$tmp/run.conf.was" "$tmp/run.conf"
+# a reload to a state directory that cannot be: refused, as at start
+printf '[wormgeard]\nstatus_hz = 4\nstate_dir = %s/none/sub\n' "$tmp" >"$tmp/run.conf"
+kill -HUP "$pid"
+expect 0 "$C" status
+has log "reload: state dir $tmp/none/sub does not exist, and cannot be made in .*; keeping the running configuration"
+printf '[wormgeard]\nstatus_hz = 4\nstate_dir = %s/state\n' "$tmp" >"$tmp/run.conf"
 sleep 1.2
 [ "$(grep -c 'realtime x0.05 running' "$tmp/fg")" -ge 1 ] || fail "no foreground status line: $(cat "$tmp/fg")"
 grep -q "impacts/period" "$tmp/fg" || fail "foreground line without impacts/period: $(tail -1 "$tmp/fg")"
