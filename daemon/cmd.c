@@ -398,6 +398,18 @@ void cmd_step_cancel(wgd *d, int code, const char *why)
     ack(d, j->client, j->seq, j->op, code, msg);
 }
 
+void cmd_mode_changed(wgd *d, const char *cause)
+{
+    char msg[96];
+    snprintf(msg, sizeof msg, "cancelled by %s", cause);
+    if (d->conf.mode != MODE_LOCKSTEP) {
+        cmd_step_cancel(d, WG_ESTATE, msg);
+        d->owed.ticks = 0;
+    }
+    if (d->conf.mode != MODE_REALTIME)
+        d->owed.realtime = 0;
+}
+
 static int op_mode(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 {
     char nm[24];
@@ -409,9 +421,8 @@ static int op_mode(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     }
     if (c->rate != 0.0 && conf_check_number("rate", c->rate, why, len)) /* 0: keep the rate */
         return WG_ERANGE;
-    if (mode != MODE_LOCKSTEP)
-        cmd_step_cancel(d, WG_ESTATE, "cancelled by a mode change");
     d->conf.mode = mode;
+    cmd_mode_changed(d, "a mode change");
     if (c->rate != 0.0)
         d->conf.rate = c->rate;
     pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
@@ -660,7 +671,7 @@ static void on_tick(const lcm_recv_buf_t *rb, const char *channel, void *user)
 uint64_t cmd_tick_progress(wgd *d, uint64_t max)
 {
     if (d->conf.mode != MODE_LOCKSTEP || d->run != RUN_RUNNING || d->step.active) {
-        d->owed.ticks = 0; /* the run stopped or changed mode: owed ticks lapse */
+        d->owed.ticks = 0; /* a backstop: pause and mode changes clear them at once */
         return 0;
     }
     uint64_t n = d->owed.ticks < max ? d->owed.ticks : max, done = cmd_run(d, n);

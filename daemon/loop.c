@@ -217,8 +217,8 @@ static void on_signal(struct ev_loop *loop, ev_signal *w, int revents)
 static void apply_mode(void *ctx, const conf *was)
 {
     wgd *d = ctx;
-    if (d->conf.mode != MODE_LOCKSTEP && was->mode == MODE_LOCKSTEP)
-        cmd_step_cancel(d, WG_ESTATE, "cancelled by a mode change (reload)");
+    (void)was;
+    cmd_mode_changed(d, "a mode change (reload)");
 }
 
 static void apply_tick(void *ctx, const conf *was)

@@ -29,7 +29,9 @@ const char *report_run_name(const wgd *d)
         return "stepping";
     if (d->run != RUN_RUNNING)
         return "paused";
-    return d->conf.mode == MODE_LOCKSTEP ? "waiting" : "running";
+    if (d->conf.mode != MODE_LOCKSTEP)
+        return "running";
+    return d->owed.ticks ? "stepping" : "waiting"; /* working off TICKs, or idle */
 }
 
 /* Over the tracked orbit once there is one (a period-2 orbit alternating

@@ -229,6 +229,54 @@ static void test_ticks(void)
     teardown(d);
 }
 
+static int mode(wgd *d, const char *name)
+{
+    wormgear_cmd_t m = {.op = "mode", .name = (char *)name};
+    return send(d, &m);
+}
+
+/* Owed steps lapse when the run pauses or leaves lockstep (PROTOCOL.md):
+ * they were kept (only the loop's own call noticed, and the loop never
+ * called it while paused), so 100 ticks of 1e7 steps ran on after a pause
+ * and resume, or after realtime and back. STATUS said "waiting" meanwhile:
+ * the run is "stepping" while steps are owed. */
+static void test_ticks_lapse(void)
+{
+    wgd *d = setup(128);
+    ASSERT_STR(report_run_name(d), "waiting");
+    for (int i = 0; i < 100; i++)
+        tick(d, i, 10000000);
+    ASSERT_EQ_INT(d->owed.ticks, 1000000000);
+    ASSERT_STR(report_run_name(d), "stepping");
+    ASSERT_EQ_INT(cmd_tick_progress(d, 1000), 1000);
+    ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK);
+    ASSERT_EQ_INT(d->owed.ticks, 0); /* at once, not when the loop next looks */
+    ASSERT_STR(report_run_name(d), "paused");
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_OK);
+    ASSERT_EQ_INT(d->owed.ticks, 0);
+    ASSERT_STR(report_run_name(d), "waiting");
+    /* leaving lockstep: they lapse; coming back does not bring them back */
+    tick(d, 100, 10000000);
+    ASSERT_EQ_INT(d->owed.ticks, 10000000);
+    ASSERT_EQ_INT(mode(d, "realtime"), WG_OK);
+    ASSERT_EQ_INT(d->owed.ticks, 0);
+    ASSERT_EQ_INT(mode(d, "lockstep"), WG_OK);
+    ASSERT_EQ_INT(d->owed.ticks, 0);
+    ASSERT_STR(report_run_name(d), "waiting");
+    /* lockstep to lockstep is not leaving it: kept */
+    tick(d, 101, 5000);
+    ASSERT_EQ_INT(mode(d, "lockstep"), WG_OK);
+    ASSERT_EQ_INT(d->owed.ticks, 5000);
+    /* a fault pauses the run: they lapse too */
+    engine_fault(d, "test fault");
+    ASSERT_EQ_INT(d->owed.ticks, 0);
+    /* the pace's owed steps lapse outside realtime alike */
+    d->owed.realtime = 123;
+    ASSERT_EQ_INT(mode(d, "fast"), WG_OK);
+    ASSERT_EQ_INT(d->owed.realtime, 0);
+    teardown(d);
+}
+
 TEST_MAIN(TEST(test_set_atomic), TEST(test_set_bad_inputs), TEST(test_set_stability),
           TEST(test_accept_commands_off), TEST(test_set_at_section), TEST(test_step_and_modes),
-          TEST(test_ticks))
+          TEST(test_ticks), TEST(test_ticks_lapse))
