@@ -306,18 +306,35 @@ static int op_ramp(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 
 /* ---- run control ----------------------------------------------------------- */
 
+/* pause stops all stepping (PROTOCOL.md): a running `step` command too,
+ * which is cancelled (its own ACK: ESTATE), as reset and a mode change
+ * cancel it; it would otherwise go on under a "paused". */
 static int op_pause(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 {
     (void)c;
-    int was = d->run == RUN_PAUSED;
+    int was = d->run == RUN_PAUSED, stepping = d->step.active;
+    uint64_t done = d->step.total - d->step.left, total = d->step.total;
+    cmd_step_cancel(d, WG_ESTATE, "cancelled by pause");
     engine_pause(d);
-    snprintf(why, len, "%s at tau %.9g", was ? "already paused" : "paused", d->sim.tau);
+    if (stepping)
+        snprintf(why, len, "paused at tau %.9g; the step command was cancelled after %" PRIu64
+                 " of %" PRIu64 " steps", d->sim.tau, done, total);
+    else
+        snprintf(why, len, "%s at tau %.9g", was ? "already paused" : "paused", d->sim.tau);
     return WG_OK;
 }
 
+/* resume while a `step` command runs is refused: the run would continue
+ * under the step (which goes first) and neither would mean what it says. */
 static int op_resume(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 {
     (void)c;
+    if (d->step.active) {
+        snprintf(why, len, "a step command is running (%" PRIu64 " of %" PRIu64 " steps left): "
+                 "resume once its ACK has come, or stop it first: pause cancels it (so do "
+                 "reset, restore and a mode change)", d->step.left, d->step.total);
+        return WG_ESTATE;
+    }
     int fault = d->fault;
     engine_resume(d);
     snprintf(why, len, "running from tau %.9g%s", d->sim.tau,

@@ -189,6 +189,71 @@ static void test_step_and_modes(void)
     teardown(d);
 }
 
+static int mode(wgd *d, const char *name)
+{
+    wormgear_cmd_t m = {.op = "mode", .name = (char *)name};
+    return send(d, &m);
+}
+
+/* A long step command, started and left running. */
+static void long_step(wgd *d)
+{
+    wormgear_cmd_t s = {.op = "step", .nsteps = 1000000000000LL};
+    send_pending(d, &s);
+    ASSERT_TRUE(d->step.active);
+}
+
+/* pause with a step running: two ACKs, the step's refusal (ESTATE) and
+ * then the pause's; returns the pause's code. */
+static int pause_cancelling(wgd *d)
+{
+    wormgear_cmd_t p = {.op = "pause", .client = "tester", .unit = "", .name = "",
+                        .seq = ++F.myseq};
+    int before = F.nack;
+    uint64_t refused = d->stat.cmds_refused;
+    wormgear_cmd_t_publish(d->io.lcm, "T_CMD", &p);
+    drain(d);
+    ASSERT_EQ_INT(F.nack, before + 2);
+    ASSERT_EQ_INT(F.cmd_seq, p.seq);
+    ASSERT_EQ_INT(d->stat.cmds_refused, refused + 1);
+    return F.rc;
+}
+
+/* resume during a step said "running from tau ..." while STATUS said
+ * stepping and the step went on; pause said "paused" and it went on too.
+ * Now resume is refused (ESTATE, how to stop the step) and pause cancels
+ * the step (its ACK: ESTATE), paused or in lockstep alike. */
+static void test_step_pause_resume(void)
+{
+    wgd *d = setup(128);
+    ASSERT_EQ_INT(mode(d, "realtime"), WG_OK);
+    ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK);
+    long_step(d);
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_ESTATE);
+    ASSERT_CONTAINS(F.message, "a step command is running (");
+    ASSERT_CONTAINS(F.message, "pause cancels it");
+    ASSERT_EQ_INT(d->run, RUN_PAUSED); /* nothing changed */
+    ASSERT_TRUE(d->step.active);
+    ASSERT_STR(report_run_name(d), "stepping");
+    cmd_step_progress(d, 5000);
+    ASSERT_EQ_INT(pause_cancelling(d), WG_OK);
+    ASSERT_CONTAINS(F.message, "the step command was cancelled after 6000 of 1000000000000 steps");
+    ASSERT_TRUE(!d->step.active);
+    ASSERT_STR(report_run_name(d), "paused");
+    uint64_t steps = d->sim.steps;
+    ASSERT_EQ_INT(cmd_step_progress(d, 1000), 0);
+    ASSERT_EQ_INT(d->sim.steps, steps);
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_OK); /* no step: resume as before */
+    /* lockstep, running: the same */
+    ASSERT_EQ_INT(mode(d, "lockstep"), WG_OK);
+    long_step(d);
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_ESTATE);
+    ASSERT_TRUE(d->step.active);
+    ASSERT_EQ_INT(pause_cancelling(d), WG_OK);
+    ASSERT_TRUE(!d->step.active);
+    teardown(d);
+}
+
 static void tick(wgd *d, int64_t seq, int64_t nsteps)
 {
     wormgear_tick_t t = {.utime = 1, .seq = seq, .nsteps = nsteps};
@@ -227,12 +292,6 @@ static void test_ticks(void)
     ASSERT_EQ_INT(cmd_tick_progress(d, 1000), 0);
     ASSERT_EQ_INT(d->owed.ticks, 0);
     teardown(d);
-}
-
-static int mode(wgd *d, const char *name)
-{
-    wormgear_cmd_t m = {.op = "mode", .name = (char *)name};
-    return send(d, &m);
 }
 
 /* Owed steps lapse when the run pauses or leaves lockstep (PROTOCOL.md):
@@ -279,4 +338,4 @@ static void test_ticks_lapse(void)
 
 TEST_MAIN(TEST(test_set_atomic), TEST(test_set_bad_inputs), TEST(test_set_stability),
           TEST(test_accept_commands_off), TEST(test_set_at_section), TEST(test_step_and_modes),
-          TEST(test_ticks), TEST(test_ticks_lapse))
+          TEST(test_ticks), TEST(test_ticks_lapse), TEST(test_step_pause_resume))

@@ -90,6 +90,17 @@ has out "stepped 1000 steps"
 expect 0 "$C" resume
 expect 1 "$C" step 10
 has err "ESTATE"
+# a long step while paused: resume is refused while it runs (it said
+# "running from tau" and the step went on), pause cancels it
+expect 0 "$C" pause
+expect 1 "$C" --timeout 0.3 step 1000000000000
+expect 1 "$C" resume
+has err "resume refused (ESTATE): a step command is running"
+expect 0 "$C" pause
+has out "the step command was cancelled after"
+expect 0 "$C" status
+has out "paused"
+expect 0 "$C" resume
 expect 0 "$C" save s1
 expect 0 "$C" restore s1
 # wgsweep --at from the saved state: its parameters, then --set and --at
