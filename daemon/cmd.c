@@ -144,6 +144,28 @@ static int apply_set(wgd *d, const int *ids, const double *values, int n, char *
     return WG_OK;
 }
 
+/* Steps from the current one to the next Poincare section (1 ... N-1 when
+ * mid-period, 0 on one). */
+static uint64_t steps_to_section(const wgd *d)
+{
+    uint32_t N = (uint32_t)d->sim.cfg.steps_per_period;
+    return (N - d->sim.k) % N;
+}
+
+/* Does the next section come without another command: the run goes on
+ * (in lockstep it waits for steps, legitimately), or, paused, a running
+ * step command reaches it. A set waiting on a paused run went unanswered
+ * (wgctl timed out, "is wormgeard running?") and applied at some resume. */
+static int section_comes(const wgd *d, char *why, size_t len)
+{
+    if (d->run == RUN_RUNNING || (d->step.active && d->step.left >= steps_to_section(d)))
+        return 1;
+    snprintf(why, len, "no Poincare section comes while the run is paused (tau %.9g, %" PRIu64
+             " steps before the next section): resume first, or set without at_section "
+             "(wgctl: without --at-section) to apply it now", d->sim.tau, steps_to_section(d));
+    return 0;
+}
+
 /* A set for the next Poincare section: validated now, applied by cmd_run
  * when the phase index reaches 0. */
 static int defer_set(wgd *d, const wormgear_cmd_t *c, const int *ids, char *why, size_t len)
@@ -158,6 +180,8 @@ static int defer_set(wgd *d, const wormgear_cmd_t *c, const int *ids, char *why,
     int rc = wg_sim_check_params(&d->sim, &p, why, len);
     if (rc)
         return rc;
+    if (!section_comes(d, why, len))
+        return WG_ESTATE;
     *j = (syncjob){.active = 1, .n = c->nparams, .seq = c->seq};
     memcpy(j->ids, ids, sizeof(int) * (size_t)c->nparams);
     memcpy(j->values, c->values, sizeof(double) * (size_t)c->nparams);
@@ -216,8 +240,7 @@ static uint64_t run_steps(wgd *d, uint64_t n)
 
 uint64_t cmd_run(wgd *d, uint64_t n)
 {
-    uint32_t N = (uint32_t)d->sim.cfg.steps_per_period;
-    uint64_t to = (N - d->sim.k) % N; /* steps to the next section */
+    uint64_t to = steps_to_section(d);
     if (!d->sync.active || to > n)
         return run_steps(d, n);
     uint64_t done = run_steps(d, to);

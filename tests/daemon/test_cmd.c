@@ -136,6 +136,52 @@ static void test_set_at_section(void)
     teardown(d);
 }
 
+/* Paused mid-period no section comes: a set --at-section went unanswered
+ * (wgctl timed out) and was applied at some later resume. Refused now
+ * (ESTATE, one ACK, nothing pending), unless a running step command
+ * reaches the section; on a section it applies at once, as when running. */
+static void test_set_at_section_paused(void)
+{
+    wgd *d = setup(128);
+    run(d, 128 * 3 + 100); /* k = 100: 28 steps before the section */
+    char *n[1] = {(char *)"omega"};
+    double v = 1.3;
+    wormgear_cmd_t c = {.op = "set", .nparams = 1, .names = n, .values = &v, .at_section = 1};
+    ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK);
+    ASSERT_EQ_INT(send(d, &c), WG_ESTATE);
+    ASSERT_CONTAINS(F.message, "no Poincare section comes while the run is paused");
+    ASSERT_CONTAINS(F.message, "28 steps before the next section");
+    ASSERT_CONTAINS(F.message, "resume first, or set without at_section");
+    ASSERT_TRUE(!d->sync.active);
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_OK);
+    run(d, 128);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.0, 0); /* nothing was left waiting */
+    /* paused, a step command that stops short of the section: refused */
+    ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK);
+    wormgear_cmd_t s = {.op = "step", .nsteps = 1000000000000LL};
+    send_pending(d, &s); /* its first 1000 steps run at once */
+    uint64_t to = (128 - d->sim.k) % 128;
+    ASSERT_TRUE(to > 0);
+    d->step.left = to - 1; /* as if it had been given fewer steps */
+    ASSERT_EQ_INT(send(d, &c), WG_ESTATE);
+    /* ... one that reaches it: pending, applied and ACKed at the section */
+    d->step.left = to;
+    send_pending(d, &c);
+    ASSERT_TRUE(d->sync.active);
+    int before = F.nack;
+    cmd_step_progress(d, 1000);
+    drain(d);
+    ASSERT_EQ_INT(F.nack, before + 2); /* the set's ACK at the section, then the step's */
+    ASSERT_TRUE(!d->step.active && !d->sync.active);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.3, 0);
+    /* paused on a section: applied at once */
+    ASSERT_EQ_INT(d->sim.k, 0);
+    v = 1.2;
+    ASSERT_EQ_INT(send(d, &c), WG_OK);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.2, 0);
+    teardown(d);
+}
+
 static void test_step_and_modes(void)
 {
     wgd *d = setup(128);
@@ -338,4 +384,5 @@ static void test_ticks_lapse(void)
 
 TEST_MAIN(TEST(test_set_atomic), TEST(test_set_bad_inputs), TEST(test_set_stability),
           TEST(test_accept_commands_off), TEST(test_set_at_section), TEST(test_step_and_modes),
-          TEST(test_ticks), TEST(test_ticks_lapse), TEST(test_step_pause_resume))
+          TEST(test_ticks), TEST(test_ticks_lapse), TEST(test_step_pause_resume),
+          TEST(test_set_at_section_paused))

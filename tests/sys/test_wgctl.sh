@@ -131,6 +131,15 @@ has out '"accepted":true'
 # a set at the next Poincare section: accepted there (tau of a section in the answer)
 expect 0 "$C" set --at-section omega=1.25
 has out "ok: set omega=1.25"
+# paused mid-period (reset, then one step: k = 1), no section comes: refused
+# at once (it went unanswered, and was applied at the next resume)
+expect 0 "$C" pause
+expect 0 "$C" reset
+expect 0 "$C" step 1
+expect 1 "$C" set --at-section omega=1.3
+has err "set refused (ESTATE): no Poincare section comes while the run is paused"
+has err "resume first, or set without at_section"
+expect 0 "$C" resume
 expect 2 "$C" ramp --at-section omega 1 2 --over 1s
 has err "applies to set only"
 expect 1 "$C" --json set xi_p=7
@@ -147,6 +156,19 @@ expect 0 "$C" mode lockstep
 has out "advances only by step commands and TICK messages"
 expect 0 "$C" status
 has out "waiting"
+# lockstep mid-period: a set --at-section waits for the steps that reach the
+# section; wgctl's timeout says so (it asked whether wormgeard was running)
+expect 0 "$C" reset
+expect 0 "$C" step 1
+expect 1 "$C" --timeout 0.3 set --at-section xi_p=0.09
+has err "answered at the next Poincare section (psi = 0), which in lockstep mode comes only with further steps: it may still be pending"
+expect 0 "$C" step 200
+expect 0 "$C" get xi_p
+has out "xi_p  = 0.09 "
+expect 1 "$C" --timeout 0.3 step 1000000000000
+has err "a step is answered when its steps are done: it may still be running"
+expect 0 "$C" pause
+expect 0 "$C" resume
 expect 0 "$C" mode realtime 0.05
 has out "mode realtime, rate 0.05"
 # which contact events go out
