@@ -10,6 +10,7 @@
 #include "wormgear/wg_status.h"
 
 #include <errno.h>
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/timerfd.h>
@@ -323,6 +324,10 @@ int loop_init(wgd *d)
     start_signal(d, &d->sig_int, SIGINT);
     start_signal(d, &d->sig_term, SIGTERM);
     start_signal(d, &d->sig_hup, SIGHUP);
+    /* A closed stdout or stderr (`wormgeard -F | head`) killed the daemon
+     * with no clean shutdown; ignored, a write fails with EPIPE instead,
+     * which the log and the foreground line take in their stride. */
+    signal(SIGPIPE, SIG_IGN);
     pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
                    d->sim.tau);
     sync_work(d);

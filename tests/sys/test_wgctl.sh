@@ -226,6 +226,30 @@ done
 ! grep -q '^<[0-9]>' "$tmp/log" || fail "<N> prefixes outside journald: $(head -3 "$tmp/log")"
 grep -q '^wormgeard: ' "$tmp/log" || fail "log lines without 'wormgeard: ': $(head -3 "$tmp/log")"
 
+# ---- a closed stdout (wormgeard -F | head): SIGPIPE killed the daemon (exit
+# 141, no "stopping" line); now the status line stops with one warning and
+# SIGTERM still ends it cleanly. Then stdout and stderr both closed.
+mkfifo "$tmp/pipe"
+for both in no yes; do
+    if [ $both = yes ]; then
+        "$D" -F --rate 0.05 --state-dir "$tmp/state" >"$tmp/pipe" 2>&1 &
+    else
+        "$D" -F --rate 0.05 --state-dir "$tmp/state" >"$tmp/pipe" 2>"$tmp/log3" &
+    fi
+    pid=$!
+    head -c 1 "$tmp/pipe" >/dev/null
+    sleep 2.5 # two status lines due meanwhile
+    kill -0 "$pid" 2>/dev/null || fail "closed stdout (stderr too: $both) killed the daemon"
+    kill -TERM "$pid"
+    wait "$pid"
+    rc=$?
+    pid=
+    [ $rc -eq 0 ] || fail "closed stdout (stderr too: $both): exit $rc, want 0"
+done
+has log3 "stopping on Terminated"
+[ "$(grep -c 'foreground: cannot write the status line to stdout (Broken pipe): not printed from now on' "$tmp/log3")" -eq 1 ] ||
+    fail "closed stdout: not one warning: $(cat "$tmp/log3")"
+
 # ---- signed commands: a daemon with command_key_file accepts only commands
 # signed with its key (wgctl keygen writes one; --key-file or
 # $WORMGEAR_KEY_FILE signs), and refuses the rest with EAUTH
