@@ -173,6 +173,20 @@ static void json_str(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* Commands whose ACK comes only when something has happened in the run
+ * (PROTOCOL.md): their silence need not mean that no daemon is there. */
+static const char *late_answer(const ctl *t, const char *what)
+{
+    if (!strcmp(what, "set") && t->o.at_section)
+        return "a set --at-section is answered at the next Poincare section (psi = 0), which in "
+               "lockstep mode comes only with further steps: it may still be pending, to be "
+               "applied there (a reset cancels it; --timeout waits longer)";
+    if (!strcmp(what, "step"))
+        return "a step is answered when its steps are done: it may still be running (pause "
+               "cancels it; --timeout waits longer)";
+    return NULL;
+}
+
 static int report(ctl *t, const char *what)
 {
     bus_ack *a = &t->c.ack;
@@ -181,8 +195,13 @@ static int report(ctl *t, const char *what)
             printf("{\"accepted\":false,\"code\":\"ETIMEDOUT\",\"message\":\"no ACK within %g s\"}\n",
                    t->o.timeout_s);
         char hint[512];
-        fprintf(stderr, "wgctl: %s: no answer within %g s: %s\n", what, t->o.timeout_s,
-                bus_hint(&t->c, hint, sizeof hint));
+        const char *late = late_answer(t, what);
+        if (late)
+            fprintf(stderr, "wgctl: %s: no answer within %g s: %s. If no daemon answers at "
+                    "all: %s\n", what, t->o.timeout_s, late, bus_hint(&t->c, hint, sizeof hint));
+        else
+            fprintf(stderr, "wgctl: %s: no answer within %g s: %s\n", what, t->o.timeout_s,
+                    bus_hint(&t->c, hint, sizeof hint));
         return 1;
     }
     if (t->o.json) {

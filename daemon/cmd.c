@@ -146,6 +146,28 @@ static int apply_set(wgd *d, const int *ids, const double *values, int n, char *
     return WG_OK;
 }
 
+/* Steps from the current one to the next Poincare section (1 ... N-1 when
+ * mid-period, 0 on one). */
+static uint64_t steps_to_section(const wgd *d)
+{
+    uint32_t N = (uint32_t)d->sim.cfg.steps_per_period;
+    return (N - d->sim.k) % N;
+}
+
+/* Does the next section come without another command: the run goes on
+ * (in lockstep it waits for steps, legitimately), or, paused, a running
+ * step command reaches it. A set waiting on a paused run went unanswered
+ * (wgctl timed out, "is wormgeard running?") and applied at some resume. */
+static int section_comes(const wgd *d, char *why, size_t len)
+{
+    if (d->run == RUN_RUNNING || (d->step.active && d->step.left >= steps_to_section(d)))
+        return 1;
+    snprintf(why, len, "no Poincare section comes while the run is paused (tau %.9g, %" PRIu64
+             " steps before the next section): resume first, or set without at_section "
+             "(wgctl: without --at-section) to apply it now", d->sim.tau, steps_to_section(d));
+    return 0;
+}
+
 /* A set for the next Poincare section: validated now, applied by cmd_run
  * when the phase index reaches 0. */
 static int defer_set(wgd *d, const wormgear_cmd_t *c, const int *ids, char *why, size_t len)
@@ -160,6 +182,8 @@ static int defer_set(wgd *d, const wormgear_cmd_t *c, const int *ids, char *why,
     int rc = wg_sim_check_params(&d->sim, &p, why, len);
     if (rc)
         return rc;
+    if (!section_comes(d, why, len))
+        return WG_ESTATE;
     *j = (syncjob){.active = 1, .n = c->nparams, .seq = c->seq};
     memcpy(j->ids, ids, sizeof(int) * (size_t)c->nparams);
     memcpy(j->values, c->values, sizeof(double) * (size_t)c->nparams);
@@ -218,8 +242,7 @@ static uint64_t run_steps(wgd *d, uint64_t n)
 
 uint64_t cmd_run(wgd *d, uint64_t n)
 {
-    uint32_t N = (uint32_t)d->sim.cfg.steps_per_period;
-    uint64_t to = (N - d->sim.k) % N; /* steps to the next section */
+    uint64_t to = steps_to_section(d);
     if (!d->sync.active || to > n)
         return run_steps(d, n);
     uint64_t done = run_steps(d, to);
@@ -308,18 +331,35 @@ static int op_ramp(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 
 /* ---- run control ----------------------------------------------------------- */
 
+/* pause stops all stepping (PROTOCOL.md): a running `step` command too,
+ * which is cancelled (its own ACK: ESTATE), as reset and a mode change
+ * cancel it; it would otherwise go on under a "paused". */
 static int op_pause(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 {
     (void)c;
-    int was = d->run == RUN_PAUSED;
+    int was = d->run == RUN_PAUSED, stepping = d->step.active;
+    uint64_t done = d->step.total - d->step.left, total = d->step.total;
+    cmd_step_cancel(d, WG_ESTATE, "cancelled by pause");
     engine_pause(d);
-    snprintf(why, len, "%s at tau %.9g", was ? "already paused" : "paused", d->sim.tau);
+    if (stepping)
+        snprintf(why, len, "paused at tau %.9g; the step command was cancelled after %" PRIu64
+                 " of %" PRIu64 " steps", d->sim.tau, done, total);
+    else
+        snprintf(why, len, "%s at tau %.9g", was ? "already paused" : "paused", d->sim.tau);
     return WG_OK;
 }
 
+/* resume while a `step` command runs is refused: the run would continue
+ * under the step (which goes first) and neither would mean what it says. */
 static int op_resume(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 {
     (void)c;
+    if (d->step.active) {
+        snprintf(why, len, "a step command is running (%" PRIu64 " of %" PRIu64 " steps left): "
+                 "resume once its ACK has come, or stop it first: pause cancels it (so do "
+                 "reset, restore and a mode change)", d->step.left, d->step.total);
+        return WG_ESTATE;
+    }
     int fault = d->fault;
     engine_resume(d);
     snprintf(why, len, "running from tau %.9g%s", d->sim.tau,
@@ -400,6 +440,18 @@ void cmd_step_cancel(wgd *d, int code, const char *why)
     ack(d, j->client, j->seq, j->op, code, msg);
 }
 
+void cmd_mode_changed(wgd *d, const char *cause)
+{
+    char msg[96];
+    snprintf(msg, sizeof msg, "cancelled by %s", cause);
+    if (d->conf.mode != MODE_LOCKSTEP) {
+        cmd_step_cancel(d, WG_ESTATE, msg);
+        d->owed.ticks = 0;
+    }
+    if (d->conf.mode != MODE_REALTIME)
+        d->owed.realtime = 0;
+}
+
 static int op_mode(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 {
     char nm[24];
@@ -411,9 +463,8 @@ static int op_mode(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     }
     if (c->rate != 0.0 && conf_check_number("rate", c->rate, why, len)) /* 0: keep the rate */
         return WG_ERANGE;
-    if (mode != MODE_LOCKSTEP)
-        cmd_step_cancel(d, WG_ESTATE, "cancelled by a mode change");
     d->conf.mode = mode;
+    cmd_mode_changed(d, "a mode change");
     if (c->rate != 0.0)
         d->conf.rate = c->rate;
     pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
@@ -662,7 +713,7 @@ static void on_tick(const lcm_recv_buf_t *rb, const char *channel, void *user)
 uint64_t cmd_tick_progress(wgd *d, uint64_t max)
 {
     if (d->conf.mode != MODE_LOCKSTEP || d->run != RUN_RUNNING || d->step.active) {
-        d->owed.ticks = 0; /* the run stopped or changed mode: owed ticks lapse */
+        d->owed.ticks = 0; /* a backstop: pause and mode changes clear them at once */
         return 0;
     }
     uint64_t n = d->owed.ticks < max ? d->owed.ticks : max, done = cmd_run(d, n);

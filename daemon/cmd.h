@@ -47,4 +47,10 @@ uint64_t cmd_tick_progress(struct wgd *d, uint64_t max);
  * code (WG_E*) and why. */
 void cmd_step_cancel(struct wgd *d, int code, const char *why);
 
+/* The mode has just changed (d->conf.mode is the new one; the mode command,
+ * a reload): outside lockstep a `step` is cancelled (ESTATE, "cancelled by
+ * " cause) and the steps owed to TICKs lapse; outside realtime the steps
+ * the pace owed lapse. */
+void cmd_mode_changed(struct wgd *d, const char *cause);
+
 #endif

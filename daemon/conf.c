@@ -5,11 +5,15 @@
 #include "wormgear/wg_sim.h"
 
 #include <ctype.h>
+#include <errno.h>
+#include <fcntl.h>
 #include <getopt.h>
 #include <ini.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 enum { K_STR, K_INT, K_DBL, K_BOOL, K_ENUM, K_STEPPER };
 
@@ -304,20 +308,185 @@ static int add_set(conf *c, const char *name, const char *value, char *why, size
 
 /* ---- INI file ------------------------------------------------------------ */
 
+/* What a path is when it is not a regular file (never opened to find out:
+ * opening a FIFO blocks, reading /dev/zero never ends). */
+static const char *not_regular(mode_t m)
+{
+    return S_ISDIR(m)    ? "is a directory, not a regular file"
+           : S_ISFIFO(m) ? "is a FIFO, not a regular file"
+           : S_ISSOCK(m) ? "is a socket, not a regular file"
+           : S_ISCHR(m)  ? "is a character device, not a regular file"
+           : S_ISBLK(m)  ? "is a block device, not a regular file"
+                         : "is not a regular file";
+}
+
+/* A regular file within CONF_FILE_MAX, or why not (its kind or size). */
+static int file_ok(const char *path, const struct stat *st, char *why, size_t len)
+{
+    if (!S_ISREG(st->st_mode)) {
+        snprintf(why, len, "config file %s %s", path, not_regular(st->st_mode));
+        return 2;
+    }
+    if (st->st_size > CONF_FILE_MAX) {
+        snprintf(why, len, "config file %s is %lld bytes (limit %d): too large", path,
+                 (long long)st->st_size, CONF_FILE_MAX);
+        return 2;
+    }
+    return 0;
+}
+
+/* Open path for reading if it is a regular file within the limit, as
+ * snapshot restore opens its files: judged by stat before it is opened (a
+ * FIFO or a device is never opened), opened without blocking, judged again
+ * by fstat (it may have been replaced in between). A link is followed:
+ * config files often are links. The descriptor, or -1 with why. */
+static int open_regular(const char *path, char *why, size_t len)
+{
+    struct stat st;
+    if (stat(path, &st) != 0) {
+        snprintf(why, len, "%s: cannot open config file: %s", path, strerror(errno));
+        return -1;
+    }
+    if (file_ok(path, &st, why, len))
+        return -1;
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    if (fd < 0) {
+        snprintf(why, len, "%s: cannot open config file: %s", path, strerror(errno));
+        return -1;
+    }
+    int bad = fstat(fd, &st) != 0;
+    if (bad)
+        snprintf(why, len, "%s: cannot open config file: %s", path, strerror(errno));
+    if (bad || file_ok(path, &st, why, len)) {
+        close(fd);
+        return -1;
+    }
+    return fd;
+}
+
+/* The whole file into buf (CONF_FILE_MAX + 1 bytes): its length, or -1
+ * with why. */
+static long read_text(const char *path, char *buf, char *why, size_t len)
+{
+    int fd = open_regular(path, why, len);
+    if (fd < 0)
+        return -1;
+    size_t n = 0;
+    ssize_t k = 1;
+    while (n <= CONF_FILE_MAX && k != 0)
+        if ((k = read(fd, buf + n, CONF_FILE_MAX + 1 - n)) > 0)
+            n += (size_t)k;
+        else if (k < 0 && errno != EINTR)
+            break;
+    int e = errno;
+    close(fd);
+    if (k < 0) {
+        snprintf(why, len, "%s: cannot read config file: %s", path, strerror(e));
+        return -1;
+    }
+    if (n > CONF_FILE_MAX) { /* grew since the fstat */
+        snprintf(why, len, "config file %s is more than %d bytes (the limit): too large", path,
+                 CONF_FILE_MAX);
+        return -1;
+    }
+    return (long)n;
+}
+
 typedef struct reader_ctx {
-    FILE *f;
+    const char *p, *end;      /* the text not yet handed to the parser */
     conf *c;
     int line, err;
+    int indented, has_key;    /* this line continues the previous value (inih multi-line) */
+    int key_line[NKEYS];      /* where each [wormgeard] key was set (0: not yet) */
+    int param_line[WG_NPARAM]; /* the same for [params] */
     char msg[400];
 } reader_ctx;
 
+/* Note an error at the current line (the first one only). */
+static void reader_error(reader_ctx *r, const char *why)
+{
+    if (!r->err) {
+        r->err = r->line;
+        snprintf(r->msg, sizeof r->msg, "%s", why);
+    }
+}
+
+/* Is this line one that inih would take as the continuation of the value
+ * above it: indented, not blank or a comment, after a key = value line of
+ * the same section (its rule, repeated here from the text). */
+static void classify(reader_ctx *r, const char *s, size_t n)
+{
+    size_t i = 0;
+    while (i < n && isspace((unsigned char)s[i]))
+        i++;
+    int blank = i == n || s[i] == ';' || s[i] == '#';
+    r->indented = !blank && i > 0 && r->has_key;
+    if (!blank && s[i] == '[' && !r->indented)
+        r->has_key = 0;
+    else if (!blank)
+        r->has_key = 1;
+}
+
+/* inih's reader: one line of the text per call, so its line numbers are
+ * the file's. A line that does not fit inih's buffer (num bytes with the
+ * newline and NUL) ends the parse with an error at its own line. */
 static char *read_line(char *str, int num, void *stream)
 {
     reader_ctx *r = stream;
-    char *s = fgets(str, num, r->f);
-    if (s)
-        r->line++;
-    return s;
+    if (r->err || r->p >= r->end)
+        return NULL;
+    const char *nl = memchr(r->p, '\n', (size_t)(r->end - r->p));
+    size_t n = nl ? (size_t)(nl - r->p) + 1 : (size_t)(r->end - r->p);
+    size_t chars = n - (nl != NULL);
+    r->line++;
+    if (num < 2 || chars > (size_t)num - 2) { /* one limit, with or without a newline */
+        char why[160];
+        snprintf(why, sizeof why, "line too long: %zu characters, the limit is %d", chars,
+                 num - 2);
+        reader_error(r, why);
+        return NULL;
+    }
+    memcpy(str, r->p, n);
+    str[n] = 0;
+    classify(r, r->p, n);
+    r->p += n;
+    return str;
+}
+
+/* The line a key was first set at, in *first; 0 when this is the first. */
+static int seen_before(reader_ctx *r, const char *section, const char *name, int *first)
+{
+    int *slot = NULL;
+    if (strcmp(section, "params") == 0) {
+        int id = wg_param_lookup(name);
+        slot = id >= 0 ? &r->param_line[id] : NULL;
+    } else {
+        const key *k = key_find(name);
+        slot = k ? &r->key_line[k - keys] : NULL;
+    }
+    if (!slot)
+        return 0; /* unknown: refused by the setter, with its own message */
+    *first = *slot;
+    if (!*slot)
+        *slot = r->line;
+    return *first != 0;
+}
+
+/* A key set twice, or a value continued on an indented line: which value
+ * was meant is not clear, so neither is taken. 0, or 2 with why. */
+static int once(reader_ctx *r, const char *section, const char *name, char *why, size_t len)
+{
+    int first = 0;
+    if (r->indented) {
+        snprintf(why, len, "an indented line continues the value of %s (multi-line values "
+                 "are not allowed): remove the indentation", name);
+        return 2;
+    }
+    if (!seen_before(r, section, name, &first))
+        return 0;
+    snprintf(why, len, "%s: set again (first set at line %d); each key may be set once per "
+             "file", name, first);
+    return 2;
 }
 
 static int on_ini(void *user, const char *section, const char *name, const char *value)
@@ -327,32 +496,46 @@ static int on_ini(void *user, const char *section, const char *name, const char 
     int rc;
     if (r->err)
         return 1;
-    if (strcmp(section, "params") == 0)
-        rc = add_set(r->c, name, value, why, sizeof why);
-    else if (!*section || strcmp(section, "wormgeard") == 0)
-        rc = conf_set(r->c, name, value, why, sizeof why);
-    else {
+    if (strcmp(section, "params") && *section && strcmp(section, "wormgeard")) {
         snprintf(why, sizeof why, "unknown section [%s] (allowed: [wormgeard], [params])",
                  section);
         rc = 2;
+    } else if (!(rc = once(r, section, name, why, sizeof why))) {
+        rc = strcmp(section, "params") == 0 ? add_set(r->c, name, value, why, sizeof why)
+                                            : conf_set(r->c, name, value, why, sizeof why);
     }
-    if (rc) {
-        r->err = r->line;
-        snprintf(r->msg, sizeof r->msg, "%s", why);
-    }
+    if (rc)
+        reader_error(r, why);
     return 1;
 }
 
-int conf_read_file(conf *c, const char *path, char *why, size_t whylen)
+/* A NUL byte in the text: inih would end the line there and drop the rest
+ * silently. Its line (1-based) and column, or 0. */
+static int nul_at(const char *text, size_t n, int *col)
 {
-    reader_ctx r = {.c = c};
-    r.f = fopen(path, "r");
-    if (!r.f) {
-        snprintf(why, whylen, "%s: cannot open config file", path);
+    const char *z = memchr(text, 0, n);
+    if (!z)
+        return 0;
+    int line = 1;
+    const char *bol = text;
+    for (const char *q = text; q < z; q++)
+        if (*q == '\n')
+            line++, bol = q + 1;
+    *col = (int)(z - bol) + 1;
+    return line;
+}
+
+static int parse_text(conf *c, const char *path, const char *text, size_t n, char *why,
+                      size_t whylen)
+{
+    int col = 0, nul = nul_at(text, n, &col);
+    if (nul) {
+        snprintf(why, whylen, "%s:%d: a NUL byte (column %d): a config file is text", path,
+                 nul, col);
         return 2;
     }
+    reader_ctx r = {.p = text, .end = text + n, .c = c};
     int line = ini_parse_stream(read_line, &r, on_ini, &r);
-    fclose(r.f);
     if (r.err) {
         snprintf(why, whylen, "%s:%d: %s", path, r.err, r.msg);
         return 2;
@@ -362,8 +545,22 @@ int conf_read_file(conf *c, const char *path, char *why, size_t whylen)
                  line);
         return 2;
     }
-    snprintf(c->path, sizeof c->path, "%s", path);
     return 0;
+}
+
+int conf_read_file(conf *c, const char *path, char *why, size_t whylen)
+{
+    char *text = malloc(CONF_FILE_MAX + 1);
+    if (!text) {
+        snprintf(why, whylen, "%s: out of memory to read it", path);
+        return 2;
+    }
+    long n = read_text(path, text, why, whylen);
+    int rc = n < 0 ? 2 : parse_text(c, path, text, (size_t)n, why, whylen);
+    free(text);
+    if (!rc)
+        snprintf(c->path, sizeof c->path, "%s", path);
+    return rc;
 }
 
 /* ---- command line -------------------------------------------------------- */

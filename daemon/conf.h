@@ -19,6 +19,7 @@ enum { POLICY_CONTINUE, POLICY_FREEZE, POLICY_STOP };
 enum { CONTACTS_ALL, CONTACTS_MESH, CONTACTS_NONE };
 enum { CONF_MAX_SETS = 32 };
 enum { CONF_RESTART = 1 }; /* key flag: takes effect at the next restart only */
+enum { CONF_FILE_MAX = 1 << 20 }; /* a config file larger than this is refused */
 
 /* The apply hooks of live keys, by slot; the caller of conf_reload supplies
  * them (conf.c calls nothing above it). */
@@ -69,7 +70,12 @@ void conf_defaults(conf *c);
  * keep argv; may be called again (SIGHUP reload). */
 int conf_load(conf *c, int argc, char **argv, char *why, size_t whylen);
 
-/* Read one INI file into c (keys as in the table). 0, or 2 with why. */
+/* Read one INI file into c (keys as in the table). Only a regular file of
+ * at most CONF_FILE_MAX bytes is read, never opened when it is not one (a
+ * FIFO would block the daemon, a device never end); a NUL byte, a key set
+ * twice in a file, an indented continuation line and a line longer than
+ * the parser's buffer are refused. 0, or 2 with why ("file:line: ..."); on
+ * a refusal c may hold some of the file's values (the caller drops it). */
 int conf_read_file(conf *c, const char *path, char *why, size_t whylen);
 
 /* Set one key from text, as the file and the options do. 0, or 2 with why

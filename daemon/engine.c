@@ -70,12 +70,19 @@ uint64_t engine_run(wgd *d, uint64_t n, int *events)
 void engine_fault(wgd *d, const char *msg)
 {
     d->fault = 1;
-    d->run = RUN_PAUSED;
+    engine_pause(d);
     snprintf(d->fault_msg, sizeof d->fault_msg, "%s", msg);
     log_msg(&d->log, LOG_ERR, "FAULT: %s", msg);
 }
 
-void engine_pause(wgd *d) { d->run = RUN_PAUSED; }
+/* Owed steps lapse here (PROTOCOL.md, TICK): were they kept, a resume would
+ * run them, and steps owed to a 1e9-step backlog of ticks would go on long
+ * after the driver stopped. */
+void engine_pause(wgd *d)
+{
+    d->run = RUN_PAUSED;
+    d->owed = (backlog){0, 0};
+}
 
 void engine_restore(wgd *d)
 {

@@ -42,8 +42,8 @@ void engine_restore(struct wgd *d);
  * reset or restore); the caller announces it (report_fault). */
 void engine_fault(struct wgd *d, const char *msg);
 
-/* Pause or resume; resume clears a fault and re-anchors pacing
- * (engine_restore). */
+/* Pause (the steps owed to TICKs and to realtime pacing lapse) or resume;
+ * resume clears a fault and re-anchors pacing (engine_restore). */
 void engine_pause(struct wgd *d);
 void engine_resume(struct wgd *d);
 

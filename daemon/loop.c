@@ -5,10 +5,12 @@
 #include "engine.h"
 #include "report.h"
 #include "sdn.h"
+#include "snap.h"
 #include "wgd.h"
 #include "wormgear/wg_status.h"
 
 #include <errno.h>
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/timerfd.h>
@@ -112,24 +114,33 @@ static void work_chunk(wgd *d)
     }
 }
 
+/* The interval since the last tick: wall time, the loop's CPU time and
+ * its longest handler, measured from the start of that tick to the start
+ * of this one (both clocks over the same span: the CPU time used to start
+ * after the last tick's own stepping, so a loop that did nothing but step
+ * read as "not scheduled"); then the marks move to now. */
+static pace_load interval(wgd *d, int64_t now)
+{
+    stats *s = &d->stat;
+    int64_t cpu = thread_cpu_ns();
+    pace_load l = {.gap_ns = s->tick_ns ? now - s->tick_ns : 0,
+                   .cpu_ns = s->tick_ns ? cpu - s->tick_cpu_ns : 0,
+                   .busiest_ns = s->busiest_ns, .steps = d->sim.steps - s->tick_steps,
+                   .ns_per_step = s->ns_per_step, .h = wg_sim_step_tau(&d->sim),
+                   .rate = d->conf.rate};
+    s->tick_ns = now, s->tick_cpu_ns = cpu, s->busiest_ns = 0, s->tick_steps = d->sim.steps;
+    return l;
+}
+
 /* Realtime: run the steps due now; apply the overrun policy. */
-static void realtime(wgd *d, int64_t now)
+static void realtime(wgd *d, int64_t now, const pace_load *load)
 {
     pace_due due = pace_steps_due(&d->pace, now, d->sim.tau, wg_sim_step_tau(&d->sim));
-    const stats *s = &d->stat;
-    double gap = (double)(now - s->tick_ns) * 1e-6;
-    double cpu = (double)(thread_cpu_ns() - s->tick_cpu_ns) * 1e-6;
-    if (s->tick_ns == 0) /* the first tick: nothing to compare with */
-        gap = cpu = 0;
-    if (due.overrun) /* whose time was it: the daemon's work, or not the daemon's at all */
-        log_msg(&d->log, LOG_WARNING, "overrun: more than %g ticks behind (lag %.3f ms, "
-                "policy %s): %.1f ms since the last tick, the loop ran %.1f ms of it (the "
-                "longest handler %.1f ms)%s", d->conf.catchup_ticks,
-                pace_lag_s(&d->pace) * 1e3, conf_policy_name(d->conf.overrun_policy), gap, cpu,
-                (double)s->busiest_ns * 1e-6,
-                gap == 0            ? ""
-                : cpu < 0.5 * gap ? ": the daemon was not scheduled (a busy or full machine)"
-                                    : ": the daemon's own work");
+    if (due.overrun) { /* how far behind, and whose time it was */
+        char text[640];
+        pace_overrun_text(&d->pace, load, text, sizeof text);
+        log_msg(&d->log, LOG_WARNING, "overrun: %s", text); /* its own rate-limit slot */
+    }
     d->owed.realtime = due.steps; /* recomputed from tau each tick: never counted twice */
     work_chunk(d);
     if (due.stop && !d->fault) {
@@ -165,11 +176,11 @@ static void on_tick(struct ev_loop *loop, ev_io *w, int revents)
     if (read(d->tfd, &expirations, sizeof expirations) < 0 && errno != EAGAIN)
         log_msg(&d->log, LOG_ERR, "timerfd read: %s", strerror(errno));
     int64_t t0 = log_now_ns();
+    pace_load load = interval(d, t0);
     if (d->reload)
         reload(d);
     if (running_in(d, MODE_REALTIME))
-        realtime(d, t0);
-    d->stat.tick_ns = t0, d->stat.tick_cpu_ns = thread_cpu_ns(), d->stat.busiest_ns = 0;
+        realtime(d, t0, &load);
     report_tick(d, t0);
     sdn_watchdog(&d->sd, t0); /* only a loop that steps reaches this */
     first_ready(d);
@@ -216,8 +227,8 @@ static void on_signal(struct ev_loop *loop, ev_signal *w, int revents)
 static void apply_mode(void *ctx, const conf *was)
 {
     wgd *d = ctx;
-    if (d->conf.mode != MODE_LOCKSTEP && was->mode == MODE_LOCKSTEP)
-        cmd_step_cancel(d, WG_ESTATE, "cancelled by a mode change (reload)");
+    (void)was;
+    cmd_mode_changed(d, "a mode change (reload)");
 }
 
 static void apply_tick(void *ctx, const conf *was)
@@ -268,9 +279,12 @@ static void reload(wgd *d)
 {
     conf c;
     char why[640], kept[200];
+    int state;
     d->reload = 0;
     sdn_reloading(&d->sd);
-    if (conf_load(&c, d->argc, d->argv, why, sizeof why)) {
+    if (conf_load(&c, d->argc, d->argv, why, sizeof why) ||
+        (strcmp(c.state_dir, d->conf.state_dir) && /* a new one is checked as at start */
+         snap_dir_check(c.state_dir, 1, &state, why, sizeof why))) {
         log_msg(&d->log, LOG_ERR, "reload: %s; keeping the running configuration", why);
     } else {
         conf_reload(&d->conf, &c, hooks, d, kept, sizeof kept);
@@ -319,6 +333,10 @@ int loop_init(wgd *d)
     start_signal(d, &d->sig_int, SIGINT);
     start_signal(d, &d->sig_term, SIGTERM);
     start_signal(d, &d->sig_hup, SIGHUP);
+    /* A closed stdout or stderr (`wormgeard -F | head`) killed the daemon
+     * with no clean shutdown; ignored, a write fails with EPIPE instead,
+     * which the log and the foreground line take in their stride. */
+    signal(SIGPIPE, SIG_IGN);
     pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
                    d->sim.tau);
     sync_work(d);

@@ -60,13 +60,20 @@ static int m_stream(wgd *d)
     return 0;
 }
 
-/* Temporary files of saves killed mid-write; --check-config changes nothing.
- * An unreadable state directory is not fatal: the simulation runs, and
- * each save or restore says why it fails. */
+/* The state directory, checked at start so that a save does not fail for
+ * it much later (made if missing, as systemd's StateDirectory= would;
+ * --check-config changes nothing and says it would be made), then the
+ * temporary files of saves killed mid-write. */
 static int m_snap(wgd *d)
 {
-    int n = 0;
+    int n = 0, state;
     char why[sizeof d->init_why];
+    if (snap_dir_check(d->conf.state_dir, !d->conf.check_only, &state, d->init_why,
+                       sizeof d->init_why))
+        return 2;
+    if (state != SNAP_DIR_OK)
+        log_msg(&d->log, LOG_INFO, "state dir %s %s", d->conf.state_dir,
+                state == SNAP_DIR_MADE ? "made" : "does not exist yet: it is made at start");
     if (d->conf.check_only)
         return 0;
     if (snap_init(d->conf.state_dir, &n, why, sizeof why))

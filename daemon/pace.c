@@ -4,6 +4,7 @@
 #include "conf.h"
 
 #include <math.h>
+#include <stdio.h>
 
 void pace_init(pace *p, const pace_cfg *cfg, int64_t now_ns, double tau)
 {
@@ -57,6 +58,7 @@ pace_due pace_steps_due(pace *p, int64_t now_ns, double tau, double h)
 {
     pace_due d = {0, 0, 0};
     double backlog = pace_target(p, now_ns) - tau;
+    p->behind_tau = backlog > 0 ? backlog : 0.0;
     /* steps whose end is on or before the target (tolerate rounding of tau) */
     double n = backlog > 0 ? floor(backlog / h + 1e-9) : 0.0;
     uint64_t cap = cap_steps(p, h);
@@ -81,6 +83,43 @@ pace_due pace_steps_due(pace *p, int64_t now_ns, double tau, double h)
     double left = pace_target(p, now_ns) - (tau + n * h);
     p->lag_tau = left > 0 ? left : 0.0;
     return d;
+}
+
+/* Whose time the interval was, from the figures (see pace.h). */
+static void overrun_cause(const pace *p, const pace_load *l, char *buf, size_t len)
+{
+    double gap = (double)l->gap_ns, cpu = (double)l->cpu_ns;
+    double need = l->ns_per_step > 0 && l->h > 0 ? p->cfg.tau_per_ns / l->h * l->ns_per_step : 0;
+    double stepping = (double)l->steps * l->ns_per_step; /* of cpu, ns */
+    if (l->gap_ns <= 0)
+        snprintf(buf, len, "%s", "");
+    else if (cpu < 0.5 * gap)
+        snprintf(buf, len, ": the daemon was not scheduled (a busy or full machine)");
+    else if (need <= 0) /* no step measured yet */
+        snprintf(buf, len, ": the daemon's own work");
+    else if (need >= 0.9)
+        snprintf(buf, len, ": rate %g is more than the model can run here (it needs %.3g "
+                 "steps/s, %.0f ns a step: %.0f %% of a core; lower the rate, or use mode fast)",
+                 l->rate, p->cfg.tau_per_ns / l->h * 1e9, l->ns_per_step, 100 * need);
+    else if (stepping >= 0.5 * cpu)
+        snprintf(buf, len, ": the loop catching up a backlog (rate %g needs %.0f %% of a core: "
+                 "an earlier stall left it, not the rate)", l->rate, 100 * need);
+    else
+        snprintf(buf, len, ": the daemon's own work besides stepping (which needs %.0f %% of a "
+                 "core at rate %g)", 100 * need, l->rate);
+}
+
+void pace_overrun_text(const pace *p, const pace_load *l, char *buf, size_t len)
+{
+    char cause[200];
+    double ms_per_tau = p->cfg.tau_per_ns > 0 ? 1e-6 / p->cfg.tau_per_ns : 0;
+    overrun_cause(p, l, cause, sizeof cause);
+    snprintf(buf, len, "%.3f ms behind the pace, over the catch-up cap of %g ticks "
+             "(%.1f ms; policy %s): %.1f ms since the last tick, the loop ran %.1f ms of it (the "
+             "longest handler %.1f ms)%s", p->behind_tau * ms_per_tau, p->cfg.catchup_ticks,
+             p->cfg.catchup_ticks * (double)p->cfg.tick_ns * 1e-6,
+             conf_policy_name(p->cfg.policy), (double)l->gap_ns * 1e-6,
+             (double)l->cpu_ns * 1e-6, (double)l->busiest_ns * 1e-6, cause);
 }
 
 uint64_t pace_fast_chunk(double ns_per_step, int64_t chunk_ns)

@@ -14,6 +14,7 @@
 #ifndef WGD_PACE_H
 #define WGD_PACE_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 struct conf;
@@ -35,6 +36,7 @@ typedef struct pace {
     uint64_t grace_overruns; /* the same within the grace */
     uint64_t consecutive;  /* current run of overruns */
     double lag_tau;        /* backlog left after the last call, tau */
+    double behind_tau;     /* backlog at the last call, before its steps, tau */
 } pace;
 
 typedef struct pace_due {
@@ -69,6 +71,29 @@ double pace_target(const pace *p, int64_t now_ns);
 
 /* Lag behind the target after the last call, in wall seconds. */
 double pace_lag_s(const pace *p);
+
+/* What the loop measured over one tick's interval (the start of the last
+ * tick to the start of this one), for the overrun warning. */
+typedef struct pace_load {
+    int64_t gap_ns;        /* wall time (0: the first tick, nothing measured) */
+    int64_t cpu_ns;        /* the loop thread's CPU time in it */
+    int64_t busiest_ns;    /* its longest handler (wall) */
+    uint64_t steps;        /* steps run in it */
+    double ns_per_step;    /* measured cost of one step (<= 0: unknown) */
+    double h;              /* step size, tau */
+    double rate;           /* the rate key, for the message */
+} pace_load;
+
+/* The overrun warning after pace_steps_due reported an overrun, one line
+ * in buf (after "overrun: "): how far behind the pace the tick found the run (the whole
+ * backlog, not the part left over the cap), the cap and policy, the
+ * measurement, and whose time it was, as the figures say: the daemon was
+ * not scheduled (its loop ran under half the interval), the rate is more
+ * than the model can run here (stepping alone needs 90 % of a core or
+ * more at the measured cost of a step), the loop catching up a backlog
+ * that an earlier stall left (most of its time went to steps), or the
+ * daemon's other work. */
+void pace_overrun_text(const pace *p, const pace_load *l, char *buf, size_t len);
 
 /* Fast mode: steps for one chunk of about chunk_ns, given the measured cost
  * per step (ns; <= 0 when unknown). At least 64, at most 10 million. */

@@ -4,6 +4,7 @@
 #include "sdn.h"
 #include "wgd.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -29,7 +30,9 @@ const char *report_run_name(const wgd *d)
         return "stepping";
     if (d->run != RUN_RUNNING)
         return "paused";
-    return d->conf.mode == MODE_LOCKSTEP ? "waiting" : "running";
+    if (d->conf.mode != MODE_LOCKSTEP)
+        return "running";
+    return d->owed.ticks ? "stepping" : "waiting"; /* working off TICKs, or idle */
 }
 
 /* Over the tracked orbit once there is one (a period-2 orbit alternating
@@ -221,12 +224,19 @@ void report_change(wgd *d, int what, const char *reason, const char *client, int
     report_params(d, reason, client, cmd_seq);
 }
 
+/* The status line on stdout; once a write fails (a closed pipe: EPIPE, a
+ * full disk) it stops, with one warning rather than one a second. */
 static void foreground(wgd *d)
 {
     char line[400];
+    if (d->stat.fg_failed)
+        return;
     report_line(d, line, sizeof line);
-    printf("%s\n", line);
-    fflush(stdout);
+    if (printf("%s\n", line) < 0 || fflush(stdout) != 0) {
+        d->stat.fg_failed = 1;
+        log_msg(&d->log, LOG_WARNING, "foreground: cannot write the status line to stdout "
+                "(%s): not printed from now on", strerror(errno));
+    }
 }
 
 void report_tick(wgd *d, int64_t now)

@@ -56,8 +56,9 @@ enum { REPORT_ORBIT = 1, REPORT_RATE = 2 };
 void report_change(struct wgd *d, int what, const char *reason, const char *client,
                    int64_t cmd_seq);
 
-/* Names: "ok" "lagging" "fault"; "running" "paused" "stepping", and
- * "waiting" (lockstep, running, between step commands and TICKs). */
+/* Names: "ok" "lagging" "fault"; "running" "paused", "stepping" (a step
+ * command, or the steps TICKs owe in lockstep, being run) and "waiting"
+ * (lockstep, running, nothing owed: for the next step command or TICK). */
 const char *report_health_name(int health);
 const char *report_run_name(const struct wgd *d);
 

@@ -148,7 +148,84 @@ int snap_read(snap *s, const char *dir, const char *name, char *why, size_t whyl
     return wg_snapshot_load(path, &s->w, s->scene, sizeof s->scene, why, whylen);
 }
 
-/* ---- start-up: temporary files of killed saves ----------------------------------- */
+/* ---- start-up: the directory, temporary files of killed saves ------------------------ */
+
+static const char DIR_RULE[] = "state_dir must be a directory this process can write, or "
+                               "one it can make";
+
+/* An existing path as the state directory: a directory we may write and
+ * enter (access: a read-only file system says EROFS even to root). */
+static int dir_usable(const char *dir, const struct stat *st, char *why, size_t whylen)
+{
+    if (!S_ISDIR(st->st_mode)) {
+        snprintf(why, whylen, "state dir %s is not a directory (%s)", dir, DIR_RULE);
+        return WG_EIO;
+    }
+    if (access(dir, W_OK | X_OK) != 0) {
+        snprintf(why, whylen, "state dir %s is not writable: %s (%s)", dir, strerror(errno),
+                 DIR_RULE);
+        return WG_EIO;
+    }
+    return WG_OK;
+}
+
+/* The directory dir would be made in ("." for a bare name). */
+static void parent_of(const char *dir, char *out, size_t len)
+{
+    size_t n = strlen(dir);
+    while (n > 1 && dir[n - 1] == '/') /* "a/b/" is "a/b" */
+        n--;
+    while (n > 0 && dir[n - 1] != '/')
+        n--;
+    while (n > 1 && dir[n - 1] == '/')
+        n--;
+    snprintf(out, len, "%.*s", (int)n, n ? dir : ".");
+}
+
+/* Why dir's parent cannot hold it ("" when it can). */
+static const char *parent_unfit(const char *parent)
+{
+    struct stat st;
+    if (stat(parent, &st) != 0)
+        return strerror(errno);
+    if (!S_ISDIR(st.st_mode))
+        return "not a directory";
+    return access(parent, W_OK | X_OK) != 0 ? strerror(errno) : "";
+}
+
+int snap_dir_check(const char *dir, int make, int *state, char *why, size_t whylen)
+{
+    struct stat st;
+    char parent[600];
+    *state = SNAP_DIR_OK;
+    if (stat(dir, &st) == 0)
+        return dir_usable(dir, &st, why, whylen);
+    if (errno != ENOENT) {
+        snprintf(why, whylen, "state dir %s: %s (%s)", dir, strerror(errno), DIR_RULE);
+        return WG_EIO;
+    }
+    parent_of(dir, parent, sizeof parent);
+    const char *unfit = parent_unfit(parent);
+    if (*unfit) {
+        snprintf(why, whylen, "state dir %s does not exist, and cannot be made in %s: %s (%s)",
+                 dir, parent, unfit, DIR_RULE);
+        return WG_EIO;
+    }
+    *state = SNAP_DIR_ABSENT;
+    if (!make)
+        return WG_OK;
+    if (mkdir(dir, 0750) != 0) { /* made meanwhile by another: judge what is there */
+        int e = errno;
+        if (e == EEXIST && stat(dir, &st) == 0) {
+            *state = SNAP_DIR_OK;
+            return dir_usable(dir, &st, why, whylen);
+        }
+        snprintf(why, whylen, "cannot make state dir %s: %s (%s)", dir, strerror(e), DIR_RULE);
+        return WG_EIO;
+    }
+    *state = SNAP_DIR_MADE;
+    return WG_OK;
+}
 
 /* NAME.wgstate.tmp.PID, a regular file, whose writer is gone (or is this
  * process, which has saved nothing yet): another daemon sharing the

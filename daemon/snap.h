@@ -43,6 +43,17 @@ int snap_write(const snap *s, const char *dir, const char *name, char *path, siz
  * blocks; why never quotes the file. The values are checked by snap_apply. */
 int snap_read(snap *s, const char *dir, const char *name, char *why, size_t whylen);
 
+/* What snap_dir_check found (*state). */
+enum { SNAP_DIR_OK, SNAP_DIR_MADE, SNAP_DIR_ABSENT };
+
+/* Is dir usable as the state directory, so that a save does not fail for
+ * it long after the start: an existing directory this process can write
+ * and enter (SNAP_DIR_OK), or, when dir does not exist, one whose parent
+ * is such a directory: made now (mode 0750) when make is 1 (SNAP_DIR_MADE),
+ * reported SNAP_DIR_ABSENT when 0 (--check-config changes nothing). WG_OK,
+ * or WG_EIO with why (what dir is, and what is allowed). */
+int snap_dir_check(const char *dir, int make, int *state, char *why, size_t whylen);
+
 /* At start: remove the temporary files (NAME.wgstate.tmp.PID, regular
  * files only) that saves killed mid-write left in dir, those of a process
  * that no longer exists or of this one; *removed counts them. WG_OK (also

@@ -73,6 +73,8 @@ typedef struct stats {
     uint64_t tick_senders;     /* TICK seq discontinuities: a new or restarted sender */
     int64_t tick_ns, tick_cpu_ns; /* the last timer tick: wall and main-thread CPU time */
     int64_t busiest_ns;        /* the longest handler since then (wall) */
+    uint64_t tick_steps;       /* sim steps then */
+    int fg_failed;             /* stdout failed: the foreground line is no longer printed */
 } stats;
 
 /* Steps owed and not yet run: the loop runs them in bounded chunks between

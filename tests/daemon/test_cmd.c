@@ -136,6 +136,52 @@ static void test_set_at_section(void)
     teardown(d);
 }
 
+/* Paused mid-period no section comes: a set --at-section went unanswered
+ * (wgctl timed out) and was applied at some later resume. Refused now
+ * (ESTATE, one ACK, nothing pending), unless a running step command
+ * reaches the section; on a section it applies at once, as when running. */
+static void test_set_at_section_paused(void)
+{
+    wgd *d = setup(128);
+    run(d, 128 * 3 + 100); /* k = 100: 28 steps before the section */
+    char *n[1] = {(char *)"omega"};
+    double v = 1.3;
+    wormgear_cmd_t c = {.op = "set", .nparams = 1, .names = n, .values = &v, .at_section = 1};
+    ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK);
+    ASSERT_EQ_INT(send(d, &c), WG_ESTATE);
+    ASSERT_CONTAINS(F.message, "no Poincare section comes while the run is paused");
+    ASSERT_CONTAINS(F.message, "28 steps before the next section");
+    ASSERT_CONTAINS(F.message, "resume first, or set without at_section");
+    ASSERT_TRUE(!d->sync.active);
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_OK);
+    run(d, 128);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.0, 0); /* nothing was left waiting */
+    /* paused, a step command that stops short of the section: refused */
+    ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK);
+    wormgear_cmd_t s = {.op = "step", .nsteps = 1000000000000LL};
+    send_pending(d, &s); /* its first 1000 steps run at once */
+    uint64_t to = (128 - d->sim.k) % 128;
+    ASSERT_TRUE(to > 0);
+    d->step.left = to - 1; /* as if it had been given fewer steps */
+    ASSERT_EQ_INT(send(d, &c), WG_ESTATE);
+    /* ... one that reaches it: pending, applied and ACKed at the section */
+    d->step.left = to;
+    send_pending(d, &c);
+    ASSERT_TRUE(d->sync.active);
+    int before = F.nack;
+    cmd_step_progress(d, 1000);
+    drain(d);
+    ASSERT_EQ_INT(F.nack, before + 2); /* the set's ACK at the section, then the step's */
+    ASSERT_TRUE(!d->step.active && !d->sync.active);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.3, 0);
+    /* paused on a section: applied at once */
+    ASSERT_EQ_INT(d->sim.k, 0);
+    v = 1.2;
+    ASSERT_EQ_INT(send(d, &c), WG_OK);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.2, 0);
+    teardown(d);
+}
+
 static void test_step_and_modes(void)
 {
     wgd *d = setup(128);
@@ -189,6 +235,71 @@ static void test_step_and_modes(void)
     teardown(d);
 }
 
+static int mode(wgd *d, const char *name)
+{
+    wormgear_cmd_t m = {.op = "mode", .name = (char *)name};
+    return send(d, &m);
+}
+
+/* A long step command, started and left running. */
+static void long_step(wgd *d)
+{
+    wormgear_cmd_t s = {.op = "step", .nsteps = 1000000000000LL};
+    send_pending(d, &s);
+    ASSERT_TRUE(d->step.active);
+}
+
+/* pause with a step running: two ACKs, the step's refusal (ESTATE) and
+ * then the pause's; returns the pause's code. */
+static int pause_cancelling(wgd *d)
+{
+    wormgear_cmd_t p = {.op = "pause", .client = "tester", .unit = "", .name = "",
+                        .seq = ++F.myseq};
+    int before = F.nack;
+    uint64_t refused = d->stat.cmds_refused;
+    wormgear_cmd_t_publish(d->io.lcm, "T_CMD", &p);
+    drain(d);
+    ASSERT_EQ_INT(F.nack, before + 2);
+    ASSERT_EQ_INT(F.cmd_seq, p.seq);
+    ASSERT_EQ_INT(d->stat.cmds_refused, refused + 1);
+    return F.rc;
+}
+
+/* resume during a step said "running from tau ..." while STATUS said
+ * stepping and the step went on; pause said "paused" and it went on too.
+ * Now resume is refused (ESTATE, how to stop the step) and pause cancels
+ * the step (its ACK: ESTATE), paused or in lockstep alike. */
+static void test_step_pause_resume(void)
+{
+    wgd *d = setup(128);
+    ASSERT_EQ_INT(mode(d, "realtime"), WG_OK);
+    ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK);
+    long_step(d);
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_ESTATE);
+    ASSERT_CONTAINS(F.message, "a step command is running (");
+    ASSERT_CONTAINS(F.message, "pause cancels it");
+    ASSERT_EQ_INT(d->run, RUN_PAUSED); /* nothing changed */
+    ASSERT_TRUE(d->step.active);
+    ASSERT_STR(report_run_name(d), "stepping");
+    cmd_step_progress(d, 5000);
+    ASSERT_EQ_INT(pause_cancelling(d), WG_OK);
+    ASSERT_CONTAINS(F.message, "the step command was cancelled after 6000 of 1000000000000 steps");
+    ASSERT_TRUE(!d->step.active);
+    ASSERT_STR(report_run_name(d), "paused");
+    uint64_t steps = d->sim.steps;
+    ASSERT_EQ_INT(cmd_step_progress(d, 1000), 0);
+    ASSERT_EQ_INT(d->sim.steps, steps);
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_OK); /* no step: resume as before */
+    /* lockstep, running: the same */
+    ASSERT_EQ_INT(mode(d, "lockstep"), WG_OK);
+    long_step(d);
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_ESTATE);
+    ASSERT_TRUE(d->step.active);
+    ASSERT_EQ_INT(pause_cancelling(d), WG_OK);
+    ASSERT_TRUE(!d->step.active);
+    teardown(d);
+}
+
 static void tick(wgd *d, int64_t seq, int64_t nsteps)
 {
     wormgear_tick_t t = {.utime = 1, .seq = seq, .nsteps = nsteps};
@@ -229,6 +340,49 @@ static void test_ticks(void)
     teardown(d);
 }
 
+/* Owed steps lapse when the run pauses or leaves lockstep (PROTOCOL.md):
+ * they were kept (only the loop's own call noticed, and the loop never
+ * called it while paused), so 100 ticks of 1e7 steps ran on after a pause
+ * and resume, or after realtime and back. STATUS said "waiting" meanwhile:
+ * the run is "stepping" while steps are owed. */
+static void test_ticks_lapse(void)
+{
+    wgd *d = setup(128);
+    ASSERT_STR(report_run_name(d), "waiting");
+    for (int i = 0; i < 100; i++)
+        tick(d, i, 10000000);
+    ASSERT_EQ_INT(d->owed.ticks, 1000000000);
+    ASSERT_STR(report_run_name(d), "stepping");
+    ASSERT_EQ_INT(cmd_tick_progress(d, 1000), 1000);
+    ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK);
+    ASSERT_EQ_INT(d->owed.ticks, 0); /* at once, not when the loop next looks */
+    ASSERT_STR(report_run_name(d), "paused");
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_OK);
+    ASSERT_EQ_INT(d->owed.ticks, 0);
+    ASSERT_STR(report_run_name(d), "waiting");
+    /* leaving lockstep: they lapse; coming back does not bring them back */
+    tick(d, 100, 10000000);
+    ASSERT_EQ_INT(d->owed.ticks, 10000000);
+    ASSERT_EQ_INT(mode(d, "realtime"), WG_OK);
+    ASSERT_EQ_INT(d->owed.ticks, 0);
+    ASSERT_EQ_INT(mode(d, "lockstep"), WG_OK);
+    ASSERT_EQ_INT(d->owed.ticks, 0);
+    ASSERT_STR(report_run_name(d), "waiting");
+    /* lockstep to lockstep is not leaving it: kept */
+    tick(d, 101, 5000);
+    ASSERT_EQ_INT(mode(d, "lockstep"), WG_OK);
+    ASSERT_EQ_INT(d->owed.ticks, 5000);
+    /* a fault pauses the run: they lapse too */
+    engine_fault(d, "test fault");
+    ASSERT_EQ_INT(d->owed.ticks, 0);
+    /* the pace's owed steps lapse outside realtime alike */
+    d->owed.realtime = 123;
+    ASSERT_EQ_INT(mode(d, "fast"), WG_OK);
+    ASSERT_EQ_INT(d->owed.realtime, 0);
+    teardown(d);
+}
+
 TEST_MAIN(TEST(test_set_atomic), TEST(test_set_bad_inputs), TEST(test_set_stability),
           TEST(test_accept_commands_off), TEST(test_set_at_section), TEST(test_step_and_modes),
-          TEST(test_ticks))
+          TEST(test_ticks), TEST(test_ticks_lapse), TEST(test_step_pause_resume),
+          TEST(test_set_at_section_paused))

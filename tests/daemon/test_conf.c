@@ -1,9 +1,13 @@
 /* test_conf.c - the configuration key table in-process: a reload applies
  * live keys (calling their apply hooks) and keeps restart-only ones, named;
- * the mode command's number check uses the table's range and wording. */
+ * the mode command's number check uses the table's range and wording; what
+ * a config file may be (a regular file within the limit, read without
+ * blocking) and hold (no NUL byte, each key once, lines that fit). */
 #include "conf.h"
 #include "wormgear/wg_sim.h"
 
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static char cfgpath[] = "/tmp/wgd-conf-XXXXXX";
@@ -119,6 +123,122 @@ static void write_conf(const char *text)
     }
 }
 
+static void write_bytes(const char *text, size_t n)
+{
+    FILE *f = fopen(cfgpath, "w");
+    ASSERT_TRUE(f != NULL);
+    if (f) {
+        ASSERT_EQ_INT(fwrite(text, 1, n, f), n);
+        fclose(f);
+    }
+}
+
+/* conf_read_file of text: its return code, the message in why. */
+static int read_text(const char *text, size_t n, char *why, size_t len)
+{
+    conf c;
+    conf_defaults(&c);
+    write_bytes(text, n);
+    int rc = conf_read_file(&c, cfgpath, why, len);
+    unlink(cfgpath);
+    return rc;
+}
+#define READ_STR(text, why) read_text(text, strlen(text), why, sizeof why)
+
+/* Only a regular file within the limit is read; a FIFO or a device is
+ * never opened (the FIFO blocked the daemon in open() for good: the alarm
+ * ends the test if it does again; /dev/zero was read forever). */
+static void test_file_kinds(void)
+{
+    char why[400], a0[] = "wormgeard", a1[] = "-c", a2[sizeof cfgpath];
+    conf c;
+    conf_defaults(&c);
+    ASSERT_EQ_INT(mkfifo(cfgpath, 0600), 0);
+    alarm(10);
+    ASSERT_EQ_INT(conf_read_file(&c, cfgpath, why, sizeof why), 2);
+    ASSERT_CONTAINS(why, "is a FIFO, not a regular file");
+    memcpy(a2, cfgpath, sizeof cfgpath); /* the SIGHUP path (conf_load) alike */
+    char *argv[] = {a0, a1, a2, NULL};
+    ASSERT_EQ_INT(conf_load(&c, 3, argv, why, sizeof why), 2);
+    ASSERT_CONTAINS(why, "is a FIFO, not a regular file");
+    unlink(cfgpath);
+    ASSERT_EQ_INT(conf_read_file(&c, "/dev/zero", why, sizeof why), 2);
+    ASSERT_STR(why, "config file /dev/zero is a character device, not a regular file");
+    alarm(0);
+    ASSERT_EQ_INT(conf_read_file(&c, "/tmp", why, sizeof why), 2);
+    ASSERT_CONTAINS(why, "is a directory");
+    ASSERT_EQ_INT(conf_read_file(&c, "/nonexistent/wg.conf", why, sizeof why), 2);
+    ASSERT_CONTAINS(why, "No such file");
+    /* the size limit: one byte over is refused, saying the limit */
+    char *big = malloc(CONF_FILE_MAX + 1);
+    ASSERT_TRUE(big != NULL);
+    if (!big)
+        return;
+    memset(big, '#', CONF_FILE_MAX + 1);
+    for (size_t i = 100; i <= CONF_FILE_MAX; i += 101)
+        big[i] = '\n'; /* comment lines that fit the parser */
+    ASSERT_EQ_INT(read_text(big, CONF_FILE_MAX + 1, why, sizeof why), 2);
+    ASSERT_CONTAINS(why, "is 1048577 bytes (limit 1048576)");
+    big[CONF_FILE_MAX - 1] = '\n';
+    ASSERT_EQ_INT(read_text(big, CONF_FILE_MAX, why, sizeof why), 0); /* at the limit: read */
+    free(big);
+}
+
+/* A NUL byte ended the line for the parser, which took the rest silently
+ * (rate 1 kept, or "rate = 2" read from "rate = 2\0garbage"): refused,
+ * at its line and column. */
+static void test_nul_bytes(void)
+{
+    char why[400];
+    static const char a[] = "[wormgeard]\n\0rate = 5000\n", b[] = "[wormgeard]\nrate = 2\0x\n";
+    ASSERT_EQ_INT(read_text(a, sizeof a - 1, why, sizeof why), 2);
+    ASSERT_CONTAINS(why, ":2: a NUL byte (column 1)");
+    ASSERT_EQ_INT(read_text(b, sizeof b - 1, why, sizeof why), 2);
+    ASSERT_CONTAINS(why, ":2: a NUL byte (column 9)");
+}
+
+/* A key set twice took the last value silently: refused at the second,
+ * naming the first (top level and [wormgeard] are one section). An
+ * indented line continued the value above it (inih's multi-line values):
+ * refused as such, not as a duplicate. */
+static void test_keys_once(void)
+{
+    char why[400];
+    ASSERT_EQ_INT(READ_STR("[wormgeard]\nrate = 2\nmode = fast\nrate = 3\n", why), 2);
+    ASSERT_CONTAINS(why, ":4: rate: set again (first set at line 2)");
+    ASSERT_EQ_INT(READ_STR("rate = 2\n[wormgeard]\nrate = 2\n", why), 2);
+    ASSERT_CONTAINS(why, ":3: rate: set again (first set at line 1)");
+    ASSERT_EQ_INT(READ_STR("[params]\nomega = 1.1\n\n[params]\nomega = 1.2\n", why), 2);
+    ASSERT_CONTAINS(why, ":5: omega: set again (first set at line 2)");
+    ASSERT_EQ_INT(READ_STR("[wormgeard]\nrate = 2\n  5\n", why), 2);
+    ASSERT_CONTAINS(why, ":3: an indented line continues the value of rate");
+    /* an indented first key of a section is a key, a comment line is no value */
+    ASSERT_EQ_INT(READ_STR("[wormgeard]\n  rate = 2\n  # note\nmode = fast\n[params]\n"
+                           "  omega = 1.1\n", why), 0);
+}
+
+/* A line longer than the parser's buffer was cut into pieces, the error
+ * reported at a later line ("bad.conf:3: syntax error" for line 2): now at
+ * its own line, with the limit. */
+static void test_long_line(void)
+{
+    char text[6000], why[400];
+    int n = snprintf(text, sizeof text, "[wormgeard]\n# ");
+    memset(text + n, 'x', 5000);
+    snprintf(text + n + 5000, sizeof text - (size_t)n - 5000, "\nrate = 2\n");
+    ASSERT_EQ_INT(READ_STR(text, why), 2);
+    ASSERT_CONTAINS(why, ":2: line too long: 5002 characters, the limit is 198");
+    /* the limit exactly: 198 characters read, 199 refused (with a newline or without) */
+    memset(text, '#', 199);
+    memcpy(text + 199, "\nrate = 2\n", 11);
+    ASSERT_EQ_INT(READ_STR(text, why), 2);
+    ASSERT_CONTAINS(why, ":1: line too long: 199 characters");
+    ASSERT_EQ_INT(READ_STR(text + 1, why), 0);
+    text[199] = 0;
+    ASSERT_EQ_INT(READ_STR(text, why), 2);
+    ASSERT_EQ_INT(READ_STR(text + 1, why), 0);
+}
+
 /* The SIGHUP path: load the file again, reload into the running one. */
 static void test_reload_from_file(void)
 {
@@ -176,7 +296,8 @@ static int make_path(void)
 
 #define main tests_main
 TEST_MAIN(TEST(test_reload_live_and_restart), TEST(test_reload_names_every_restart_key),
-          TEST(test_reload_from_file), TEST(test_check_number))
+          TEST(test_reload_from_file), TEST(test_check_number), TEST(test_file_kinds),
+          TEST(test_nul_bytes), TEST(test_keys_once), TEST(test_long_line))
 #undef main
 
 int main(int argc, char **argv)

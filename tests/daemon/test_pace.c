@@ -176,6 +176,50 @@ static void test_configure_from_conf(void)
     ASSERT_NEAR(pace_target(&p, 7 * SEC), 12.5, 0);
 }
 
+/* The overrun warning agrees with its figures. It said "more than 10 ticks
+ * behind (lag 0.233 ms ...)", the lag being what was left over the cap;
+ * now the whole backlog, the cap, and a cause the figures support. */
+static void test_overrun_text(void)
+{
+    pace_cfg c = cfg(POLICY_CONTINUE);
+    pace p;
+    pace_init(&p, &c, 0, 0.0);
+    char t[640];
+    pace_due d = pace_steps_due(&p, 10 * MS, 0.0, 0.5); /* 10 ms of steps due, cap 4 ticks */
+    ASSERT_EQ_INT(d.overrun, 1);
+    ASSERT_NEAR(pace_lag_s(&p), 6e-3, 1e-12); /* left over the cap: not "how far behind" */
+    pace_load l = {.gap_ns = 12 * MS, .cpu_ns = 3 * MS / 10, .busiest_ns = MS / 10,
+                   .ns_per_step = 100, .h = 0.5, .rate = 1};
+    pace_overrun_text(&p, &l, t, sizeof t);
+    ASSERT_STR(t, "10.000 ms behind the pace, over the catch-up cap of 4 ticks (4.0 ms; policy "
+                  "continue): 12.0 ms since the last tick, the loop ran 0.3 ms of it (the "
+                  "longest handler 0.1 ms): the daemon was not scheduled (a busy or full "
+                  "machine)");
+    /* the loop busy all the time, stepping needing more than a core: the rate */
+    l = (pace_load){.gap_ns = MS, .cpu_ns = MS, .busiest_ns = MS, .steps = 5,
+                    .ns_per_step = 200000, .h = 0.5, .rate = 1000};
+    pace_overrun_text(&p, &l, t, sizeof t);
+    ASSERT_CONTAINS(t, "the loop ran 1.0 ms of it (the longest handler 1.0 ms): rate 1000 is "
+                       "more than the model can run here (it needs 1e+04 steps/s, 200000 ns a "
+                       "step: 200 % of a core; lower the rate, or use mode fast)");
+    /* busy, the rate within reach, the time spent stepping: catching up */
+    l = (pace_load){.gap_ns = MS, .cpu_ns = MS, .busiest_ns = MS, .steps = 9000,
+                    .ns_per_step = 100, .h = 0.5, .rate = 1};
+    pace_overrun_text(&p, &l, t, sizeof t);
+    ASSERT_CONTAINS(t, ": the loop catching up a backlog (rate 1 needs 0 % of a core");
+    /* busy with something else */
+    l.steps = 10;
+    pace_overrun_text(&p, &l, t, sizeof t);
+    ASSERT_CONTAINS(t, ": the daemon's own work besides stepping");
+    l.ns_per_step = 0; /* no step measured yet */
+    pace_overrun_text(&p, &l, t, sizeof t);
+    ASSERT_CONTAINS(t, "ms): the daemon's own work");
+    l.gap_ns = 0; /* the first tick: no interval, no cause */
+    pace_overrun_text(&p, &l, t, sizeof t);
+    ASSERT_CONTAINS(t, "(the longest handler 1.0 ms)");
+    ASSERT_TRUE(t[strlen(t) - 1] == ')');
+}
+
 static void test_fast_chunk(void)
 {
     ASSERT_EQ_INT(pace_fast_chunk(0, MS), 64);
@@ -187,4 +231,4 @@ static void test_fast_chunk(void)
 TEST_MAIN(TEST(test_due_follows_clock), TEST(test_long_run_no_drift),
           TEST(test_cap_and_overrun_continue), TEST(test_freeze_drops_backlog),
           TEST(test_stop_after_n_with_grace), TEST(test_rate_change_reanchors),
-          TEST(test_configure_from_conf), TEST(test_fast_chunk))
+          TEST(test_configure_from_conf), TEST(test_fast_chunk), TEST(test_overrun_text))

@@ -267,6 +267,38 @@ static void test_stale_temp_files_removed(void)
     ASSERT_EQ_INT(n, 0);
 }
 
+/* The state directory is judged at start (a bad one failed only at the
+ * first save): an existing directory we can write, or a missing one whose
+ * parent can hold it (made when asked, reported when not); a file, or a
+ * missing parent, refused saying what is allowed. */
+static void test_state_dir_check(void)
+{
+    char p[700], q[720], why[400];
+    int state = -1;
+    ASSERT_EQ_INT(snap_dir_check(fx_statedir(), 1, &state, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(state, SNAP_DIR_OK);
+    snprintf(p, sizeof p, "%s/new", fx_statedir());
+    ASSERT_EQ_INT(snap_dir_check(p, 0, &state, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(state, SNAP_DIR_ABSENT);
+    ASSERT_TRUE(access(p, F_OK) != 0); /* --check-config makes nothing */
+    ASSERT_EQ_INT(snap_dir_check(p, 1, &state, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(state, SNAP_DIR_MADE);
+    ASSERT_EQ_INT(access(p, W_OK | X_OK), 0);
+    ASSERT_EQ_INT(rmdir(p), 0);
+    snprintf(q, sizeof q, "%s/none/sub", fx_statedir()); /* its parent is missing */
+    ASSERT_EQ_INT(snap_dir_check(q, 1, &state, why, sizeof why), WG_EIO);
+    ASSERT_CONTAINS(why, "/none/sub does not exist, and cannot be made in");
+    ASSERT_CONTAINS(why, "/none: No such file or directory (state_dir must be a directory");
+    touch(p); /* a file */
+    ASSERT_EQ_INT(snap_dir_check(p, 1, &state, why, sizeof why), WG_EIO);
+    ASSERT_CONTAINS(why, "/new is not a directory (state_dir must be a directory this process "
+                         "can write, or one it can make)");
+    snprintf(q, sizeof q, "%s/sub", p); /* in a file */
+    ASSERT_EQ_INT(snap_dir_check(q, 1, &state, why, sizeof why), WG_EIO);
+    ASSERT_CONTAINS(why, "Not a directory");
+    ASSERT_EQ_INT(unlink(p), 0);
+}
+
 /* A child saves two states in turn, forever; it is killed at a random
  * moment, again and again. The file is always one of the two, whole. */
 static void test_kill_during_save(void)
@@ -313,4 +345,4 @@ static void test_kill_during_save(void)
 TEST_MAIN(TEST(test_save_restore_bitexact), TEST(test_save_restore_bitexact_ramp),
           TEST(test_save_restore_refusals), TEST(test_corrupt_files_refused),
           TEST(test_special_files_refused), TEST(test_stale_temp_files_removed),
-          TEST(test_kill_during_save))
+          TEST(test_kill_during_save), TEST(test_state_dir_check))

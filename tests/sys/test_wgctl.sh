@@ -43,9 +43,22 @@ expect 0 "$D" --accept-commands no --start-paused=yes --check-config
 expect 2 "$D" --accept-commands maybe --check-config
 expect 0 "$D" --help
 has out "--state-rate-hz"
+# a config file is read only when it is a regular file (/dev/zero was read
+# forever), of at most 1 MiB, text, each key once
+expect 2 timeout 10 "$D" --check-config -c /dev/zero
+has err "config file /dev/zero is a character device, not a regular file"
+printf '[wormgeard]\nrate = 2\nrate = 3\n' >"$tmp/dup.conf"
+expect 2 "$D" -c "$tmp/dup.conf" --check-config
+has err "dup.conf:3: rate: set again (first set at line 2)"
+# the state directory is checked at start, not at the first save
+expect 2 "$D" --check-config --state-dir "$tmp/none/sub"
+has err "state dir $tmp/none/sub does not exist, and cannot be made in $tmp/none"
+expect 2 "$D" --check-config --state-dir "$tmp/dup.conf"
+has err "is not a directory (state_dir must be a directory this process can write"
 
 # ---- the daemon, in the foreground with its one-line status
-"$D" -F --rate 0.05 --state-dir "$tmp/state" >"$tmp/fg" 2>"$tmp/log" &
+printf '[wormgeard]\nstatus_hz = 4\nstate_dir = %s/state\n' "$tmp" >"$tmp/run.conf"
+"$D" -F -c "$tmp/run.conf" --rate 0.05 >"$tmp/fg" 2>"$tmp/log" &
 pid=$!
 i=0
 until "$C" --timeout 0.5 status >/dev/null 2>&1; do
@@ -77,6 +90,17 @@ has out "stepped 1000 steps"
 expect 0 "$C" resume
 expect 1 "$C" step 10
 has err "ESTATE"
+# a long step while paused: resume is refused while it runs (it said
+# "running from tau" and the step went on), pause cancels it
+expect 0 "$C" pause
+expect 1 "$C" --timeout 0.3 step 1000000000000
+expect 1 "$C" resume
+has err "resume refused (ESTATE): a step command is running"
+expect 0 "$C" pause
+has out "the step command was cancelled after"
+expect 0 "$C" status
+has out "paused"
+expect 0 "$C" resume
 expect 0 "$C" save s1
 expect 0 "$C" restore s1
 # wgsweep --at from the saved state: its parameters, then --set and --at
@@ -107,6 +131,15 @@ has out '"accepted":true'
 # a set at the next Poincare section: accepted there (tau of a section in the answer)
 expect 0 "$C" set --at-section omega=1.25
 has out "ok: set omega=1.25"
+# paused mid-period (reset, then one step: k = 1), no section comes: refused
+# at once (it went unanswered, and was applied at the next resume)
+expect 0 "$C" pause
+expect 0 "$C" reset
+expect 0 "$C" step 1
+expect 1 "$C" set --at-section omega=1.3
+has err "set refused (ESTATE): no Poincare section comes while the run is paused"
+has err "resume first, or set without at_section"
+expect 0 "$C" resume
 expect 2 "$C" ramp --at-section omega 1 2 --over 1s
 has err "applies to set only"
 expect 1 "$C" --json set xi_p=7
@@ -123,6 +156,19 @@ expect 0 "$C" mode lockstep
 has out "advances only by step commands and TICK messages"
 expect 0 "$C" status
 has out "waiting"
+# lockstep mid-period: a set --at-section waits for the steps that reach the
+# section; wgctl's timeout says so (it asked whether wormgeard was running)
+expect 0 "$C" reset
+expect 0 "$C" step 1
+expect 1 "$C" --timeout 0.3 set --at-section xi_p=0.09
+has err "answered at the next Poincare section (psi = 0), which in lockstep mode comes only with further steps: it may still be pending"
+expect 0 "$C" step 200
+expect 0 "$C" get xi_p
+has out "xi_p  = 0.09 "
+expect 1 "$C" --timeout 0.3 step 1000000000000
+has err "a step is answered when its steps are done: it may still be running"
+expect 0 "$C" pause
+expect 0 "$C" resume
 expect 0 "$C" mode realtime 0.05
 has out "mode realtime, rate 0.05"
 # which contact events go out
@@ -148,6 +194,21 @@ expect 1 "$C" mode realtime 5000
 expect 0 "$C" reset --params
 expect 1 "$C" --prefix NOBODY_ --timeout 0.3 pause
 has err "no answer"
+# a FIFO in place of the config file at SIGHUP: the reload blocked in open()
+# for good (no STATUS, no ACK); now refused in one line, the daemon serving
+mv "$tmp/run.conf" "$tmp/run.conf.was" && mkfifo "$tmp/run.conf"
+kill -HUP "$pid"
+expect 0 "$C" set xi_p=0.09
+expect 0 "$C" status
+[ "$(grep -c 'reload: config file .*run.conf is a FIFO, not a regular file; keeping the running configuration' "$tmp/log")" -eq 1 ] ||
+    fail "FIFO reload: not one refusal line: $(grep reload "$tmp/log")"
+rm -f "$tmp/run.conf" && mv "$tmp/run.conf.was" "$tmp/run.conf"
+# a reload to a state directory that cannot be: refused, as at start
+printf '[wormgeard]\nstatus_hz = 4\nstate_dir = %s/none/sub\n' "$tmp" >"$tmp/run.conf"
+kill -HUP "$pid"
+expect 0 "$C" status
+has log "reload: state dir $tmp/none/sub does not exist, and cannot be made in .*; keeping the running configuration"
+printf '[wormgeard]\nstatus_hz = 4\nstate_dir = %s/state\n' "$tmp" >"$tmp/run.conf"
 sleep 1.2
 [ "$(grep -c 'realtime x0.05 running' "$tmp/fg")" -ge 1 ] || fail "no foreground status line: $(cat "$tmp/fg")"
 grep -q "impacts/period" "$tmp/fg" || fail "foreground line without impacts/period: $(tail -1 "$tmp/fg")"
@@ -164,6 +225,46 @@ done
 # stderr is a file, not the journal: no "<N>" prefixes
 ! grep -q '^<[0-9]>' "$tmp/log" || fail "<N> prefixes outside journald: $(head -3 "$tmp/log")"
 grep -q '^wormgeard: ' "$tmp/log" || fail "log lines without 'wormgeard: ': $(head -3 "$tmp/log")"
+
+# ---- a closed stdout (wormgeard -F | head): SIGPIPE killed the daemon (exit
+# 141, no "stopping" line); now the status line stops with one warning and
+# SIGTERM still ends it cleanly. Then stdout and stderr both closed.
+mkfifo "$tmp/pipe"
+for both in no yes; do
+    if [ $both = yes ]; then
+        "$D" -F --rate 0.05 --state-dir "$tmp/state" >"$tmp/pipe" 2>&1 &
+    else
+        "$D" -F --rate 0.05 --state-dir "$tmp/state" >"$tmp/pipe" 2>"$tmp/log3" &
+    fi
+    pid=$!
+    head -c 1 "$tmp/pipe" >/dev/null
+    sleep 2.5 # two status lines due meanwhile
+    kill -0 "$pid" 2>/dev/null || fail "closed stdout (stderr too: $both) killed the daemon"
+    kill -TERM "$pid"
+    wait "$pid"
+    rc=$?
+    pid=
+    [ $rc -eq 0 ] || fail "closed stdout (stderr too: $both): exit $rc, want 0"
+done
+has log3 "stopping on Terminated"
+[ "$(grep -c 'foreground: cannot write the status line to stdout (Broken pipe): not printed from now on' "$tmp/log3")" -eq 1 ] ||
+    fail "closed stdout: not one warning: $(cat "$tmp/log3")"
+
+# ---- a rate beyond this machine: the overrun warning says so. It said "more
+# than 10 ticks behind (lag 0.233 ms ...)", and "the daemon was not
+# scheduled", measuring the loop's CPU from the end of the last tick's own
+# stepping but the interval from its start.
+"$D" --rate 1000 --state-dir "$tmp/state" 2>"$tmp/log4" &
+pid=$!
+sleep 1.5
+kill -TERM "$pid"
+wait "$pid"
+pid=
+has log4 "overrun: [0-9.]* ms behind the pace, over the catch-up cap of 10 ticks (10.0 ms; policy continue): .*: rate 1000 is more than the model can run here (it needs"
+! grep -q "more than 10 ticks behind" "$tmp/log4" || fail "old overrun wording: $(grep overrun "$tmp/log4" | head -1)"
+awk '/overrun: / { sub(/.*overrun: /, ""); if ($1 + 0 < 10) bad = bad $0 "\n" } END { printf "%s", bad }' \
+    "$tmp/log4" >"$tmp/under"
+[ ! -s "$tmp/under" ] || fail "an overrun less than the cap behind: $(cat "$tmp/under")"
 
 # ---- signed commands: a daemon with command_key_file accepts only commands
 # signed with its key (wgctl keygen writes one; --key-file or
