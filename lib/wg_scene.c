@@ -3,6 +3,7 @@
 #include "wormgear/wg_status.h"
 
 #include <dirent.h>
+#include <errno.h>
 #include <ini.h>
 #include <limits.h>
 #include <math.h>
@@ -385,7 +386,7 @@ int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen)
     snprintf(sc->path, sizeof sc->path, "%s", path);
     L.f = fopen(path, "r");
     if (!L.f) {
-        snprintf(why, whylen, "%s: cannot open scene file", path);
+        snprintf(why, whylen, "%s: cannot open scene file: %s", path, strerror(errno));
         return WG_EIO;
     }
     int r = ini_parse_stream(reader, &L, handler, &L);

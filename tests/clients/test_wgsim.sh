@@ -84,6 +84,9 @@ expect_exit 2 "supports the rk4 stepper only" --model printed --stepper rk4-even
 expect_exit 2 "scene 'nosuch' not found" --scene nosuch
 printf '[params]\nomega = 1\nxi_p = 7\n' >"$tmp/bad.ini"
 expect_exit 1 "bad.ini:3: xi_p: value 7 out of range \[0, 2\]" --scene "$tmp/bad.ini"
+# a scene file that cannot be opened: the reason is said
+expect_exit 1 "no-dir/good: cannot open scene file: No such file or directory" \
+    --scene "$tmp/no-dir/good"
 expect_exit 0 "motion" --model printed --periods 5 --transient 0
 
 exit $fail

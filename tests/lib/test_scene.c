@@ -203,6 +203,19 @@ static void test_not_found_lists_each_once(void)
     ASSERT_EQ_INT(n, 1);
 }
 
+/* A file that cannot be opened: the message says why (it said only
+ * "cannot open scene file"). */
+static void test_open_reason(void)
+{
+    wg_scene sc;
+    char why[600], path[128];
+    snprintf(path, sizeof path, "%s/no-dir/good", dir);
+    ASSERT_EQ_INT(wg_scene_load(&sc, path, why, sizeof why), WG_EIO);
+    printf("  %s\n", why);
+    ASSERT_CONTAINS(why, path);
+    ASSERT_CONTAINS(why, "cannot open scene file: No such file or directory");
+}
+
 static void test_all(void)
 {
     setup();
@@ -211,6 +224,7 @@ static void test_all(void)
     test_physical_equals_dimensionless();
     test_malformed_lines();
     test_name_or_file();
+    test_open_reason();
     teardown();
 }
 
