@@ -4,12 +4,14 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <ini.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 /* The scene directory relative to the directory of the running program
@@ -370,6 +372,35 @@ static int check_all(loader *L)
     return WG_OK;
 }
 
+/* Open path for reading if it is a regular file: WG_OK, or WG_EIO with why
+ * saying what it is. A directory opens and reads as an empty file (the
+ * defaults ran under its name); O_NONBLOCK keeps the open of a FIFO from
+ * waiting for a writer (it is refused, and changes nothing for a regular
+ * file). fstat on the open file: no window between the test and the use. */
+static int open_regular(const char *path, FILE **f, char *why, size_t whylen)
+{
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0) {
+        snprintf(why, whylen, "%s: cannot open scene file: %s", path, strerror(errno));
+        if (fd >= 0)
+            close(fd);
+        return WG_EIO;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        snprintf(why, whylen, "%s: %s; a scene must be a regular .ini file", path,
+                 S_ISDIR(st.st_mode) ? "is a directory" : "is not a regular file");
+        close(fd);
+        return WG_EIO;
+    }
+    if (!(*f = fdopen(fd, "r"))) {
+        snprintf(why, whylen, "%s: cannot open scene file: %s", path, strerror(errno));
+        close(fd);
+        return WG_EIO;
+    }
+    return WG_OK;
+}
+
 int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen)
 {
     memset(sc, 0, sizeof *sc);
@@ -384,11 +415,9 @@ int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen)
     wg_params_default(&sc->p);
     wg_scale_default(&sc->scale);
     snprintf(sc->path, sizeof sc->path, "%s", path);
-    L.f = fopen(path, "r");
-    if (!L.f) {
-        snprintf(why, whylen, "%s: cannot open scene file: %s", path, strerror(errno));
-        return WG_EIO;
-    }
+    int rc = open_regular(path, &L.f, why, whylen);
+    if (rc)
+        return rc;
     int r = ini_parse_stream(reader, &L, handler, &L);
     fclose(L.f);
     if (L.rc)
@@ -399,7 +428,7 @@ int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen)
     }
     if (L.nphys) {
         sc->physical = 1;
-        int rc = convert(&L);
+        rc = convert(&L);
         if (rc)
             return rc;
     }
@@ -464,15 +493,25 @@ static int listed(const char *list, const char *name, size_t m)
     return 0;
 }
 
+/* Is dir/name a regular file (after symlinks), as wg_scene_load wants? */
+static int regular(const char *dir, const char *name)
+{
+    char p[1024];
+    struct stat st;
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    return stat(p, &st) == 0 && S_ISREG(st.st_mode);
+}
+
 /* Append ", "-separated names of the NAME.ini files in dir, sorted, each
- * name once (the same scenes in $WG_SCENE_PATH and the data directory). */
+ * name once (the same scenes in $WG_SCENE_PATH and the data directory); a
+ * directory NAME.ini is no scene, so not offered as one. */
 static void list_scenes(const char *dir, char *out, size_t len)
 {
     struct dirent **e;
     int n = *dir ? scandir(dir, &e, only_ini, by_stem) : -1;
     for (int i = 0; i < n; i++) {
         size_t k = strlen(out), m = strlen(e[i]->d_name) - 4;
-        if (!listed(out, e[i]->d_name, m))
+        if (!listed(out, e[i]->d_name, m) && regular(dir, e[i]->d_name))
             snprintf(out + k, len - k, "%s%.*s", k ? ", " : "", (int)m, e[i]->d_name);
         free(e[i]);
     }

@@ -38,13 +38,15 @@ typedef struct wg_scene {
 void wg_scale_default(wg_scale *s);
 
 /* Load a scene from a file. WG_OK, or WG_EIO / WG_EINVAL / WG_ERANGE /
- * WG_EUNKNOWN with "file:line: key: ..." in why. */
+ * WG_EUNKNOWN with "file:line: key: ..." in why; WG_EIO with the reason
+ * when the file cannot be opened or is not a regular file (a directory, a
+ * FIFO: refused without reading or waiting). */
 int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen);
 
 /* Resolve NAME or FILE: a path containing '/' or ending in ".ini" is used as
  * given; otherwise NAME.ini is looked up in $WG_SCENE_PATH (colon-separated),
  * then in the data directory next to the program (wg_scene_data_dir). The
- * error lists the scenes those directories hold. */
+ * error lists the scenes those directories hold (regular files only). */
 int wg_scene_find(const char *name_or_file, char *path, size_t pathlen,
                   char *why, size_t whylen);
 

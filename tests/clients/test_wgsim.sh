@@ -87,6 +87,13 @@ expect_exit 1 "bad.ini:3: xi_p: value 7 out of range \[0, 2\]" --scene "$tmp/bad
 # a scene file that cannot be opened: the reason is said
 expect_exit 1 "no-dir/good: cannot open scene file: No such file or directory" \
     --scene "$tmp/no-dir/good"
+# a directory is not a scene (it ran the defaults under its name, exit 0),
+# by path or by name, and the scenes listed leave it out
+mkdir -p "$tmp/sp/x.ini"
+expect_exit 1 "sp/x.ini: is a directory; a scene must be a regular .ini file" \
+    --scene "$tmp/sp/x.ini"
+WG_SCENE_PATH="$tmp/sp" expect_exit 2 "sp/x.ini: is a directory; a scene must be" --scene x
+WG_SCENE_PATH="$tmp/sp" expect_exit 2 "scenes there: lowfreq, realistic" --scene nosuch
 expect_exit 0 "motion" --model printed --periods 5 --transient 0
 
 exit $fail

@@ -7,6 +7,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static char dir[64];
@@ -216,6 +217,43 @@ static void test_open_reason(void)
     ASSERT_CONTAINS(why, "cannot open scene file: No such file or directory");
 }
 
+/* A directory or a FIFO is not a scene. A directory opened and read as an
+ * empty file (the defaults ran under its name), a FIFO blocked the open;
+ * both are refused naming the path, and a directory NAME.ini is not listed
+ * among the scenes there. */
+static void test_not_a_regular_file(void)
+{
+    char sub[96], path[128], fifo[128], why[1600];
+    wg_scene sc;
+    snprintf(sub, sizeof sub, "%s/sp", dir);
+    snprintf(path, sizeof path, "%s/x.ini", sub);
+    snprintf(fifo, sizeof fifo, "%s/fifo.ini", dir);
+    ASSERT_EQ_INT(mkdir(sub, 0700), 0);
+    ASSERT_EQ_INT(mkdir(path, 0700), 0);
+    ASSERT_EQ_INT(mkfifo(fifo, 0600), 0);
+    ASSERT_EQ_INT(wg_scene_load(&sc, path, why, sizeof why), WG_EIO);
+    printf("  %s\n", why);
+    ASSERT_CONTAINS(why, path);
+    ASSERT_CONTAINS(why, ": is a directory; a scene must be a regular .ini file");
+    ASSERT_EQ_INT(wg_scene_load(&sc, fifo, why, sizeof why), WG_EIO);
+    printf("  %s\n", why);
+    ASSERT_CONTAINS(why, fifo);
+    ASSERT_CONTAINS(why, ": is not a regular file; a scene must be a regular .ini file");
+    /* by name in $WG_SCENE_PATH: found, refused; the list leaves it out */
+    char saved[512], y[128];
+    snprintf(saved, sizeof saved, "%s", getenv("WG_SCENE_PATH"));
+    snprintf(y, sizeof y, "%s/y.ini", sub);
+    FILE *f = fopen(y, "w");
+    ASSERT_TRUE(f && fputs("[params]\nomega = 1\n", f) >= 0 && fclose(f) == 0);
+    setenv("WG_SCENE_PATH", sub, 1);
+    ASSERT_EQ_INT(wg_scene_open(&sc, "x", why, sizeof why), WG_EIO);
+    ASSERT_CONTAINS(why, ": is a directory; a scene must be a regular .ini file");
+    ASSERT_EQ_INT(wg_scene_open(&sc, "no-such-scene", why, sizeof why), WG_EIO);
+    setenv("WG_SCENE_PATH", saved, 1);
+    printf("  %s\n", why);
+    ASSERT_STR(strstr(why, "scenes there: "), "scenes there: y");
+}
+
 static void test_all(void)
 {
     setup();
@@ -225,6 +263,7 @@ static void test_all(void)
     test_malformed_lines();
     test_name_or_file();
     test_open_reason();
+    test_not_a_regular_file();
     teardown();
 }
 
