@@ -5,8 +5,12 @@
  * [physical] masses, inertias, radii, stiffnesses, torque, backlash in um...
  *            converted once at load; [params] keys then override.
  * [scale]    omega_n_rad_s, length_m, mesh_stiffness_N_m for physical output
- * [initial]  state = equilibrium | given; with `given`, x1 ... ds values.
- * Errors read "file:line: key: value out of range [min, max]". */
+ * [initial]  state = equilibrium | given; with `given`, every state value of
+ *            the model (x1 ... ds; printed: th1 th2 dth1 dth2 for s, ds), and
+ *            none without it.
+ * Errors read "file:line: key: value out of range [min, max]"; a key given
+ * twice in a section, an indented (continued) value and a file with no
+ * settings are errors too. */
 #ifndef WG_SCENE_H
 #define WG_SCENE_H
 

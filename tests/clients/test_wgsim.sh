@@ -94,6 +94,9 @@ expect_exit 1 "sp/x.ini: is a directory; a scene must be a regular .ini file" \
     --scene "$tmp/sp/x.ini"
 WG_SCENE_PATH="$tmp/sp" expect_exit 2 "sp/x.ini: is a directory; a scene must be" --scene x
 WG_SCENE_PATH="$tmp/sp" expect_exit 2 "scenes there: lowfreq, realistic" --scene nosuch
+# a key given twice: refused where it was (the later value won, silently)
+printf '[params]\nomega = 1\nomega = 0.5\n' >"$tmp/dup.ini"
+expect_exit 1 "dup.ini:3: \[params\] omega: given twice (first at line 2)" --scene "$tmp/dup.ini"
 expect_exit 0 "motion" --model printed --periods 5 --transient 0
 
 exit $fail
