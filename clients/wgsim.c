@@ -307,7 +307,11 @@ static int setup(opts *o, wg_scene *sc, wg_sim *sim)
     }
     wg_sim_config cfg = {sc->model, o->stepper, o->steps};
     if ((rc = wg_sim_init(sim, &sc->p, &cfg, why, sizeof why))) {
-        fprintf(stderr, "wgsim: %s\n", why);
+        if (rc == WG_ESTABILITY) /* the library's message names N, not the option */
+            fprintf(stderr, "wgsim: %s; --steps-per-period sets N (%d..%d)\n", why, WG_STEPS_MIN,
+                    WG_STEPS_MAX);
+        else
+            fprintf(stderr, "wgsim: %s\n", why);
         return rc == WG_ESTABILITY || rc == WG_ERANGE ? 2 : 1;
     }
     double y[WG_NSTATE_MAX];

@@ -81,6 +81,8 @@ expect_exit 2 "z2 = 37.5 must be a whole number in \[4, 1000\]" --set z2=37.5
 expect_exit 2 "must be an integer in \[8, 65536\]" --steps-per-period 4
 expect_exit 2 "need N >= " --set omega=0.05 --steps-per-period 64
 expect_exit 2 "supports the rk4 stepper only" --model printed --stepper rk4-event
+# the stability refusal names the option that sets N
+expect_exit 2 "need N >= 1062 .*; --steps-per-period sets N" --set omega=0.01
 expect_exit 2 "scene 'nosuch' not found" --scene nosuch
 printf '[params]\nomega = 1\nxi_p = 7\n' >"$tmp/bad.ini"
 expect_exit 1 "bad.ini:3: xi_p: value 7 out of range \[0, 2\]" --scene "$tmp/bad.ini"
