@@ -52,7 +52,8 @@ static void usage(FILE *f)
             "  --events FILE|-           CSV of contact events: tau,contact,kind,velocity\n"
             "  --trace FILE|-            CSV of every step: tau,omega,x_n,dx_n,F,theta1,theta2\n"
             "                            (theta1, theta2: worm and wheel angles in rad, [0, 2 pi);\n"
-            "                            the Poincare CSV ends with them too)\n"
+            "                            the Poincare CSV ends with them too); '-' is stdout, for\n"
+            "                            one of the three at most (two CSVs would interleave)\n"
             "  --units dimensionless|physical  CSV units (default dimensionless); physical:\n"
             "                            s, Hz, um, m/s, N (column names get unit suffixes)\n"
             "  -h, --help                this text\n\n"
@@ -124,6 +125,25 @@ static int opt_one(opts *o, int c, const char *a)
     }
 }
 
+/* Two CSVs on stdout would interleave row by row: at most one output may
+ * be "-". 0, or CLI_EUSAGE naming the options. */
+static int one_on_stdout(const opts *o)
+{
+    static const char *const names[3] = {"--poincare", "--events", "--trace"};
+    const char *paths[3] = {o->poincare, o->events, o->trace}, *on[3];
+    int n = 0;
+    for (int i = 0; i < 3; i++)
+        if (paths[i] && strcmp(paths[i], "-") == 0)
+            on[n++] = names[i];
+    if (n == 2)
+        return cli_usage_error(PROG, "%s and %s both write to '-': at most one output may go to "
+                               "stdout (give the other a FILE)", on[0], on[1]);
+    if (n == 3)
+        return cli_usage_error(PROG, "%s, %s and %s all write to '-': at most one output may go "
+                               "to stdout (give the others a FILE)", on[0], on[1], on[2]);
+    return 0;
+}
+
 static int parse_opts(int argc, char **argv, opts *o)
 {
     static const struct option lo[] = {
@@ -148,7 +168,7 @@ static int parse_opts(int argc, char **argv, opts *o)
     }
     if (optind < argc)
         return cli_usage_error(PROG, "unexpected argument '%s'", argv[optind]);
-    return 0;
+    return one_on_stdout(o);
 }
 
 /* ---- output ------------------------------------------------------------- */

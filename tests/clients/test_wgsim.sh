@@ -83,6 +83,13 @@ expect_exit 2 "need N >= " --set omega=0.05 --steps-per-period 64
 expect_exit 2 "supports the rk4 stepper only" --model printed --stepper rk4-event
 # the stability refusal names the option that sets N
 expect_exit 2 "need N >= 1062 .*; --steps-per-period sets N" --set omega=0.01
+# two CSVs on stdout would interleave: refused before anything is written
+expect_exit 2 "--poincare and --events both write to '-': at most one output may go to stdout" \
+    --poincare - --events - --periods 2 --transient 0
+check "two outputs on stdout: nothing written there" test ! -s "$tmp/out"
+expect_exit 2 "--poincare, --events and --trace all write to '-'" \
+    --poincare - --events - --trace - --periods 2 --transient 0
+expect_exit 2 "--events and --trace both write to '-'" --events - --trace - --periods 2
 expect_exit 2 "scene 'nosuch' not found" --scene nosuch
 printf '[params]\nomega = 1\nxi_p = 7\n' >"$tmp/bad.ini"
 expect_exit 1 "bad.ini:3: xi_p: value 7 out of range \[0, 2\]" --scene "$tmp/bad.ini"
