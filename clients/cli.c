@@ -187,15 +187,20 @@ int64_t cli_wall_us(void)
     return (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
 }
 
-void cli_on_stop_signals(void (*fn)(int))
+static void on_stop_signals(void (*fn)(int), int flags)
 {
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = fn;
+    sa.sa_flags = flags;
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
 }
+
+void cli_on_stop_signals(void (*fn)(int)) { on_stop_signals(fn, 0); }
+
+void cli_on_stop_signals_restart(void (*fn)(int)) { on_stop_signals(fn, SA_RESTART); }
 
 int cli_vary_param(const char *name)
 {

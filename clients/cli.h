@@ -89,6 +89,11 @@ int cli_vary_param_error(const char *prog, const char *opt, const char *name, in
  * EINTR, so the program sees its stop flag at once). */
 void cli_on_stop_signals(void (*fn)(int));
 
+/* The same with SA_RESTART, for a program that never waits but writes: a
+ * write blocked on a full pipe goes on after fn instead of failing with
+ * EINTR (stdio would drop the buffer it held: rows lost mid-file). */
+void cli_on_stop_signals_restart(void (*fn)(int));
+
 /* Bytes of the well-formed UTF-8 sequence of 2 to 4 bytes at p (RFC 3629:
  * no overlong form, no surrogate, nothing past U+10FFFF), 0 if none. */
 int cli_utf8_len(const char *p);

@@ -1,5 +1,5 @@
 /* wgsim - run the worm-gear model offline and write CSV or a summary.
- * Exit 0 ok, 1 runtime error, 2 usage error. */
+ * Exit 0 ok, 1 runtime error, 2 usage error, 130 stopped by a signal. */
 #include "cli.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_sim.h"
@@ -7,12 +7,24 @@
 
 #include <getopt.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define TWO_PI 6.283185307179586
 #define PROG "wgsim"
+
+static volatile sig_atomic_t g_stop; /* set by the signal handler only */
+
+/* The first Ctrl-C (or SIGTERM) asks the run to stop at the end of the
+ * chunk of periods it is in; a second ends wgsim at once (the default
+ * action), as wgsweep's and wgcont's do. */
+static void on_signal(int sig)
+{
+    g_stop = 1;
+    signal(sig, SIG_DFL);
+}
 
 typedef struct opts {
     const char *scene;
@@ -52,11 +64,15 @@ static void usage(FILE *f)
             "  --events FILE|-           CSV of contact events: tau,contact,kind,velocity\n"
             "  --trace FILE|-            CSV of every step: tau,omega,x_n,dx_n,F,theta1,theta2\n"
             "                            (theta1, theta2: worm and wheel angles in rad, [0, 2 pi);\n"
-            "                            the Poincare CSV ends with them too)\n"
+            "                            the Poincare CSV ends with them too); '-' is stdout, for\n"
+            "                            one of the three at most (two CSVs would interleave)\n"
             "  --units dimensionless|physical  CSV units (default dimensionless); physical:\n"
             "                            s, Hz, um, m/s, N (column names get unit suffixes)\n"
             "  -h, --help                this text\n\n"
-            "Exit status: 0 ok, 1 runtime error, 2 usage error.\n\n"
+            "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 stopped: Ctrl-C or\n"
+            "SIGTERM stops the run at the end of a chunk of whole periods (a few ms), with\n"
+            "every row written whole and a line saying after how many periods; a second\n"
+            "Ctrl-C ends it at once.\n\n"
             "Parameters (dimensionless; name unit [min, max] default: help):\n",
             WG_STEPS_MIN, WG_STEPS_MAX, WG_STEPS_DEFAULT);
     for (int i = 0; i < WG_NPARAM; i++) {
@@ -124,6 +140,25 @@ static int opt_one(opts *o, int c, const char *a)
     }
 }
 
+/* Two CSVs on stdout would interleave row by row: at most one output may
+ * be "-". 0, or CLI_EUSAGE naming the options. */
+static int one_on_stdout(const opts *o)
+{
+    static const char *const names[3] = {"--poincare", "--events", "--trace"};
+    const char *paths[3] = {o->poincare, o->events, o->trace}, *on[3];
+    int n = 0;
+    for (int i = 0; i < 3; i++)
+        if (paths[i] && strcmp(paths[i], "-") == 0)
+            on[n++] = names[i];
+    if (n == 2)
+        return cli_usage_error(PROG, "%s and %s both write to '-': at most one output may go to "
+                               "stdout (give the other a FILE)", on[0], on[1]);
+    if (n == 3)
+        return cli_usage_error(PROG, "%s, %s and %s all write to '-': at most one output may go "
+                               "to stdout (give the others a FILE)", on[0], on[1], on[2]);
+    return 0;
+}
+
 static int parse_opts(int argc, char **argv, opts *o)
 {
     static const struct option lo[] = {
@@ -148,7 +183,7 @@ static int parse_opts(int argc, char **argv, opts *o)
     }
     if (optind < argc)
         return cli_usage_error(PROG, "unexpected argument '%s'", argv[optind]);
-    return 0;
+    return one_on_stdout(o);
 }
 
 /* ---- output ------------------------------------------------------------- */
@@ -307,7 +342,11 @@ static int setup(opts *o, wg_scene *sc, wg_sim *sim)
     }
     wg_sim_config cfg = {sc->model, o->stepper, o->steps};
     if ((rc = wg_sim_init(sim, &sc->p, &cfg, why, sizeof why))) {
-        fprintf(stderr, "wgsim: %s\n", why);
+        if (rc == WG_ESTABILITY) /* the library's message names N, not the option */
+            fprintf(stderr, "wgsim: %s; --steps-per-period sets N (%d..%d)\n", why, WG_STEPS_MIN,
+                    WG_STEPS_MAX);
+        else
+            fprintf(stderr, "wgsim: %s\n", why);
         return rc == WG_ESTABILITY || rc == WG_ERANGE ? 2 : 1;
     }
     double y[WG_NSTATE_MAX];
@@ -337,21 +376,47 @@ static void close_outputs(run *r)
             fclose(fs[i]);
 }
 
-/* Run the transient and the recorded periods into r's sinks; the wall time
- * in *wall. WG_OK, or the code of a blow-up (reported). */
-static int run_periods(run *r, wg_sim *sim, double *wall)
+/* Steps per wg_sim_run call: whole periods (N <= 65536: one at least),
+ * about 2^16 steps, a millisecond or so (tens with --trace), so that a stop
+ * asked for is seen soon and falls at a period's end. The pieces take the
+ * same steps to the bit as one call would (wg_sim_run resumes the run). */
+static uint64_t chunk_steps(int steps) { return (uint64_t)(65536 / steps) * (uint64_t)steps; }
+
+/* Run the transient and the recorded periods into r's sinks, a chunk at a
+ * time, until they are done, the state blows up (reported) or a stop is
+ * asked for (*stopped 1); the wall time in *wall. WG_OK, or the code of a
+ * blow-up. */
+static int run_periods(run *r, wg_sim *sim, double *wall, int *stopped)
 {
     const opts *o = r->o;
     wg_sink sink = {r, r->ft ? on_step : NULL, on_section, r->fe ? on_event : NULL};
     uint64_t n = ((uint64_t)o->periods + (uint64_t)o->transient) * (uint64_t)o->steps, done = 0;
+    uint64_t chunk = chunk_steps(o->steps);
     double t0 = cli_mono_s();
-    int rc = wg_sim_run(sim, n, &sink, &done);
+    int rc = WG_OK;
+    while (rc == WG_OK && done < n && !g_stop) {
+        uint64_t took = 0;
+        rc = wg_sim_run(sim, n - done < chunk ? n - done : chunk, &sink, &took);
+        done += took;
+    }
     *wall = cli_mono_s() - t0;
+    *stopped = rc == WG_OK && done < n;
     if (rc)
         fprintf(stderr, "wgsim: step %llu (tau = %.9g): %s: the state blew up; the last good "
                         "state is kept. Try more --steps-per-period.\n",
                 (unsigned long long)done, sim->tau, wg_status_str(rc));
     return rc;
+}
+
+/* The one line of a run stopped by a signal, after its files are closed. */
+static void say_stopped(const run *r, const wg_sim *sim)
+{
+    const opts *o = r->o;
+    fprintf(stderr, "wgsim: interrupted after %llu of %llu periods (%ld recorded after a "
+                    "transient of %d); every row written is whole\n",
+            (unsigned long long)sim->period,
+            (unsigned long long)o->periods + (unsigned long long)o->transient, r->recorded,
+            o->transient);
 }
 
 int main(int argc, char **argv)
@@ -364,14 +429,19 @@ int main(int argc, char **argv)
         return rc;
     run r = {.o = &o, .sc = &sc, .min_xn = INFINITY, .max_xn = -INFINITY};
     double wall = 0.0;
+    int stopped = 0;
+    /* restart: a row blocked on a full pipe is written, not dropped */
+    cli_on_stop_signals_restart(on_signal);
     if (open_outputs(&r) == 0) {
-        rc = run_periods(&r, &sim, &wall);
+        rc = run_periods(&r, &sim, &wall, &stopped);
         if (!o.poincare && !o.events && !o.trace)
             summary(&r, &sim, wall);
     } else {
         rc = 1;
     }
     close_outputs(&r);
+    if (stopped)
+        say_stopped(&r, &sim);
     wg_sim_fini(&sim);
-    return rc ? 1 : 0;
+    return stopped ? 130 : rc ? 1 : 0;
 }

@@ -3,12 +3,16 @@
 #include "wormgear/wg_status.h"
 
 #include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
 #include <ini.h>
 #include <limits.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 /* The scene directory relative to the directory of the running program
@@ -90,10 +94,25 @@ void wg_scale_default(wg_scale *s)
     s->mesh_stiffness_N_m = s->me_kg * s->omega_n_rad_s * s->omega_n_rad_s;
 }
 
+/* A key the loader took, for the duplicate check. Only known keys are
+ * recorded (an unknown one ends the load), so KEYS_MAX never fills: the
+ * [scene], [params], [physical], [scale] keys, state and the 18 names of
+ * both models' state values. */
+enum { KEYS_MAX = 3 + WG_NPARAM + NPHYS + 3 + 1 + 18 };
+typedef struct taken {
+    char sec[12], name[32];
+    int line;
+} taken;
+
 typedef struct loader {
     FILE *f;
     const char *path;
     int line;
+    int indented;   /* the line read starts with white space */
+    int header;     /* a [section] line came since the last key */
+    int nset;       /* key = value lines seen */
+    taken keys[KEYS_MAX];
+    int nkeys;
     wg_scene *sc;
     char *why;
     size_t whylen;
@@ -103,16 +122,24 @@ typedef struct loader {
     int nphys;
     int par_line[WG_NPARAM];
     double par[WG_NPARAM];
-    int state_given;
+    int state_given, state_line;
     double y0[2][WG_NSTATE_MAX]; /* [initial] in the consistent and printed layouts */
+    int y0_line[2][WG_NSTATE_MAX];
 } loader;
 
+/* Lines for libinih, counted; and what it does not tell the handler: an
+ * indented line after a key is that key's value continued (its multi-line
+ * values), unless a [section] line came between. */
 static char *reader(char *str, int num, void *stream)
 {
     loader *L = stream;
     char *r = fgets(str, num, L->f);
-    if (r)
+    if (r) {
         L->line++;
+        L->indented = *r == ' ' || *r == '\t';
+        if (r[strspn(r, " \t")] == '[')
+            L->header = 1;
+    }
     return r;
 }
 
@@ -122,6 +149,25 @@ static int fail(loader *L, int rc, const char *fmt, const char *a, const char *b
         char msg[400];
         snprintf(msg, sizeof msg, fmt, a, b);
         snprintf(L->why, L->whylen, "%s:%d: %s", L->path, L->line, msg);
+        L->rc = rc;
+    }
+    return 0;
+}
+
+/* fail() with any format, at a line given (0: none, "file: ..."). */
+__attribute__((format(printf, 4, 5))) static int failf(loader *L, int line, int rc,
+                                                       const char *fmt, ...)
+{
+    if (L->rc == WG_OK) {
+        char msg[400];
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(msg, sizeof msg, fmt, ap);
+        va_end(ap);
+        if (line)
+            snprintf(L->why, L->whylen, "%s:%d: %s", L->path, line, msg);
+        else
+            snprintf(L->why, L->whylen, "%s: %s", L->path, msg);
         L->rc = rc;
     }
     return 0;
@@ -170,6 +216,7 @@ static int on_scene(loader *L, const char *name, const char *value)
 static int on_initial(loader *L, const char *name, const char *value)
 {
     if (strcmp(name, "state") == 0) {
+        L->state_line = L->line;
         if (strcmp(value, "equilibrium") == 0)
             L->state_given = 0;
         else if (strcmp(value, "given") == 0)
@@ -185,6 +232,7 @@ static int on_initial(loader *L, const char *name, const char *value)
                 wg_param_info row = {name, "1", -1e6, 1e6, 0, 0, ""};
                 if (!number(L, &row, value, &L->y0[m][i]))
                     return 0;
+                L->y0_line[m][i] = L->line;
                 found = 1;
             }
     if (found)
@@ -192,9 +240,38 @@ static int on_initial(loader *L, const char *name, const char *value)
     return fail(L, WG_EUNKNOWN, "[initial] %s: unknown key (state, x1..z2, s or th1 th2, dx1..ds)%s", name, "");
 }
 
-static int handler(void *user, const char *section, const char *name, const char *value)
+/* Refuse a key given before in its section (the later value won, silently),
+ * or an indented line continuing a value (which replaced it, silently):
+ * 1 if the key is new. */
+static int first_time(loader *L, const char *section, const char *name)
 {
-    loader *L = user;
+    const taken *last = L->nkeys ? &L->keys[L->nkeys - 1] : NULL;
+    if (L->indented && !L->header && last && !strcmp(last->sec, section) &&
+        !strcmp(last->name, name))
+        return failf(L, L->line, WG_EINVAL, "[%s] %s: this indented line would continue the "
+                     "value of line %d; a value is one line (remove the indent)",
+                     section, name, last->line);
+    for (int i = 0; i < L->nkeys; i++)
+        if (!strcmp(L->keys[i].sec, section) && !strcmp(L->keys[i].name, name))
+            return failf(L, L->line, WG_EINVAL, "[%s] %s: given twice (first at line %d); a "
+                         "key may be given once in its section", section, name, L->keys[i].line);
+    return 1;
+}
+
+/* Record a key taken (known, so it fits: see KEYS_MAX). */
+static void remember(loader *L, const char *section, const char *name)
+{
+    if (L->nkeys == KEYS_MAX)
+        return;
+    taken *t = &L->keys[L->nkeys++];
+    snprintf(t->sec, sizeof t->sec, "%s", section);
+    snprintf(t->name, sizeof t->name, "%s", name);
+    t->line = L->line;
+}
+
+/* One key = value line of a known section, or the unknown-section error. */
+static int on_key(loader *L, const char *section, const char *name, const char *value)
+{
     if (strcmp(section, "scene") == 0)
         return on_scene(L, name, value);
     if (strcmp(section, "initial") == 0)
@@ -240,6 +317,74 @@ static int handler(void *user, const char *section, const char *name, const char
     }
     return fail(L, WG_EUNKNOWN, "[%s]: unknown section%s", section,
                 " (allowed: scene, params, physical, scale, initial)");
+}
+
+static int handler(void *user, const char *section, const char *name, const char *value)
+{
+    loader *L = user;
+    L->nset++;
+    int ok = first_time(L, section, name) && on_key(L, section, name, value);
+    if (ok)
+        remember(L, section, name);
+    L->header = 0;
+    return ok;
+}
+
+/* Index of state value `name` in model m's layout, or -1. */
+static int state_index(int m, const char *name)
+{
+    for (int i = 0; i < WG_NSTATE_MAX && state_keys[m][i]; i++)
+        if (strcmp(state_keys[m][i], name) == 0)
+            return i;
+    return -1;
+}
+
+/* The first state value given (smallest line) in either layout: its line,
+ * and its name in *name; 0 if none. */
+static int first_state_value(const loader *L, const char **name)
+{
+    int best = 0;
+    for (int m = 0; m < 2; m++)
+        for (int i = 0; i < WG_NSTATE_MAX && state_keys[m][i]; i++)
+            if (L->y0_line[m][i] && (!best || L->y0_line[m][i] < best)) {
+                best = L->y0_line[m][i];
+                *name = state_keys[m][i];
+            }
+    return best;
+}
+
+/* [initial] against the scene's model (known only after the whole file):
+ * state = given takes every state value of the model (a missing one
+ * started at 0) and none of the other model's; an equilibrium start takes
+ * none (they were ignored). WG_OK, or WG_EINVAL with why. */
+static int check_initial(loader *L)
+{
+    int m = L->sc->model == WG_MODEL_PRINTED, n = wg_model_nstate(L->sc->model);
+    const char *model = wg_model_name(L->sc->model), *name = NULL;
+    if (!L->state_given) {
+        int line = first_state_value(L, &name);
+        if (line)
+            failf(L, line, WG_EINVAL, "[initial] %s: a state value, but the start is the "
+                  "equilibrium (%s) and would ignore it: set state = given with all the "
+                  "values of the %s model, or remove it", name,
+                  L->state_line ? "state = equilibrium" : "the default", model);
+        return L->rc;
+    }
+    char missing[200] = ""; /* 16 names at most */
+    for (int i = 0; i < n; i++)
+        if (!L->y0_line[m][i]) {
+            size_t k = strlen(missing);
+            snprintf(missing + k, sizeof missing - k, "%s%s", k ? ", " : "", state_keys[m][i]);
+        }
+    if (missing[0])
+        failf(L, L->state_line, WG_EINVAL, "[initial] state = given needs all %d state values "
+              "of the %s model; missing: %s", n, model, missing);
+    for (int i = 0; i < WG_NSTATE_MAX && state_keys[!m][i]; i++)
+        if (L->y0_line[!m][i] && state_index(m, state_keys[!m][i]) < 0)
+            failf(L, L->y0_line[!m][i], WG_EINVAL, "[initial] %s: not a state value of the %s "
+                  "model, it would be ignored (its values: %s ... %s)", state_keys[!m][i], model,
+                  state_keys[m][0], state_keys[m][n - 1]);
+    return L->rc; /* the first failf's, or WG_OK */
 }
 
 /* Convert the [physical] section (MODEL.md s3). */
@@ -369,6 +514,35 @@ static int check_all(loader *L)
     return WG_OK;
 }
 
+/* Open path for reading if it is a regular file: WG_OK, or WG_EIO with why
+ * saying what it is. A directory opens and reads as an empty file (the
+ * defaults ran under its name); O_NONBLOCK keeps the open of a FIFO from
+ * waiting for a writer (it is refused, and changes nothing for a regular
+ * file). fstat on the open file: no window between the test and the use. */
+static int open_regular(const char *path, FILE **f, char *why, size_t whylen)
+{
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0) {
+        snprintf(why, whylen, "%s: cannot open scene file: %s", path, strerror(errno));
+        if (fd >= 0)
+            close(fd);
+        return WG_EIO;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        snprintf(why, whylen, "%s: %s; a scene must be a regular .ini file", path,
+                 S_ISDIR(st.st_mode) ? "is a directory" : "is not a regular file");
+        close(fd);
+        return WG_EIO;
+    }
+    if (!(*f = fdopen(fd, "r"))) {
+        snprintf(why, whylen, "%s: cannot open scene file: %s", path, strerror(errno));
+        close(fd);
+        return WG_EIO;
+    }
+    return WG_OK;
+}
+
 int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen)
 {
     memset(sc, 0, sizeof *sc);
@@ -383,11 +557,9 @@ int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen)
     wg_params_default(&sc->p);
     wg_scale_default(&sc->scale);
     snprintf(sc->path, sizeof sc->path, "%s", path);
-    L.f = fopen(path, "r");
-    if (!L.f) {
-        snprintf(why, whylen, "%s: cannot open scene file", path);
-        return WG_EIO;
-    }
+    int rc = open_regular(path, &L.f, why, whylen);
+    if (rc)
+        return rc;
     int r = ini_parse_stream(reader, &L, handler, &L);
     fclose(L.f);
     if (L.rc)
@@ -396,9 +568,16 @@ int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen)
         snprintf(why, whylen, "%s:%d: syntax error (expected [section] or key = value)", path, r);
         return WG_EINVAL;
     }
+    if (!L.nset) { /* else the defaults ran under the file's name */
+        failf(&L, 0, WG_EINVAL, "no settings (the file is empty or holds only comments and "
+              "[section] lines); a scene gives at least one key = value");
+        return L.rc;
+    }
+    if ((rc = check_initial(&L)))
+        return rc;
     if (L.nphys) {
         sc->physical = 1;
-        int rc = convert(&L);
+        rc = convert(&L);
         if (rc)
             return rc;
     }
@@ -463,15 +642,25 @@ static int listed(const char *list, const char *name, size_t m)
     return 0;
 }
 
+/* Is dir/name a regular file (after symlinks), as wg_scene_load wants? */
+static int regular(const char *dir, const char *name)
+{
+    char p[1024];
+    struct stat st;
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    return stat(p, &st) == 0 && S_ISREG(st.st_mode);
+}
+
 /* Append ", "-separated names of the NAME.ini files in dir, sorted, each
- * name once (the same scenes in $WG_SCENE_PATH and the data directory). */
+ * name once (the same scenes in $WG_SCENE_PATH and the data directory); a
+ * directory NAME.ini is no scene, so not offered as one. */
 static void list_scenes(const char *dir, char *out, size_t len)
 {
     struct dirent **e;
     int n = *dir ? scandir(dir, &e, only_ini, by_stem) : -1;
     for (int i = 0; i < n; i++) {
         size_t k = strlen(out), m = strlen(e[i]->d_name) - 4;
-        if (!listed(out, e[i]->d_name, m))
+        if (!listed(out, e[i]->d_name, m) && regular(dir, e[i]->d_name))
             snprintf(out + k, len - k, "%s%.*s", k ? ", " : "", (int)m, e[i]->d_name);
         free(e[i]);
     }

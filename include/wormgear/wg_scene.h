@@ -5,8 +5,12 @@
  * [physical] masses, inertias, radii, stiffnesses, torque, backlash in um...
  *            converted once at load; [params] keys then override.
  * [scale]    omega_n_rad_s, length_m, mesh_stiffness_N_m for physical output
- * [initial]  state = equilibrium | given; with `given`, x1 ... ds values.
- * Errors read "file:line: key: value out of range [min, max]". */
+ * [initial]  state = equilibrium | given; with `given`, every state value of
+ *            the model (x1 ... ds; printed: th1 th2 dth1 dth2 for s, ds), and
+ *            none without it.
+ * Errors read "file:line: key: value out of range [min, max]"; a key given
+ * twice in a section, an indented (continued) value and a file with no
+ * settings are errors too. */
 #ifndef WG_SCENE_H
 #define WG_SCENE_H
 
@@ -38,13 +42,15 @@ typedef struct wg_scene {
 void wg_scale_default(wg_scale *s);
 
 /* Load a scene from a file. WG_OK, or WG_EIO / WG_EINVAL / WG_ERANGE /
- * WG_EUNKNOWN with "file:line: key: ..." in why. */
+ * WG_EUNKNOWN with "file:line: key: ..." in why; WG_EIO with the reason
+ * when the file cannot be opened or is not a regular file (a directory, a
+ * FIFO: refused without reading or waiting). */
 int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen);
 
 /* Resolve NAME or FILE: a path containing '/' or ending in ".ini" is used as
  * given; otherwise NAME.ini is looked up in $WG_SCENE_PATH (colon-separated),
  * then in the data directory next to the program (wg_scene_data_dir). The
- * error lists the scenes those directories hold. */
+ * error lists the scenes those directories hold (regular files only). */
 int wg_scene_find(const char *name_or_file, char *path, size_t pathlen,
                   char *why, size_t whylen);
 

@@ -81,9 +81,95 @@ expect_exit 2 "z2 = 37.5 must be a whole number in \[4, 1000\]" --set z2=37.5
 expect_exit 2 "must be an integer in \[8, 65536\]" --steps-per-period 4
 expect_exit 2 "need N >= " --set omega=0.05 --steps-per-period 64
 expect_exit 2 "supports the rk4 stepper only" --model printed --stepper rk4-event
+# the stability refusal names the option that sets N
+expect_exit 2 "need N >= 1062 .*; --steps-per-period sets N" --set omega=0.01
+# two CSVs on stdout would interleave: refused before anything is written
+expect_exit 2 "--poincare and --events both write to '-': at most one output may go to stdout" \
+    --poincare - --events - --periods 2 --transient 0
+check "two outputs on stdout: nothing written there" test ! -s "$tmp/out"
+expect_exit 2 "--poincare, --events and --trace all write to '-'" \
+    --poincare - --events - --trace - --periods 2 --transient 0
+expect_exit 2 "--events and --trace both write to '-'" --events - --trace - --periods 2
 expect_exit 2 "scene 'nosuch' not found" --scene nosuch
 printf '[params]\nomega = 1\nxi_p = 7\n' >"$tmp/bad.ini"
 expect_exit 1 "bad.ini:3: xi_p: value 7 out of range \[0, 2\]" --scene "$tmp/bad.ini"
+# a scene file that cannot be opened: the reason is said
+expect_exit 1 "no-dir/good: cannot open scene file: No such file or directory" \
+    --scene "$tmp/no-dir/good"
+# a directory is not a scene (it ran the defaults under its name, exit 0),
+# by path or by name, and the scenes listed leave it out
+mkdir -p "$tmp/sp/x.ini"
+expect_exit 1 "sp/x.ini: is a directory; a scene must be a regular .ini file" \
+    --scene "$tmp/sp/x.ini"
+WG_SCENE_PATH="$tmp/sp" expect_exit 2 "sp/x.ini: is a directory; a scene must be" --scene x
+WG_SCENE_PATH="$tmp/sp" expect_exit 2 "scenes there: lowfreq, realistic" --scene nosuch
+# a key given twice: refused where it was (the later value won, silently)
+printf '[params]\nomega = 1\nomega = 0.5\n' >"$tmp/dup.ini"
+expect_exit 1 "dup.ini:3: \[params\] omega: given twice (first at line 2)" --scene "$tmp/dup.ini"
 expect_exit 0 "motion" --model printed --periods 5 --transient 0
+
+# Stops. wait_exit PID SECONDS: rc=the exit status, or "timeout" (then killed).
+wait_exit() {
+    local i=0
+    while kill -0 "$1" 2>/dev/null && [ $i -lt $(($2 * 10)) ]; do sleep 0.1; i=$((i + 1)); done
+    if kill -0 "$1" 2>/dev/null; then kill -9 "$1"; wait "$1" 2>/dev/null; rc=timeout
+    else wait "$1"; rc=$?; fi
+}
+whole_rows() { # whole_rows FILE FIELDS: ends in a newline, every line FIELDS fields
+    [ "$(tail -c1 "$1" | od -An -tx1 | tr -d ' ')" = 0a ] &&
+        awk -F, -v n="$2" 'NF != n { bad = 1 } END { exit bad }' "$1"
+}
+# Ctrl-C (SIGINT; a background job ignores it, wgsim's handler does not)
+# stops the run at the end of a chunk of whole periods: exit 130, every row
+# whole, one line saying after how many periods. It used to end by the
+# signal's default action with the last row torn.
+"$WGSIM" --periods 100000000 --transient 0 --poincare "$tmp/int.csv" 2>"$tmp/int.err" &
+pid=$!
+sleep 1
+kill -INT $pid
+wait_exit $pid 10
+rows=$(($(wc -l <"$tmp/int.csv") - 1))
+check "Ctrl-C: exit 130 ($rc)" test "$rc" = 130
+check "Ctrl-C: $rows rows, every one whole" whole_rows "$tmp/int.csv" 22
+said_rows() { # one line on stderr, naming the periods run
+    [ "$(wc -l <"$tmp/int.err")" -eq 1 ] &&
+        grep -q "^wgsim: interrupted after $rows of 100000000 periods" "$tmp/int.err"
+}
+check "Ctrl-C: one line, interrupted after $rows periods" said_rows
+# Blocked writing to a full pipe (a FIFO nobody reads): the first SIGTERM
+# leaves wgsim there (the write goes on after the handler: it would fail
+# with EINTR and stdio drop a buffer of rows); a second ends it at once.
+mkfifo "$tmp/fifo1" "$tmp/fifo2"
+exec 3<>"$tmp/fifo1"
+"$WGSIM" --periods 100000000 --transient 0 --trace "$tmp/fifo1" 2>"$tmp/f1.err" 3>&- &
+pid=$!
+sleep 0.5
+kill -TERM $pid
+sleep 0.5
+check "first SIGTERM, blocked on a full pipe: still running" kill -0 $pid
+kill -TERM $pid
+wait_exit $pid 10
+exec 3>&-
+check "second SIGTERM: ends it at once, by the signal ($rc)" test "$rc" = 143
+# ... and once the pipe drains, the first SIGTERM's stop: no row lost or torn
+exec 3<>"$tmp/fifo2"
+"$WGSIM" --periods 100000000 --transient 0 --trace "$tmp/fifo2" 2>"$tmp/f2.err" 3>&- &
+pid=$!
+sleep 0.5
+kill -TERM $pid
+sleep 0.3
+exec 4<"$tmp/fifo2" # the reader, open before our end closes (else SIGPIPE)
+timeout 30 cat <&4 >"$tmp/f2.csv" 3>&- 4<&- &
+cat=$!
+exec 3>&- 4<&-
+wait_exit $pid 20
+wait $cat
+p=$(sed -n 's/^wgsim: interrupted after \([0-9]*\) of .*/\1/p' "$tmp/f2.err")
+check "SIGTERM blocked on a pipe, then drained: exit 130 ($rc)" test "$rc" = 130
+drained() { # every trace row whole, N = 128 of them for each period said
+    whole_rows "$tmp/f2.csv" 7 && [ "${p:-0}" -gt 0 ] &&
+        [ $(($(wc -l <"$tmp/f2.csv") - 1)) -eq $((p * 128)) ]
+}
+check "... every trace row whole, 128 for each of the $p periods" drained
 
 exit $fail

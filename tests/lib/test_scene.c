@@ -7,6 +7,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static char dir[64];
@@ -143,13 +144,68 @@ static void test_malformed_lines(void)
     /* a given initial state is used */
     wg_scene sc;
     char why[600];
-    const char *p = scene_file("given.ini", "[initial]\nstate = given\nx1 = 0.5\nds = -0.25\n");
+    const char *p = scene_file("given.ini", "[initial]\nstate = given\nx1 = 0.5\ny1 = 0\nz1 = 0\n"
+                                            "x2 = 0\ny2 = 0\nz2 = 0\ns = 1.5\ndx1 = 0\ndy1 = 0\n"
+                                            "dz1 = 0\ndx2 = 0\ndy2 = 0\ndz2 = 0\nds = -0.25\n");
     ASSERT_EQ_INT(wg_scene_load(&sc, p, why, sizeof why), WG_OK);
     double y[16];
     wg_scene_initial(&sc, y);
     ASSERT_NEAR(y[0], 0.5, 0);
     ASSERT_NEAR(y[13], -0.25, 0);
-    ASSERT_NEAR(y[6], 0.0, 0);
+    ASSERT_NEAR(y[6], 1.5, 0);
+    ASSERT_NEAR(y[1], 0.0, 0);
+}
+
+/* What the loader took silently before: a key given twice (the later value
+ * won), an indented line (libinih continues the value before it), a file
+ * with no settings (the defaults ran), state = given with values missing
+ * (they started at 0), and state values the start ignores. */
+static void test_silent_no_more(void)
+{
+    expect_error("dup.ini", "[params]\nomega = 1\nxi_p = 0.1\nomega = 0.5\n", WG_EINVAL, ":4:",
+                 "[params] omega: given twice (first at line 2)");
+    expect_error("dup2.ini", "[params]\nomega = 1\n[scene]\nname = a\n[params]\nomega = 2\n",
+                 WG_EINVAL, ":6:", "[params] omega: given twice (first at line 2)");
+    expect_error("dup3.ini", "[scene]\nname = a\n\nname = b\n", WG_EINVAL, ":4:",
+                 "[scene] name: given twice (first at line 2)");
+    expect_error("dup4.ini", "[physical]\nbacklash_um = 5\nbacklash_um = 5\n", WG_EINVAL, ":3:",
+                 "[physical] backlash_um: given twice (first at line 2)");
+    expect_error("dup5.ini", "[initial]\nstate = equilibrium\nstate = given\n", WG_EINVAL, ":3:",
+                 "[initial] state: given twice (first at line 2)");
+    expect_error("dup6.ini", "[params]\nomega = 1\n[params]\n  omega = 2\n", WG_EINVAL, ":4:",
+                 "[params] omega: given twice (first at line 2)");
+    expect_error("cont.ini", "[params]\nomega = 1\n  0.5\n", WG_EINVAL, ":3:",
+                 "[params] omega: this indented line would continue the value of line 2");
+    expect_error("empty.ini", "", WG_EINVAL, ": ", "no settings");
+    expect_error("nokeys.ini", "; a comment\n[params]\n\n[scene]\n", WG_EINVAL, ": ",
+                 "no settings");
+    expect_error("given1.ini", "[initial]\nstate = given\nx1 = 0.5\n", WG_EINVAL, ":2:",
+                 "state = given needs all 14 state values of the consistent model; missing: y1, "
+                 "z1, x2, y2, z2, s, dx1, dy1, dz1, dx2, dy2, dz2, ds");
+    expect_error("given2.ini",
+                 "[initial]\nstate = given\nx1 = 0\ny1 = 0\nz1 = 0\nx2 = 0\ny2 = 0\nz2 = 0\n"
+                 "s = 0\ndx1 = 0\ndy1 = 0\ndz1 = 0\ndx2 = 0\ndy2 = 0\ndz2 = 0\nds = 0\n"
+                 "[scene]\nmodel = printed\n",
+                 WG_EINVAL, ":2:", "of the printed model; missing: th1, th2, dth1, dth2");
+    expect_error("given3.ini",
+                 "[initial]\nstate = given\nx1 = 0\ny1 = 0\nz1 = 0\nx2 = 0\ny2 = 0\nz2 = 0\n"
+                 "s = 0\ndx1 = 0\ndy1 = 0\ndz1 = 0\ndx2 = 0\ndy2 = 0\ndz2 = 0\nds = 0\n"
+                 "th2 = 0\n",
+                 WG_EINVAL, ":17:", "[initial] th2: not a state value of the consistent model");
+    expect_error("eq1.ini", "[initial]\nstate = equilibrium\nz2 = 0.5\nx1 = 1\n", WG_EINVAL,
+                 ":3:", "[initial] z2: a state value, but the start is the equilibrium");
+    expect_error("eq2.ini", "[params]\nomega = 1\n[initial]\nds = 0.5\n", WG_EINVAL, ":4:",
+                 "[initial] ds: a state value, but the start is the equilibrium (the default)");
+    /* the printed model's own layout loads */
+    wg_scene sc;
+    char why[600];
+    const char *p = scene_file("printed.ini", "[scene]\nmodel = printed\n[initial]\nstate = given\n"
+                                              "x1 = 0\ny1 = 0\nz1 = 0\nx2 = 0\ny2 = 0\nz2 = 0\n"
+                                              "th1 = 0.25\nth2 = 0\ndx1 = 0\ndy1 = 0\ndz1 = 0\n"
+                                              "dx2 = 0\ndy2 = 0\ndz2 = 0\ndth1 = 0\ndth2 = -1\n");
+    ASSERT_EQ_INT(wg_scene_load(&sc, p, why, sizeof why), WG_OK);
+    ASSERT_NEAR(sc.y0[6], 0.25, 0);
+    ASSERT_NEAR(sc.y0[15], -1, 0);
 }
 
 static void setup(void)
@@ -203,6 +259,56 @@ static void test_not_found_lists_each_once(void)
     ASSERT_EQ_INT(n, 1);
 }
 
+/* A file that cannot be opened: the message says why (it said only
+ * "cannot open scene file"). */
+static void test_open_reason(void)
+{
+    wg_scene sc;
+    char why[600], path[128];
+    snprintf(path, sizeof path, "%s/no-dir/good", dir);
+    ASSERT_EQ_INT(wg_scene_load(&sc, path, why, sizeof why), WG_EIO);
+    printf("  %s\n", why);
+    ASSERT_CONTAINS(why, path);
+    ASSERT_CONTAINS(why, "cannot open scene file: No such file or directory");
+}
+
+/* A directory or a FIFO is not a scene. A directory opened and read as an
+ * empty file (the defaults ran under its name), a FIFO blocked the open;
+ * both are refused naming the path, and a directory NAME.ini is not listed
+ * among the scenes there. */
+static void test_not_a_regular_file(void)
+{
+    char sub[96], path[128], fifo[128], why[1600];
+    wg_scene sc;
+    snprintf(sub, sizeof sub, "%s/sp", dir);
+    snprintf(path, sizeof path, "%s/x.ini", sub);
+    snprintf(fifo, sizeof fifo, "%s/fifo.ini", dir);
+    ASSERT_EQ_INT(mkdir(sub, 0700), 0);
+    ASSERT_EQ_INT(mkdir(path, 0700), 0);
+    ASSERT_EQ_INT(mkfifo(fifo, 0600), 0);
+    ASSERT_EQ_INT(wg_scene_load(&sc, path, why, sizeof why), WG_EIO);
+    printf("  %s\n", why);
+    ASSERT_CONTAINS(why, path);
+    ASSERT_CONTAINS(why, ": is a directory; a scene must be a regular .ini file");
+    ASSERT_EQ_INT(wg_scene_load(&sc, fifo, why, sizeof why), WG_EIO);
+    printf("  %s\n", why);
+    ASSERT_CONTAINS(why, fifo);
+    ASSERT_CONTAINS(why, ": is not a regular file; a scene must be a regular .ini file");
+    /* by name in $WG_SCENE_PATH: found, refused; the list leaves it out */
+    char saved[512], y[128];
+    snprintf(saved, sizeof saved, "%s", getenv("WG_SCENE_PATH"));
+    snprintf(y, sizeof y, "%s/y.ini", sub);
+    FILE *f = fopen(y, "w");
+    ASSERT_TRUE(f && fputs("[params]\nomega = 1\n", f) >= 0 && fclose(f) == 0);
+    setenv("WG_SCENE_PATH", sub, 1);
+    ASSERT_EQ_INT(wg_scene_open(&sc, "x", why, sizeof why), WG_EIO);
+    ASSERT_CONTAINS(why, ": is a directory; a scene must be a regular .ini file");
+    ASSERT_EQ_INT(wg_scene_open(&sc, "no-such-scene", why, sizeof why), WG_EIO);
+    setenv("WG_SCENE_PATH", saved, 1);
+    printf("  %s\n", why);
+    ASSERT_STR(strstr(why, "scenes there: "), "scenes there: y");
+}
+
 static void test_all(void)
 {
     setup();
@@ -210,7 +316,10 @@ static void test_all(void)
     test_not_found_lists_each_once();
     test_physical_equals_dimensionless();
     test_malformed_lines();
+    test_silent_no_more();
     test_name_or_file();
+    test_open_reason();
+    test_not_a_regular_file();
     teardown();
 }
 
