@@ -3,6 +3,7 @@
 
 #include "wormgear/wg_param.h"
 #include "wormgear/wg_sim.h"
+#include "wormgear/wg_status.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -308,23 +309,11 @@ static int add_set(conf *c, const char *name, const char *value, char *why, size
 
 /* ---- INI file ------------------------------------------------------------ */
 
-/* What a path is when it is not a regular file (never opened to find out:
- * opening a FIFO blocks, reading /dev/zero never ends). */
-static const char *not_regular(mode_t m)
-{
-    return S_ISDIR(m)    ? "is a directory, not a regular file"
-           : S_ISFIFO(m) ? "is a FIFO, not a regular file"
-           : S_ISSOCK(m) ? "is a socket, not a regular file"
-           : S_ISCHR(m)  ? "is a character device, not a regular file"
-           : S_ISBLK(m)  ? "is a block device, not a regular file"
-                         : "is not a regular file";
-}
-
 /* A regular file within CONF_FILE_MAX, or why not (its kind or size). */
 static int file_ok(const char *path, const struct stat *st, char *why, size_t len)
 {
     if (!S_ISREG(st->st_mode)) {
-        snprintf(why, len, "config file %s %s", path, not_regular(st->st_mode));
+        snprintf(why, len, "config file %s %s", path, wg_file_not_regular(st->st_mode));
         return 2;
     }
     if (st->st_size > CONF_FILE_MAX) {

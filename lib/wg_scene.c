@@ -530,8 +530,8 @@ static int open_regular(const char *path, FILE **f, char *why, size_t whylen)
         return WG_EIO;
     }
     if (!S_ISREG(st.st_mode)) {
-        snprintf(why, whylen, "%s: %s; a scene must be a regular .ini file", path,
-                 S_ISDIR(st.st_mode) ? "is a directory" : "is not a regular file");
+        snprintf(why, whylen, "%s: %s (a scene is an .ini file)", path,
+                 wg_file_not_regular(st.st_mode));
         close(fd);
         return WG_EIO;
     }

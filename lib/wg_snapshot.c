@@ -406,23 +406,12 @@ int wg_snapshot_format(const wg_snapshot *snap, const char *scene, char *buf, si
 
 /* ---- reading a file --------------------------------------------------------------- */
 
-static const char *not_regular(mode_t m)
-{
-    return S_ISLNK(m)    ? "is a symbolic link (not followed), not a regular file"
-           : S_ISDIR(m)  ? "is a directory, not a regular file"
-           : S_ISFIFO(m) ? "is a FIFO, not a regular file"
-           : S_ISSOCK(m) ? "is a socket, not a regular file"
-           : S_ISCHR(m)  ? "is a character device, not a regular file"
-           : S_ISBLK(m)  ? "is a block device, not a regular file"
-                         : "is not a regular file";
-}
-
 /* A regular file within the size limit, or why not (its kind or size,
  * never its content). */
 static int file_ok(const char *path, const struct stat *st, char *why, size_t whylen)
 {
     if (!S_ISREG(st->st_mode)) {
-        snprintf(why, whylen, "%s %s", path, not_regular(st->st_mode));
+        snprintf(why, whylen, "%s %s", path, wg_file_not_regular(st->st_mode));
         return WG_EIO;
     }
     if (st->st_size > WG_SNAPSHOT_MAX) {
@@ -450,7 +439,7 @@ static int open_regular(const char *path, char *why, size_t whylen)
     int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0) {
         if (errno == ELOOP) /* replaced by a link since the lstat */
-            snprintf(why, whylen, "%s %s", path, not_regular(S_IFLNK));
+            snprintf(why, whylen, "%s %s", path, wg_file_not_regular(S_IFLNK));
         else
             snprintf(why, whylen, "cannot read %s: %s", path, strerror(errno));
         return WG_EIO;

@@ -99,9 +99,9 @@ expect_exit 1 "no-dir/good: cannot open scene file: No such file or directory" \
 # a directory is not a scene (it ran the defaults under its name, exit 0),
 # by path or by name, and the scenes listed leave it out
 mkdir -p "$tmp/sp/x.ini"
-expect_exit 1 "sp/x.ini: is a directory; a scene must be a regular .ini file" \
+expect_exit 1 "sp/x.ini: is a directory, not a regular file (a scene is an .ini file)" \
     --scene "$tmp/sp/x.ini"
-WG_SCENE_PATH="$tmp/sp" expect_exit 2 "sp/x.ini: is a directory; a scene must be" --scene x
+WG_SCENE_PATH="$tmp/sp" expect_exit 2 "sp/x.ini: is a directory, not a regular file" --scene x
 WG_SCENE_PATH="$tmp/sp" expect_exit 2 "scenes there: lowfreq, realistic" --scene nosuch
 # a key given twice: refused where it was (the later value won, silently)
 printf '[params]\nomega = 1\nomega = 0.5\n' >"$tmp/dup.ini"

@@ -289,11 +289,11 @@ static void test_not_a_regular_file(void)
     ASSERT_EQ_INT(wg_scene_load(&sc, path, why, sizeof why), WG_EIO);
     printf("  %s\n", why);
     ASSERT_CONTAINS(why, path);
-    ASSERT_CONTAINS(why, ": is a directory; a scene must be a regular .ini file");
+    ASSERT_CONTAINS(why, ": is a directory, not a regular file (a scene is an .ini file)");
     ASSERT_EQ_INT(wg_scene_load(&sc, fifo, why, sizeof why), WG_EIO);
     printf("  %s\n", why);
     ASSERT_CONTAINS(why, fifo);
-    ASSERT_CONTAINS(why, ": is not a regular file; a scene must be a regular .ini file");
+    ASSERT_CONTAINS(why, ": is a FIFO, not a regular file (a scene is an .ini file)");
     /* by name in $WG_SCENE_PATH: found, refused; the list leaves it out */
     char saved[512], y[128];
     snprintf(saved, sizeof saved, "%s", getenv("WG_SCENE_PATH"));
@@ -302,7 +302,7 @@ static void test_not_a_regular_file(void)
     ASSERT_TRUE(f && fputs("[params]\nomega = 1\n", f) >= 0 && fclose(f) == 0);
     setenv("WG_SCENE_PATH", sub, 1);
     ASSERT_EQ_INT(wg_scene_open(&sc, "x", why, sizeof why), WG_EIO);
-    ASSERT_CONTAINS(why, ": is a directory; a scene must be a regular .ini file");
+    ASSERT_CONTAINS(why, ": is a directory, not a regular file (a scene is an .ini file)");
     ASSERT_EQ_INT(wg_scene_open(&sc, "no-such-scene", why, sizeof why), WG_EIO);
     setenv("WG_SCENE_PATH", saved, 1);
     printf("  %s\n", why);
