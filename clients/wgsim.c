@@ -5,6 +5,7 @@
 #include "wormgear/wg_sim.h"
 #include "wormgear/wg_status.h"
 
+#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <signal.h>
@@ -368,12 +369,28 @@ static int open_outputs(run *r)
     return 0;
 }
 
-static void close_outputs(run *r)
+/* Close the outputs, each checked: a full disk or a closed pipe lost rows
+ * while wgsim said nothing and exited 0. 0, or -1 after one line per file
+ * that failed, saying why. */
+static int close_outputs(run *r)
 {
     FILE *fs[3] = {r->fp, r->fe, r->ft};
-    for (int i = 0; i < 3; i++)
-        if (fs[i] && fs[i] != stdout)
-            fclose(fs[i]);
+    const char *path[3] = {r->o->poincare, r->o->events, r->o->trace};
+    int bad = 0;
+    for (int i = 0; i < 3; i++) {
+        if (!fs[i])
+            continue;
+        int err = ferror(fs[i]);
+        errno = 0;
+        err |= fs[i] == stdout ? fflush(fs[i]) != 0 : fclose(fs[i]) != 0;
+        if (err) {
+            fprintf(stderr, "wgsim: writing %s failed%s%s: the file is incomplete\n",
+                    strcmp(path[i], "-") ? path[i] : "stdout", errno ? ": " : "",
+                    errno ? strerror(errno) : "");
+            bad = 1;
+        }
+    }
+    return bad ? -1 : 0;
 }
 
 /* Steps per wg_sim_run call: whole periods (N <= 65536: one at least),
@@ -439,7 +456,8 @@ int main(int argc, char **argv)
     } else {
         rc = 1;
     }
-    close_outputs(&r);
+    if (close_outputs(&r) && !rc)
+        rc = 1;
     if (stopped)
         say_stopped(&r, &sim);
     wg_sim_fini(&sim);

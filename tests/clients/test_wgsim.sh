@@ -172,4 +172,10 @@ drained() { # every trace row whole, N = 128 of them for each period said
 }
 check "... every trace row whole, 128 for each of the $p periods" drained
 
+# a write that fails (a full disk) is said and fails the run; it exited 0
+# with the file cut short
+if [ -w /dev/full ]; then
+    expect_exit 1 "^wgsim: writing /dev/full failed.*the file is incomplete" --periods 200 --poincare /dev/full
+fi
+
 exit $fail
