@@ -628,9 +628,12 @@ static int walk(conf *c, int argc, char **argv, int pass, const char **cfg, char
             return 2;
         }
         /* a boolean takes its value as "--key=no" or as the next word,
-         * "--key no"; bare "--key" means yes */
+         * "--key no"; bare "--key" means yes. The next word is its value
+         * whenever it is not an option (wormgeard takes no other words):
+         * "--accept-commands maybe" is refused as the value it is, not as
+         * "unexpected argument 'maybe'" */
         if (opt >= OPT_KEY0 && opt < OPT_KEY0 + NKEYS && keys[opt - OPT_KEY0].type == K_BOOL &&
-            !optarg && optind < argc && parse_bool(argv[optind]) >= 0)
+            !optarg && optind < argc && argv[optind][0] != '-')
             optarg = argv[optind++];
         if (pass == 0) {
             help |= opt == OPT_HELP;

@@ -41,6 +41,7 @@ has err "unknown option '--bogus'"
 # a boolean takes "--key no" as well as "--key=no"
 expect 0 "$D" --accept-commands no --start-paused=yes --check-config
 expect 2 "$D" --accept-commands maybe --check-config
+has err "accept_commands: 'maybe' must be yes or no"   # it said "unexpected argument 'maybe'"
 expect 0 "$D" --help
 has out "--state-rate-hz"
 # a config file is read only when it is a regular file (/dev/zero was read
