@@ -142,7 +142,8 @@ static int opt_one(opts *o, int c, const char *a)
 }
 
 /* Two CSVs on stdout would interleave row by row: at most one output may
- * be "-". 0, or CLI_EUSAGE naming the options. */
+ * be "-", and no file may be named twice. 0, or CLI_EUSAGE naming the
+ * options. */
 static int one_on_stdout(const opts *o)
 {
     static const char *const names[3] = {"--poincare", "--events", "--trace"};
@@ -157,6 +158,11 @@ static int one_on_stdout(const opts *o)
     if (n == 3)
         return cli_usage_error(PROG, "%s, %s and %s all write to '-': at most one output may go "
                                "to stdout (give the others a FILE)", on[0], on[1], on[2]);
+    for (int i = 0; i < 3; i++) /* one file twice: each open truncated the other's rows */
+        for (int j = i + 1; j < 3; j++)
+            if (paths[i] && paths[j] && strcmp(paths[i], "-") && !strcmp(paths[i], paths[j]))
+                return cli_usage_error(PROG, "%s and %s both write %s: give each its own file",
+                                       names[i], names[j], paths[i]);
     return 0;
 }
 

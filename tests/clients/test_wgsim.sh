@@ -172,6 +172,10 @@ drained() { # every trace row whole, N = 128 of them for each period said
 }
 check "... every trace row whole, 128 for each of the $p periods" drained
 
+# one file named for two outputs: refused (the two streams clobbered it)
+expect_exit 2 "^wgsim: --poincare and --events both write $tmp/same.csv: give each its own file" \
+    --periods 5 --poincare "$tmp/same.csv" --events "$tmp/same.csv"
+
 # a write that fails (a full disk) is said and fails the run; it exited 0
 # with the file cut short
 if [ -w /dev/full ]; then
