@@ -341,6 +341,12 @@ static int setup(opts *o, wg_scene *sc, wg_sim *sim)
     }
     if (wg_scene_apply_sets(sc, o->sets, o->nsets, why, sizeof why))
         return cli_usage_error(PROG, "--set %s", why);
+    if (o->model >= 0 && o->model != sc->model && sc->has_state) /* its values were read */
+        return cli_usage_error(PROG, "--model %s: scene %s gives its start state (state = "
+                               "given) for the %s model, %d values; use a scene that starts "
+                               "at its equilibrium, or one given for the %s model",
+                               wg_model_name(o->model), sc->name, wg_model_name(sc->model),
+                               wg_model_nstate(sc->model), wg_model_name(o->model));
     if (o->model >= 0)
         sc->model = o->model;
     if (wg_stepper_choose(sc->model, o->stepper, &o->stepper, why, sizeof why)) {

@@ -172,6 +172,14 @@ drained() { # every trace row whole, N = 128 of them for each period said
 }
 check "... every trace row whole, 128 for each of the $p periods" drained
 
+# --model printed over a scene whose start state is given for the consistent
+# model: refused (its 14 values were read in the printed model's 16 places)
+printf '[initial]\nstate = given\n' >"$tmp/given.ini"
+for k in x1 y1 z1 x2 y2 z2 s dx1 dy1 dz1 dx2 dy2 dz2 ds; do echo "$k = 0.01" >>"$tmp/given.ini"; done
+expect_exit 0 "motion" --scene "$tmp/given.ini" --periods 2 --transient 0
+expect_exit 2 "^wgsim: --model printed: scene given gives its start state (state = given) for the consistent model, 14 values" \
+    --scene "$tmp/given.ini" --model printed --periods 2
+
 # one file named for two outputs: refused (the two streams clobbered it)
 expect_exit 2 "^wgsim: --poincare and --events both write $tmp/same.csv: give each its own file" \
     --periods 5 --poincare "$tmp/same.csv" --events "$tmp/same.csv"
