@@ -191,11 +191,15 @@ static int report(ctl *t, const char *what)
 {
     bus_ack *a = &t->c.ack;
     if (!a->got) {
-        if (t->o.json)
-            printf("{\"accepted\":false,\"code\":\"ETIMEDOUT\",\"message\":\"no ACK within %g s\"}\n",
-                   t->o.timeout_s);
-        char hint[512];
+        char hint[512], msg[1024];
         const char *late = late_answer(t, what);
+        if (t->o.json) { /* the same words as on stderr: it said only "no ACK within N s" */
+            snprintf(msg, sizeof msg, "no ACK within %g s: %s", t->o.timeout_s,
+                     late ? late : bus_hint(&t->c, hint, sizeof hint));
+            printf("{\"accepted\":false,\"code\":\"ETIMEDOUT\",\"message\":");
+            json_str(stdout, msg);
+            printf("}\n");
+        }
         if (late)
             fprintf(stderr, "wgctl: %s: no answer within %g s: %s. If no daemon answers at "
                     "all: %s\n", what, t->o.timeout_s, late, bus_hint(&t->c, hint, sizeof hint));

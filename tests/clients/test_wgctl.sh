@@ -51,6 +51,10 @@ expect 1 "$C" --timeout 0.3 get omega
 has err "no answer within 0.3 s: is wormgeard running on $WORMGEAR_URL with prefix UCTL_?"
 expect 1 "$C" --timeout 0.3 status
 has err "is wormgeard running on $WORMGEAR_URL with prefix UCTL_?"
+# --json: the object carries the same question (it said only "no ACK within 0.3 s")
+expect 1 "$C" --json --timeout 0.3 get omega
+has out '^{"accepted":false,"code":"ETIMEDOUT","message":"no ACK within 0.3 s: is wormgeard running on .* with prefix UCTL_?'
+python3 -c 'import json, sys; json.load(open(sys.argv[1]))' "$tmp/out" || fail "--json timeout: not JSON: $(cat "$tmp/out")"
 
 # ---- a daemon: get with units
 "$D" --rate 0.01 --state-dir "$tmp" >"$tmp/d.out" 2>&1 &
