@@ -235,8 +235,11 @@ static uint64_t run_steps(wgd *d, uint64_t n)
     uint64_t done = engine_run(d, n, &events);
     if (events & ENGINE_RAMP_ENDED)
         report_change(d, REPORT_ORBIT, "ramp-end", "", -1);
-    if (events & ENGINE_FAULTED)
+    if (events & ENGINE_FAULTED) {
         report_fault(d);
+        sync_cancel(d, WG_ESTATE, "set at the next section cancelled: the run faulted and "
+                    "paused (STATUS says why); set it again after resume, reset or restore");
+    }
     return done;
 }
 
@@ -341,6 +344,10 @@ static int op_pause(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     uint64_t done = d->step.total - d->step.left, total = d->step.total;
     cmd_step_cancel(d, WG_ESTATE, "cancelled by pause");
     engine_pause(d);
+    /* a set waiting for the section: none comes now (it was applied at a
+     * later resume, long after its sender stopped waiting) */
+    sync_cancel(d, WG_ESTATE, "set at the next section cancelled by pause (no section comes "
+                "while paused): set it again after resume, or without at_section");
     if (stepping)
         snprintf(why, len, "paused at tau %.9g; the step command was cancelled after %" PRIu64
                  " of %" PRIu64 " steps", d->sim.tau, done, total);

@@ -156,6 +156,21 @@ static void test_set_at_section_paused(void)
     ASSERT_EQ_INT(simple(d, "resume", ""), WG_OK);
     run(d, 128);
     ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.0, 0); /* nothing was left waiting */
+    /* one pending when the pause comes: refused then (its own ACK, before
+     * the pause's); it was applied at a later resume */
+    send_pending(d, &c);
+    ASSERT_TRUE(d->sync.active);
+    int nack0 = F.nack;
+    wormgear_cmd_t pz = {.op = "pause", .client = "tester", .unit = "", .name = "",
+                         .seq = ++F.myseq};
+    wormgear_cmd_t_publish(d->io.lcm, "T_CMD", &pz);
+    drain(d);
+    ASSERT_EQ_INT(F.nack, nack0 + 2);
+    ASSERT_EQ_INT(F.cmd_seq, pz.seq);
+    ASSERT_TRUE(!d->sync.active);
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_OK);
+    run(d, 128);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.0, 0);
     /* paused, a step command that stops short of the section: refused */
     ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK);
     wormgear_cmd_t s = {.op = "step", .nsteps = 1000000000000LL};
