@@ -9,6 +9,7 @@ cont=$1
 sweep=$2
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
+. "$(dirname "$0")/stop.sh"
 fail=0
 check() { if eval "$2"; then echo "$1 ok"; else echo "$1 FAIL"; fail=1; fi; }
 magic() { head -c "$2" "$1" | od -An -c | tr -d ' \n'; }
@@ -52,10 +53,7 @@ check "Ctrl-C: exit 130 and partial csv + figure" \
 "$cont" --from 0.5 --to 0.6 --transient 10000000 --sweep-points 0 --out "$dir/tr" 2>"$dir/tr.err" &
 pid=$!
 sleep 1
-kill -TERM $pid
-t0=$(date +%s)
-while kill -0 $pid 2>/dev/null && [ $(($(date +%s) - t0)) -lt 10 ]; do sleep 0.1; done
-kill -0 $pid 2>/dev/null && { kill -9 $pid; rc=timeout; } || { wait $pid; rc=$?; }
+stop_rc $pid TERM; rc=$stop_status
 check "SIGTERM during the transient: exit 130 at once, the files written with no points" \
   '[ "$rc" = 130 ] && [ $(wc -l < "$dir/tr-branch.csv") -eq 1 ] && [ -s "$dir/tr.png" ] && grep -q "^wgcont: 0 points" "$dir/tr.err"'
 

@@ -8,6 +8,7 @@ sweep=$1
 mpiexec=${2:-}
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
+. "$(dirname "$0")/stop.sh"
 fail=0
 check() { if eval "$2"; then echo "$1 ok"; else echo "$1 FAIL"; fail=1; fi; }
 
@@ -198,10 +199,7 @@ check "interrupt leaves partial results" \
 "$sweep" --at 0.85 --at-periods 10000000 --out "$dir/atint" >/dev/null 2>&1 &
 pid=$!
 sleep 1
-kill -TERM $pid
-t0=$(date +%s)
-while kill -0 $pid 2>/dev/null && [ $(($(date +%s) - t0)) -lt 10 ]; do sleep 0.1; done
-kill -0 $pid 2>/dev/null && { kill -9 $pid; rc=timeout; } || { wait $pid; rc=$?; }
+stop_rc $pid TERM; rc=$stop_status
 check "SIGTERM during --at: ended at once by the signal" '[ "$rc" = 143 ]'
 
 "$sweep" --at 0.85 --at-periods 200 --out "$dir/at" > "$dir/at.txt"
