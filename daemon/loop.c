@@ -260,6 +260,21 @@ static void apply_key(void *ctx, const conf *was)
     }
 }
 
+/* SIGHUP with the same command_key_file: the file read again, so a key
+ * rotated in place (a new key written over the file) takes effect; the
+ * same key keeps the clients' counters (auth_load), a file that cannot be
+ * read keeps the running key. */
+static void reread_key(wgd *d)
+{
+    char why[640];
+    int64_t since = d->auth.since_us;
+    if (auth_load(&d->auth, d->conf.command_key_file, lcmio_now_us(), why, sizeof why))
+        log_msg(&d->log, LOG_ERR, "reload: %s; keeping the running key", why);
+    else if (d->auth.since_us != since)
+        log_msg(&d->log, LOG_NOTICE, "reload: %s holds a new key: signed commands only under it "
+                "(from %g s on)", d->auth.path, AUTH_AHEAD_S);
+}
+
 static void apply_contacts(void *ctx, const conf *was)
 {
     wgd *d = ctx;
@@ -287,7 +302,10 @@ static void reload(wgd *d)
          snap_dir_check(c.state_dir, 1, &state, why, sizeof why))) {
         log_msg(&d->log, LOG_ERR, "reload: %s; keeping the running configuration", why);
     } else {
+        int same_key = !strcmp(c.command_key_file, d->conf.command_key_file);
         conf_reload(&d->conf, &c, hooks, d, kept, sizeof kept);
+        if (same_key && d->conf.command_key_file[0])
+            reread_key(d);
         if (kept[0])
             log_msg(&d->log, LOG_WARNING, "reload: %s changes take effect at the next restart",
                     kept);

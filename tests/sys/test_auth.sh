@@ -4,7 +4,8 @@
 # and played back (lcm-logplayer) is refused by the daemon that accepted it
 # and, after a SIGKILL and a restart with the same key, by the new one; a
 # shell loop of 300 signed wgctl calls (300 client ids within 30 s) is
-# accepted whole. Run through netns.sh (host-local URL only).
+# accepted whole; a key rotated in place is taken at SIGHUP. Run through
+# netns.sh (host-local URL only).
 D=$1 C=$2 L=$3 P=$4
 code=0
 tmp=$(mktemp -d) || exit 1
@@ -77,6 +78,20 @@ echo "300 signed wgctl calls in $((t1 - t0)) s, $bad refused"
 # the first capture is still refused after the loop
 replay
 omega_is 1.2 "replayed after 300 other signing clients"
+
+# a key rotated in place (a new key written over the same file) and SIGHUP:
+# the new key is the one taken; the old file's key, which it kept before
+# (it re-read the file only when command_key_file changed), is refused
+cp "$tmp/key" "$tmp/key.old"
+"$C" keygen "$tmp/key.new" >/dev/null || fail "keygen (new)"
+cat "$tmp/key.new" >"$tmp/key"
+kill -HUP $pid
+sleep 1.5
+"$C" --key-file "$tmp/key.old" set omega=1.3 >"$tmp/out" 2>&1 && fail "the rotated-out key still accepted"
+grep -q "bad signature" "$tmp/out" || fail "old key: not 'bad signature': $(cat "$tmp/out")"
+"$C" $K set omega=1.3 >"$tmp/out" 2>&1 || fail "the rotated-in key refused: $(cat "$tmp/out")"
+omega_is 1.3 "after the key rotated in place"
+grep -q "holds a new key" "$tmp/log" || fail "no 'holds a new key' line: $(cat "$tmp/log")"
 
 kill -TERM $pid; wait $pid; rc=$?; pid=
 [ $rc -eq 0 ] || fail "SIGTERM: exit $rc"
