@@ -1,5 +1,6 @@
 /* bus.c - the daemon on LCM, for the clients (see bus.h). */
 #include "bus.h"
+#include "bus_msg.h"
 #include "cli.h"
 #include "units.h"
 #include "wormgear/wg_model.h"
@@ -147,11 +148,8 @@ const char *bus_channel(const bus *c, const char *suffix, char *buf, size_t len)
     return buf;
 }
 
-static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_t *m, void *u)
+static void on_ack(const wormgear_ack_t *m, bus *c)
 {
-    (void)rb;
-    (void)ch;
-    bus *c = u;
     if (m->cmd_seq != c->seq || strcmp(m->client, c->client) != 0)
         return; /* someone else's */
     bus_ack *a = &c->ack;
@@ -166,6 +164,17 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
     cli_text(a->code, sizeof a->code, m->code); /* any sender's text: shown as text */
     cli_text(a->op, sizeof a->op, m->op);
     cli_text(a->message, sizeof a->message, m->message);
+}
+
+/* ACK's bytes checked before they are decoded (bus_msg.h). */
+static void on_ack_raw(const lcm_recv_buf_t *rb, const char *ch, void *u)
+{
+    (void)ch;
+    wormgear_ack_t m;
+    if (BUS_DECODE(wormgear_ack_t, BUS_ACK, rb, &m))
+        return;
+    on_ack(&m, u);
+    wormgear_ack_t_decode_cleanup(&m);
 }
 
 int bus_prefix_ok(const char *p)
@@ -199,8 +208,7 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
         snprintf(why, whylen, "cannot open LCM URL '%s'", url);
         return -1;
     }
-    c->ack_sub = wormgear_ack_t_subscribe(c->lcm, bus_channel(c, "ACK", ch, sizeof ch),
-                                          on_ack, c);
+    c->ack_sub = lcm_subscribe(c->lcm, bus_channel(c, "ACK", ch, sizeof ch), on_ack_raw, c);
     const char *key = getenv("WORMGEAR_KEY_FILE");
     return key && *key ? bus_set_key(c, key, why, whylen) : 0;
 }
@@ -226,7 +234,7 @@ const char *bus_hint(const bus *c, char *buf, size_t len)
 void bus_close(bus *c)
 {
     if (c->lcm && c->ack_sub)
-        wormgear_ack_t_unsubscribe(c->lcm, c->ack_sub);
+        lcm_unsubscribe(c->lcm, c->ack_sub);
     c->ack_sub = NULL;
     if (c->lcm)
         lcm_destroy(c->lcm);

@@ -42,7 +42,7 @@ typedef struct bus {
     char client[96];          /* "<name>-<pid>@<host>" */
     int64_t seq;              /* last command seq sent */
     bus_ack ack;              /* the ACK of the last command, once it came */
-    wormgear_ack_t_subscription_t *ack_sub;
+    lcm_subscription_t *ack_sub;
 } bus;
 
 /* The seq counter of one channel (every wormgear message has one, see

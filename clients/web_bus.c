@@ -1,5 +1,6 @@
 /* web_bus.c - LCM subscriptions and commands of wgweb. */
 #include "web_bus.h"
+#include "bus_msg.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -70,22 +71,29 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
         b->h.ack(b->h.ctx, m);
 }
 
+/* Every message's bytes are checked before they are decoded (bus_msg.h):
+ * the generated subscribe decoded them unchecked, and one hostile count
+ * on the group killed wgweb. */
+BUS_RAW_HANDLER(on_state_raw, wormgear_state_t, BUS_STATE, on_state)
+BUS_RAW_HANDLER(on_poincare_raw, wormgear_poincare_t, BUS_POINCARE, on_poincare)
+BUS_RAW_HANDLER(on_contact_raw, wormgear_contact_t, BUS_CONTACT, on_contact)
+BUS_RAW_HANDLER(on_status_raw, wormgear_status_t, BUS_STATUS, on_status)
+BUS_RAW_HANDLER(on_params_raw, wormgear_params_t, BUS_PARAMS, on_params)
+BUS_RAW_HANDLER(on_ack_raw, wormgear_ack_t, BUS_ACK, on_ack)
+
 static void subscribe_all(web_bus *b)
 {
+    static const char *const name[WEB_BUS_NCH] = {
+        [WEB_BUS_STATE] = "STATE",   [WEB_BUS_POINCARE] = "POINCARE",
+        [WEB_BUS_CONTACT] = "CONTACT", [WEB_BUS_STATUS] = "STATUS",
+        [WEB_BUS_PARAMS] = "PARAMS", [WEB_BUS_ACK] = "ACK"};
+    static lcm_msg_handler_t const fn[WEB_BUS_NCH] = {
+        [WEB_BUS_STATE] = on_state_raw,   [WEB_BUS_POINCARE] = on_poincare_raw,
+        [WEB_BUS_CONTACT] = on_contact_raw, [WEB_BUS_STATUS] = on_status_raw,
+        [WEB_BUS_PARAMS] = on_params_raw, [WEB_BUS_ACK] = on_ack_raw};
     char ch[128];
-    lcm_t *l = b->c.lcm;
-    b->sub[WEB_BUS_STATE] = wormgear_state_t_subscribe(
-        l, bus_channel(&b->c, "STATE", ch, sizeof ch), on_state, b);
-    b->sub[WEB_BUS_POINCARE] = wormgear_poincare_t_subscribe(
-        l, bus_channel(&b->c, "POINCARE", ch, sizeof ch), on_poincare, b);
-    b->sub[WEB_BUS_CONTACT] = wormgear_contact_t_subscribe(
-        l, bus_channel(&b->c, "CONTACT", ch, sizeof ch), on_contact, b);
-    b->sub[WEB_BUS_STATUS] = wormgear_status_t_subscribe(
-        l, bus_channel(&b->c, "STATUS", ch, sizeof ch), on_status, b);
-    b->sub[WEB_BUS_PARAMS] = wormgear_params_t_subscribe(
-        l, bus_channel(&b->c, "PARAMS", ch, sizeof ch), on_params, b);
-    b->sub[WEB_BUS_ACK] =
-        wormgear_ack_t_subscribe(l, bus_channel(&b->c, "ACK", ch, sizeof ch), on_ack, b);
+    for (int k = 0; k < WEB_BUS_NCH; k++)
+        b->sub[k] = lcm_subscribe(b->c.lcm, bus_channel(&b->c, name[k], ch, sizeof ch), fn[k], b);
 }
 
 int web_bus_open(web_bus *b, const char *url, const char *prefix, const web_bus_hooks *h,
@@ -104,12 +112,9 @@ void web_bus_close(web_bus *b)
 {
     lcm_t *l = b->c.lcm;
     if (l) {
-        wormgear_state_t_unsubscribe(l, b->sub[WEB_BUS_STATE]);
-        wormgear_poincare_t_unsubscribe(l, b->sub[WEB_BUS_POINCARE]);
-        wormgear_contact_t_unsubscribe(l, b->sub[WEB_BUS_CONTACT]);
-        wormgear_status_t_unsubscribe(l, b->sub[WEB_BUS_STATUS]);
-        wormgear_params_t_unsubscribe(l, b->sub[WEB_BUS_PARAMS]);
-        wormgear_ack_t_unsubscribe(l, b->sub[WEB_BUS_ACK]);
+        for (int k = 0; k < WEB_BUS_NCH; k++)
+            if (b->sub[k])
+                lcm_unsubscribe(l, b->sub[k]);
     }
     memset(b->sub, 0, sizeof b->sub);
     bus_close(&b->c);

@@ -36,7 +36,7 @@ typedef struct web_bus {
     bus c;
     web_bus_hooks h;
     char url[256];
-    void *sub[WEB_BUS_NCH];
+    lcm_subscription_t *sub[WEB_BUS_NCH];
     bus_seq seq[WEB_BUS_NCH];
     uint64_t msgs;             /* messages received, all channels */
 } web_bus;

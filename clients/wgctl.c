@@ -1,6 +1,7 @@
 /* wgctl - control wormgeard from the shell over LCM.
  * Exit 0 accepted, 1 refused or no answer, 2 usage error. */
 #include "bus.h"
+#include "bus_msg.h"
 #include "cli.h"
 #include "units.h"
 
@@ -343,6 +344,8 @@ static void on_params(const lcm_recv_buf_t *rb, const char *ch, const wormgear_p
     }
 }
 
+BUS_RAW_HANDLER(on_params_raw, wormgear_params_t, BUS_PARAMS, on_params)
+
 static int get_done(void *u)
 {
     ctl *t = u;
@@ -437,8 +440,8 @@ static void print_params(const ctl *t, const wormgear_params_t *p)
 static int do_get(ctl *t)
 {
     char ch[128];
-    wormgear_params_t_subscription_t *s = wormgear_params_t_subscribe(
-        t->c.lcm, bus_channel(&t->c, "PARAMS", ch, sizeof ch), on_params, t);
+    lcm_subscription_t *s =
+        lcm_subscribe(t->c.lcm, bus_channel(&t->c, "PARAMS", ch, sizeof ch), on_params_raw, t);
     wormgear_cmd_t c = bus_cmd("get");
     if (bus_send(&t->c, &c) < 0)
         return 1;
@@ -453,7 +456,7 @@ static int do_get(ctl *t)
     }
     if (t->params)
         wormgear_params_t_destroy(t->params);
-    wormgear_params_t_unsubscribe(t->c.lcm, s);
+    lcm_unsubscribe(t->c.lcm, s);
     return rc;
 }
 
@@ -469,6 +472,8 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
             clean_status(t->status);
     }
 }
+
+BUS_RAW_HANDLER(on_status_raw, wormgear_status_t, BUS_STATUS, on_status)
 
 static int status_done(void *u) { return ((ctl *)u)->status != NULL; }
 
@@ -522,10 +527,10 @@ static void print_status(const ctl *t, const wormgear_status_t *s)
 static int do_status(ctl *t)
 {
     char ch[128];
-    wormgear_status_t_subscription_t *s = wormgear_status_t_subscribe(
-        t->c.lcm, bus_channel(&t->c, "STATUS", ch, sizeof ch), on_status, t);
+    lcm_subscription_t *s =
+        lcm_subscribe(t->c.lcm, bus_channel(&t->c, "STATUS", ch, sizeof ch), on_status_raw, t);
     bus_wait(&t->c, (int)(t->o.timeout_s * 1000), status_done, t);
-    wormgear_status_t_unsubscribe(t->c.lcm, s);
+    lcm_unsubscribe(t->c.lcm, s);
     if (!t->status) {
         char hint[512];
         fprintf(stderr, "wgctl: status: no STATUS on %sSTATUS within %g s: %s\n", t->c.prefix,

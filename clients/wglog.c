@@ -13,6 +13,7 @@
  * samples with the scale of the log's PARAMS (s, Hz, um, m/s, N).
  * Exit 0, 1 unreadable log or unwritable output, 2 usage error. */
 #include "bus.h"
+#include "bus_msg.h"
 #include "cli.h"
 #include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_cmd_t.h"
@@ -104,9 +105,10 @@ static void lead(FILE *f, int64_t ts, int64_t utime, int64_t seq)
 
 /* ---- one row writer per type: decode, write, return samples (-1 bad) -------- */
 
-#define DECODE_OR_FAIL(T, msg, ev)                                                         \
+#define DECODE_OR_FAIL(T, TYPE, msg, ev) /* bytes checked first: bus_msg.h */             \
     T msg;                                                                                 \
-    if (T##_decode((ev)->data, 0, (ev)->datalen, &msg) < 0)                                \
+    if (!bus_msg_ok((TYPE), (ev)->data, (ev)->datalen) ||                                  \
+        T##_decode((ev)->data, 0, (ev)->datalen, &msg) < 0)                                \
         return -1;
 
 /* Factors of the sample columns: 1, or the physical ones of the latest
@@ -125,7 +127,7 @@ static fx factors(const log_run *r)
 
 static int rows_state(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
-    DECODE_OR_FAIL(wormgear_state_t, m, ev);
+    DECODE_OR_FAIL(wormgear_state_t, BUS_STATE, m, ev);
     FILE *f = c->csv;
     fx k = factors(r);
     if (f && c->msgs == 0)
@@ -173,7 +175,7 @@ static void poincare_head(const log_run *r, FILE *f, int nstate)
 
 static int rows_poincare(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
-    DECODE_OR_FAIL(wormgear_poincare_t, m, ev);
+    DECODE_OR_FAIL(wormgear_poincare_t, BUS_POINCARE, m, ev);
     FILE *f = c->csv;
     fx k = factors(r);
     if (f && c->msgs == 0) {
@@ -202,7 +204,7 @@ static int rows_poincare(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 
 static int rows_contact(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
-    DECODE_OR_FAIL(wormgear_contact_t, m, ev);
+    DECODE_OR_FAIL(wormgear_contact_t, BUS_CONTACT, m, ev);
     FILE *f = c->csv;
     fx k = factors(r);
     if (f && c->msgs == 0)
@@ -227,7 +229,7 @@ static int rows_contact(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 static int rows_status(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
     (void)r;
-    DECODE_OR_FAIL(wormgear_status_t, m, ev);
+    DECODE_OR_FAIL(wormgear_status_t, BUS_STATUS, m, ev);
     FILE *f = c->csv;
     if (f && c->msgs == 0)
         head(f, "scene,mode,rate,run,health,fault,tau,t_s,omega,steps,period,steps_per_period,"
@@ -253,7 +255,7 @@ static int rows_status(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
  * message; later messages are matched by name). */
 static int rows_params(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
-    DECODE_OR_FAIL(wormgear_params_t, m, ev);
+    DECODE_OR_FAIL(wormgear_params_t, BUS_PARAMS, m, ev);
     FILE *f = c->csv;
     units_scale sc = {m.omega_n_rad_s, m.length_m, m.mesh_stiffness_N_m};
     if (units_scale_ok(&sc))
@@ -285,7 +287,7 @@ static int rows_params(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 static int rows_cmd(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
     (void)r;
-    DECODE_OR_FAIL(wormgear_cmd_t, m, ev);
+    DECODE_OR_FAIL(wormgear_cmd_t, BUS_CMD, m, ev);
     FILE *f = c->csv;
     if (f && c->msgs == 0)
         head(f, "client,op,params,has_from,from,duration,unit,nsteps,name,rate");
@@ -309,7 +311,7 @@ static int rows_cmd(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 static int rows_ack(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
     (void)r;
-    DECODE_OR_FAIL(wormgear_ack_t, m, ev);
+    DECODE_OR_FAIL(wormgear_ack_t, BUS_ACK, m, ev);
     FILE *f = c->csv;
     if (f && c->msgs == 0)
         head(f, "client,cmd_seq,op,accepted,status,code,message,tau,t_s,steps");
@@ -326,7 +328,7 @@ static int rows_ack(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 static int rows_tick(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
     (void)r;
-    DECODE_OR_FAIL(wormgear_tick_t, m, ev);
+    DECODE_OR_FAIL(wormgear_tick_t, BUS_TICK, m, ev);
     if (c->csv && c->msgs == 0)
         head(c->csv, "nsteps");
     if (c->csv) {
@@ -340,7 +342,7 @@ static int rows_tick(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 
 static int rows_scope(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
-    DECODE_OR_FAIL(wormgear_scope_t, m, ev);
+    DECODE_OR_FAIL(wormgear_scope_t, BUS_SCOPE, m, ev);
     FILE *f = c->csv;
     fx k = factors(r);
     if (f && c->msgs == 0)
@@ -481,6 +483,7 @@ static int first_scale(log_run *r)
     while (!units_scale_ok(&r->scale) && (ev = lcm_eventlog_read_next_event(log))) {
         wormgear_params_t m;
         if (ev->datalen >= 8 && be64(ev->data) == h && /* any channel: --channel STATE too */
+            bus_msg_ok(BUS_PARAMS, ev->data, ev->datalen) &&
             wormgear_params_t_decode(ev->data, 0, ev->datalen, &m) >= 0) {
             r->scale = (units_scale){m.omega_n_rad_s, m.length_m, m.mesh_stiffness_N_m};
             wormgear_params_t_decode_cleanup(&m);

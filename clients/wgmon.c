@@ -12,6 +12,7 @@
  * Headless: --once / --frames N print frames as plain text.
  * Exit 0, 1 no STATUS heard (--once/--frames), 2 usage. */
 #include "bus.h"
+#include "bus_msg.h"
 #include "cli.h"
 #include "mon_text.h"
 #include "mon_view.h"
@@ -336,10 +337,10 @@ static void on_contact(mon *m, const wormgear_contact_t *c)
 
 /* Raw handler: decode by channel, count seq and undecodable messages, use
  * the messages of the sender shown. */
-#define DECODE(T, fn)                                                                      \
+#define DECODE(T, TYPE, fn)                                                                  \
     do {                                                                                   \
         T msg;                                                                             \
-        if (T##_decode(rb->data, 0, (int)rb->data_size, &msg) < 0) {                       \
+        if (BUS_DECODE(T, TYPE, rb, &msg)) { /* bytes checked first: bus_msg.h */          \
             m->sc[k].bad++;                                                                \
             return;                                                                        \
         }                                                                                  \
@@ -355,11 +356,11 @@ static void on_raw(const lcm_recv_buf_t *rb, const char *channel, void *u)
     while (k < NCH && strcmp(channel + strlen(m->c.prefix), ch_suffix[k]) != 0)
         k++;
     switch (k) {
-    case CH_STATUS: DECODE(wormgear_status_t, on_status); break;
-    case CH_PARAMS: DECODE(wormgear_params_t, on_params); break;
-    case CH_STATE: DECODE(wormgear_state_t, on_state); break;
-    case CH_POINCARE: DECODE(wormgear_poincare_t, on_poincare); break;
-    case CH_CONTACT: DECODE(wormgear_contact_t, on_contact); break;
+    case CH_STATUS: DECODE(wormgear_status_t, BUS_STATUS, on_status); break;
+    case CH_PARAMS: DECODE(wormgear_params_t, BUS_PARAMS, on_params); break;
+    case CH_STATE: DECODE(wormgear_state_t, BUS_STATE, on_state); break;
+    case CH_POINCARE: DECODE(wormgear_poincare_t, BUS_POINCARE, on_poincare); break;
+    case CH_CONTACT: DECODE(wormgear_contact_t, BUS_CONTACT, on_contact); break;
     default: break;
     }
 }

@@ -14,6 +14,7 @@
 #include "sweep_md.h"
 #include "sweep_out.h"
 #include "bus.h"
+#include "bus_msg.h"
 
 #include "lcmtypes/wormgear_contact_t.h"
 #include "lcmtypes/wormgear_params_t.h"
@@ -306,23 +307,21 @@ static void on_status(rig *r, const wormgear_status_t *m)
     r->have_status = 1;
 }
 
-#define DECODE(T, fn)                                                                      \
+#define DECODE(T, TYPE, fn)                                                                \
     do {                                                                                   \
-        T msg;                                                                             \
-        if (T##_decode(rb->data, 0, (int)rb->data_size, &msg) >= 0) {                      \
-            fn(r, &msg);                                                                   \
-            T##_decode_cleanup(&msg);                                                      \
-        }                                                                                  \
+        T msg; /* its bytes checked first: bus_msg.h */                                    \
+        if (!BUS_DECODE(T, TYPE, rb, &msg))                                                \
+            fn(r, &msg), T##_decode_cleanup(&msg);                                         \
     } while (0)
 
 static void on_raw(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     rig *r = u;
     const char *s = ch + strlen(r->c.prefix);
-    if (!strcmp(s, "POINCARE")) DECODE(wormgear_poincare_t, on_poincare);
-    else if (!strcmp(s, "CONTACT")) DECODE(wormgear_contact_t, on_contact);
-    else if (!strcmp(s, "PARAMS")) DECODE(wormgear_params_t, on_params);
-    else if (!strcmp(s, "STATUS")) DECODE(wormgear_status_t, on_status);
+    if (!strcmp(s, "POINCARE")) DECODE(wormgear_poincare_t, BUS_POINCARE, on_poincare);
+    else if (!strcmp(s, "CONTACT")) DECODE(wormgear_contact_t, BUS_CONTACT, on_contact);
+    else if (!strcmp(s, "PARAMS")) DECODE(wormgear_params_t, BUS_PARAMS, on_params);
+    else if (!strcmp(s, "STATUS")) DECODE(wormgear_status_t, BUS_STATUS, on_status);
 }
 
 /* ---- commands --------------------------------------------------------------------- */

@@ -348,6 +348,59 @@ static void test_channel_filter(void)
     ASSERT_TRUE(!strstr(out, "RIG1_STATUS"));
 }
 
+/* A log holding messages no daemon sends: a CONTACT whose count is 2^31 - 1
+ * and a STATUS whose scene string claims 2^31 - 1 bytes, between good ones.
+ * wglog died inside LCM's generated decoder on them (SIGSEGV); they are
+ * now counted bad, the good ones read, and the export writes the rest. */
+static void test_hostile_messages(void)
+{
+    char path[160], cmd[640], out[8192];
+    snprintf(path, sizeof path, "%s/bent.lcmlog", dir);
+    lcm_eventlog_t *l = lcm_eventlog_create(path, "w");
+    ASSERT_TRUE(l != NULL);
+    double v[1] = {1.0};
+    int64_t per[1] = {0};
+    int8_t k[1] = {0};
+    unsigned char buf[2048];
+    for (int i = 0; i < 3; i++) {
+        wormgear_contact_t c = {.seq = i, .n = 1, .tau = v, .t_s = v, .velocity = v,
+                                .period = per, .contact = k, .kind = k};
+        int n = wormgear_contact_t_encode(buf, 0, sizeof buf, &c);
+        ASSERT_TRUE(n > 32);
+        if (i == 1) /* n, after the fingerprint, utime, seq and bearing_every */
+            buf[28] = 0x7f, buf[29] = buf[30] = buf[31] = 0xff;
+        put(l, "BENT_CONTACT", 1000 * (i + 1), buf, n);
+        wormgear_status_t st = {.seq = i, .scene = "s", .mode = "m", .run = "r", .health = "h",
+                                .fault = "", .motion = "", .regime = ""};
+        n = wormgear_status_t_encode(buf, 0, sizeof buf, &st);
+        if (i == 1) /* the scene string's length */
+            buf[24] = 0x7f, buf[25] = buf[26] = buf[27] = 0xff;
+        put(l, "BENT_STATUS", 1000 * (i + 1) + 500, buf, n);
+    }
+    lcm_eventlog_destroy(l);
+    snprintf(cmd, sizeof cmd, "%s summary %s", wglog(), path);
+    int rc = run(cmd, out, sizeof out);
+    fputs(out, stdout);
+    ASSERT_TRUE(rc == 0 || rc == 1); /* not killed by a signal (-1) */
+    /* channel type msgs samples bytes rate gaps missing restarts senders bad */
+    long msgs = -1;
+    char *s = strstr(out, "BENT_CONTACT ");
+    ASSERT_TRUE(s && sscanf(s, "BENT_CONTACT contact_t %ld", &msgs) == 1);
+    ASSERT_EQ_INT(msgs, 3);
+    snprintf(cmd, sizeof cmd, "%s export %s --out %s/bent", wglog(), path, dir);
+    rc = run(cmd, NULL, 0);
+    ASSERT_TRUE(rc == 0 || rc == 1);
+    snprintf(path, sizeof path, "%s/bent/BENT_CONTACT.csv", dir);
+    FILE *f = fopen(path, "r");
+    ASSERT_TRUE(f != NULL);
+    int lines = 0;
+    while (f && fgets(out, sizeof out, f))
+        lines++;
+    if (f)
+        fclose(f);
+    ASSERT_EQ_INT(lines, 1 + 2); /* the header and the two good rows */
+}
+
 static void test_usage(void)
 {
     char cmd[512], out[4096];
@@ -380,6 +433,7 @@ static void test_all(void)
     test_export();
     test_physical();
     test_channel_filter();
+    test_hostile_messages();
     test_usage();
     test_cleanup();
 }

@@ -11,8 +11,13 @@
  * crashing, show no angle outside [0, 360) degrees, and show those strings
  * as text. With "params", also PARAMS no daemon sends: a scale that is not
  * a number, N = 0, an unknown model and stepper, a value NaN, escapes in
- * a name.
+ * a name. And every round, raw bytes no daemon sends: a CONTACT whose count
+ * is 2^31 - 1, a STATUS and an ACK whose first string claims 2^31 - 1
+ * bytes (the generated decoder read past the buffer on them, and every
+ * client died; they must be dropped, bus_msg.h).
  * usage: wgspoof URL PREFIX SECONDS [params] */
+#include "lcmtypes/wormgear_ack_t.h"
+#include "lcmtypes/wormgear_contact_t.h"
 #include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_poincare_t.h"
 #include "lcmtypes/wormgear_state_t.h"
@@ -20,6 +25,7 @@
 
 #include <lcm/lcm.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -125,6 +131,39 @@ static int publish_params(lcm_t *l, const char *ch, int64_t seq)
     return wormgear_params_t_publish(l, ch, &p);
 }
 
+/* A valid message's bytes with the int32 at byte at set to 2^31 - 1, on ch. */
+static int publish_bent(lcm_t *l, const char *ch, unsigned char *buf, int len, int at)
+{
+    if (len < at + 4)
+        return -1;
+    buf[at] = 0x7f, buf[at + 1] = buf[at + 2] = buf[at + 3] = 0xff;
+    return lcm_publish(l, ch, buf, (unsigned)len);
+}
+
+static int publish_hostile_bytes(lcm_t *l, const char *prefix)
+{
+    unsigned char buf[4096];
+    char ch[128];
+    double v[1] = {1.0};
+    int64_t per[1] = {0};
+    int8_t k[1] = {0};
+    wormgear_contact_t c = {.n = 1, .tau = v, .t_s = v, .velocity = v, .period = per,
+                            .contact = k, .kind = k};
+    int n = wormgear_contact_t_encode(buf, 0, sizeof buf, &c), rc = 0;
+    channel(ch, sizeof ch, prefix, "CONTACT");
+    rc |= publish_bent(l, ch, buf, n, 8 + 8 + 8 + 4); /* n */
+    wormgear_status_t s = {.scene = "s", .mode = "m", .run = "r", .health = "h", .fault = "",
+                           .motion = "", .regime = ""};
+    n = wormgear_status_t_encode(buf, 0, sizeof buf, &s);
+    channel(ch, sizeof ch, prefix, "STATUS");
+    rc |= publish_bent(l, ch, buf, n, 8 + 8 + 8); /* scene's length */
+    wormgear_ack_t a = {.client = "c", .op = "set", .code = "OK", .message = ""};
+    n = wormgear_ack_t_encode(buf, 0, sizeof buf, &a);
+    channel(ch, sizeof ch, prefix, "ACK");
+    rc |= publish_bent(l, ch, buf, n, 8 + 8 + 8); /* client's length */
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 4 && !(argc == 5 && !strcmp(argv[4], "params"))) {
@@ -146,6 +185,7 @@ int main(int argc, char **argv)
     int rc = 0;
     for (int64_t seq = 0; now_s() < end && rc == 0; seq++) {
         rc |= publish_status(l, cs, seq) | publish_state(l, ct, seq) | publish_poincare(l, cp, seq);
+        rc |= publish_hostile_bytes(l, argv[2]);
         if (params)
             rc |= publish_params(l, cq, seq);
         struct timespec ts = {0, 20000000};
