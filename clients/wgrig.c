@@ -11,6 +11,7 @@
 #include "plot_text.h"
 #include "rig_ana.h"
 #include "rig_imp.h"
+#include "rig_opt.h"
 #include "sweep_md.h"
 #include "sweep_out.h"
 #include "bus.h"
@@ -23,7 +24,6 @@
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_status.h"
 
-#include <getopt.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -31,15 +31,8 @@
 #include <string.h>
 #include <unistd.h>
 
-enum { REC_CAP = 8192, RAMP_MAX = 1 << 20, STOPPED = -1000 };
+enum { RAMP_MAX = 1 << 20, STOPPED = -1000 };
 static volatile sig_atomic_t g_stop; /* set by SIGINT/SIGTERM only */
-
-typedef struct opts {
-    const char *url, *prefix, *param, *out, *unit, *key_file;
-    double from, to, ramp, tol, timeout_s, stall_s;
-    int have_from, have_to, points, up, down, settle, record, extend, bins, lle, fast, keep;
-    int quiet, retries;
-} opts;
 
 typedef struct collector { /* what the POINCARE handler does with sections */
     int active, ramp;
@@ -56,7 +49,7 @@ typedef struct window { int64_t p0, p1; int n; } window; /* periods recorded for
 
 typedef struct rig {
     bus c;
-    opts o;
+    rig_opts o;
     wg_sweep_opts so;
     wg_params base;
     wg_params scene_p;        /* the figures' reference: the scene's own values */
@@ -75,131 +68,19 @@ typedef struct rig {
     long refusals, timeouts, skipped, bad_params; /* the last: PARAMS no daemon sends */
     rig_imp imp;              /* mesh impacts from CONTACT */
     double t0;
-    int done, total;
+    int done, total, restoring; /* restoring: finish()'s commands, sent even after a stop */
 } rig;
 
-static void on_signal(int sig) { (void)sig, g_stop = 1; }
+/* The first Ctrl-C, SIGTERM or SIGHUP stops the sweep, which then puts the
+ * daemon back (value, mode) and writes its outputs; a second one ends
+ * wgrig at once. */
+static void on_signal(int sig) { g_stop = 1, signal(sig, SIG_DFL); }
 
-/* ---- options ----------------------------------------------------------------- */
-
-static void usage(FILE *f)
-{
-    fprintf(f,
-        "usage: wgrig --from A --to B [options]\n"
-        "Automated rig sweep of a running wormgeard over LCM: set a parameter point by point\n"
-        "(or ramp it), read POINCARE and CONTACT, and write the bifurcation diagram.\n\n"
-        "  --url URL           LCM URL (default $WORMGEAR_URL or %s)\n"
-        "  --prefix P          channel prefix (default $WORMGEAR_PREFIX or %s)\n"
-        "  --key-file FILE     sign commands with this key (default $WORMGEAR_KEY_FILE):\n"
-        "                      needed when the daemon has command_key_file\n"
-        "  --param NAME        parameter driven (default omega; `wgctl params` lists them)\n"
-        "  --from A --to B     range, in the parameter's unit (required; within its range)\n"
-        "  --points N          stepwise: points per direction (default 21; [2, 10000])\n"
-        "  --dir up|down|both  sweep directions (default both)\n"
-        "  --settle P          mesh periods discarded after each step (default 300; [0, 1e6])\n"
-        "  --record R          mesh periods recorded per point (default 128; [64, %d])\n"
-        "  --extend E          extra settle+record rounds while no period is found (default 3)\n"
-        "  --ramp DURATION     slow ramp instead of steps: over DURATION simulated time per\n"
-        "                      direction, e.g. 2s, 500ms, 20000tau (default: stepwise)\n"
-        "  --bins N            ramp: parameter bins of the diagram (default --points)\n"
-        "  --tol X             period tolerance, max norm (default: as wgsweep, max(1e-9,\n"
-        "                      10 x the one-period error of N vs 2N steps))\n"
-        "  --no-lle            skip the Lyapunov exponent of aperiodic points (local twin run)\n"
-        "  --fast              switch the daemon to fast mode for the sweep, restore after\n"
-        "  --keep              leave the parameter at the last point (default: restore it)\n"
-        "  --out PREFIX        outputs (default rig): PREFIX.png PREFIX.csv PREFIX-poincare.csv\n"
-        "                      PREFIX.json PREFIX.md PREFIX-sections.csv PREFIX-impacts.csv/.png\n"
-        "  --timeout SEC       wait for each ACK (default 3 s; (0, 600])\n"
-        "  --stall SEC         give up when no section arrives for this long (default 10 s)\n"
-        "  --retries N         per point: re-sends after no ACK, re-records after drops (default 5)\n"
-        "  --quiet             no progress bar on stderr\n"
-        "  -h, --help          this text\n\n"
-        "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted (partial outputs).\n",
-        BUS_DEFAULT_URL, BUS_DEFAULT_PREFIX, REC_CAP);
-}
+/* A message's leading newline ends a progress bar: on a terminal only
+ * (elsewhere each message had a blank line before it). */
+#define NL (isatty(STDERR_FILENO) ? "\n" : "")
 
 #define PROG "wgrig"
-
-/* --ramp: a duration > 0 (cli_duration). */
-static int opt_ramp(opts *o, const char *a)
-{
-    if (cli_duration(a, &o->ramp, &o->unit) || !isfinite(o->ramp) || !(o->ramp > 0))
-        return cli_usage_error(PROG, "--ramp '%s': %s", a,
-                               "a positive duration: 2s, 500ms, 1min, 20000tau");
-    return 0;
-}
-
-static int opt_dir(opts *o, const char *a)
-{
-    o->up = !strcmp(a, "up") || !strcmp(a, "both");
-    o->down = !strcmp(a, "down") || !strcmp(a, "both");
-    return o->up || o->down ? 0 : cli_usage_error(PROG, "--dir '%s': one of up, down, both", a);
-}
-
-static int opt_one(void *ctx, int c, const char *a)
-{
-    opts *o = ctx;
-    switch (c) {
-    case 'u': o->url = a; return 0;
-    case 'p': o->prefix = a; return 0;
-    case 'k': o->key_file = a; return 0;
-    case 'P': o->param = a; return 0;
-    case 'o': o->out = a; return 0;
-    case 'f':
-        o->have_from = 1;
-        return cli_opt_num(PROG, "--from", a, -1e300, 1e300, "a number", &o->from);
-    case 't': o->have_to = 1; return cli_opt_num(PROG, "--to", a, -1e300, 1e300, "a number", &o->to);
-    case 'n': return cli_opt_int(PROG, "--points", a, 2, 10000, "an integer in [2, 10000]", &o->points);
-    case 'd': return opt_dir(o, a);
-    case 's':
-        return cli_opt_int(PROG, "--settle", a, 0, 1000000,
-                           "mesh periods, an integer in [0, 1000000]", &o->settle);
-    case 'r':
-        return cli_opt_int(PROG, "--record", a, 64, REC_CAP,
-                           "mesh periods, an integer in [64, 8192]", &o->record);
-    case 'e': return cli_opt_int(PROG, "--extend", a, 0, 100, "an integer in [0, 100]", &o->extend);
-    case 'R': return opt_ramp(o, a);
-    case 'b': return cli_opt_int(PROG, "--bins", a, 2, 10000, "an integer in [2, 10000]", &o->bins);
-    case 'T': return cli_opt_num(PROG, "--tol", a, 1e-300, 1, "a tolerance in (0, 1]", &o->tol);
-    case 'L': o->lle = 0; return 0;
-    case 'F': o->fast = 1; return 0;
-    case 'K': o->keep = 1; return 0;
-    case 'w': return cli_opt_num(PROG, "--timeout", a, 1e-3, 600, "seconds in (0, 600]", &o->timeout_s);
-    case 'S': return cli_opt_num(PROG, "--stall", a, 0.1, 3600, "seconds in [0.1, 3600]", &o->stall_s);
-    case 'x': return cli_opt_int(PROG, "--retries", a, 0, 1000, "an integer in [0, 1000]", &o->retries);
-    case 'q': o->quiet = 1; return 0;
-    case 'h': usage(stdout); exit(0);
-    default: return -1;
-    }
-}
-
-static int parse_opts(int argc, char **argv, opts *o)
-{
-    static const struct option lo[] = {
-        {"url", 1, 0, 'u'}, {"prefix", 1, 0, 'p'}, {"param", 1, 0, 'P'}, {"out", 1, 0, 'o'},
-        {"from", 1, 0, 'f'}, {"to", 1, 0, 't'}, {"points", 1, 0, 'n'}, {"dir", 1, 0, 'd'},
-        {"settle", 1, 0, 's'}, {"record", 1, 0, 'r'}, {"extend", 1, 0, 'e'}, {"ramp", 1, 0, 'R'},
-        {"bins", 1, 0, 'b'}, {"tol", 1, 0, 'T'}, {"no-lle", 0, 0, 'L'}, {"fast", 0, 0, 'F'},
-        {"keep", 0, 0, 'K'}, {"timeout", 1, 0, 'w'}, {"stall", 1, 0, 'S'},
-        {"retries", 1, 0, 'x'}, {"quiet", 0, 0, 'q'}, {"key-file", 1, 0, 'k'},
-        {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
-    *o = (opts){.param = "omega", .out = "rig", .unit = "s", .points = 21, .up = 1, .down = 1,
-                .settle = 300, .record = 128, .extend = 3, .lle = 1, .timeout_s = 3,
-                .stall_s = 10, .retries = 5};
-    int rc = cli_getopt(PROG, argc, argv, "h", lo, opt_one, o);
-    if (rc)
-        return rc;
-    if (optind < argc)
-        return cli_usage_error(PROG, "argument '%s': wgrig takes options only", argv[optind]);
-    if (!o->have_from || !o->have_to)
-        return cli_usage_error(PROG, "%s '': required (the range of the sweep)",
-                               o->have_from ? "--to" : "--from");
-    if (o->from == o->to)
-        return cli_usage_error(PROG, "--to '': must differ from --from");
-    if (!o->bins)
-        o->bins = o->points;
-    return cli_opt_outdir(PROG, "--out", o->out);
-}
 
 /* ---- messages ---------------------------------------------------------------- */
 
@@ -333,7 +214,9 @@ static int flag_true(void *p) { return *(int *)p; }
 static int command(rig *r, wormgear_cmd_t *cmd, const char *what)
 {
     int refused = 0;
-    for (int attempt = 0; attempt <= r->o.retries && !g_stop; attempt++) {
+    int tried = 0;
+    for (int attempt = 0; attempt <= r->o.retries && (!g_stop || r->restoring); attempt++) {
+        tried++;
         if (bus_send(&r->c, cmd) < 0 || bus_wait_ack(&r->c, (int)(r->o.timeout_s * 1000))) {
             r->timeouts++;
             continue;
@@ -341,26 +224,27 @@ static int command(rig *r, wormgear_cmd_t *cmd, const char *what)
         if (r->c.ack.accepted)
             return 0;
         r->refusals++, refused = 1;
-        fprintf(stderr, "\nwgrig: %s refused (%s): %s\n", what, r->c.ack.code, r->c.ack.message);
-        if (strcmp(r->c.ack.code, "ESTATE") != 0)
-            return 1; /* permanent: bad name or value; ESTATE ("not now") is retried */
+        fprintf(stderr, "%swgrig: %s refused (%s): %s\n", NL, what, r->c.ack.code, r->c.ack.message);
+        if (strcmp(r->c.ack.code, "ESTATE") != 0 || strstr(r->c.ack.message, "accept_commands"))
+            return 1; /* permanent: bad name or value, commands off; ESTATE ("not now") is
+                         retried */
         bus_wait(&r->c, 200, NULL, NULL);
     }
-    if (refused)
-        return 1;
-    fprintf(stderr, "\nwgrig: %s: no ACK after %d tries of %g s (is wormgeard running with prefix "
-                    "'%s' on this URL?)\n", what, r->o.retries + 1, r->o.timeout_s, r->c.prefix);
+    if (refused || !tried) /* !tried: stopped before sending, nothing to say */
+        return refused ? 1 : -1;
+    fprintf(stderr, "%swgrig: %s: no ACK after %d tries of %g s (is wormgeard running with prefix "
+                    "'%s' on this URL?)\n", NL, what, r->o.retries + 1, r->o.timeout_s, r->c.prefix);
     return -1;
 }
 
 /* Set the swept parameter at the next Poincare section (psi = 0), as the
  * offline chain changes it: each point starts from the previous point's
  * state on the section, not from wherever in the period the command lands. */
-static int set_value(rig *r, double v)
+static int set_value(rig *r, double v, int at_section)
 {
     char *names[1] = {(char *)r->o.param}, what[96];
     wormgear_cmd_t c = bus_cmd("set");
-    c.nparams = 1, c.names = names, c.values = &v, c.at_section = 1;
+    c.nparams = 1, c.names = names, c.values = &v, c.at_section = (int8_t)at_section;
     snprintf(what, sizeof what, "set %s=%.10g", r->o.param, v);
     return command(r, &c, what);
 }
@@ -398,15 +282,15 @@ static int collect(rig *r, int skip, int want)
     while (c->active && !g_stop) {
         bus_wait(&r->c, 100, NULL, NULL);
         if (cli_mono_s() - c->last_at > r->o.stall_s) {
-            fprintf(stderr, "\nwgrig: no POINCARE section for %g s (daemon paused, stopped, or "
-                            "publishing elsewhere?)\n", r->o.stall_s);
+            fprintf(stderr, "%swgrig: no POINCARE section for %g s (daemon paused, stopped, or "
+                            "publishing elsewhere?)\n", NL, r->o.stall_s);
             break;
         }
         if (c->ramp && !r->o.quiet && isatty(STDERR_FILENO) && r->rec.n)
             fprintf(stderr, "\rramp %s: %s = %.6g, %d sections\033[K", r->phase_dir, r->o.param,
                     r->rval[r->rec.n - 1], r->rec.n);
         if (c->breaks - breaks0 > r->o.retries) {
-            fprintf(stderr, "\nwgrig: recording broken by dropped sections %ld times\n",
+            fprintf(stderr, "%swgrig: recording broken by dropped sections %ld times\n", NL,
                     c->breaks - breaks0);
             break;
         }
@@ -440,7 +324,7 @@ static void progress(rig *r, const char *dir, const wg_point *pt)
 static int run_point(rig *r, double v, wg_point *pt, window *win)
 {
     char why[256] = "";
-    int rc = set_value(r, v);
+    int rc = set_value(r, v, 1);
     memset(pt, 0, sizeof *pt);
     pt->value = v, pt->lle = NAN, pt->min_xn = pt->max_xn = NAN;
     if (rc)
@@ -461,7 +345,7 @@ static int run_point(rig *r, double v, wg_point *pt, window *win)
     rig_ana_fini(&a);
     if (n < 0 && n != WG_ENONFINITE) {
         if (n != STOPPED)
-            fprintf(stderr, "\nwgrig: %s=%g: %s\n", r->o.param, v, why);
+            fprintf(stderr, "%swgrig: %s=%g: %s\n", NL, r->o.param, v, why);
         return -1;
     }
     rig_rec_fill(&r->rec, pt);
@@ -652,7 +536,7 @@ static int check_param(rig *r)
  * at its highest omega). 0, or 2 when the ramp is too long or too short. */
 static int record_cap(const rig *r, int *cap)
 {
-    *cap = REC_CAP;
+    *cap = RIG_REC_CAP;
     if (r->o.ramp <= 0)
         return 0;
     double om = r->pid == WG_P_OMEGA ? fmax(r->o.from, r->o.to) : r->base.v[WG_P_OMEGA];
@@ -718,10 +602,15 @@ static void finish(rig *r)
 {
     if (!r->c.lcm)
         return;
+    r->restoring = 1; /* sent even after a stop (they were skipped: the daemon stayed fast,
+                         at the sweep's last value) */
+    if (g_stop && (r->o.fast || !r->o.keep))
+        fprintf(stderr, "%swgrig: stopped; putting the daemon back (a second Ctrl-C skips it)\n",
+                NL);
     if (r->o.fast && r->have_status)
         set_mode(r, r->orig_mode, r->orig_rate);
     if (!r->o.keep && r->have_params && r->o.ramp <= 0 && r->done)
-        set_value(r, r->orig);
+        set_value(r, r->orig, 0); /* now: at a section it would wait on a paused daemon */
     bus_wait(&r->c, 300, NULL, NULL); /* CONTACT batches still on their way */
 }
 
@@ -782,8 +671,10 @@ int main(int argc, char **argv)
         return 1;
     rig_imp_init(&r->imp);
     char *cmdline = cli_join_args(argc, argv);
-    int rc = parse_opts(argc, argv, &r->o);
+    int rc = rig_parse_opts(argc, argv, &r->o);
     cli_on_stop_signals(on_signal);
+    signal(SIGHUP, on_signal);   /* a closed terminal: stop and put the daemon back */
+    signal(SIGPIPE, SIG_IGN);    /* a closed stderr pipe killed it mid-sweep */
     r->t0 = cli_mono_s();
     wg_chain chains[2];
     window *win[2] = {NULL, NULL};

@@ -81,6 +81,23 @@ expect 0 "$C" status
 has out "mode realtime (rate 0.01)"       # --fast restored the mode
 has out "^omega     0\.5$"                  # and the original omega (no --keep)
 
+# ---- stopped mid-sweep (SIGTERM: a script's background job ignores SIGINT):
+# exit 130, partial outputs, and the daemon put back, its mode and omega
+# (it was left in fast mode at the sweep's value: the restore was skipped)
+"$C" set omega=0.5 >/dev/null
+"$R" --from 0.6 --to 2.0 --points 40 --settle 3000 --fast --out "$tmp/stop" 2>"$tmp/stop.err" &
+rpid=$!
+i=0
+until grep -q "up omega" "$tmp/stop.err" || [ $i -ge 200 ]; do sleep 0.1; i=$((i + 1)); done
+kill -TERM $rpid; wait $rpid; rc=$?
+[ $rc -eq 130 ] || fail "SIGTERM mid-sweep: exit $rc, want 130: $(tail -3 "$tmp/stop.err")"
+grep -q "stopped; putting the daemon back" "$tmp/stop.err" || fail "no 'putting the daemon back': $(tail -3 "$tmp/stop.err")"
+grep -q "no ACK after" "$tmp/stop.err" && fail "a false 'no ACK' after the stop: $(grep 'no ACK' "$tmp/stop.err")"
+[ -s "$tmp/stop.csv" ] || fail "no partial stop.csv"
+expect 0 "$C" status
+has out "mode realtime (rate 0.01)"
+has out "^omega     0\.5$"
+
 # ---- a ramp up and down, 1 s of simulated time each way (physical real time),
 # with a hostile sender on the same channels (tests/clients/wgspoof.c): its
 # PARAMS (scale NaN, N = 0, unknown model, a NaN value) are ignored, said
@@ -96,6 +113,7 @@ awk -F, '$1 == "up" && $3 == 0.5 && $7 == "no_impact" { ok = 1 } END { exit !ok 
     fail "ramp: omega 0.5 not no_impact: $(cat "$tmp/ramp.csv")"
 awk -F, '$1 == "up" && $3 == 0.9 && $7 == "single_sided" { ok = 1 } END { exit !ok }' "$tmp/ramp.csv" ||
     fail "ramp: omega 0.9 not single_sided: $(cat "$tmp/ramp.csv")"
+
 kill -TERM $pid; wait $pid; pid=
 
 # ---- refusals: a monitor-only daemon refuses every set (ESTATE)
@@ -105,5 +123,6 @@ sleep 0.5
 expect 1 "$R" --from 0.5 --to 0.6 --points 2 --dir up --retries 1 --out "$tmp/ref"
 has err "refused (ESTATE)"
 has err "2 skipped (refused)"
+has err ", 3 refusals,"   # one a point and the restore: commands off is not "not now", not retried
 kill -TERM $pid; wait $pid; pid=
 exit $code
