@@ -193,3 +193,66 @@ int web_cmd_from_setparams(web_cmd *c, const cJSON *params, char *why, size_t wh
     }
     return 0;
 }
+
+/* A \u0000 escape in the text (a literal backslash, "\\", skipped). */
+static long nul_escape_at(const char *p, size_t len)
+{
+    for (size_t i = 0; i + 1 < len; i++)
+        if (p[i] == '\\') {
+            if (p[i + 1] == 'u' && i + 5 < len && !strncmp(p + i + 2, "0000", 4))
+                return (long)i;
+            i++;
+        }
+    return -1;
+}
+
+/* The first object in v (depth first) with a key twice or too many
+ * members: 1 with why, else 0. */
+static int bad_object(const cJSON *v, char *why, size_t whylen)
+{
+    for (const cJSON *c = v ? v->child : NULL; c; c = c->next)
+        if (bad_object(c, why, whylen))
+            return 1;
+    if (!cJSON_IsObject(v))
+        return 0;
+    int n = 0;
+    for (const cJSON *a = v->child; a; a = a->next, n++) {
+        if (n == WEB_JSON_MEMBERS_MAX) {
+            snprintf(why, whylen, "an object with more than %d members", WEB_JSON_MEMBERS_MAX);
+            return 1;
+        }
+        for (const cJSON *b = a->next; b; b = b->next)
+            if (a->string && b->string && !strcmp(a->string, b->string)) {
+                snprintf(why, whylen, "the key '%.40s' twice in one object (each key once)",
+                         a->string);
+                return 1;
+            }
+    }
+    return 0;
+}
+
+cJSON *web_json_parse(const void *p, size_t len, char *why, size_t whylen)
+{
+    const char *s = p, *end = NULL;
+    long at = nul_escape_at(s, len);
+    if (at >= 0) {
+        snprintf(why, whylen, "a string with a NUL (\\u0000) at byte %ld", at);
+        return NULL;
+    }
+    cJSON *j = cJSON_ParseWithLengthOpts(s, len, &end, 0);
+    if (!j) {
+        snprintf(why, whylen, "not JSON (at byte %ld of %zu)", end ? (long)(end - s) : 0L, len);
+        return NULL;
+    }
+    size_t k = (size_t)(end - s);
+    while (k < len && (s[k] == ' ' || s[k] == '\t' || s[k] == '\n' || s[k] == '\r'))
+        k++;
+    if (k < len) {
+        snprintf(why, whylen, "text after the JSON value, at byte %zu of %zu (one value a "
+                 "message)", k, len);
+    } else if (!bad_object(j, why, whylen)) {
+        return j;
+    }
+    cJSON_Delete(j);
+    return NULL;
+}

@@ -32,6 +32,15 @@ typedef struct web_cmd {
  * field and what it must be). */
 int web_cmd_from_json(web_cmd *c, const cJSON *j, char *why, size_t whylen);
 
+/* What a client sends, parsed strictly (every text frame and /cmd payload):
+ * one JSON value and nothing after it but white space, no object with a
+ * key twice or more than WEB_JSON_MEMBERS_MAX members, no string holding
+ * a NUL (\u0000). cJSON alone took '{"op":"get"}garbage' as a get, the
+ * first of two "op" keys where JavaScript takes the last, and "omega\u0000x"
+ * as omega. The value (cJSON_Delete it), or NULL with why. */
+enum { WEB_JSON_MEMBERS_MAX = 1024 };
+cJSON *web_json_parse(const void *p, size_t len, char *why, size_t whylen);
+
 /* Fill c with one atomic `set` from a setParameters `parameters` array
  * ([{name, value}], value a number). 0, or -1 with why. */
 int web_cmd_from_setparams(web_cmd *c, const cJSON *params, char *why, size_t whylen);

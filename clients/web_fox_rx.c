@@ -271,12 +271,15 @@ static const struct {
 
 static void rx_text(fox *f, int ci, const unsigned char *p, size_t len)
 {
-    cJSON *j = cJSON_ParseWithLength((const char *)p, len);
+    char why[160];
+    cJSON *j = web_json_parse(p, len, why, sizeof why);
     const cJSON *op = cJSON_GetObjectItemCaseSensitive(j, "op");
     if (!cJSON_IsObject(j) || !cJSON_IsString(op)) {
         f->bad_frames++;
-        fox_status(f, ci, 2, "%s", j ? "a text frame must be a JSON object with a string 'op'"
-                                     : "a text frame that is not JSON");
+        if (j)
+            fox_status(f, ci, 2, "a text frame must be a JSON object with a string 'op'");
+        else
+            fox_status(f, ci, 2, "a text frame refused: %s", why);
         cJSON_Delete(j);
         return;
     }
@@ -307,9 +310,9 @@ static void rx_publish(fox *f, int ci, const unsigned char *p, size_t len)
                                                           : "unknown client channel id");
         return;
     }
-    cJSON *j = cJSON_ParseWithLength((const char *)p + 5, len - 5);
+    cJSON *j = web_json_parse(p + 5, len - 5, why, sizeof why);
     if (!j || web_cmd_from_json(&wc, j, why, sizeof why) != 0)
-        fox_status(f, ci, 2, "/cmd: %s", j ? why : "the payload is not JSON");
+        fox_status(f, ci, 2, "/cmd: %s", why);
     else
         send_command(f, ci, &wc, wc.id, 0);
     cJSON_Delete(j);

@@ -339,10 +339,21 @@ static void test_client_publish(void)
     ASSERT_NEAR(K.last_v0, 1.2, 0);
     memcpy(fr + 5, "{oops", 5);
     fox_rx(&F, a, fr, 10, 1);
+    /* parsed strictly: text after the value, a key twice, a NUL in a
+     * string are refused (cJSON ran the get, the first "op", "omega") */
+    static const char *const bent[] = {"{\"op\":\"get\"}garbage", "{\"op\":\"get\",\"op\":\"pause\"}",
+                                       "{\"op\":\"set\",\"params\":{\"omega\\u0000x\":0.6}}"};
+    for (int i = 0; i < 3; i++) {
+        memcpy(fr + 5, bent[i], strlen(bent[i]));
+        fox_rx(&F, a, fr, 5 + strlen(bent[i]), 1);
+    }
     fr[1] = 9; /* unknown client channel */
     fox_rx(&F, a, fr, 10, 1);
     const char *t = drain(a, NULL);
-    ASSERT_CONTAINS(t, "the payload is not JSON");
+    ASSERT_CONTAINS(t, "/cmd: not JSON (at byte");
+    ASSERT_CONTAINS(t, "text after the JSON value, at byte 12 of 19");
+    ASSERT_CONTAINS(t, "the key 'op' twice in one object");
+    ASSERT_CONTAINS(t, "a string with a NUL");
     ASSERT_CONTAINS(t, "unknown client channel id");
     ASSERT_EQ_INT(K.cmds, 1);
     teardown();
