@@ -399,6 +399,18 @@ static void test_hostile_messages(void)
     if (f)
         fclose(f);
     ASSERT_EQ_INT(lines, 1 + 2); /* the header and the two good rows */
+    /* the same log cut inside its last event, and a directory: exit 1 with
+     * the reason (they gave exit 0: a part of the log, "0 events"), the
+     * summary of what could be read */
+    snprintf(cmd, sizeof cmd, "head -c -10 %s/bent.lcmlog >%s/cut.lcmlog && %s summary "
+             "%s/cut.lcmlog 2>&1", dir, dir, wglog(), dir);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 1);
+    ASSERT_CONTAINS(out, "cut.lcmlog: damaged or cut short at byte");
+    ASSERT_CONTAINS(out, "the 5 events before it are read");
+    ASSERT_CONTAINS(out, "BENT_CONTACT ");
+    snprintf(cmd, sizeof cmd, "%s summary %s 2>&1", wglog(), dir);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 1);
+    ASSERT_CONTAINS(out, "is a directory, not a regular file");
 }
 
 static void test_usage(void)
