@@ -54,7 +54,7 @@ static int cmp64(const void *a, const void *b)
 
 long rig_imp_count(rig_imp *m, int64_t p0, int64_t p1)
 {
-    if (!m->sorted)
+    if (!m->sorted && m->n) /* none yet: period is NULL, which qsort may not take */
         qsort(m->period, m->n, sizeof *m->period, cmp64);
     m->sorted = 1;
     size_t lo = 0, hi = m->n;
