@@ -1,5 +1,6 @@
 /* cont_out.c - the files of a continuation run (see cont_out.h). */
 #include "cont_out.h"
+#include "wormgear/wg_file.h"
 #include "wormgear/wg_scene.h"
 
 #include <errno.h>
@@ -202,11 +203,9 @@ static int row(char *line, const int *col, cont_row *r)
 int cont_read_bifs(const char *path, cont_bifs *b, char *why, size_t whylen)
 {
     memset(b, 0, sizeof *b);
-    FILE *f = fopen(path, "r");
-    if (!f) {
-        snprintf(why, whylen, "cannot read %s: %s", path, strerror(errno));
+    FILE *f = wg_file_fopen(path, "bifurcations file", 0, -1, why, whylen);
+    if (!f)
         return -1;
-    }
     char line[4096];
     int col[6], cap = 0, rc = 0, lno = 1;
     if (!fgets(line, sizeof line, f) || !strchr(line, '\n') || header(line, b, col)) {

@@ -3,6 +3,7 @@
  * (wgsweep --table-from). Poincare values are not in that file: the loaded
  * points have nsec = 0. */
 #include "sweep_load.h"
+#include "wormgear/wg_file.h"
 
 #include <errno.h>
 #include <math.h>
@@ -176,12 +177,10 @@ static int read_line(FILE *fp, char *line, size_t len)
  * exit 0). */
 int load_points_csv(const char *path, sweep_study *st, char *why, size_t whylen)
 {
-    FILE *fp = fopen(path, "r");
+    FILE *fp = wg_file_fopen(path, "points file", 0, -1, why, whylen);
     char line[4096];
-    if (!fp) {
-        snprintf(why, whylen, "cannot read %s: %s", path, strerror(errno));
+    if (!fp)
         return -1;
-    }
     int nf = 0, lineno = 1, rc = 0, rows = 0;
     int off = read_line(fp, line, sizeof line) == 1 ? parse_header(line, st, &nf) : -1;
     if (off < 0) {

@@ -25,6 +25,7 @@
 #include "lcmtypes/wormgear_scope_t.h"
 #include "lcmtypes/wormgear_tick_t.h"
 #include "units.h"
+#include "wormgear/wg_file.h"
 #include "wormgear/wg_model.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_status.h"
@@ -493,19 +494,20 @@ enum { LOG_MAGIC = (int)0xEDA1DA01, LOG_CHANNEL_MAX = 1000 };
 
 static int logrd_open(logrd *l, const char *path)
 {
+    char why[600];
     struct stat st;
     l->bad_at = -1;
-    int bad = stat(path, &st) != 0;
-    const char *why = bad ? strerror(errno) : wg_file_not_regular(st.st_mode);
-    if (why) { /* a directory read as "0 events", exit 0 */
-        fprintf(stderr, "wglog: cannot open log '%s': %s\n", path, why);
+    /* a directory read as "0 events", exit 0 */
+    if (!(l->f = wg_file_fopen(path, "log", 0, -1, why, sizeof why))) {
+        fprintf(stderr, "wglog: %s\n", why);
+        return -1;
+    }
+    if (fstat(fileno(l->f), &st) != 0) {
+        fprintf(stderr, "wglog: cannot open log %s: %s\n", path, strerror(errno));
+        fclose(l->f);
         return -1;
     }
     l->size = (long long)st.st_size;
-    if (!(l->f = fopen(path, "rb"))) {
-        fprintf(stderr, "wglog: cannot open log '%s': %s\n", path, strerror(errno));
-        return -1;
-    }
     return 0;
 }
 

@@ -1,20 +1,17 @@
 /* conf.c - the configuration key table, INI reader and option parser. */
 #include "conf.h"
 
+#include "wormgear/wg_file.h"
 #include "wormgear/wg_param.h"
 #include "wormgear/wg_sim.h"
 #include "wormgear/wg_status.h"
 
 #include <ctype.h>
-#include <errno.h>
-#include <fcntl.h>
 #include <getopt.h>
 #include <ini.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 enum { K_STR, K_INT, K_DBL, K_BOOL, K_ENUM, K_STEPPER };
 
@@ -309,78 +306,6 @@ static int add_set(conf *c, const char *name, const char *value, char *why, size
 
 /* ---- INI file ------------------------------------------------------------ */
 
-/* A regular file within CONF_FILE_MAX, or why not (its kind or size). */
-static int file_ok(const char *path, const struct stat *st, char *why, size_t len)
-{
-    if (!S_ISREG(st->st_mode)) {
-        snprintf(why, len, "config file %s %s", path, wg_file_not_regular(st->st_mode));
-        return 2;
-    }
-    if (st->st_size > CONF_FILE_MAX) {
-        snprintf(why, len, "config file %s is %lld bytes (limit %d): too large", path,
-                 (long long)st->st_size, CONF_FILE_MAX);
-        return 2;
-    }
-    return 0;
-}
-
-/* Open path for reading if it is a regular file within the limit, as
- * snapshot restore opens its files: judged by stat before it is opened (a
- * FIFO or a device is never opened), opened without blocking, judged again
- * by fstat (it may have been replaced in between). A link is followed:
- * config files often are links. The descriptor, or -1 with why. */
-static int open_regular(const char *path, char *why, size_t len)
-{
-    struct stat st;
-    if (stat(path, &st) != 0) {
-        snprintf(why, len, "%s: cannot open config file: %s", path, strerror(errno));
-        return -1;
-    }
-    if (file_ok(path, &st, why, len))
-        return -1;
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
-    if (fd < 0) {
-        snprintf(why, len, "%s: cannot open config file: %s", path, strerror(errno));
-        return -1;
-    }
-    int bad = fstat(fd, &st) != 0;
-    if (bad)
-        snprintf(why, len, "%s: cannot open config file: %s", path, strerror(errno));
-    if (bad || file_ok(path, &st, why, len)) {
-        close(fd);
-        return -1;
-    }
-    return fd;
-}
-
-/* The whole file into buf (CONF_FILE_MAX + 1 bytes): its length, or -1
- * with why. */
-static long read_text(const char *path, char *buf, char *why, size_t len)
-{
-    int fd = open_regular(path, why, len);
-    if (fd < 0)
-        return -1;
-    size_t n = 0;
-    ssize_t k = 1;
-    while (n <= CONF_FILE_MAX && k != 0)
-        if ((k = read(fd, buf + n, CONF_FILE_MAX + 1 - n)) > 0)
-            n += (size_t)k;
-        else if (k < 0 && errno != EINTR)
-            break;
-    int e = errno;
-    close(fd);
-    if (k < 0) {
-        snprintf(why, len, "%s: cannot read config file: %s", path, strerror(e));
-        return -1;
-    }
-    if (n > CONF_FILE_MAX) { /* grew since the fstat */
-        snprintf(why, len, "config file %s is more than %d bytes (the limit): too large", path,
-                 CONF_FILE_MAX);
-        return -1;
-    }
-    return (long)n;
-}
-
 typedef struct reader_ctx {
     const char *p, *end;      /* the text not yet handed to the parser */
     conf *c;
@@ -544,7 +469,7 @@ int conf_read_file(conf *c, const char *path, char *why, size_t whylen)
         snprintf(why, whylen, "%s: out of memory to read it", path);
         return 2;
     }
-    long n = read_text(path, text, why, whylen);
+    long n = wg_file_read(path, "config file", 0, text, CONF_FILE_MAX, why, whylen);
     int rc = n < 0 ? 2 : parse_text(c, path, text, (size_t)n, why, whylen);
     free(text);
     if (!rc)

@@ -1,5 +1,6 @@
 /* wg_key.c - key files and MACs of signed commands (libsodium). */
 #include "wormgear/wg_key.h"
+#include "wormgear/wg_file.h"
 
 #include "wormgear/wg_status.h"
 
@@ -13,18 +14,22 @@
 
 /* libsodium must be initialised once before use; sodium_init is safe to
  * call again and from several threads. */
+/* A key file is 64 hexadecimal digits and a line end; a larger file is
+ * not one (read whole, it would only be refused later). */
+enum { KEY_FILE_MAX = 1024 };
+
 static int sodium_ready(void) { return sodium_init() >= 0; }
 
 int wg_key_load(const char *path, unsigned char key[WG_KEY_BYTES], char *why, size_t whylen)
 {
-    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    char text[KEY_FILE_MAX + 1];
+    int fd = wg_file_open(path, "key file", WG_FILE_NOFOLLOW, KEY_FILE_MAX, why, whylen);
     struct stat st;
-    char text[2 * WG_KEY_BYTES + 3];
-    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        snprintf(why, whylen, "key file %s: %s", path,
-                 fd < 0 ? strerror(errno) : "not a regular file");
-        if (fd >= 0)
-            close(fd);
+    if (fd < 0)
+        return WG_EIO;
+    if (fstat(fd, &st) != 0) {
+        snprintf(why, whylen, "cannot open key file %s: %s", path, strerror(errno));
+        close(fd);
         return WG_EIO;
     }
     if (st.st_mode & 077) {

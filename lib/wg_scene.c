@@ -1,5 +1,6 @@
 /* wg_scene.c - scene files (INI via libinih), physical unit conversion. */
 #include "wormgear/wg_scene.h"
+#include "wormgear/wg_file.h"
 #include "wormgear/wg_status.h"
 
 #include <dirent.h>
@@ -99,6 +100,9 @@ void wg_scale_default(wg_scale *s)
  * [scene], [params], [physical], [scale] keys, state and the 18 names of
  * both models' state values. */
 enum { KEYS_MAX = 3 + WG_NPARAM + NPHYS + 3 + 1 + 18 };
+
+/* A scene is a few hundred bytes; a file larger than this is not one. */
+enum { SCENE_FILE_MAX = 1 << 20 };
 typedef struct taken {
     char sec[12], name[32];
     int line;
@@ -514,35 +518,6 @@ static int check_all(loader *L)
     return WG_OK;
 }
 
-/* Open path for reading if it is a regular file: WG_OK, or WG_EIO with why
- * saying what it is. A directory opens and reads as an empty file (the
- * defaults ran under its name); O_NONBLOCK keeps the open of a FIFO from
- * waiting for a writer (it is refused, and changes nothing for a regular
- * file). fstat on the open file: no window between the test and the use. */
-static int open_regular(const char *path, FILE **f, char *why, size_t whylen)
-{
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    struct stat st;
-    if (fd < 0 || fstat(fd, &st) != 0) {
-        snprintf(why, whylen, "%s: cannot open scene file: %s", path, strerror(errno));
-        if (fd >= 0)
-            close(fd);
-        return WG_EIO;
-    }
-    if (!S_ISREG(st.st_mode)) {
-        snprintf(why, whylen, "%s: %s (a scene is an .ini file)", path,
-                 wg_file_not_regular(st.st_mode));
-        close(fd);
-        return WG_EIO;
-    }
-    if (!(*f = fdopen(fd, "r"))) {
-        snprintf(why, whylen, "%s: cannot open scene file: %s", path, strerror(errno));
-        close(fd);
-        return WG_EIO;
-    }
-    return WG_OK;
-}
-
 int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen)
 {
     memset(sc, 0, sizeof *sc);
@@ -557,9 +532,8 @@ int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen)
     wg_params_default(&sc->p);
     wg_scale_default(&sc->scale);
     snprintf(sc->path, sizeof sc->path, "%s", path);
-    int rc = open_regular(path, &L.f, why, whylen);
-    if (rc)
-        return rc;
+    if (!(L.f = wg_file_fopen(path, "scene file", 0, SCENE_FILE_MAX, why, whylen)))
+        return WG_EIO;
     int r = ini_parse_stream(reader, &L, handler, &L);
     fclose(L.f);
     if (L.rc)
@@ -573,7 +547,8 @@ int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen)
               "[section] lines); a scene gives at least one key = value");
         return L.rc;
     }
-    if ((rc = check_initial(&L)))
+    int rc = check_initial(&L);
+    if (rc)
         return rc;
     if (L.nphys) {
         sc->physical = 1;

@@ -3,10 +3,9 @@
  * One walk over the fields (walk()) defines the order and the keys; the
  * writer and the reader are two visitors of it, so they cannot disagree. */
 #include "wormgear/wg_snapshot.h"
+#include "wormgear/wg_file.h"
 #include "wormgear/wg_status.h"
 
-#include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <sodium.h>
 #include <stdarg.h>
@@ -14,8 +13,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #define HEAD "# wormgeard snapshot, format "
 #define SUMKEY "blake2b-256 = "
@@ -406,100 +403,13 @@ int wg_snapshot_format(const wg_snapshot *snap, const char *scene, char *buf, si
 
 /* ---- reading a file --------------------------------------------------------------- */
 
-/* A regular file within the size limit, or why not (its kind or size,
- * never its content). */
-static int file_ok(const char *path, const struct stat *st, char *why, size_t whylen)
-{
-    if (!S_ISREG(st->st_mode)) {
-        snprintf(why, whylen, "%s %s", path, wg_file_not_regular(st->st_mode));
-        return WG_EIO;
-    }
-    if (st->st_size > WG_SNAPSHOT_MAX) {
-        snprintf(why, whylen, "%s is %lld bytes (limit %d): not a snapshot", path,
-                 (long long)st->st_size, WG_SNAPSHOT_MAX);
-        return WG_EIO;
-    }
-    return WG_OK;
-}
-
-/* Open path for reading if it is a regular file within the limit: judged
- * by lstat before it is opened (a FIFO or a device is never opened), opened
- * without following a link or blocking, judged again by fstat. The file
- * descriptor, or a negative code with why. */
-static int open_regular(const char *path, char *why, size_t whylen)
-{
-    struct stat st;
-    if (lstat(path, &st) != 0) {
-        snprintf(why, whylen, "cannot read %s: %s", path, strerror(errno));
-        return WG_EIO;
-    }
-    int rc = file_ok(path, &st, why, whylen);
-    if (rc)
-        return rc;
-    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) {
-        if (errno == ELOOP) /* replaced by a link since the lstat */
-            snprintf(why, whylen, "%s %s", path, wg_file_not_regular(S_IFLNK));
-        else
-            snprintf(why, whylen, "cannot read %s: %s", path, strerror(errno));
-        return WG_EIO;
-    }
-    if (fstat(fd, &st) != 0) {
-        snprintf(why, whylen, "cannot read %s: %s", path, strerror(errno));
-        rc = WG_EIO;
-    } else {
-        rc = file_ok(path, &st, why, whylen);
-    }
-    if (rc)
-        close(fd);
-    return rc ? rc : fd;
-}
-
-/* Up to cap bytes of fd; -1 on a read error. */
-static long read_upto(int fd, char *buf, size_t cap)
-{
-    size_t n = 0;
-    while (n < cap) {
-        ssize_t k = read(fd, buf + n, cap - n);
-        if (k < 0 && errno == EINTR)
-            continue;
-        if (k < 0)
-            return -1;
-        if (k == 0)
-            break;
-        n += (size_t)k;
-    }
-    return (long)n;
-}
-
-/* The bytes of a snapshot file (at most WG_SNAPSHOT_MAX), or a negative
- * code with why: buf holds cap > WG_SNAPSHOT_MAX bytes. */
-static long read_file(const char *path, char *buf, size_t cap, char *why, size_t whylen)
-{
-    int fd = open_regular(path, why, whylen);
-    if (fd < 0)
-        return fd;
-    long n = read_upto(fd, buf, cap);
-    int e = errno;
-    close(fd);
-    if (n < 0) {
-        snprintf(why, whylen, "cannot read %s: %s", path, strerror(e));
-        return WG_EIO;
-    }
-    if (n > WG_SNAPSHOT_MAX) {
-        snprintf(why, whylen, "%s grew past %d bytes while it was read", path, WG_SNAPSHOT_MAX);
-        return WG_EIO;
-    }
-    return n;
-}
-
 int wg_snapshot_load(const char *path, wg_snapshot *snap, char *scene, size_t scenelen,
                      char *why, size_t whylen)
 {
     char text[WG_SNAPSHOT_MAX + 1], msg[400];
-    long n = read_file(path, text, sizeof text, why, whylen);
+    long n = wg_file_read(path, NULL, WG_FILE_NOFOLLOW, text, WG_SNAPSHOT_MAX, why, whylen);
     if (n < 0)
-        return (int)n;
+        return WG_EIO;
     int rc = wg_snapshot_parse(text, (size_t)n, snap, scene, scenelen, msg, sizeof msg);
     if (rc)
         snprintf(why, whylen, "%s: %s", path, msg);

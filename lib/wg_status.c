@@ -1,8 +1,7 @@
-/* wg_status.c - names of the status codes, and why a file is not read. */
+/* wg_status.c - names of the status codes. */
 #include "wormgear/wg_status.h"
 
 #include <stddef.h>
-#include <sys/stat.h>
 
 static const struct {
     int code;
@@ -36,17 +35,4 @@ const char *wg_status_str(int code)
         if (codes[i].code == code)
             return codes[i].str;
     return "unknown status code";
-}
-
-const char *wg_file_not_regular(unsigned st_mode)
-{
-    mode_t m = (mode_t)st_mode;
-    return S_ISREG(m)    ? NULL
-           : S_ISLNK(m)  ? "is a symbolic link (not followed), not a regular file"
-           : S_ISDIR(m)  ? "is a directory, not a regular file"
-           : S_ISFIFO(m) ? "is a FIFO, not a regular file"
-           : S_ISSOCK(m) ? "is a socket, not a regular file"
-           : S_ISCHR(m)  ? "is a character device, not a regular file"
-           : S_ISBLK(m)  ? "is a block device, not a regular file"
-                         : "is not a regular file";
 }

@@ -28,9 +28,4 @@ const char *wg_status_name(int code);
 /* One-line English description of a status code. */
 const char *wg_status_str(int code);
 
-/* Why a file of stat mode st_mode is not read as one ("is a FIFO, not a
- * regular file", ...), NULL for a regular file: the words every reader of
- * files (scenes, snapshots, the daemon's config) refuses others with. */
-const char *wg_file_not_regular(unsigned st_mode);
-
 #endif

@@ -98,6 +98,10 @@ head -c $(($(wc -c <"$dir/pd-bifurcations.csv") - 40)) "$dir/pd-bifurcations.csv
 "$sweep" --table-from "$dir/sw.csv" --exact "$dir/cut.csv" --out "$dir/swc" >/dev/null 2>"$dir/swc.err"; r11=$?
 check "wgsweep --exact with a torn bifurcations file: exit 2, the line cut short said" \
   '[ $r11 -eq 2 ] && grep -q "cut.csv:[0-9]*: the line is cut short" "$dir/swc.err"'
+mkfifo "$dir/bifs.fifo"
+timeout 20 "$sweep" --table-from "$dir/sw.csv" --exact "$dir/bifs.fifo" --out "$dir/swf" >/dev/null 2>"$dir/swf.err"; r12=$?
+check "wgsweep --exact with a FIFO: exit 2 at once (the open blocked), 'is a FIFO'" \
+  '[ $r12 -eq 2 ] && grep -q "bifurcations file $dir/bifs.fifo is a FIFO, not a regular file" "$dir/swf.err"'
 "$sweep" --from 1.17 --to 1.22 --points 6 --quiet --no-png --values xi_p=0.08,0.1 \
     --exact "$dir/pd-bifurcations.csv" --out "$dir/sw2" >/dev/null 2>&1; r6=$?
 "$sweep" --from 1.17 --to 1.22 --points 6 --quiet --no-png --param xi_p \

@@ -1,0 +1,126 @@
+/* test_file.c - wg_file: every reader of a named file (scenes, snapshots,
+ * key files, the daemon's config, logs, CSV files read back) opens it
+ * through wg_file_open, so what it refuses and how it says so is pinned
+ * here once: a directory, a FIFO (without blocking), a device, a link when
+ * links are not followed, a file over the limit, one that grows past it
+ * while it is read, one that is not there. */
+#include "test.h"
+#include "wormgear/wg_file.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static char dir[64];
+
+static void put(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    ASSERT_TRUE(f && fputs(text, f) >= 0 && fclose(f) == 0);
+}
+
+static void setup(void)
+{
+    snprintf(dir, sizeof dir, "/tmp/wg_test_file_XXXXXX");
+    ASSERT_TRUE(mkdtemp(dir) != NULL);
+    alarm(20); /* a FIFO opened for reading would block: fail, do not hang */
+}
+
+static void teardown(void)
+{
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    ASSERT_EQ_INT(system(cmd), 0);
+}
+
+/* A regular file is read whole, up to the limit and not a byte past it. */
+static void test_regular(void)
+{
+    setup();
+    char path[128], buf[17], why[400];
+    snprintf(path, sizeof path, "%s/a.txt", dir);
+    put(path, "0123456789abcdef"); /* 16 bytes */
+    ASSERT_EQ_INT((int)wg_file_read(path, "config file", 0, buf, 16, why, sizeof why), 16);
+    ASSERT_TRUE(memcmp(buf, "0123456789abcdef", 16) == 0);
+    ASSERT_EQ_INT((int)wg_file_read(path, "config file", 0, buf, 15, why, sizeof why), -1);
+    char want[200];
+    snprintf(want, sizeof want, "config file %s is 16 bytes (limit 15)", path);
+    ASSERT_STR(why, want);
+    /* a stream, and no limit */
+    FILE *f = wg_file_fopen(path, "log", 0, -1, why, sizeof why);
+    ASSERT_TRUE(f != NULL);
+    if (f) {
+        char line[32] = "";
+        ASSERT_TRUE(fgets(line, sizeof line, f) != NULL);
+        ASSERT_STR(line, "0123456789abcdef");
+        fclose(f);
+    }
+    teardown();
+}
+
+/* Not regular files: each refused before it is opened, in its own words;
+ * a FIFO without waiting for a writer. */
+static void test_not_regular(void)
+{
+    setup();
+    char fifo[128], sub[128], why[400], want[200];
+    snprintf(fifo, sizeof fifo, "%s/fifo", dir);
+    snprintf(sub, sizeof sub, "%s/sub", dir);
+    ASSERT_EQ_INT(mkfifo(fifo, 0600), 0);
+    ASSERT_EQ_INT(mkdir(sub, 0700), 0);
+    ASSERT_EQ_INT(wg_file_open(fifo, "scene file", 0, -1, why, sizeof why), -1);
+    snprintf(want, sizeof want, "scene file %s is a FIFO, not a regular file", fifo);
+    ASSERT_STR(why, want);
+    ASSERT_TRUE(wg_file_fopen(sub, NULL, 0, -1, why, sizeof why) == NULL);
+    snprintf(want, sizeof want, "%s is a directory, not a regular file", sub);
+    ASSERT_STR(why, want);
+    ASSERT_EQ_INT(wg_file_open("/dev/zero", "", 0, 100, why, sizeof why), -1);
+    ASSERT_STR(why, "/dev/zero is a character device, not a regular file");
+    teardown();
+}
+
+/* A link is followed unless WG_FILE_NOFOLLOW says otherwise. */
+static void test_links(void)
+{
+    setup();
+    char path[128], link[128], buf[8], why[400], want[200];
+    snprintf(path, sizeof path, "%s/target", dir);
+    snprintf(link, sizeof link, "%s/link", dir);
+    put(path, "key\n");
+    ASSERT_EQ_INT(symlink(path, link), 0);
+    ASSERT_EQ_INT((int)wg_file_read(link, NULL, 0, buf, 7, why, sizeof why), 4);
+    ASSERT_EQ_INT((int)wg_file_read(link, "key file", WG_FILE_NOFOLLOW, buf, 7, why, sizeof why),
+                  -1);
+    snprintf(want, sizeof want, "key file %s is a symbolic link (not followed), not a regular file",
+             link);
+    ASSERT_STR(why, want);
+    teardown();
+}
+
+/* Not there: the reason. */
+static void test_missing(void)
+{
+    setup();
+    char path[128], why[400], want[200];
+    snprintf(path, sizeof path, "%s/no-dir/x", dir);
+    ASSERT_EQ_INT(wg_file_open(path, "config file", 0, -1, why, sizeof why), -1);
+    snprintf(want, sizeof want, "cannot open config file %s: No such file or directory", path);
+    ASSERT_STR(why, want);
+    ASSERT_EQ_INT(wg_file_open(path, NULL, WG_FILE_NOFOLLOW, -1, why, sizeof why), -1);
+    snprintf(want, sizeof want, "cannot open %s: No such file or directory", path);
+    ASSERT_STR(why, want);
+    teardown();
+}
+
+/* A file whose size said it was within the limit but that holds more when
+ * read (grown in between; /proc files say 0 bytes) is refused, not cut. */
+static void test_grew(void)
+{
+    char buf[17], why[400];
+    ASSERT_EQ_INT((int)wg_file_read("/proc/self/status", "snapshot", 0, buf, 16, why, sizeof why),
+                  -1);
+    ASSERT_STR(why, "snapshot /proc/self/status grew past 16 bytes while it was read");
+}
+
+TEST_MAIN(TEST(test_regular), TEST(test_not_regular), TEST(test_links), TEST(test_missing),
+          TEST(test_grew))
