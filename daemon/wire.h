@@ -4,21 +4,23 @@
  * string length is passed to malloc, a string need not be NUL-terminated,
  * and a decode that fails half-way leaks what it allocated. The command
  * channel is open to anyone on the bus, so wormgeard walks the cmd_t layout
- * with bounds checks first (no allocation) and decodes only messages that
- * will decode completely and exactly: no byte after the message, no NUL
- * inside a string. The layout below mirrors lcmtypes/cmd_t.lcm; a unit test
- * encodes a full cmd_t and checks the walk lands on its end. */
+ * with bounds checks first (lcmtypes/msg_check.h, the walk the clients run
+ * on what the daemon publishes; no allocation) and decodes only messages
+ * that will decode completely and exactly: no byte after the message, no
+ * NUL inside a string, a MAC of 0 or 32 bytes. */
 #ifndef WGD_WIRE_H
 #define WGD_WIRE_H
+
+#include "msg_check.h"
 
 #include <stddef.h>
 #include <stdint.h>
 
 enum {
-    WIRE_MAX_PARAMS = 64,   /* names[] / values[] on the wire (the table has 29) */
-    WIRE_MAX_STRING = 4096, /* bytes of any string, without its NUL */
-    WIRE_MAX_CLIENT = 256,  /* bytes of a client id (echoed in its ACK) */
-    WIRE_MAC_BYTES = 32     /* a signed command's MAC (crypto_auth) */
+    WIRE_MAX_PARAMS = MSG_CMD_MAX_PARAMS, /* names[] / values[] on the wire (the table has 29) */
+    WIRE_MAX_STRING = MSG_CMD_MAX_STRING, /* bytes of any string, without its NUL */
+    WIRE_MAX_CLIENT = MSG_CMD_MAX_CLIENT, /* bytes of a client id (echoed in its ACK) */
+    WIRE_MAC_BYTES = MSG_CMD_MAC_BYTES    /* a signed command's MAC (crypto_auth) */
 };
 
 /* Where the signature sits in a checked message: the MAC covers bytes

@@ -1,5 +1,6 @@
-/* test_msg.c - the check the clients run on a message's bytes before LCM's
- * generated decoder (clients/bus_msg.c). For every type: a message encoded
+/* test_msg.c - the check the clients (and, for CMD, the daemon) run on a
+ * message's bytes before LCM's generated decoder (lcmtypes/msg_check.c,
+ * through clients/bus_msg.h). For every type: a message encoded
  * by the generated encoder is walked to its exact encoded size (so the
  * layouts there cannot drift from lcmtypes/), every shorter prefix is
  * refused, and each array count and string length set to what a hostile
@@ -174,6 +175,19 @@ static void test_hostile_counts_refused(void)
     encode(BUS_CONTACT, &e);
     put32(e.buf + 8 + 8 + 8 + 4, INT32_MAX);
     ASSERT_TRUE(!bus_msg_ok(BUS_CONTACT, e.buf, e.len));
+    msg_walk w; /* the walk says which field and why */
+    ASSERT_EQ_INT((int)msg_check(BUS_CONTACT, e.buf, e.len, &w), -1);
+    ASSERT_STR(w.field, "tau"); /* the first array the count makes run past the end */
+    ASSERT_STR(w.what, "truncated");
+    ASSERT_EQ_INT((int)w.at, 8 + 8 + 8 + 4 + 4);
+    ASSERT_EQ_INT((int)w.count[0], INT32_MAX);
+    /* a command over the protocol's limits is refused wherever it is read */
+    encode(BUS_CMD, &e);
+    ASSERT_TRUE(bus_msg_ok(BUS_CMD, e.buf, e.len));
+    put32(e.buf + 8 + 8 + 8 + 6 + 8, MSG_CMD_MAX_PARAMS + 1); /* nparams after "c", "set" */
+    ASSERT_EQ_INT((int)msg_check(BUS_CMD, e.buf, e.len, &w), -1);
+    ASSERT_STR(w.field, "nparams");
+    ASSERT_STR(w.what, "65, allowed 0 to 64");
 }
 
 /* A string's last byte must be its NUL (the decoder copies the bytes and
@@ -185,6 +199,12 @@ static void test_string_without_nul_refused(void)
     ASSERT_TRUE(bus_msg_ok(BUS_ACK, e.buf, e.len));
     e.buf[8 + 8 + 8 + 4 + 5] = 'x'; /* client "c-1@h": its NUL */
     ASSERT_TRUE(!bus_msg_ok(BUS_ACK, e.buf, e.len));
+    e.buf[8 + 8 + 8 + 4 + 5] = 0;
+    e.buf[8 + 8 + 8 + 4 + 2] = 0; /* "c-\0@h": not one C string */
+    msg_walk w;
+    ASSERT_TRUE(msg_check(BUS_ACK, e.buf, e.len, &w) < 0);
+    ASSERT_STR(w.field, "client");
+    ASSERT_STR(w.what, "a NUL byte inside the string");
     ASSERT_TRUE(!bus_msg_ok(BUS_ACK, NULL, 100));
     ASSERT_TRUE(!bus_msg_ok(-1, e.buf, e.len));
     ASSERT_TRUE(!bus_msg_ok(BUS_NTYPE, e.buf, e.len));
