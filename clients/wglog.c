@@ -382,14 +382,8 @@ enum { NTYPES = sizeof types / sizeof types[0] };
 
 /* ---- reading ------------------------------------------------------------------- */
 
-static int64_t be64(const void *p)
-{
-    const unsigned char *b = p;
-    uint64_t v = 0;
-    for (int i = 0; i < 8; i++)
-        v = v << 8 | b[i];
-    return (int64_t)v;
-}
+/* A big-endian int64 (a fingerprint, utime, seq) at p. */
+static int64_t be64(const void *p) { return (int64_t)msg_be(p, 8); }
 
 static int type_of(int64_t hash)
 {
@@ -516,9 +510,7 @@ static int rd_be(FILE *f, int n, int64_t *v)
     unsigned char b[8];
     if (fread(b, 1, (size_t)n, f) != (size_t)n)
         return -1;
-    uint64_t u = 0;
-    for (int i = 0; i < n; i++)
-        u = u << 8 | b[i];
+    uint64_t u = msg_be(b, n);
     *v = n == 4 ? (int64_t)(int32_t)(uint32_t)u : (int64_t)u;
     return 0;
 }
