@@ -121,32 +121,30 @@ static int parse_numbers(int c, const char *a, opts *o)
     }
 }
 
-/* The range and steps as the library will check them, refused here as
- * usage errors naming the options: these were exit 1 with "start omega =
- * 1 must lie in [1, 1] (from != to)" for --from 1 --to 1, and the
- * library's ds_min for --max-step. */
+/* The options as the library checks them (wg_cont_check), a refusal said
+ * with the option that sets the field at fault: a usage error. */
 static int check_range(opts *o)
 {
+    static const struct {
+        const char *field, *opt;
+    } flag[] = {{"from", "--from"}, {"to", "--to"}, {"range", "--from and --to"},
+                {"start", "--start"},
+                {"period", "--period"}, {"ds_max", "--max-step"}, {"tol", "--tol"},
+                {"loc_tol", "--loc-tol"}, {"depth", "--depth"}, {"transient", "--transient"},
+                {"model", "--scene"}, {"param", "--param"}};
     wg_cont_opts *co = &o->co;
-    const char *pn = wg_param_info_get(co->param)->name;
-    char why[160];
     if (!o->start_set)
         co->start = co->from;
-    const char *opt[3] = {"--from", "--to", "--start"};
-    double v[3] = {co->from, co->to, co->start};
-    for (int i = 0; i < 3; i++)
-        if (wg_param_check(co->param, v[i], why, sizeof why))
-            return cli_usage_error("wgcont", "%s: %s", opt[i], why);
-    if (co->from == co->to)
-        return cli_usage_error("wgcont", "--from and --to: need a range, got %s = %g twice", pn,
-                               co->from);
-    if (co->start < fmin(co->from, co->to) || co->start > fmax(co->from, co->to))
-        return cli_usage_error("wgcont", "--start %g: need a value in [%g, %g] (--from, --to)",
-                               co->start, fmin(co->from, co->to), fmax(co->from, co->to));
-    if (co->ds_max < co->ds_min)
-        return cli_usage_error("wgcont", "--max-step %g: need at least %g (the smallest step "
-                               "the continuation halves to)", co->ds_max, co->ds_min);
-    return 0;
+    if (co->ds_max < co->ds0 && co->ds_max >= co->ds_min)
+        co->ds0 = co->ds_max; /* a --max-step below the first step: it starts there */
+    const char *field = "", *opt = NULL;
+    char why[200];
+    if (!wg_cont_check(co, &field, why, sizeof why))
+        return 0;
+    for (unsigned i = 0; i < sizeof flag / sizeof flag[0]; i++)
+        if (strcmp(field, flag[i].field) == 0)
+            opt = flag[i].opt;
+    return cli_usage_error("wgcont", "%s: %s", opt ? opt : field, why);
 }
 
 static int parse_word(int c, const char *a, opts *o)
@@ -215,8 +213,6 @@ static int parse_opts(int argc, char **argv, opts *o)
         return bad("--from and --to are required", "");
     if ((rc = check_range(o)))
         return rc;
-    if (o->co.ds_max < o->co.ds0)
-        o->co.ds0 = o->co.ds_max;
     return cli_opt_outdir("wgcont", "--out", o->out);
 }
 

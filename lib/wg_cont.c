@@ -392,34 +392,65 @@ static int run_switches(cont *c)
 
 /* ---- the run -------------------------------------------------------------------- */
 
-static int check_opts(const wg_cont_opts *o, char *why, size_t whylen)
+/* A refusal of o's field (its name in *field): code, with why. */
+static int refuse(const char **field, const char *name, int code, char *why, size_t whylen,
+                  const char *fmt, ...) __attribute__((format(printf, 6, 7)));
+static int refuse(const char **field, const char *name, int code, char *why, size_t whylen,
+                  const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(why, whylen, fmt, ap);
+    va_end(ap);
+    if (field)
+        *field = name;
+    return code;
+}
+
+int wg_cont_check(const wg_cont_opts *o, const char **field, char *why, size_t whylen)
 {
     const wg_param_info *r = wg_param_info_get(o->param);
-    if (o->model != WG_MODEL_CONSISTENT) {
-        snprintf(why, whylen, "continuation needs the consistent model (the printed form runs "
-                              "rk4 only)");
-        return WG_EUNSUPPORTED;
-    }
-    if (!r) {
-        snprintf(why, whylen, "parameter id %d does not exist", o->param);
-        return WG_EUNKNOWN;
-    }
+    if (o->model != WG_MODEL_CONSISTENT)
+        return refuse(field, "model", WG_EUNSUPPORTED, why, whylen, "continuation needs the "
+                      "consistent model (the printed form runs rk4 only)");
+    if (!r)
+        return refuse(field, "param", WG_EUNKNOWN, why, whylen,
+                      "parameter id %d does not exist", o->param);
+    static const char *const names[3] = {"from", "to", "start"};
     double vals[3] = {o->from, o->to, o->start};
     for (int i = 0; i < 3; i++)
-        if (wg_param_check(o->param, vals[i], why, whylen))
+        if (wg_param_check(o->param, vals[i], why, whylen)) {
+            if (field)
+                *field = names[i];
             return WG_ERANGE;
-    if (o->start < fmin(o->from, o->to) || o->start > fmax(o->from, o->to) || o->from == o->to) {
-        snprintf(why, whylen, "start %s = %g must lie in [%g, %g] (from != to)", r->name,
-                 o->start, fmin(o->from, o->to), fmax(o->from, o->to));
-        return WG_ERANGE;
-    }
-    if (o->period < 1 || o->period > WG_SHOOT_NMAX || !(o->ds_min > 0) ||
-        !(o->ds0 >= o->ds_min) || !(o->ds_max >= o->ds0) || !(o->tol > 0) ||
-        !(o->loc_tol > 0) || o->max_points < 2 || o->depth < 0 || o->transient < 0) {
-        snprintf(why, whylen, "invalid options: need period 1..%d, 0 < ds_min <= ds0 <= "
-                 "ds_max, tol > 0, loc_tol > 0, max_points >= 2, depth >= 0", WG_SHOOT_NMAX);
-        return WG_EINVAL;
-    }
+        }
+    double lo = fmin(o->from, o->to), hi = fmax(o->from, o->to);
+    if (o->from == o->to)
+        return refuse(field, "range", WG_ERANGE, why, whylen, "need a range, got %s = %.15g twice",
+                      r->name, o->from);
+    if (!(o->start >= lo && o->start <= hi))
+        return refuse(field, "start", WG_ERANGE, why, whylen,
+                      "need a value in [%.15g, %.15g] (the range), got %.15g", lo, hi, o->start);
+    if (o->period < 1 || o->period > WG_SHOOT_NMAX)
+        return refuse(field, "period", WG_EINVAL, why, whylen, "need 1 to %d, got %d",
+                      WG_SHOOT_NMAX, o->period);
+    if (!(o->ds_min > 0))
+        return refuse(field, "ds_min", WG_EINVAL, why, whylen, "need > 0, got %g", o->ds_min);
+    if (!(o->ds_max >= o->ds_min))
+        return refuse(field, "ds_max", WG_EINVAL, why, whylen, "need at least %g (the smallest "
+                      "step the continuation halves to), got %g", o->ds_min, o->ds_max);
+    if (!(o->ds0 >= o->ds_min && o->ds0 <= o->ds_max))
+        return refuse(field, "ds0", WG_EINVAL, why, whylen, "need a first step in [%g, %g] "
+                      "(ds_min, ds_max), got %g", o->ds_min, o->ds_max, o->ds0);
+    if (!(o->tol > 0) || !(o->loc_tol > 0))
+        return refuse(field, o->tol > 0 ? "loc_tol" : "tol", WG_EINVAL, why, whylen,
+                      "need > 0, got %g", o->tol > 0 ? o->loc_tol : o->tol);
+    if (o->max_points < 2)
+        return refuse(field, "max_points", WG_EINVAL, why, whylen, "need at least 2, got %d",
+                      o->max_points);
+    if (o->depth < 0 || o->transient < 0)
+        return refuse(field, o->depth < 0 ? "depth" : "transient", WG_EINVAL, why, whylen,
+                      "need >= 0, got %d", o->depth < 0 ? o->depth : o->transient);
     return WG_OK;
 }
 
@@ -531,9 +562,13 @@ int wg_cont_run(const wg_params *p, const double *y0, const wg_cont_opts *o,
                 const wg_cont_sink *sink, volatile sig_atomic_t *stop, char *why,
                 size_t whylen)
 {
-    int rc = check_opts(o, why, whylen);
-    if (rc)
+    const char *field = "";
+    char msg[200];
+    int rc = wg_cont_check(o, &field, msg, sizeof msg);
+    if (rc) {
+        snprintf(why, whylen, "option %s: %s", field, msg);
         return rc;
+    }
     cont *c = calloc(1, sizeof *c);
     if (!c) {
         snprintf(why, whylen, "out of memory");

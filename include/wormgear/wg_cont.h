@@ -99,6 +99,14 @@ const char *wg_bif_name(int kind);
  * the map. */
 void wg_cont_opts_default(wg_cont_opts *o);
 
+/* WG_OK if wg_cont_run takes o; else WG_EUNSUPPORTED, WG_EUNKNOWN, WG_ERANGE
+ * or WG_EINVAL with why ("need a range, got omega = 1 twice") and *field
+ * (if field is not NULL) naming the member of wg_cont_opts at fault
+ * ("from", "to", "start", "ds_max", ...; "range" for from and to
+ * together), so a program can say it in the
+ * words of its own options. */
+int wg_cont_check(const wg_cont_opts *o, const char **field, char *why, size_t whylen);
+
 /* Steps per period a run of o over its range uses for parameters p. */
 int wg_cont_steps(const wg_params *p, const wg_cont_opts *o);
 

@@ -70,9 +70,10 @@ check "--param z2 (body data): exit 2, one refusal saying it does not change the
 check "--out in a missing directory: exit 2 before the continuation, the reason said" \
   '[ $r8 -eq 2 ] && grep -q "^wgcont: --out .$dir/none/c.: cannot write in $dir/none: No such file or directory" "$dir/od.err" && ! grep -q omega "$dir/od.err"'
 # the range and step refused as usage errors naming the option (they were
-# exit 1: "start omega = 1 must lie in [1, 1] (from != to)", "ds_min")
-for a in "--from 1 --to 1|--from and --to: need a range" "--from 0.5 --to 0.6 --start 2|--start 2: need a value in \[0.5, 0.6\]" \
-         "--from 0.5 --to 0.6 --max-step 1e-9|--max-step 1e-09: need at least" "--from 0.5 --to 11|--to: omega = 11 out of range"; do
+# exit 1: "start omega = 1 must lie in [1, 1] (from != to)", "ds_min"); the
+# conditions are the library's (wg_cont_check), the option names wgcont's
+for a in "--from 1 --to 1|--from and --to: need a range" "--from 0.5 --to 0.6 --start 2|--start: need a value in \[0.5, 0.6\] (the range), got 2" \
+         "--from 0.5 --to 0.6 --max-step 1e-9|--max-step: need at least 1e-07 (the smallest step the continuation halves to), got 1e-09" "--from 0.5 --to 11|--to: omega = 11 out of range"; do
   "$cont" ${a%%|*} --out "$dir/rg" >/dev/null 2>"$dir/rg.err"; rc=$?
   check "refused: ${a%%|*}" '[ $rc -eq 2 ] && [ "$(grep -c "^wgcont:" "$dir/rg.err")" -eq 1 ] && grep -q "^wgcont: ${a#*|}" "$dir/rg.err"'
 done

@@ -349,10 +349,24 @@ static void test_refused_and_stopped(void)
     wg_equilibrium(WG_MODEL_CONSISTENT, &p, y);
     o.start = 3.0;
     ASSERT_EQ_INT(wg_cont_run(&p, y, &o, NULL, NULL, why, sizeof why), WG_ERANGE);
-    ASSERT_CONTAINS(why, "start");
+    ASSERT_CONTAINS(why, "option start: need a value in [0.1, 2.5] (the range), got 3");
     wg_cont_opts_default(&o);
     o.period = 0;
     ASSERT_EQ_INT(wg_cont_run(&p, y, &o, NULL, NULL, why, sizeof why), WG_EINVAL);
+    /* the check alone names the member at fault, for a program's own words */
+    const char *field = NULL;
+    ASSERT_EQ_INT(wg_cont_check(&o, &field, why, sizeof why), WG_EINVAL);
+    ASSERT_STR(field, "period");
+    wg_cont_opts_default(&o);
+    o.to = o.from;
+    ASSERT_EQ_INT(wg_cont_check(&o, &field, why, sizeof why), WG_ERANGE);
+    ASSERT_STR(field, "range");
+    wg_cont_opts_default(&o);
+    o.ds_max = o.ds_min / 2;
+    ASSERT_EQ_INT(wg_cont_check(&o, &field, why, sizeof why), WG_EINVAL);
+    ASSERT_STR(field, "ds_max");
+    wg_cont_opts_default(&o);
+    ASSERT_EQ_INT(wg_cont_check(&o, &field, why, sizeof why), WG_OK);
     wg_cont_opts_default(&o);
     o.model = WG_MODEL_PRINTED;
     ASSERT_EQ_INT(wg_cont_run(&p, y, &o, NULL, NULL, why, sizeof why), WG_EUNSUPPORTED);
