@@ -15,6 +15,7 @@
 #include "bus.h"
 #include "bus_msg.h"
 #include "cli.h"
+#include "logrd.h"
 #include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_cmd_t.h"
 #include "lcmtypes/wormgear_contact_t.h"
@@ -25,7 +26,6 @@
 #include "lcmtypes/wormgear_scope_t.h"
 #include "lcmtypes/wormgear_tick_t.h"
 #include "units.h"
-#include "wormgear/wg_file.h"
 #include "wormgear/wg_model.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_status.h"
@@ -470,100 +470,13 @@ static int event(log_run *r, const lcm_eventlog_event_t *ev)
     return 0;
 }
 
-/* ---- the log, read with every length checked ------------------------------------ */
-
-/* LCM's own reader (lcm_eventlog_read_next_event) trusts an event's data
- * length: 0x7fffffff made its allocation fail and it read into NULL
- * (wglog died on a damaged log), and where it gave up it said so only on
- * stderr, wglog then exiting 0 on a part of the log. This one reads the
- * same format (a sync word, event number, timestamp, channel and data
- * lengths, big-endian, then the channel and the data) and stops at the
- * first event that does not fit in the file, saying where. */
-typedef struct logrd {
-    FILE *f;
-    long long size, bad_at; /* bad_at: where it stopped on damage (-1: none) */
-} logrd;
-
-enum { LOG_MAGIC = (int)0xEDA1DA01, LOG_CHANNEL_MAX = 1000 };
-
-static int logrd_open(logrd *l, const char *path)
-{
-    char why[600];
-    struct stat st;
-    l->bad_at = -1;
-    /* a directory read as "0 events", exit 0 */
-    if (!(l->f = wg_file_fopen(path, "log", 0, -1, why, sizeof why))) {
-        fprintf(stderr, "wglog: %s\n", why);
-        return -1;
-    }
-    if (fstat(fileno(l->f), &st) != 0) {
-        fprintf(stderr, "wglog: cannot open log %s: %s\n", path, strerror(errno));
-        fclose(l->f);
-        return -1;
-    }
-    l->size = (long long)st.st_size;
-    return 0;
-}
-
-static int rd_be(FILE *f, int n, int64_t *v)
-{
-    unsigned char b[8];
-    if (fread(b, 1, (size_t)n, f) != (size_t)n)
-        return -1;
-    uint64_t u = msg_be(b, n);
-    *v = n == 4 ? (int64_t)(int32_t)(uint32_t)u : (int64_t)u;
-    return 0;
-}
-
-/* The next event (free it with lcm_eventlog_free_event), or NULL at the
- * end or at damage (bad_at set). */
-static lcm_eventlog_event_t *logrd_next(logrd *l)
-{
-    long long at = ftello(l->f);
-    int64_t magic, num, ts, clen, dlen;
-    if (rd_be(l->f, 4, &magic))
-        return NULL; /* the end (a torn sync word is caught below by ftello) */
-    if (magic != LOG_MAGIC || rd_be(l->f, 8, &num) || rd_be(l->f, 8, &ts) ||
-        rd_be(l->f, 4, &clen) || rd_be(l->f, 4, &dlen) || clen < 1 || clen > LOG_CHANNEL_MAX ||
-        dlen < 0 || clen + dlen > l->size - ftello(l->f)) {
-        l->bad_at = at;
-        return NULL;
-    }
-    lcm_eventlog_event_t *ev = calloc(1, sizeof *ev);
-    char *ch = ev ? malloc((size_t)clen + 1) : NULL, *data = ch ? malloc((size_t)dlen + 1) : NULL;
-    if (!data || fread(ch, 1, (size_t)clen, l->f) != (size_t)clen ||
-        fread(data, 1, (size_t)dlen, l->f) != (size_t)dlen) {
-        free(data), free(ch), free(ev);
-        l->bad_at = at;
-        return NULL;
-    }
-    ch[clen] = 0;
-    *ev = (lcm_eventlog_event_t){num, ts, (int32_t)clen, (int32_t)dlen, ch, data};
-    return ev;
-}
-
-/* Closed; 1 (said once) if the reading stopped before the file's end. */
-static int logrd_close(logrd *l, const char *path, long events)
-{
-    long long end = l->f ? ftello(l->f) : 0;
-    if (l->f)
-        fclose(l->f);
-    if (l->bad_at < 0 && end >= l->size)
-        return 0;
-    fprintf(stderr, "wglog: %s: damaged or cut short at byte %lld of %lld: the %ld events before "
-                    "it are read, the rest is not\n", path, l->bad_at >= 0 ? l->bad_at : end,
-            l->size, events);
-    return 1;
-}
-
 /* --units physical: the scale of the log's first PARAMS (the samples
  * before it are in that scale too). 0, or 1 with a message. */
 static int first_scale(log_run *r)
 {
-    logrd log = {0};
-    if (!(log.f = fopen(r->path, "rb")))
+    logrd log;
+    if (logrd_open(&log, r->path, 1))
         return 0; /* read_log reports it */
-    log.size = LLONG_MAX; /* read_log checks the file */
     lcm_eventlog_event_t *ev;
     int64_t h = __wormgear_params_t_get_hash();
     while (!units_scale_ok(&r->scale) && (ev = logrd_next(&log))) {
@@ -587,7 +500,7 @@ static int first_scale(log_run *r)
 static int read_log(log_run *r)
 {
     logrd log;
-    if (logrd_open(&log, r->path))
+    if (logrd_open(&log, r->path, 0))
         return 1;
     int rc = 0;
     lcm_eventlog_event_t *ev;

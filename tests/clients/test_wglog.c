@@ -348,6 +348,12 @@ static void test_channel_filter(void)
     ASSERT_TRUE(!strstr(out, "RIG1_STATUS"));
 }
 
+/* A big-endian int32 at p (the log's lengths). */
+static int32_t get32(const unsigned char *p)
+{
+    return (int32_t)((uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3]);
+}
+
 /* A log holding messages no daemon sends: a CONTACT whose count is 2^31 - 1
  * and a STATUS whose scene string claims 2^31 - 1 bytes, between good ones.
  * wglog died inside LCM's generated decoder on them (SIGSEGV); they are
@@ -405,9 +411,40 @@ static void test_hostile_messages(void)
     snprintf(cmd, sizeof cmd, "head -c -10 %s/bent.lcmlog >%s/cut.lcmlog && %s summary "
              "%s/cut.lcmlog 2>&1", dir, dir, wglog(), dir);
     ASSERT_EQ_INT(run(cmd, out, sizeof out), 1);
-    ASSERT_CONTAINS(out, "cut.lcmlog: damaged or cut short at byte");
-    ASSERT_CONTAINS(out, "the 5 events before it are read");
+    ASSERT_CONTAINS(out, "cut.lcmlog: damaged: ");
+    ASSERT_CONTAINS(out, "in 1 stretch, the first at byte");
+    ASSERT_CONTAINS(out, "the 5 whole events around them are read");
     ASSERT_CONTAINS(out, "BENT_CONTACT ");
+    /* damage inside the log: the second event's data length bent to
+     * 2^31 - 1. The reader finds the next sync word and reads on (it
+     * stopped there, the last 4 events unread); a 2-byte tail after the
+     * last event is damage too (it passed as a clean end) */
+    snprintf(path, sizeof path, "%s/bent.lcmlog", dir);
+    f = fopen(path, "rb");
+    ASSERT_TRUE(f != NULL);
+    static unsigned char img[8192];
+    size_t len = f ? fread(img, 1, sizeof img, f) : 0;
+    if (f)
+        fclose(f);
+    size_t second = 28 + (size_t)get32(img + 20) + (size_t)get32(img + 24);
+    ASSERT_TRUE(len > second + 28 && get32(img + second) == (int32_t)0xEDA1DA01);
+    img[second + 24] = 0x7f, img[second + 25] = img[second + 26] = img[second + 27] = 0xff;
+    snprintf(path, sizeof path, "%s/mid.lcmlog", dir);
+    f = fopen(path, "wb");
+    ASSERT_TRUE(f && fwrite(img, 1, len, f) == len && fwrite("xy", 1, 2, f) == 2);
+    if (f)
+        fclose(f);
+    snprintf(cmd, sizeof cmd, "%s summary %s 2>&1", wglog(), path);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 1);
+    fputs(out, stdout);
+    ASSERT_CONTAINS(out, "in 2 stretches, the first at byte");
+    ASSERT_CONTAINS(out, "the 5 whole events around them are read");
+    s = strstr(out, "BENT_CONTACT ");
+    ASSERT_TRUE(s && sscanf(s, "BENT_CONTACT contact_t %ld", &msgs) == 1);
+    ASSERT_EQ_INT(msgs, 3);
+    s = strstr(out, "BENT_STATUS ");
+    ASSERT_TRUE(s && sscanf(s, "BENT_STATUS status_t %ld", &msgs) == 1);
+    ASSERT_EQ_INT(msgs, 2);
     snprintf(cmd, sizeof cmd, "%s summary %s 2>&1", wglog(), dir);
     ASSERT_EQ_INT(run(cmd, out, sizeof out), 1);
     ASSERT_CONTAINS(out, "is a directory, not a regular file");
