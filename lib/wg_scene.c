@@ -617,13 +617,19 @@ static int listed(const char *list, const char *name, size_t m)
     return 0;
 }
 
-/* Is dir/name a regular file (after symlinks), as wg_scene_load wants? */
+/* Is p a regular file (after symlinks), as wg_scene_load wants? */
+static int regular_path(const char *p)
+{
+    struct stat st;
+    return stat(p, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+/* The same for dir/name. */
 static int regular(const char *dir, const char *name)
 {
     char p[1024];
-    struct stat st;
     snprintf(p, sizeof p, "%s/%s", dir, name);
-    return stat(p, &st) == 0 && S_ISREG(st.st_mode);
+    return regular_path(p);
 }
 
 /* Append ", "-separated names of the NAME.ini files in dir, sorted, each
@@ -655,7 +661,7 @@ int wg_scene_find(const char *name, char *path, size_t pathlen, char *why, size_
         snprintf(path, pathlen, "%s", name);
         return WG_OK;
     }
-    char dirs[2048], data[1024], found[512] = "";
+    char dirs[2048], data[1024], found[512] = "", other[512] = "";
     const char *env = getenv("WG_SCENE_PATH");
     wg_scene_data_dir(data, sizeof data);
     snprintf(dirs, sizeof dirs, "%s:%s", env ? env : "", data);
@@ -663,9 +669,15 @@ int wg_scene_find(const char *name, char *path, size_t pathlen, char *why, size_
         if (!*d)
             continue;
         snprintf(path, pathlen, "%s/%s.ini", d, name);
-        if (exists(path))
+        if (regular_path(path) && exists(path))
             return WG_OK;
+        if (!other[0] && exists(path)) /* a directory NAME.ini: a later file wins */
+            snprintf(other, sizeof other, "%s", path);
         list_scenes(d, found, sizeof found);
+    }
+    if (other[0]) { /* only something else by that name: the loader says what */
+        snprintf(path, pathlen, "%s", other);
+        return WG_OK;
     }
     snprintf(why, whylen, "scene '%s' not found: looked for %s.ini in $WG_SCENE_PATH (%s) and "
              "%s; scenes there: %s", name, name, env && *env ? env : "unset",

@@ -316,6 +316,22 @@ static void test_not_a_regular_file(void)
     setenv("WG_SCENE_PATH", sub, 1);
     ASSERT_EQ_INT(wg_scene_open(&sc, "x", why, sizeof why), WG_EIO);
     ASSERT_CONTAINS(why, "x.ini is a directory, not a regular file");
+    /* a scene file x.ini later on the path is found past the directory (the
+     * directory shadowed it: refused by name) */
+    char sub2[96], later[128], two[200];
+    snprintf(sub2, sizeof sub2, "%s/sp2", dir);
+    snprintf(later, sizeof later, "%s/x.ini", sub2);
+    snprintf(two, sizeof two, "%s:%s", sub, sub2);
+    ASSERT_EQ_INT(mkdir(sub2, 0700), 0);
+    f = fopen(later, "w");
+    ASSERT_TRUE(f && fputs("[params]\nomega = 1.25\n", f) >= 0 && fclose(f) == 0);
+    setenv("WG_SCENE_PATH", two, 1);
+    ASSERT_EQ_INT(wg_scene_open(&sc, "x", why, sizeof why), WG_OK);
+    ASSERT_NEAR(sc.p.v[WG_P_OMEGA], 1.25, 0);
+    ASSERT_STR(sc.path, later);
+    unlink(later);
+    rmdir(sub2);
+    setenv("WG_SCENE_PATH", sub, 1);
     ASSERT_EQ_INT(wg_scene_open(&sc, "no-such-scene", why, sizeof why), WG_EIO);
     setenv("WG_SCENE_PATH", saved, 1);
     printf("  %s\n", why);
