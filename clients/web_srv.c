@@ -95,7 +95,12 @@ static int origin_ok(const srv *s, const char *o)
 
 static int filter(srv *s, struct lws *wsi)
 {
-    char o[300];
+    char o[300], v[16];
+    /* RFC 6455 knows version 13 only; libwebsockets upgraded any */
+    if (lws_hdr_copy(wsi, v, sizeof v, WSI_TOKEN_VERSION) <= 0 || strcmp(v, "13") != 0) {
+        lws_return_http_status(wsi, 426, "WebSocket version 13 (RFC 6455) only");
+        return -1;
+    }
     if (lws_hdr_copy(wsi, o, sizeof o, WSI_TOKEN_ORIGIN) <= 0 || origin_ok(s, o))
         return 0;
     if (s->bad_origin++ < 5)

@@ -102,6 +102,13 @@ const idx = await rawHttp("GET /index.html HTTP/1.1\r\nHost: x\r\nConnection: cl
 check("HTTP /index.html served", /^HTTP\/1\.1 200/.test(idx) && idx.includes("wormgear live"));
 const nf = await rawHttp("GET /nope.html HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
 check("HTTP unknown file: 404", /^HTTP\/1\.1 404/.test(nf), nf.split("\r\n")[0]);
+// A WebSocket version other than RFC 6455's 13: not upgraded (it was)
+const upgrade = (v) => rawHttp("GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n" +
+  "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Protocol: foxglove.websocket.v1\r\n" +
+  `Sec-WebSocket-Version: ${v}\r\n\r\n`);
+const v13 = await upgrade(13), v99 = await upgrade(99);
+check("Sec-WebSocket-Version 13 upgraded", /^HTTP\/1\.1 101/.test(v13), v13.split("\r\n")[0]);
+check("Sec-WebSocket-Version 99 not upgraded: 426", /^HTTP\/1\.[01] 426/.test(v99) && v99.includes("version 13"), v99.split("\r\n")[0] || "(closed)");
 await rawHttp("\x16\x03\x01 this is not http at all \x00\xff\r\n\r\n");
 await rawHttp("GET / HTTP/1.1\r\n" + "X-Long: " + "a".repeat(100000) + "\r\n\r\n");
 
