@@ -469,6 +469,8 @@ int conf_read_file(conf *c, const char *path, char *why, size_t whylen)
         snprintf(why, whylen, "%s: out of memory to read it", path);
         return 2;
     }
+    /* a regular file within the limit; a link is followed (config files
+     * often are links), a FIFO or device never opened */
     long n = wg_file_read(path, "config file", 0, text, CONF_FILE_MAX, why, whylen);
     int rc = n < 0 ? 2 : parse_text(c, path, text, (size_t)n, why, whylen);
     free(text);

@@ -12,12 +12,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-/* libsodium must be initialised once before use; sodium_init is safe to
- * call again and from several threads. */
 /* A key file is 64 hexadecimal digits and a line end; a larger file is
  * not one (read whole, it would only be refused later). */
 enum { KEY_FILE_MAX = 1024 };
 
+/* libsodium must be initialised once before use; sodium_init is safe to
+ * call again and from several threads. */
 static int sodium_ready(void) { return sodium_init() >= 0; }
 
 int wg_key_load(const char *path, unsigned char key[WG_KEY_BYTES], char *why, size_t whylen)

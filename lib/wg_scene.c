@@ -103,6 +103,7 @@ enum { KEYS_MAX = 3 + WG_NPARAM + NPHYS + 3 + 1 + 18 };
 
 /* A scene is a few hundred bytes; a file larger than this is not one. */
 enum { SCENE_FILE_MAX = 1 << 20 };
+
 typedef struct taken {
     char sec[12], name[32];
     int line;
