@@ -148,8 +148,10 @@ const char *bus_channel(const bus *c, const char *suffix, char *buf, size_t len)
     return buf;
 }
 
-static void on_ack(const wormgear_ack_t *m, bus *c)
+static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_t *m, void *u)
 {
+    (void)rb, (void)ch;
+    bus *c = u;
     if (m->cmd_seq != c->seq || strcmp(m->client, c->client) != 0)
         return; /* someone else's */
     bus_ack *a = &c->ack;
@@ -167,15 +169,7 @@ static void on_ack(const wormgear_ack_t *m, bus *c)
 }
 
 /* ACK's bytes checked before they are decoded (bus_msg.h). */
-static void on_ack_raw(const lcm_recv_buf_t *rb, const char *ch, void *u)
-{
-    (void)ch;
-    wormgear_ack_t m;
-    if (BUS_DECODE(wormgear_ack_t, BUS_ACK, rb, &m))
-        return;
-    on_ack(&m, u);
-    wormgear_ack_t_decode_cleanup(&m);
-}
+BUS_RAW_HANDLER(on_ack_raw, wormgear_ack_t, BUS_ACK, on_ack)
 
 int bus_prefix_ok(const char *p)
 {

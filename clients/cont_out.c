@@ -203,7 +203,7 @@ static int row(char *line, const int *col, cont_row *r)
 int cont_read_bifs(const char *path, cont_bifs *b, char *why, size_t whylen)
 {
     memset(b, 0, sizeof *b);
-    FILE *f = wg_file_fopen(path, "bifurcations file", 0, -1, why, whylen);
+    FILE *f = wg_file_fopen(path, "bifurcations file", 0, -1, NULL, why, whylen);
     if (!f)
         return -1;
     char line[4096];

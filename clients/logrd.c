@@ -4,10 +4,8 @@
 #include "msg_check.h"
 #include "wormgear/wg_file.h"
 
-#include <errno.h>
 #include <stdint.h>
 #include <stdlib.h>
-#include <string.h>
 #include <sys/stat.h>
 
 enum { LOG_MAGIC = (int)0xEDA1DA01, LOG_CHANNEL_MAX = 1000, LOG_HEADER = 28 };
@@ -19,15 +17,9 @@ int logrd_open(logrd *l, const char *path, int quiet)
     struct stat st;
     *l = (logrd){.bad_at = -1};
     /* a directory read as "0 events", exit 0; a FIFO blocked the open */
-    if (!(l->f = wg_file_fopen(path, "log", 0, -1, why, sizeof why))) {
+    if (!(l->f = wg_file_fopen(path, "log", 0, -1, &st, why, sizeof why))) {
         if (!quiet)
             fprintf(stderr, "wglog: %s\n", why);
-        return -1;
-    }
-    if (fstat(fileno(l->f), &st) != 0) {
-        if (!quiet)
-            fprintf(stderr, "wglog: cannot open log %s: %s\n", path, strerror(errno));
-        fclose(l->f);
         return -1;
     }
     l->size = (long long)st.st_size;

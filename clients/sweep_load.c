@@ -177,7 +177,7 @@ static int read_line(FILE *fp, char *line, size_t len)
  * exit 0). */
 int load_points_csv(const char *path, sweep_study *st, char *why, size_t whylen)
 {
-    FILE *fp = wg_file_fopen(path, "points file", 0, -1, why, whylen);
+    FILE *fp = wg_file_fopen(path, "points file", 0, -1, NULL, why, whylen);
     char line[4096];
     if (!fp)
         return -1;

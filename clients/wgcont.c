@@ -127,16 +127,16 @@ static int check_range(opts *o)
 {
     static const struct {
         const char *field, *opt;
-    } flag[] = {{"from", "--from"}, {"to", "--to"}, {"range", "--from and --to"},
-                {"start", "--start"},
-                {"period", "--period"}, {"ds_max", "--max-step"}, {"tol", "--tol"},
-                {"loc_tol", "--loc-tol"}, {"depth", "--depth"}, {"transient", "--transient"},
-                {"model", "--scene"}, {"param", "--param"}};
+    } flag[] = {{"from", "--from"},       {"to", "--to"},           {"range", "--from and --to"},
+                {"start", "--start"},     {"period", "--period"},   {"ds_max", "--max-step"},
+                {"tol", "--tol"},         {"loc_tol", "--loc-tol"}, {"depth", "--depth"},
+                {"transient", "--transient"}, {"model", "--scene"}, {"param", "--param"}};
     wg_cont_opts *co = &o->co;
     if (!o->start_set)
         co->start = co->from;
-    if (co->ds_max < co->ds0 && co->ds_max >= co->ds_min)
-        co->ds0 = co->ds_max; /* a --max-step below the first step: it starts there */
+    if (co->ds0 > co->ds_max)
+        co->ds0 = co->ds_max; /* a --max-step below the first step: it starts there (one
+                               * below ds_min is refused as --max-step, checked first) */
     const char *field = "", *opt = NULL;
     char why[200];
     if (!wg_cont_check(co, &field, why, sizeof why))

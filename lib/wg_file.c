@@ -49,7 +49,7 @@ static int judge(const char *path, const char *what, unsigned mode, long long si
 }
 
 int wg_file_open(const char *path, const char *what, unsigned flags, long long max_bytes,
-                 char *why, size_t whylen)
+                 struct stat *out, char *why, size_t whylen)
 {
     int nofollow = (flags & WG_FILE_NOFOLLOW) != 0;
     struct stat st;
@@ -76,13 +76,15 @@ int wg_file_open(const char *path, const char *what, unsigned flags, long long m
         close(fd);
         return -1;
     }
+    if (out)
+        *out = st;
     return fd;
 }
 
 FILE *wg_file_fopen(const char *path, const char *what, unsigned flags, long long max_bytes,
-                    char *why, size_t whylen)
+                    struct stat *st, char *why, size_t whylen)
 {
-    int fd = wg_file_open(path, what, flags, max_bytes, why, whylen);
+    int fd = wg_file_open(path, what, flags, max_bytes, st, why, whylen);
     if (fd < 0)
         return NULL;
     FILE *f = fdopen(fd, "r");
@@ -96,7 +98,7 @@ FILE *wg_file_fopen(const char *path, const char *what, unsigned flags, long lon
 long wg_file_read(const char *path, const char *what, unsigned flags, char *buf,
                   size_t max_bytes, char *why, size_t whylen)
 {
-    int fd = wg_file_open(path, what, flags, (long long)max_bytes, why, whylen);
+    int fd = wg_file_open(path, what, flags, (long long)max_bytes, NULL, why, whylen);
     if (fd < 0)
         return -1;
     size_t n = 0;

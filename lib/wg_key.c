@@ -23,15 +23,10 @@ static int sodium_ready(void) { return sodium_init() >= 0; }
 int wg_key_load(const char *path, unsigned char key[WG_KEY_BYTES], char *why, size_t whylen)
 {
     char text[KEY_FILE_MAX + 1];
-    int fd = wg_file_open(path, "key file", WG_FILE_NOFOLLOW, KEY_FILE_MAX, why, whylen);
     struct stat st;
+    int fd = wg_file_open(path, "key file", WG_FILE_NOFOLLOW, KEY_FILE_MAX, &st, why, whylen);
     if (fd < 0)
         return WG_EIO;
-    if (fstat(fd, &st) != 0) {
-        snprintf(why, whylen, "cannot open key file %s: %s", path, strerror(errno));
-        close(fd);
-        return WG_EIO;
-    }
     if (st.st_mode & 077) {
         close(fd);
         snprintf(why, whylen, "key file %s is readable by group or others (mode %03o): "

@@ -533,7 +533,7 @@ int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen)
     wg_params_default(&sc->p);
     wg_scale_default(&sc->scale);
     snprintf(sc->path, sizeof sc->path, "%s", path);
-    if (!(L.f = wg_file_fopen(path, "scene file", 0, SCENE_FILE_MAX, why, whylen)))
+    if (!(L.f = wg_file_fopen(path, "scene file", 0, SCENE_FILE_MAX, NULL, why, whylen)))
         return WG_EIO;
     int r = ini_parse_stream(reader, &L, handler, &L);
     fclose(L.f);

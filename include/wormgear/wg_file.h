@@ -20,20 +20,22 @@
 
 #include <stddef.h>
 #include <stdio.h>
+#include <sys/stat.h>
 
 enum {
     WG_FILE_NOFOLLOW = 1 /* a symbolic link is refused, not followed */
 };
 
 /* A descriptor open for reading on path if it is a regular file of at most
- * max_bytes (max_bytes < 0: any size), or -1 with why. O_NONBLOCK stays
- * set (it changes nothing for a regular file). */
+ * max_bytes (max_bytes < 0: any size), or -1 with why; st (may be NULL)
+ * gets what fstat said of the open file (its size, its mode). O_NONBLOCK
+ * stays set (it changes nothing for a regular file). */
 int wg_file_open(const char *path, const char *what, unsigned flags, long long max_bytes,
-                 char *why, size_t whylen);
+                 struct stat *st, char *why, size_t whylen);
 
 /* The same, as a stdio stream; NULL with why. */
 FILE *wg_file_fopen(const char *path, const char *what, unsigned flags, long long max_bytes,
-                    char *why, size_t whylen);
+                    struct stat *st, char *why, size_t whylen);
 
 /* The whole of path (opened as wg_file_open does) in buf, which holds
  * max_bytes + 1 bytes: the number of bytes read, or -1 with why. */

@@ -46,9 +46,12 @@ static void test_regular(void)
     char want[200];
     snprintf(want, sizeof want, "config file %s is 16 bytes (limit 15)", path);
     ASSERT_STR(why, want);
-    /* a stream, and no limit */
-    FILE *f = wg_file_fopen(path, "log", 0, -1, why, sizeof why);
+    /* a stream, no limit, and what fstat said of it */
+    struct stat st;
+    FILE *f = wg_file_fopen(path, "log", 0, -1, &st, why, sizeof why);
     ASSERT_TRUE(f != NULL);
+    ASSERT_EQ_INT((int)st.st_size, 16);
+    ASSERT_TRUE(S_ISREG(st.st_mode));
     if (f) {
         char line[32] = "";
         ASSERT_TRUE(fgets(line, sizeof line, f) != NULL);
@@ -68,13 +71,13 @@ static void test_not_regular(void)
     snprintf(sub, sizeof sub, "%s/sub", dir);
     ASSERT_EQ_INT(mkfifo(fifo, 0600), 0);
     ASSERT_EQ_INT(mkdir(sub, 0700), 0);
-    ASSERT_EQ_INT(wg_file_open(fifo, "scene file", 0, -1, why, sizeof why), -1);
+    ASSERT_EQ_INT(wg_file_open(fifo, "scene file", 0, -1, NULL, why, sizeof why), -1);
     snprintf(want, sizeof want, "scene file %s is a FIFO, not a regular file", fifo);
     ASSERT_STR(why, want);
-    ASSERT_TRUE(wg_file_fopen(sub, NULL, 0, -1, why, sizeof why) == NULL);
+    ASSERT_TRUE(wg_file_fopen(sub, NULL, 0, -1, NULL, why, sizeof why) == NULL);
     snprintf(want, sizeof want, "%s is a directory, not a regular file", sub);
     ASSERT_STR(why, want);
-    ASSERT_EQ_INT(wg_file_open("/dev/zero", "", 0, 100, why, sizeof why), -1);
+    ASSERT_EQ_INT(wg_file_open("/dev/zero", "", 0, 100, NULL, why, sizeof why), -1);
     ASSERT_STR(why, "/dev/zero is a character device, not a regular file");
     teardown();
 }
@@ -103,10 +106,10 @@ static void test_missing(void)
     setup();
     char path[128], why[400], want[200];
     snprintf(path, sizeof path, "%s/no-dir/x", dir);
-    ASSERT_EQ_INT(wg_file_open(path, "config file", 0, -1, why, sizeof why), -1);
+    ASSERT_EQ_INT(wg_file_open(path, "config file", 0, -1, NULL, why, sizeof why), -1);
     snprintf(want, sizeof want, "cannot open config file %s: No such file or directory", path);
     ASSERT_STR(why, want);
-    ASSERT_EQ_INT(wg_file_open(path, NULL, WG_FILE_NOFOLLOW, -1, why, sizeof why), -1);
+    ASSERT_EQ_INT(wg_file_open(path, NULL, WG_FILE_NOFOLLOW, -1, NULL, why, sizeof why), -1);
     snprintf(want, sizeof want, "cannot open %s: No such file or directory", path);
     ASSERT_STR(why, want);
     teardown();
