@@ -11,11 +11,13 @@
  * crashing, show no angle outside [0, 360) degrees, and show those strings
  * as text. With "params", also PARAMS no daemon sends: a scale that is not
  * a number, N = 0, an unknown model and stepper, a value NaN, escapes in
- * a name. And every round, raw bytes no daemon sends: a CONTACT whose count
+ * a name. With "valid", every STATE message ends on the valid pair (a
+ * monitor's one frame must show it). And every round, raw bytes no daemon
+ * sends: a CONTACT whose count
  * is 2^31 - 1, a STATUS and an ACK whose first string claims 2^31 - 1
  * bytes (the generated decoder read past the buffer on them, and every
  * client died; they must be dropped, bus_msg.h).
- * usage: wgspoof URL PREFIX SECONDS [params] */
+ * usage: wgspoof URL PREFIX SECONDS [params|valid] */
 #include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_contact_t.h"
 #include "lcmtypes/wormgear_params_t.h"
@@ -67,7 +69,7 @@ static int publish_status(lcm_t *l, const char *ch, int64_t seq)
     return wormgear_status_t_publish(l, ch, &s);
 }
 
-static int publish_state(lcm_t *l, const char *ch, int64_t seq)
+static int publish_state(lcm_t *l, const char *ch, int64_t seq, int valid)
 {
     enum { N = 8 };
     static const double bad1[N] = {NAN, INFINITY, -INFINITY, 1e308, -7.0, 7.0, -1e-300, 1.5};
@@ -76,7 +78,7 @@ static int publish_state(lcm_t *l, const char *ch, int64_t seq)
     double z[N] = {0}, t1[N], t2[N];
     memcpy(t1, bad1, sizeof t1);
     memcpy(t2, bad2, sizeof t2);
-    if (seq % 2) { /* every other message ends on a bad sample too */
+    if (!valid && seq % 2) { /* every other message ends on a bad sample too */
         t1[N - 1] = NAN;
         t2[N - 1] = 1e308;
     }
@@ -166,8 +168,8 @@ static int publish_hostile_bytes(lcm_t *l, const char *prefix)
 
 int main(int argc, char **argv)
 {
-    if (argc != 4 && !(argc == 5 && !strcmp(argv[4], "params"))) {
-        fprintf(stderr, "usage: wgspoof URL PREFIX SECONDS [params]\n");
+    if (argc != 4 && !(argc == 5 && (!strcmp(argv[4], "params") || !strcmp(argv[4], "valid")))) {
+        fprintf(stderr, "usage: wgspoof URL PREFIX SECONDS [params|valid]\n");
         return 2;
     }
     lcm_t *l = lcm_create(argv[1]);
@@ -176,7 +178,8 @@ int main(int argc, char **argv)
         return 1;
     }
     char cs[128], ct[128], cp[128], cq[128];
-    int params = argc == 5;
+    int params = argc == 5 && !strcmp(argv[4], "params");
+    int valid = argc == 5 && !strcmp(argv[4], "valid");
     channel(cs, sizeof cs, argv[2], "STATUS");
     channel(ct, sizeof ct, argv[2], "STATE");
     channel(cp, sizeof cp, argv[2], "POINCARE");
@@ -184,7 +187,7 @@ int main(int argc, char **argv)
     double end = now_s() + atof(argv[3]);
     int rc = 0;
     for (int64_t seq = 0; now_s() < end && rc == 0; seq++) {
-        rc |= publish_status(l, cs, seq) | publish_state(l, ct, seq) | publish_poincare(l, cp, seq);
+        rc |= publish_status(l, cs, seq) | publish_state(l, ct, seq, valid) | publish_poincare(l, cp, seq);
         rc |= publish_hostile_bytes(l, argv[2]);
         if (params)
             rc |= publish_params(l, cq, seq);
