@@ -18,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 static int test_failed_ = 0, test_cur_failed_ = 0;
 
@@ -64,6 +65,16 @@ static int test_failed_ = 0, test_cur_failed_ = 0;
         if (!h_ || !strstr(h_, n_))                                                       \
             TEST_FAIL_("'%s' does not contain '%s'", h_ ? h_ : "(null)", n_);             \
     } while (0)
+
+/* The seed of a randomised test: a new one each run (the time), printed
+ * with what it seeds; WG_TEST_SEED=N in the environment runs N again. */
+static inline unsigned test_seed(const char *what)
+{
+    const char *env = getenv("WG_TEST_SEED");
+    unsigned seed = env && *env ? (unsigned)strtoul(env, NULL, 10) : (unsigned)time(NULL);
+    printf("  %s seed %u (rerun with WG_TEST_SEED=%u)\n", what, seed, seed);
+    return seed;
+}
 
 /* Open file descriptors of this process (-1 if /proc is not there). */
 static int test_open_fds_(void)

@@ -16,8 +16,7 @@ static void test_against_a_model(void)
     static unsigned char out[INBOX_MSG_MAX];
     static size_t len[MAXQ];
     static unsigned seedof[MAXQ];
-    unsigned seed = (unsigned)time(NULL);
-    printf("  seed %u\n", seed);
+    unsigned seed = test_seed("queue:");
     srand(seed);
     int head = 0, tail = 0, refused = 0;
     for (int step = 0; step < 200000; step++) {

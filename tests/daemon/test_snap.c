@@ -152,7 +152,7 @@ static void test_corrupt_files_refused(void)
     size_t len = slurp(state_path("good", path, sizeof path), good, sizeof good);
     ASSERT_EQ_INT(simple(d, "restore", "good"), WG_OK);
     shot a = take(d);
-    unsigned seed = (unsigned)time(NULL);
+    unsigned seed = test_seed("truncations and flips:");
     srand(seed);
     size_t ntrunc = 0, nflip = 0;
     for (size_t n = 0; n < len; n++)
@@ -315,7 +315,7 @@ static void test_kill_during_save(void)
         run(d, 1);
     }
     ASSERT_EQ_INT(snap_write(&s[0], fx_statedir(), "k", path, sizeof path, why, sizeof why), 0);
-    unsigned seed = (unsigned)time(NULL);
+    unsigned seed = test_seed("kills mid-save:");
     srand(seed);
     int kills = 100, found[3] = {0, 0, 0}, left = 0, n = 0;
     for (int i = 0; i < kills; i++) {

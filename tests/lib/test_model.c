@@ -312,8 +312,7 @@ static void random_linear(wg_params *p, unsigned *seed)
  * replaced: the scenes, the table's corners and random linear parts. */
 static void test_stability_limit_methods(void)
 {
-    unsigned seed = (unsigned)time(NULL);
-    printf("seed %u\n", seed);
+    unsigned seed = test_seed("random linear parts:");
     double worst = 0.0, tfast = 0.0, tslow = 0.0;
     for (int i = 0; i < 120; i++) {
         wg_params p;

@@ -115,8 +115,7 @@ static void test_child_hash(void)
 
 static void test_bit_identical(void)
 {
-    unsigned seed = (unsigned)time(NULL) | 1u;
-    printf("  chunk seed %u\n", seed);
+    unsigned seed = test_seed("chunk") | 1u;
     uint64_t h[2];
     for (int st = 0; st < 2; st++) {
         hasher a, b;
