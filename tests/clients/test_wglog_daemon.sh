@@ -21,6 +21,8 @@ export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0" WORMGEA
 lpid=$!
 "$D" --rate 0.01 --set omega=0.7 --state-dir "$tmp" >"$tmp/d.out" 2>&1 &
 dpid=$!
+i=0                          # until the daemon answers (it then takes commands)
+until "$C" --timeout 0.5 status >/dev/null 2>&1 || [ $i -ge 20 ]; do i=$((i + 1)); done
 "$T" "$WORMGEAR_URL" LOGT_ 2.5 >"$tmp/tap.txt" &
 tpid=$!
 sleep 1

@@ -102,10 +102,13 @@ has p2-80x40 "^0.33 samples/period: the last 2 s folded on the window by phase f
 echo "--- the period-2 frame at 80x40:"; cat "$tmp/p2-80x40"
 "$C" mode realtime 0.01 >/dev/null
 
-# ---- a daemon restart while watching: shows as a seq reset, keeps going
-"$M" --frames 14 --fps 4 --size 100x20 >"$tmp/frames" 2>&1 &
+# ---- a daemon restart while watching: shows as a seq reset, keeps going.
+# The daemon is stopped once the monitor has drawn it (a frame on the
+# file), and 14 frames at 2 a second leave ~6 s for it to come back.
+"$M" --frames 14 --fps 2 --size 100x20 >"$tmp/frames" 2>&1 &
 mpid=$!
-sleep 1
+i=0
+until grep -q '^daemon  table3' "$tmp/frames" || [ $i -ge 100 ]; do sleep 0.1; i=$((i + 1)); done
 kill -TERM $pid; wait $pid
 sleep 0.5
 start
@@ -173,13 +176,20 @@ grep -q '^time .* theta1/2 85\.9/171\.9 deg' "$tmp/out" ||
 if command -v tmux >/dev/null; then
     tmux -L "$sock" -f /dev/null new-session -d -x 120 -y 40 \
         "$M --fps 10; echo \$? >$tmp/rc" || fail "tmux new-session"
-    sleep 2
+    i=0                                     # until it draws (10 s at most)
+    until tmux -L "$sock" capture-pane -p | grep -q '^x_n over' || [ $i -ge 100 ]; do
+        sleep 0.1; i=$((i + 1))
+    done
+    sleep 0.3
     tmux -L "$sock" capture-pane -p >"$tmp/pane1"
     has pane1 "wormgear monitor"
     has pane1 "^x_n over 4 mesh periods .*Poincare section"   # side by side at 120 columns
     has pane1 "q: quit"
     tmux -L "$sock" resize-window -x 80 -y 40 2>/dev/null || tmux -L "$sock" refresh-client -C 80,40
-    sleep 1
+    i=0                                     # until it redraws stacked
+    until tmux -L "$sock" capture-pane -p | grep -q '^Poincare section' || [ $i -ge 50 ]; do
+        sleep 0.1; i=$((i + 1))
+    done
     tmux -L "$sock" capture-pane -p >"$tmp/pane2"
     has pane2 "^Poincare section"              # stacked at 80 columns
     awk 'length > 80 { exit 1 }' "$tmp/pane2" || fail "lines wider than 80 after resize"

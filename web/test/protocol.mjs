@@ -20,6 +20,9 @@ check("7 channels advertised, json + jsonschema", [...r.channels.values()].every
   [...r.channels.keys()].join(" "));
 r.subscribeAll();
 r.client.subscribeParameterUpdates([]);
+// The daemon publishes STATUS once it takes commands (a slow start, e.g.
+// under ASan, would leave setParameters unanswered).
+await until(() => r.count("/status") > 0, 10000, "a STATUS from the daemon");
 
 // Impacts at omega 1.2 so /contact carries events; then the 1.3 / 12 checks.
 r.client.setParameters([{ name: "omega", value: 1.2 }], "s0");
