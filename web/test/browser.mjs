@@ -51,8 +51,16 @@ try {
   await page.fill("#ramp-dur", process.env.RAMP_S ?? "3");
   await page.click("#ramp-btn");
   await page.waitForFunction(() => window.wgTest.acks.some((a) => a.op === "ramp" && a.accepted), null, { timeout: 5000 });
-  await page.waitForFunction(() => window.wgTest.params.reason === "ramp-end" || window.wgTest.params.values.omega >= 1.6,
-    null, { timeout: 30000 });
+  // The ramp lasts 3 s of simulated time: at the daemon's real-time factor
+  // (a sanitizer build on a busy host: 0.1 and less) that is 30 s of wall
+  // time and more. So the wait is in simulated time: the ramp must end
+  // within 2 s of it past its length, however long that takes here.
+  const ramp0 = await page.evaluate(() => window.wgTest.status.t_s);
+  const rampLen = +(process.env.RAMP_S ?? "3");
+  await page.waitForFunction((end) => window.wgTest.params.reason === "ramp-end" || window.wgTest.params.values.omega >= 1.6 ||
+    (window.wgTest.status?.t_s ?? -Infinity) > end, ramp0 + rampLen + 2, { timeout: 150000 });
+  assert.ok(await page.evaluate(() => window.wgTest.params.reason === "ramp-end" || window.wgTest.params.values.omega >= 1.6),
+    "the ramp ended within 2 s of simulated time past its length");
   const bif = await samples("#plot-bif");
   assert.ok(bif > 200, `bifurcation diagram holds ${bif} points`);
   console.log(`ok ramp: bifurcation diagram ${bif} points`);
