@@ -148,6 +148,16 @@ const char *bus_channel(const bus *c, const char *suffix, char *buf, size_t len)
     return buf;
 }
 
+lcm_subscription_t *bus_subscribe(bus *c, const char *suffix, lcm_msg_handler_t fn, void *user,
+                                  int queue)
+{
+    char ch[128];
+    lcm_subscription_t *s = lcm_subscribe(c->lcm, bus_channel(c, suffix, ch, sizeof ch), fn, user);
+    if (s && queue > 0)
+        lcm_subscription_set_queue_capacity(s, queue);
+    return s;
+}
+
 static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_t *m, void *u)
 {
     (void)rb, (void)ch;
@@ -180,7 +190,7 @@ int bus_prefix_ok(const char *p)
 int bus_open(bus *c, const char *url, const char *prefix, const char *name, char *why,
              size_t whylen)
 {
-    char host[64] = "host", ch[128];
+    char host[64] = "host";
     memset(c, 0, sizeof *c);
     prefix = prefix ? prefix : bus_default_prefix();
     if (!bus_prefix_ok(prefix)) { /* the daemon's rule: 'a b' was sent, 100 chars failed in LCM */
@@ -202,7 +212,7 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
         snprintf(why, whylen, "cannot open LCM URL '%s'", url);
         return -1;
     }
-    c->ack_sub = lcm_subscribe(c->lcm, bus_channel(c, "ACK", ch, sizeof ch), on_ack_raw, c);
+    c->ack_sub = bus_subscribe(c, "ACK", on_ack_raw, c, 0);
     const char *key = getenv("WORMGEAR_KEY_FILE");
     return key && *key ? bus_set_key(c, key, why, whylen) : 0;
 }

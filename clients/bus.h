@@ -144,6 +144,11 @@ void bus_close(bus *c);
 /* "<prefix><suffix>" into buf (e.g. suffix "STATUS"). */
 const char *bus_channel(const bus *c, const char *suffix, char *buf, size_t len);
 
+/* fn (a BUS_RAW_HANDLER) subscribed to PREFIX+suffix, with room for queue
+ * messages waiting (0: LCM's default, 30); NULL if LCM refused. */
+lcm_subscription_t *bus_subscribe(bus *c, const char *suffix, lcm_msg_handler_t fn, void *user,
+                                  int queue);
+
 /* A command op with every string field "" and every number 0, to fill in. */
 wormgear_cmd_t bus_cmd(const char *op);
 

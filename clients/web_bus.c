@@ -91,9 +91,8 @@ static void subscribe_all(web_bus *b)
         [WEB_BUS_STATE] = on_state_raw,   [WEB_BUS_POINCARE] = on_poincare_raw,
         [WEB_BUS_CONTACT] = on_contact_raw, [WEB_BUS_STATUS] = on_status_raw,
         [WEB_BUS_PARAMS] = on_params_raw, [WEB_BUS_ACK] = on_ack_raw};
-    char ch[128];
     for (int k = 0; k < WEB_BUS_NCH; k++)
-        b->sub[k] = lcm_subscribe(b->c.lcm, bus_channel(&b->c, name[k], ch, sizeof ch), fn[k], b);
+        b->sub[k] = bus_subscribe(&b->c, name[k], fn[k], b, 0);
 }
 
 int web_bus_open(web_bus *b, const char *url, const char *prefix, const web_bus_hooks *h,

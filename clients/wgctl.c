@@ -439,9 +439,7 @@ static void print_params(const ctl *t, const wormgear_params_t *p)
 
 static int do_get(ctl *t)
 {
-    char ch[128];
-    lcm_subscription_t *s =
-        lcm_subscribe(t->c.lcm, bus_channel(&t->c, "PARAMS", ch, sizeof ch), on_params_raw, t);
+    lcm_subscription_t *s = bus_subscribe(&t->c, "PARAMS", on_params_raw, t, 0);
     wormgear_cmd_t c = bus_cmd("get");
     if (bus_send(&t->c, &c) < 0)
         return 1;
@@ -526,9 +524,7 @@ static void print_status(const ctl *t, const wormgear_status_t *s)
 
 static int do_status(ctl *t)
 {
-    char ch[128];
-    lcm_subscription_t *s =
-        lcm_subscribe(t->c.lcm, bus_channel(&t->c, "STATUS", ch, sizeof ch), on_status_raw, t);
+    lcm_subscription_t *s = bus_subscribe(&t->c, "STATUS", on_status_raw, t, 0);
     bus_wait(&t->c, (int)(t->o.timeout_s * 1000), status_done, t);
     lcm_unsubscribe(t->c.lcm, s);
     if (!t->status) {

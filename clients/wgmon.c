@@ -692,7 +692,7 @@ static int run(mon *m)
 
 static int setup(mon *m)
 {
-    char why[256], ch[128];
+    char why[256];
     if (bus_open(&m->c, m->o.url, m->o.prefix, "wgmon", why, sizeof why)) {
         fprintf(stderr, "wgmon: %s\n", why);
         return 1;
@@ -701,12 +701,8 @@ static int setup(mon *m)
      * while the monitor is not scheduled for ~0.3 s (a live daemon and a
      * replay publish ~100 a second on a channel), and "dropped" would count
      * them; as wgrig does, a longer one. */
-    for (int k = 0; k < NCH; k++) {
-        m->subs[k] = lcm_subscribe(m->c.lcm, bus_channel(&m->c, ch_suffix[k], ch, sizeof ch),
-                                   on_raw, m);
-        if (m->subs[k])
-            lcm_subscription_set_queue_capacity(m->subs[k], 4096);
-    }
+    for (int k = 0; k < NCH; k++)
+        m->subs[k] = bus_subscribe(&m->c, ch_suffix[k], on_raw, m, 4096);
     ask_params(m);
     if (mon_trace_alloc(&m->tr, TR_CAP) || mon_sections_alloc(&m->pc, PC_CAP)) {
         fprintf(stderr, "wgmon: out of memory\n");

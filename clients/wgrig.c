@@ -555,15 +555,12 @@ static int record_cap(const rig *r, int *cap)
 static int open_bus(rig *r)
 {
     static const char *const chans[] = {"POINCARE", "CONTACT", "PARAMS", "STATUS"};
-    char why[256], ch[128];
+    char why[256];
     if (bus_open(&r->c, r->o.url, r->o.prefix, "wgrig", why, sizeof why) ||
         (r->o.key_file && bus_set_key(&r->c, r->o.key_file, why, sizeof why)))
         return fprintf(stderr, "wgrig: %s\n", why), 1;
-    for (int k = 0; k < 4; k++) {
-        lcm_subscription_t *s =
-            lcm_subscribe(r->c.lcm, bus_channel(&r->c, chans[k], ch, sizeof ch), on_raw, r);
-        lcm_subscription_set_queue_capacity(s, 4096);
-    }
+    for (int k = 0; k < 4; k++)
+        bus_subscribe(&r->c, chans[k], on_raw, r, 4096);
     return fetch_params(r) ? 1 : 0;
 }
 
