@@ -18,8 +18,8 @@ export WG_SCENE_PATH=${WG_SCENE_PATH:-$here/../../scenes}
 dpid=$!
 "$W" --port 0 >"$tmp/w.out" 2>"$tmp/w.err" &
 wpid=$!
-i=0
-while [ $i -lt 50 ] && ! grep -q "http://" "$tmp/w.out"; do sleep 0.1; i=$((i + 1)); done
+. "$here/../wait.sh" # wait_until
+wait_until 5 grep -q "http://" "$tmp/w.out"
 port=$(sed -n 's|.*http://127.0.0.1:\([0-9]*\)/.*|\1|p' "$tmp/w.out")
 [ -n "$port" ] || { echo "wgweb did not start"; cat "$tmp/w.err"; exit 1; }
 ticks() { awk '{print $14 + $15}' "/proc/$1/stat"; }

@@ -14,6 +14,7 @@ pids=
 cleanup() { for p in $pids; do kill -KILL "$p" 2>/dev/null; done; rm -rf "$tmp"; }
 trap cleanup EXIT
 fail() { echo "FAIL: $*"; code=1; }
+. "$(dirname "$0")/../wait.sh" # wait_until
 
 if [ "$mode" = decode ]; then
     ENC=$1 JAR=$2 LCMJAR=$3 JAVAC=$4 JAVA=$5 SRC=$6
@@ -36,9 +37,8 @@ pids="$pids $!"
 mkdir "$tmp/cls"
 "$JAVAC" -nowarn -cp "$LCMJAR" -d "$tmp/cls" "$SRC/SpyCheck.java" || exit 1
 cp=$("$SPY" --jar "$JAR" --print-cp) || { echo "FAIL: wgspy --print-cp"; exit 1; }
-i=0
 if command -v xdpyinfo >/dev/null; then
-    until xdpyinfo >/dev/null 2>&1 || [ $i -ge 50 ]; do sleep 0.1; i=$((i + 1)); done
+    wait_until 5 xdpyinfo >/dev/null 2>&1
 else
     sleep 1
 fi

@@ -9,7 +9,7 @@ cont=$1
 sweep=$2
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-. "$(dirname "$0")/stop.sh"
+. "$(dirname "$0")/../wait.sh" # wait_until, stop
 fail=0
 check() { if eval "$2"; then echo "$1 ok"; else echo "$1 FAIL"; fail=1; fi; }
 magic() { head -c "$2" "$1" | od -An -c | tr -d ' \n'; }
@@ -39,13 +39,10 @@ check "--param xi_p: header and a period doubling in xi_p" \
 # line says so; at most 120 s, however slow the build or busy the machine)
 "$cont" --from 0.1 --to 2.5 --sweep-points 241 --out "$dir/int" 2>"$dir/int.err" &
 pid=$!
-i=0
-until grep -q "point 50 at" "$dir/int.err" || [ $i -ge 1200 ]; do sleep 0.1; i=$((i + 1)); done
-kill -INT $pid
-wait $pid
-rc=$?
+wait_until 120 grep -q "point 50 at" "$dir/int.err"
+stop $pid INT; rc=$exit_status
 check "Ctrl-C: exit 130 and partial csv + figure" \
-  '[ $rc -eq 130 ] && [ $(wc -l < "$dir/int-branch.csv") -gt 2 ] && [ -s "$dir/int.png" ]'
+  '[ "$rc" = 130 ] && [ $(wc -l < "$dir/int-branch.csv") -gt 2 ] && [ -s "$dir/int.png" ]'
 
 # A stop during the transient before the first point: it used to run on
 # to the transient's end (1e7 periods here: 80 s in a Release build); now
@@ -53,7 +50,7 @@ check "Ctrl-C: exit 130 and partial csv + figure" \
 "$cont" --from 0.5 --to 0.6 --transient 10000000 --sweep-points 0 --out "$dir/tr" 2>"$dir/tr.err" &
 pid=$!
 sleep 1
-stop_rc $pid TERM; rc=$stop_status
+stop $pid TERM; rc=$exit_status
 check "SIGTERM during the transient: exit 130 at once, the files written with no points" \
   '[ "$rc" = 130 ] && [ $(wc -l < "$dir/tr-branch.csv") -eq 1 ] && [ -s "$dir/tr.png" ] && grep -q "^wgcont: 0 points" "$dir/tr.err"'
 

@@ -14,6 +14,7 @@ trap cleanup EXIT
 export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0" WORMGEAR_PREFIX=UCTL_
 
 fail() { echo "FAIL: $*"; code=1; }
+. "$(dirname "$0")/../wait.sh" # wait_until
 expect() {
     want=$1; shift
     "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
@@ -59,8 +60,7 @@ python3 -c 'import json, sys; json.load(open(sys.argv[1]))' "$tmp/out" || fail "
 # ---- a daemon: get with units
 "$D" --rate 0.01 --state-dir "$tmp" >"$tmp/d.out" 2>&1 &
 pid=$!
-i=0
-until "$C" --timeout 0.5 status >/dev/null 2>&1 || [ $i -ge 20 ]; do i=$((i + 1)); done
+wait_until 10 "$C" --timeout 0.5 status >/dev/null 2>&1 || fail "no daemon: $(cat "$tmp/d.out")"
 expect 0 "$C" get
 has out "^scale omega_n = 31901 rad/s, b_c = 100 µm"
 has out "^  omega = 1 *-    5077.2 Hz$"
@@ -85,8 +85,8 @@ has out '"params":{"omega":1},"physical":{"omega":{"value":5077.20'
 has out '"length_m":0.0001'
 # a ramp of xi_p: status says a ramp runs, not that omega is ramping
 expect 0 "$C" ramp xi_p 0.2 --over 1000s
-i=0
-until "$C" status >"$tmp/st" 2>&1 && grep -q "^ramp " "$tmp/st" || [ $i -ge 20 ]; do i=$((i + 1)); done
+ramping() { "$C" status >"$tmp/st" 2>&1 && grep -q "^ramp " "$tmp/st"; }
+wait_until 20 ramping
 has st "^ramp      a parameter is ramping (wgctl get names it)$"
 hasnt st "(ramping)"
 kill -TERM "$pid"; wait "$pid"; pid=

@@ -15,14 +15,15 @@ cleanup() {
 }
 trap cleanup EXIT
 fail() { echo "FAIL: $*"; code=1; }
+. "$(dirname "$0")/../wait.sh" # wait_until
 export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0" WORMGEAR_PREFIX=LOGT_
 
 "$L" --lcm-url="$WORMGEAR_URL" "$tmp/run.lcmlog" >"$tmp/logger.out" 2>&1 &
 lpid=$!
 "$D" --rate 0.01 --set omega=0.7 --state-dir "$tmp" >"$tmp/d.out" 2>&1 &
 dpid=$!
-i=0                          # until the daemon answers (it then takes commands)
-until "$C" --timeout 0.5 status >/dev/null 2>&1 || [ $i -ge 20 ]; do i=$((i + 1)); done
+# until the daemon answers (it then takes commands)
+wait_until 10 "$C" --timeout 0.5 status >/dev/null 2>&1 || fail "no daemon: $(cat "$tmp/d.out")"
 "$T" "$WORMGEAR_URL" LOGT_ 2.5 >"$tmp/tap.txt" &
 tpid=$!
 sleep 1

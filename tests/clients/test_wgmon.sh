@@ -21,6 +21,7 @@ cleanup() {
 }
 trap cleanup EXIT
 fail() { echo "FAIL: $*"; code=1; }
+. "$(dirname "$0")/../wait.sh" # wait_until
 expect() {
     want=$1; shift
     "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
@@ -107,8 +108,7 @@ echo "--- the period-2 frame at 80x40:"; cat "$tmp/p2-80x40"
 # file), and 14 frames at 2 a second leave ~6 s for it to come back.
 "$M" --frames 14 --fps 2 --size 100x20 >"$tmp/frames" 2>&1 &
 mpid=$!
-i=0
-until grep -q '^daemon  table3' "$tmp/frames" || [ $i -ge 100 ]; do sleep 0.1; i=$((i + 1)); done
+wait_until 10 grep -q '^daemon  table3' "$tmp/frames"
 kill -TERM $pid; wait $pid
 sleep 0.5
 start
@@ -176,37 +176,28 @@ grep -q '^time .* theta1/2 85\.9/171\.9 deg' "$tmp/out" ||
 if command -v tmux >/dev/null; then
     tmux -L "$sock" -f /dev/null new-session -d -x 120 -y 40 \
         "$M --fps 10; echo \$? >$tmp/rc" || fail "tmux new-session"
-    i=0                                     # until it draws (10 s at most)
-    until tmux -L "$sock" capture-pane -p | grep -q '^x_n over' || [ $i -ge 100 ]; do
-        sleep 0.1; i=$((i + 1))
-    done
+    pane_has() { tmux -L "$sock" capture-pane -p | grep -q "$1"; }
+    wait_until 10 pane_has '^x_n over'      # until it draws
     sleep 0.3
     tmux -L "$sock" capture-pane -p >"$tmp/pane1"
     has pane1 "wormgear monitor"
     has pane1 "^x_n over 4 mesh periods .*Poincare section"   # side by side at 120 columns
     has pane1 "q: quit"
     tmux -L "$sock" resize-window -x 80 -y 40 2>/dev/null || tmux -L "$sock" refresh-client -C 80,40
-    i=0                                     # until it redraws stacked
-    until tmux -L "$sock" capture-pane -p | grep -q '^Poincare section' || [ $i -ge 50 ]; do
-        sleep 0.1; i=$((i + 1))
-    done
+    wait_until 5 pane_has '^Poincare section' # until it redraws stacked
     tmux -L "$sock" capture-pane -p >"$tmp/pane2"
     has pane2 "^Poincare section"              # stacked at 80 columns
     awk 'length > 80 { exit 1 }' "$tmp/pane2" || fail "lines wider than 80 after resize"
     tmux -L "$sock" send-keys q
-    i=0
-    while [ ! -s "$tmp/rc" ] && [ $i -lt 30 ]; do sleep 0.1; i=$((i + 1)); done
+    wait_until 3 test -s "$tmp/rc"
     [ "$(cat "$tmp/rc" 2>/dev/null)" = 0 ] || fail "q did not quit with 0: $(cat "$tmp/rc" 2>/dev/null)"
     # SIGHUP (the terminal closed): quits with the terminal restored, as
     # q and SIGTERM do; it was left without echo and line editing
     rm -f "$tmp/rc"
     tmux -L "$sock" -f /dev/null new-session -d -x 120 -y 40 "sh -c 'echo \$\$ >$tmp/mpid; exec $M --fps 10'; echo \$? >$tmp/rc; stty -a >$tmp/stty"
-    i=0
-    while [ ! -s "$tmp/mpid" ] && [ $i -lt 30 ]; do sleep 0.1; i=$((i + 1)); done
-    sleep 1
+    wait_until 10 pane_has '^x_n over'      # until it draws (its terminal is raw)
     kill -HUP "$(cat "$tmp/mpid")"
-    i=0
-    while [ ! -s "$tmp/stty" ] && [ $i -lt 50 ]; do sleep 0.1; i=$((i + 1)); done
+    wait_until 5 test -s "$tmp/stty"
     grep -q -- " icanon" "$tmp/stty" && grep -q -- " echo " "$tmp/stty" ||
         fail "SIGHUP left the terminal raw: $(grep -o -- '-*icanon\|-*echo ' "$tmp/stty" | tr '\n' ' ')"
 else

@@ -15,6 +15,8 @@ pid=
 cleanup() { [ -n "$pid" ] && kill -KILL "$pid" 2>/dev/null; rm -rf "$tmp"; }
 trap cleanup EXIT
 fail() { echo "FAIL: $*"; code=1; }
+. "$(dirname "$0")/../wait.sh" # wait_until, stop
+
 expect() {
     want=$1; shift
     "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
@@ -87,10 +89,9 @@ has out "^omega     0\.5$"                  # and the original omega (no --keep)
 "$C" set omega=0.5 >/dev/null
 "$R" --from 0.6 --to 2.0 --points 40 --settle 3000 --fast --out "$tmp/stop" 2>"$tmp/stop.err" &
 rpid=$!
-i=0
-until grep -q "up omega" "$tmp/stop.err" || [ $i -ge 200 ]; do sleep 0.1; i=$((i + 1)); done
-kill -TERM $rpid; wait $rpid; rc=$?
-[ $rc -eq 130 ] || fail "SIGTERM mid-sweep: exit $rc, want 130: $(tail -3 "$tmp/stop.err")"
+wait_until 20 grep -q "up omega" "$tmp/stop.err"
+stop $rpid TERM; rc=$exit_status
+[ "$rc" = 130 ] || fail "SIGTERM mid-sweep: exit $rc, want 130: $(tail -3 "$tmp/stop.err")"
 grep -q "stopped; putting the daemon back" "$tmp/stop.err" || fail "no 'putting the daemon back': $(tail -3 "$tmp/stop.err")"
 grep -q "no ACK after" "$tmp/stop.err" && fail "a false 'no ACK' after the stop: $(grep 'no ACK' "$tmp/stop.err")"
 [ -s "$tmp/stop.csv" ] || fail "no partial stop.csv"

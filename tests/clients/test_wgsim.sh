@@ -108,13 +108,8 @@ printf '[params]\nomega = 1\nomega = 0.5\n' >"$tmp/dup.ini"
 expect_exit 1 "dup.ini:3: \[params\] omega: given twice (first at line 2)" --scene "$tmp/dup.ini"
 expect_exit 0 "motion" --model printed --periods 5 --transient 0
 
-# Stops. wait_exit PID SECONDS: rc=the exit status, or "timeout" (then killed).
-wait_exit() {
-    local i=0
-    while kill -0 "$1" 2>/dev/null && [ $i -lt $(($2 * 10)) ]; do sleep 0.1; i=$((i + 1)); done
-    if kill -0 "$1" 2>/dev/null; then kill -9 "$1"; wait "$1" 2>/dev/null; rc=timeout
-    else wait "$1"; rc=$?; fi
-}
+# Stops.
+. "$(dirname "$0")/../wait.sh" # wait_exit
 whole_rows() { # whole_rows FILE FIELDS: ends in a newline, every line FIELDS fields
     [ "$(tail -c1 "$1" | od -An -tx1 | tr -d ' ')" = 0a ] &&
         awk -F, -v n="$2" 'NF != n { bad = 1 } END { exit bad }' "$1"
@@ -127,7 +122,7 @@ whole_rows() { # whole_rows FILE FIELDS: ends in a newline, every line FIELDS fi
 pid=$!
 sleep 1
 kill -INT $pid
-wait_exit $pid 10
+wait_exit $pid 10; rc=$exit_status
 rows=$(($(wc -l <"$tmp/int.csv") - 1))
 check "Ctrl-C: exit 130 ($rc)" test "$rc" = 130
 check "Ctrl-C: $rows rows, every one whole" whole_rows "$tmp/int.csv" 22
@@ -148,7 +143,7 @@ kill -TERM $pid
 sleep 0.5
 check "first SIGTERM, blocked on a full pipe: still running" kill -0 $pid
 kill -TERM $pid
-wait_exit $pid 10
+wait_exit $pid 10; rc=$exit_status
 exec 3>&-
 check "second SIGTERM: ends it at once, by the signal ($rc)" test "$rc" = 143
 # ... and once the pipe drains, the first SIGTERM's stop: no row lost or torn
@@ -162,7 +157,7 @@ exec 4<"$tmp/fifo2" # the reader, open before our end closes (else SIGPIPE)
 timeout 30 cat <&4 >"$tmp/f2.csv" 3>&- 4<&- &
 cat=$!
 exec 3>&- 4<&-
-wait_exit $pid 20
+wait_exit $pid 20; rc=$exit_status
 wait $cat
 p=$(sed -n 's/^wgsim: interrupted after \([0-9]*\) of .*/\1/p' "$tmp/f2.err")
 check "SIGTERM blocked on a pipe, then drained: exit 130 ($rc)" test "$rc" = 130

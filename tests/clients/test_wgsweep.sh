@@ -8,7 +8,7 @@ sweep=$1
 mpiexec=${2:-}
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-. "$(dirname "$0")/stop.sh"
+. "$(dirname "$0")/../wait.sh" # stop
 fail=0
 check() { if eval "$2"; then echo "$1 ok"; else echo "$1 FAIL"; fail=1; fi; }
 
@@ -196,10 +196,8 @@ check "--table-from a directory: exit 1, 'is a directory'" \
 "$sweep" --from 0.6 --to 1.0 --points 400 --threads 1 --quiet --out "$dir/int" >/dev/null 2>&1 &
 pid=$!
 sleep 1.5
-kill -INT $pid
-wait $pid
-rc=$?
-check "interrupt exits 130" '[ $rc -eq 130 ]'
+stop $pid INT; rc=$exit_status
+check "interrupt exits 130" '[ "$rc" = 130 ]'
 check "interrupt leaves partial results" \
   'grep -q "\"partial\":true" "$dir/int.json" && [ $(wc -l < "$dir/int.csv") -gt 1 ] && [ $(wc -l < "$dir/int.csv") -lt 800 ] && grep -q PARTIAL "$dir/int.md" && [ -s "$dir/int.png" ]'
 
@@ -209,7 +207,7 @@ check "interrupt leaves partial results" \
 "$sweep" --at 0.85 --at-periods 10000000 --out "$dir/atint" >/dev/null 2>&1 &
 pid=$!
 sleep 1
-stop_rc $pid TERM; rc=$stop_status
+stop $pid TERM; rc=$exit_status
 check "SIGTERM during --at: ended at once by the signal" '[ "$rc" = 143 ]'
 
 "$sweep" --at 0.85 --at-periods 200 --out "$dir/at" > "$dir/at.txt"

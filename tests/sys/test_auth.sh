@@ -17,17 +17,15 @@ cleanup() {
 trap cleanup EXIT
 export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0" WORMGEAR_PREFIX=AUTH_
 fail() { echo "FAIL: $*"; code=1; }
+. "$(dirname "$0")/../wait.sh" # wait_until
 K="--key-file $tmp/key"
 
 # start: a signing daemon, up once a signed get is answered
 start() {
     "$D" --rate 0.05 --state-dir "$tmp" --command-key-file "$tmp/key" 2>>"$tmp/log" &
     pid=$!
-    i=0
-    until "$C" --timeout 0.5 $K get >/dev/null 2>&1; do
-        i=$((i + 1))
-        [ $i -lt 20 ] || { fail "signing daemon did not come up: $(cat "$tmp/log")"; exit 1; }
-    done
+    wait_until 10 "$C" --timeout 0.5 $K get >/dev/null 2>&1 ||
+        { fail "signing daemon did not come up: $(cat "$tmp/log")"; exit 1; }
 }
 # omega_is V WHAT: the daemon's omega is V
 omega_is() {
@@ -86,8 +84,7 @@ cp "$tmp/key" "$tmp/key.old"
 "$C" keygen "$tmp/key.new" >/dev/null || fail "keygen (new)"
 cat "$tmp/key.new" >"$tmp/key"
 kill -HUP $pid
-i=0                          # until the daemon has re-read it (10 s at most), then
-until grep -q "holds a new key" "$tmp/log" || [ $i -ge 100 ]; do sleep 0.1; i=$((i + 1)); done
+wait_until 10 grep -q "holds a new key" "$tmp/log" # until the daemon has re-read it, then
 sleep 1.2                    # the 1 s after a key change it takes nothing signed
 "$C" --key-file "$tmp/key.old" set omega=1.3 >"$tmp/out" 2>&1 && fail "the rotated-out key still accepted"
 grep -q "bad signature" "$tmp/out" || fail "old key: not 'bad signature': $(cat "$tmp/out")"

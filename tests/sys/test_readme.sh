@@ -25,6 +25,7 @@ trap cleanup EXIT
 status=0
 fail() { echo "FAIL: $*"; status=1; }
 . "$(dirname "$0")/readme.sh" # readme_block, readme_expect
+. "$(dirname "$0")/../wait.sh" # wait_until, wait_gone, stop
 cd "$src" || exit 1
 
 readme_block README.md "## A walk-through" >"$tmp/walk"
@@ -43,27 +44,17 @@ line() { sed -n "${1}p" "$tmp/walk"; }
 export WG_STATE_DIR="$tmp/state"
 sh -c "exec $(line 1)" >"$tmp/run.out" 2>"$tmp/run.err" &
 runpid=$!
-i=0
-until build/release/clients/wgctl --timeout 0.5 status >/dev/null 2>&1; do
-    i=$((i + 1))
-    kill -0 "$runpid" 2>/dev/null || { cat "$tmp/run.err"; fail "tools/run.sh exited"; exit 1; }
-    [ $i -lt 1200 ] || { tail "$tmp/run.err"; fail "no daemon after tools/run.sh"; exit 1; }
-    sleep 0.5
-done
+up_or_ended() { build/release/clients/wgctl --timeout 0.5 status >/dev/null 2>&1 || wait_gone "$runpid"; }
+wait_until 600 up_or_ended || { tail "$tmp/run.err"; fail "no daemon after tools/run.sh"; exit 1; }
+wait_gone "$runpid" && { cat "$tmp/run.err"; fail "tools/run.sh exited"; exit 1; }
 
 # ---- terminal 2: wgmon in a tmux pane
 tmux -L "$sock" -f /dev/null new-session -d -x 120 -y 45 "$(line 2)" || { fail "tmux"; exit 1; }
 screen() { tmux -L "$sock" capture-pane -p >"$tmp/screen"; }
+shows() { screen; grep -Eq -- "$1" "$tmp/screen"; }
 # wait_for PATTERN SECONDS: the pane shows PATTERN (extended regex) in time
 wait_for() {
-    n=0
-    while :; do
-        screen
-        grep -Eq -- "$1" "$tmp/screen" && return 0
-        n=$((n + 1))
-        [ $n -lt $(($2 * 4)) ] || { fail "wgmon never showed '$1'; last frame:"; cat "$tmp/screen"; return 1; }
-        sleep 0.25
-    done
+    wait_until "$2" shows "$1" || { fail "wgmon never showed '$1'; last frame:"; cat "$tmp/screen"; }
 }
 
 # ---- terminal 3
@@ -80,9 +71,8 @@ c2=$(contacts)
 
 sh -c "$(line 4)" >"$tmp/out" 2>&1 || fail "$(line 4): $(cat "$tmp/out")"
 wait_for "daemon: ramping" 5
-n=0 # contact events start to flow during the ramp
-while [ "$(contacts)" = "$c2" ] && [ $n -lt 32 ]; do n=$((n + 1)); sleep 0.25; done
-[ "$(contacts)" != "$c2" ] || fail "no contact events during the ramp"
+flowing() { [ "$(contacts)" != "$c2" ]; }
+wait_until 8 flowing || fail "no contact events during the ramp"
 
 sh -c "$(line 5)" >"$tmp/out" 2>&1 || fail "$(line 5): $(cat "$tmp/out")"
 wait_for "regime +daemon: period-2" 30
@@ -98,11 +88,9 @@ done
 
 # Ctrl-C stops it with 0 (run.sh exec'd the daemon: the signal is its)
 tmux -L "$sock" send-keys q
-kill -INT "$runpid"
-wait "$runpid"
-rc=$?
+stop "$runpid" INT; rc=$exit_status
 runpid=
-[ $rc -eq 0 ] || fail "tools/run.sh after Ctrl-C: exit $rc"
+[ "$rc" = 0 ] || fail "tools/run.sh after Ctrl-C: exit $rc"
 grep -q "realtime x1 running ok" "$tmp/run.out" || fail "no status line from run.sh: $(tail -2 "$tmp/run.out")"
 
 # ---- the offline commands that follow (the section's second block), in a

@@ -14,6 +14,7 @@ pid=
 trap '[ -n "$pid" ] && kill -KILL $pid 2>/dev/null; rm -rf "$tmp"' EXIT
 url="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0"
 fail() { echo "FAIL: $*"; for f in "$tmp"/*.log; do echo "--- $f"; cat "$f"; done; exit 1; }
+. "$(dirname "$0")/../wait.sh" # wait_until
 
 # start NAME [command prefix...]: the daemon with --rt-priority 10, its
 # threads' scheduling classes and priorities once it runs, then SIGTERM
@@ -21,8 +22,7 @@ run() {
     name=$1; shift
     "$@" "$D" --url "$url" --prefix RT_ --state-dir "$tmp" --rt-priority 10 >"$tmp/$name.log" 2>&1 &
     pid=$!
-    i=0
-    while [ $i -lt 50 ] && ! grep -q "info: ready:" "$tmp/$name.log" 2>/dev/null; do sleep 0.1; i=$((i + 1)); done
+    wait_until 5 grep -q "info: ready:" "$tmp/$name.log" 2>/dev/null
     sleep 0.5
     ps -L -o tid=,cls=,rtprio= -p $pid >"$tmp/$name.threads"
     kill -TERM $pid

@@ -12,6 +12,7 @@ trap cleanup EXIT
 export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0" WORMGEAR_PREFIX=CTL_
 
 fail() { echo "FAIL: $*"; code=1; }
+. "$(dirname "$0")/../wait.sh" # wait_until
 # expect CODE CMD...: run, keep stdout/stderr in $tmp/out, $tmp/err
 expect() {
     want=$1; shift
@@ -61,11 +62,8 @@ has err "is not a directory (state_dir must be a directory this process can writ
 printf '[wormgeard]\nstatus_hz = 4\nstate_dir = %s/state\n' "$tmp" >"$tmp/run.conf"
 "$D" -F -c "$tmp/run.conf" --rate 0.05 >"$tmp/fg" 2>"$tmp/log" &
 pid=$!
-i=0
-until "$C" --timeout 0.5 status >/dev/null 2>&1; do
-    i=$((i + 1))
-    [ $i -lt 20 ] || { fail "daemon did not come up: $(cat "$tmp/log")"; exit 1; }
-done
+wait_until 10 "$C" --timeout 0.5 status >/dev/null 2>&1 ||
+    { fail "daemon did not come up: $(cat "$tmp/log")"; exit 1; }
 
 expect 0 "$C" set omega=1.3 xi_p=0.1
 has out "ok: set omega=1.3"
@@ -283,11 +281,8 @@ has err "cannot create key file"
 expect 0 "$C" keygen "$tmp/other"
 "$D" --rate 0.05 --state-dir "$tmp/state" --command-key-file "$tmp/key" 2>"$tmp/log2" &
 pid=$!
-i=0
-until "$C" --timeout 0.5 --key-file "$tmp/key" get >/dev/null 2>&1; do
-    i=$((i + 1))
-    [ $i -lt 20 ] || { fail "signing daemon did not come up: $(cat "$tmp/log2")"; exit 1; }
-done
+wait_until 10 "$C" --timeout 0.5 --key-file "$tmp/key" get >/dev/null 2>&1 ||
+    { fail "signing daemon did not come up: $(cat "$tmp/log2")"; exit 1; }
 expect 0 "$C" --key-file "$tmp/key" set omega=1.2
 has out "ok: set omega=1.2"
 expect 1 "$C" set omega=1.3

@@ -22,6 +22,7 @@ cleanup() {
     rm -rf "$tmp"
 }
 trap cleanup EXIT
+. "$(dirname "$0")/../wait.sh" # wait_until
 export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0" WORMGEAR_PREFIX=WEBT_
 "$D" --state-dir "$tmp" >"$tmp/d.log" 2>&1 &
 dpid=$!
@@ -32,10 +33,8 @@ wpid=$!
 "$W" --port 0 >"$tmp/r.out" 2>"$tmp/r.err" &
 rpid=$!
 port_of() { sed -n 's|.*http://127.0.0.1:\([0-9]*\)/.*|\1|p' "$1"; }
-i=0
-while [ $i -lt 50 ] && { [ -z "$(port_of "$tmp/w.out")" ] || [ -z "$(port_of "$tmp/r.out")" ]; }; do
-    sleep 0.1; i=$((i + 1))
-done
+both_listen() { [ -n "$(port_of "$tmp/w.out")" ] && [ -n "$(port_of "$tmp/r.out")" ]; }
+wait_until 5 both_listen
 port=$(port_of "$tmp/w.out") rport=$(port_of "$tmp/r.out")
 if [ -z "$port" ] || [ -z "$rport" ]; then
     echo "FAIL: wgweb did not start"; cat "$tmp/w.out" "$tmp/w.err" "$tmp/r.err"; exit 1

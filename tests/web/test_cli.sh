@@ -9,6 +9,7 @@ tmp=$(mktemp -d) || exit 1
 pids=
 trap 'for p in $pids; do kill -KILL $p 2>/dev/null; done; rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; status=1; }
+. "$(dirname "$0")/../wait.sh" # wait_until
 expect() {
     want=$1; shift
     "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
@@ -36,8 +37,7 @@ expect 2 "$W" stray
 export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0"
 "$W" --listen 0.0.0.0 --port 0 --allow-commands >"$tmp/out" 2>"$tmp/err" &
 pids=$!
-i=0                                 # until it says where it listens (5 s at most)
-while [ $i -lt 50 ] && ! grep -q 'http://0.0.0.0:' "$tmp/out"; do sleep 0.1; i=$((i + 1)); done
+wait_until 5 grep -q 'http://0.0.0.0:' "$tmp/out" # until it says where it listens
 has err "WARNING: listening on 0.0.0.0, not loopback"
 has err "can command it"
 has out "commands allowed"
