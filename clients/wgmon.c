@@ -14,6 +14,7 @@
 #include "bus.h"
 #include "bus_msg.h"
 #include "cli.h"
+#include "mon_out.h"
 #include "mon_text.h"
 #include "mon_view.h"
 
@@ -25,6 +26,7 @@
 #include "wormgear/wg_model.h"
 #include "wormgear/wg_regime.h"
 
+#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <signal.h>
@@ -93,6 +95,8 @@ typedef struct mon {
     int rows, cols, frozen;
     struct termios tio;
     int raw;
+    mon_out *out;                 /* the frames' writer: a stalled terminal never stops the loop */
+    int stalled;                  /* at the end, the terminal still took nothing */
 } mon;
 
 /* ---- options --------------------------------------------------------------- */
@@ -557,12 +561,13 @@ static void draw_msgs(mon *m, mon_text *f)
     mon_text_nl(f);
 }
 
-static void render(mon *m, mon_text *f)
+/* Build a frame (clear: the whole screen first, after a resize). */
+static void render(mon *m, mon_text *f, int clear)
 {
     double now = cli_mono_s();
     mon_text_begin(f, m->cols, m->o.plain);
     if (!f->plain)
-        mon_text_raw(f, "\033[H", 3);
+        mon_text_raw(f, clear ? "\033[2J\033[H" : "\033[H", clear ? 7 : 3);
     draw_header(m, f, now);
     if (m->have_status) {
         draw_params(m, f);
@@ -577,8 +582,6 @@ static void render(mon *m, mon_text *f)
         mon_text_raw(f, "\033[K\033[J", 6);
     else
         mon_text_nl(f);
-    fwrite(f->buf, 1, f->len, stdout);
-    fflush(stdout);
 }
 
 /* ---- terminal and loop --------------------------------------------------------- */
@@ -612,7 +615,10 @@ static void term_enter(mon *m)
         m->raw = tcsetattr(STDIN_FILENO, TCSANOW, &t) == 0;
     }
     fputs("\033[?1049h\033[?25l\033[2J", stdout);
+    fflush(stdout); /* before the writer's first frame */
 }
+
+static const char k_leave[] = "\033[?25h\033[?1049l"; /* the cursor back, the screen as it was */
 
 static void term_leave(mon *m)
 {
@@ -620,7 +626,7 @@ static void term_leave(mon *m)
         return;
     if (m->raw)
         tcsetattr(STDIN_FILENO, TCSANOW, &m->tio);
-    fputs("\033[?25h\033[?1049l", stdout);
+    fputs(k_leave, stdout);
     fflush(stdout);
 }
 
@@ -637,25 +643,45 @@ static void key(mon *m)
     }
 }
 
-/* Handle LCM and keys until `until` (monotonic seconds) or quit. */
-static void pump(mon *m, double until)
+/* Handle LCM and keys until `until` (monotonic seconds) or quit; with
+ * idle, until the writer has written its frame, if that is sooner. */
+static void pump(mon *m, double until, int idle)
 {
     int lfd = lcm_get_fileno(m->c.lcm), kfd = m->raw ? STDIN_FILENO : -1;
+    int wfd = m->out ? mon_out_fd(m->out) : -1;
+    int top = lfd > kfd ? lfd : kfd;
+    top = top > wfd ? top : wfd;
     for (double left; !g_quit && (left = until - cli_mono_s()) > 0;) {
         fd_set set;
         FD_ZERO(&set);
         FD_SET(lfd, &set);
         if (kfd >= 0)
             FD_SET(kfd, &set);
+        if (wfd >= 0)
+            FD_SET(wfd, &set);
         struct timeval tv = {(long)left, (long)((left - floor(left)) * 1e6)};
-        int n = select((lfd > kfd ? lfd : kfd) + 1, &set, NULL, NULL, &tv);
+        int n = select(top + 1, &set, NULL, NULL, &tv);
         if (n > 0 && FD_ISSET(lfd, &set))
             lcm_handle(m->c.lcm);
         if (n > 0 && kfd >= 0 && FD_ISSET(kfd, &set))
             key(m);
+        if (n > 0 && wfd >= 0 && FD_ISSET(wfd, &set) && !mon_out_busy(m->out) && idle)
+            return;
         if (g_winch)
             return;
     }
+}
+
+/* The monitor ends: the terminal as it was, its closing escapes written
+ * after the last frame within a second, and its modes restored. If it
+ * still takes nothing (Ctrl-S), m->stalled: the writer, left blocked,
+ * still reads the last frame, and the process must end at once. */
+static void finish(mon *m)
+{
+    int plain = m->o.plain;
+    m->stalled = mon_out_stop(m->out, 1.0, plain ? 0 : k_leave, plain ? 0 : sizeof k_leave - 1) != 0;
+    if (m->raw)
+        tcsetattr(STDIN_FILENO, TCSANOW, &m->tio);
 }
 
 static int run(mon *m)
@@ -665,28 +691,44 @@ static int run(mon *m)
     if (m->o.frames) { /* headless: first wait for a heartbeat */
         double end = cli_mono_s() + m->o.timeout_s;
         while (!m->have_status && !g_quit && cli_mono_s() < end)
-            pump(m, fmin(end, cli_mono_s() + 0.05));
+            pump(m, fmin(end, cli_mono_s() + 0.05), 0);
         /* a little data for the plots, PARAMS and the local period detection */
         for (end = cli_mono_s() + 1.5; m->have_status && !g_quit && cli_mono_s() < end &&
                                   (m->trk.n < 24 || !m->have_params || m->tr.n < 1000);)
-            pump(m, fmin(end, cli_mono_s() + 0.05));
+            pump(m, fmin(end, cli_mono_s() + 0.05), 0);
         next = cli_mono_s();
     }
     term_enter(m);
-    for (int n = 0; !g_quit && (!m->o.frames || n < m->o.frames); n++) {
+    if (!(m->out = mon_out_start(STDOUT_FILENO))) {
+        fprintf(stderr, "wgmon: cannot start the frame writer: %s\n", strerror(errno));
+        term_leave(m);
+        return 1;
+    }
+    int clear = 0;
+    for (int n = 0; !g_quit && !mon_out_error(m->out) && (!m->o.frames || n < m->o.frames);) {
         if (g_winch) {
             g_winch = 0;
             term_size(m);
-            if (!m->o.plain)
-                fputs("\033[2J", stdout);
+            clear = !m->o.plain;
         }
-        render(m, &f);
-        next += 1.0 / m->o.fps;
-        if (!m->o.frames || n + 1 < m->o.frames)
-            pump(m, next);
+        if (mon_out_busy(m->out)) { /* the last frame not yet taken: the bus is read meanwhile */
+            pump(m, cli_mono_s() + 0.25, 1);
+            continue;
+        }
+        render(m, &f, clear);
+        mon_out_send(m->out, f.buf, f.len);
+        clear = 0;
+        n++;
+        double now = cli_mono_s();
+        next = fmax(next + 1.0 / m->o.fps, now); /* after a stall: on, not a burst */
+        if (!m->o.frames || n < m->o.frames)
+            pump(m, next, 0);
     }
-    term_leave(m);
-    mon_text_free(&f);
+    while (m->o.frames && !g_quit && mon_out_busy(m->out)) /* headless: every frame out */
+        pump(m, cli_mono_s() + 0.25, 1);
+    finish(m);
+    if (!m->stalled)
+        mon_text_free(&f);
     return m->o.frames && !m->have_status ? 1 : 0;
 }
 
@@ -737,6 +779,8 @@ int main(int argc, char **argv)
         rc = setup(m);
         if (!rc)
             rc = run(m);
+        if (m->stalled) /* the terminal takes nothing: LCM's thread may be blocked */
+            _exit(rc);  /* writing a warning to it too, and lcm_destroy would join it */
         teardown(m);
     }
     free(m);

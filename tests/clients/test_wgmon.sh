@@ -172,6 +172,38 @@ kill "$spid" 2>/dev/null; wait "$spid" 2>/dev/null; spid=
 grep -q '^time .* theta1/2 85\.9/171\.9 deg' "$tmp/out" ||
     fail "hostile sender: its valid angles (1.5, 3.0 rad) never shown: $(grep '^time' "$tmp/out")"
 
+# ---- a terminal that takes nothing (Ctrl-S, a stalled ssh session, a pipe
+# no one reads) while a sender floods MONT_STATE with 250 kB messages: the
+# monitor's loop goes on reading the bus. Its frames were written from the
+# loop itself, which, blocked in write(), let LCM queue up to 4096 of them
+# a channel, 1 GB (measured here: +602 MB in the 4 s, +269 MB under ASan).
+# Its RSS may grow by 32 MB at most (+1 and +2 MB measured); then SIGTERM
+# ends it, exit 0 (within 10 s).
+mkfifo "$tmp/stall"
+exec 3<>"$tmp/stall"                        # held open, never read
+# (under ASan, what it frees waits in a quarantine of 256 MB: none here)
+ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}quarantine_size_mb=0" \
+    "$M" --frames 100000 --fps 20 --size 100x40 >"$tmp/stall" 2>"$tmp/stall.err" 3>&- &
+mpid=$!
+stalled() { cat /proc/$mpid/task/*/wchan 2>/dev/null | grep -q pipe_write; }
+wait_until 20 stalled || fail "stalled terminal: wgmon never blocked writing: $(cat "$tmp/stall.err")"
+rss_kb() { awk '/^VmRSS/ { print $2 }' /proc/$mpid/status; }
+r0=$(rss_kb) rmax=$(rss_kb)
+"$SPOOF" "$WORMGEAR_URL" MONT_ 4 flood >"$tmp/flood.out" 2>&1 &
+fpid=$!
+while kill -0 $fpid 2>/dev/null; do
+    r=$(rss_kb)
+    [ "${r:-0}" -gt "$rmax" ] && rmax=$r
+    sleep 0.2
+done
+wait $fpid || fail "wgspoof flood: $(cat "$tmp/flood.out")"
+echo "stalled terminal under a flood: wgmon RSS $((r0 / 1024)) -> at most $((rmax / 1024)) MB; $(cat "$tmp/flood.out")"
+[ $((rmax - r0)) -lt 32768 ] ||
+    fail "stalled terminal under a flood: wgmon's RSS grew by $(((rmax - r0) / 1024)) MB"
+stop $mpid TERM
+[ "$exit_status" = 0 ] || fail "stalled terminal: SIGTERM -> '$exit_status', want 0 within 10 s"
+exec 3>&-
+
 # ---- interactive, in a tmux pane: draws, follows a resize, quits on q
 if command -v tmux >/dev/null; then
     tmux -L "$sock" -f /dev/null new-session -d -x 120 -y 40 \

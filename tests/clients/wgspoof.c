@@ -17,7 +17,10 @@
  * is 2^31 - 1, a STATUS and an ACK whose first string claims 2^31 - 1
  * bytes (the generated decoder read past the buffer on them, and every
  * client died; they must be dropped, bus_msg.h).
- * usage: wgspoof URL PREFIX SECONDS [params|valid] */
+ * With "flood", only this: messages of 250 kB (bytes no type decodes) on
+ * PREFIX STATE, as fast as it can publish them, for a client whose loop
+ * stalls: LCM queues what the loop has not handled.
+ * usage: wgspoof URL PREFIX SECONDS [params|valid|flood] */
 #include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_contact_t.h"
 #include "lcmtypes/wormgear_params_t.h"
@@ -38,6 +41,23 @@ static double now_s(void)
     struct timespec t;
     clock_gettime(CLOCK_REALTIME, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* "flood": 250 kB messages on ch until `end`; their count on stdout. */
+static int flood(lcm_t *l, const char *ch, double end)
+{
+    enum { SIZE = 250000 }; /* 4 datagrams: few lost whole, however loaded the receiver */
+    unsigned char *b = malloc(SIZE);
+    if (!b)
+        return 1;
+    for (int i = 0; i < SIZE; i++)
+        b[i] = (unsigned char)(i * 7 + 3);
+    long n = 0;
+    while (now_s() < end)
+        n += lcm_publish(l, ch, b, SIZE) == 0;
+    printf("wgspoof: flooded %s with %ld messages of %d bytes\n", ch, n, SIZE);
+    free(b);
+    return n > 0 ? 0 : 1;
 }
 
 static void channel(char *out, size_t n, const char *prefix, const char *suffix)
@@ -168,8 +188,9 @@ static int publish_hostile_bytes(lcm_t *l, const char *prefix)
 
 int main(int argc, char **argv)
 {
-    if (argc != 4 && !(argc == 5 && (!strcmp(argv[4], "params") || !strcmp(argv[4], "valid")))) {
-        fprintf(stderr, "usage: wgspoof URL PREFIX SECONDS [params|valid]\n");
+    if (argc != 4 && !(argc == 5 && (!strcmp(argv[4], "params") || !strcmp(argv[4], "valid") ||
+                                      !strcmp(argv[4], "flood")))) {
+        fprintf(stderr, "usage: wgspoof URL PREFIX SECONDS [params|valid|flood]\n");
         return 2;
     }
     lcm_t *l = lcm_create(argv[1]);
@@ -185,6 +206,11 @@ int main(int argc, char **argv)
     channel(cp, sizeof cp, argv[2], "POINCARE");
     channel(cq, sizeof cq, argv[2], "PARAMS");
     double end = now_s() + atof(argv[3]);
+    if (argc == 5 && !strcmp(argv[4], "flood")) {
+        int frc = flood(l, ct, end);
+        lcm_destroy(l);
+        return frc;
+    }
     int rc = 0;
     for (int64_t seq = 0; now_s() < end && rc == 0; seq++) {
         rc |= publish_status(l, cs, seq) | publish_state(l, ct, seq, valid) | publish_poincare(l, cp, seq);
