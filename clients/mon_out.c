@@ -2,6 +2,7 @@
 #include "mon_out.h"
 
 #include "cli.h"
+#include "wormgear/wg_file.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -33,19 +34,6 @@ static void destroy(mon_out *o)
     free(o);
 }
 
-static int write_all(int fd, const char *p, size_t n)
-{
-    while (n > 0) {
-        ssize_t w = write(fd, p, n);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0)
-            return w < 0 ? errno : EIO;
-        p += w, n -= (size_t)w;
-    }
-    return 0;
-}
-
 static void *writer(void *arg)
 {
     mon_out *o = arg;
@@ -61,7 +49,7 @@ static void *writer(void *arg)
         int fail = o->err;
         pthread_mutex_unlock(&o->mu);
         if (!fail)
-            fail = write_all(o->fd, p, n); /* may block for as long as the reader likes */
+            fail = wg_file_write_all(o->fd, p, n); /* may block for as long as the reader likes */
         pthread_mutex_lock(&o->mu);
         o->err = fail;
         o->busy = 0;

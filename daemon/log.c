@@ -1,11 +1,169 @@
-/* log.c - stderr logging with syslog prefixes and per-call-site rate limits. */
+/* log.c - stderr logging with syslog prefixes and per-call-site rate
+ * limits, written by a thread of its own once started. */
 #include "log.h"
 
+#include "wormgear/wg_file.h"
+
+#include <errno.h>
+#include <pthread.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
+
+/* ---- the writer: records "fd, 2-byte length, bytes" in a ring -------------- */
+
+enum { RING = 65536, REC_MAX = 5000 };
+
+struct log_out {
+    pthread_t th;
+    pthread_mutex_t mu; /* guards what follows */
+    pthread_cond_t more, idle;
+    unsigned char ring[RING];
+    size_t head, used;  /* the oldest record's offset; bytes queued */
+    int busy;           /* a record taken and being written */
+    int err[3];         /* [fd]: errno of a failed write to stdout (1) or stderr (2) */
+    unsigned long lost; /* records dropped (the ring full) and not yet told */
+    int quit, abandoned;
+    unsigned char rec[REC_MAX]; /* the writer's record being written */
+};
+
+static void ring_copy(log_out *o, size_t at, const void *src, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        o->ring[(at + i) % RING] = ((const unsigned char *)src)[i];
+}
+
+static void *writer(void *arg)
+{
+    log_out *o = arg;
+    pthread_mutex_lock(&o->mu);
+    for (;;) {
+        while (!o->used && !o->quit)
+            pthread_cond_wait(&o->more, &o->mu);
+        if (!o->used || o->abandoned)
+            break;
+        int fd = o->ring[o->head];
+        size_t n = o->ring[(o->head + 1) % RING] | (size_t)o->ring[(o->head + 2) % RING] << 8;
+        for (size_t i = 0; i < n; i++)
+            o->rec[i] = o->ring[(o->head + 3 + i) % RING];
+        o->head = (o->head + 3 + n) % RING;
+        o->used -= 3 + n;
+        int skip = o->err[fd];
+        o->busy = 1;
+        pthread_mutex_unlock(&o->mu);
+        int e = skip ? 0 : wg_file_write_all(fd, o->rec, n); /* blocks as long as the reader likes */
+        pthread_mutex_lock(&o->mu);
+        o->busy = 0;
+        if (e)
+            o->err[fd] = e;
+        if (!o->used)
+            pthread_cond_broadcast(&o->idle);
+    }
+    int gone = o->abandoned;
+    pthread_mutex_unlock(&o->mu);
+    if (gone) { /* log_fini gave up on it: its memory is its own */
+        pthread_cond_destroy(&o->idle);
+        pthread_cond_destroy(&o->more);
+        pthread_mutex_destroy(&o->mu);
+        free(o);
+    }
+    return 0;
+}
+
+/* Queue n bytes for fd: 0, the fd's write error, or 0 with the line
+ * dropped and counted when the ring is full. A count of dropped lines is
+ * queued first, on stderr, once there is room for it and the line. */
+static int out_put(log_out *o, int fd, const char *s, size_t n, const char *lost_fmt)
+{
+    if (n > REC_MAX)
+        n = REC_MAX;
+    pthread_mutex_lock(&o->mu);
+    int e = o->err[fd];
+    if (!e && o->lost) {
+        char note[200];
+        size_t k = (size_t)snprintf(note, sizeof note, lost_fmt, o->lost);
+        k = k < sizeof note ? k : sizeof note - 1;
+        if (RING - o->used >= 3 + k + 3 + n) {
+            unsigned char h[3] = {2, (unsigned char)(k & 0xff), (unsigned char)(k >> 8)};
+            ring_copy(o, o->head + o->used, h, 3);
+            ring_copy(o, o->head + o->used + 3, note, k);
+            o->used += 3 + k;
+            o->lost = 0;
+        }
+    }
+    if (!e && RING - o->used >= 3 + n) {
+        unsigned char h[3] = {(unsigned char)fd, (unsigned char)(n & 0xff), (unsigned char)(n >> 8)};
+        ring_copy(o, o->head + o->used, h, 3);
+        ring_copy(o, o->head + o->used + 3, s, n);
+        o->used += 3 + n;
+        pthread_cond_signal(&o->more);
+    } else if (!e) {
+        o->lost++;
+    }
+    pthread_mutex_unlock(&o->mu);
+    return e;
+}
+
+int log_start(log_ctx *l)
+{
+    log_out *o = calloc(1, sizeof *o);
+    if (!o)
+        return -1;
+    pthread_mutex_init(&o->mu, NULL);
+    pthread_cond_init(&o->more, NULL);
+    pthread_cond_init(&o->idle, NULL);
+    sigset_t all, old;
+    sigfillset(&all);
+    pthread_sigmask(SIG_SETMASK, &all, &old);
+    int rc = pthread_create(&o->th, NULL, writer, o);
+    pthread_sigmask(SIG_SETMASK, &old, NULL);
+    if (rc) {
+        pthread_cond_destroy(&o->idle);
+        pthread_cond_destroy(&o->more);
+        pthread_mutex_destroy(&o->mu);
+        free(o);
+        errno = rc;
+        return -1;
+    }
+    fflush(stdout), fflush(stderr); /* what was written in place comes first */
+    l->out = o;
+    return 0;
+}
+
+/* End the writer once the ring is written, wait_s at most; else leave it. */
+static void out_stop(log_out *o, double wait_s)
+{
+    struct timespec end;
+    clock_gettime(CLOCK_REALTIME, &end);
+    end.tv_sec += (time_t)wait_s;
+    end.tv_nsec += (long)((wait_s - (double)(time_t)wait_s) * 1e9);
+    if (end.tv_nsec >= 1000000000)
+        end.tv_sec++, end.tv_nsec -= 1000000000;
+    pthread_mutex_lock(&o->mu);
+    int left = 0;
+    while ((o->used || o->busy) && !left)
+        left = pthread_cond_timedwait(&o->idle, &o->mu, &end) == ETIMEDOUT;
+    left = o->used || o->busy;
+    o->quit = 1;
+    o->abandoned = left;
+    if (left)
+        pthread_detach(o->th);
+    pthread_cond_signal(&o->more);
+    pthread_mutex_unlock(&o->mu); /* abandoned: o is the writer's from here */
+    if (left)
+        return;
+    pthread_join(o->th, NULL);
+    pthread_cond_destroy(&o->idle);
+    pthread_cond_destroy(&o->more);
+    pthread_mutex_destroy(&o->mu);
+    free(o);
+}
+
+/* ---- lines ------------------------------------------------------------------ */
 
 int64_t log_now_ns(void)
 {
@@ -35,12 +193,40 @@ static const char *prio_word(int prio)
     return w[prio & 7];
 }
 
+/* The bytes snprintf wrote into a buffer of cap (n its return). */
+static size_t written(int n, size_t cap) { return n < 0 ? 0 : (size_t)n < cap ? (size_t)n : cap - 1; }
+
+/* The line counting dropped ones, in l's format: one %lu. */
+static const char *lost_fmt(const log_ctx *l)
+{
+    return l->prefix ? "<4>%lu lines not written: stdout or stderr took nothing (a stopped "
+                       "terminal, a pipe no one reads)\n"
+                     : "wormgeard: warning: %lu lines not written: stdout or stderr took nothing "
+                       "(a stopped terminal, a pipe no one reads)\n";
+}
+
 static void emit(const log_ctx *l, int prio, const char *text)
 {
-    if (l->prefix)
-        fprintf(stderr, "<%d>%s\n", prio & 7, text);
+    char line[REC_MAX];
+    size_t n = written(l->prefix ? snprintf(line, sizeof line, "<%d>%s\n", prio & 7, text)
+                                 : snprintf(line, sizeof line, "wormgeard: %s: %s\n",
+                                            prio_word(prio), text),
+                       sizeof line);
+    if (l->out)
+        out_put(l->out, 2, line, n, lost_fmt(l));
     else
-        fprintf(stderr, "wormgeard: %s: %s\n", prio_word(prio), text);
+        fwrite(line, 1, n, stderr);
+}
+
+int log_stdout(log_ctx *l, const char *line)
+{
+    char buf[REC_MAX];
+    size_t n = written(snprintf(buf, sizeof buf, "%s\n", line), sizeof buf);
+    if (l->out)
+        return out_put(l->out, 1, buf, n, lost_fmt(l));
+    if (fwrite(buf, 1, n, stdout) != n || fflush(stdout) != 0)
+        return errno ? errno : EIO;
+    return 0;
 }
 
 void log_init(log_ctx *l, int verbose)
@@ -71,6 +257,9 @@ void log_fini(log_ctx *l)
 {
     for (int i = 0; i < LOG_SLOTS; i++)
         flush_slot(l, &l->slot[i]);
+    if (l->out)
+        out_stop(l->out, 2.0);
+    l->out = NULL;
     fflush(stderr);
 }
 

@@ -5,7 +5,15 @@
  * otherwise, on a terminal or in a pipe alike, with "wormgeard: warning: ". Each call site (its format
  * string) may log `burst` messages per `window` seconds; further ones are
  * counted and reported once the window ends ("... N similar messages
- * suppressed"), so a client spamming bad commands cannot flood the journal. */
+ * suppressed"), so a client spamming bad commands cannot flood the journal.
+ *
+ * Once log_start has run, lines (and the foreground status line, on
+ * stdout) are written by a thread of their own from a 64 KiB queue: a
+ * stderr or stdout that takes nothing (a terminal stopped with Ctrl-S, a
+ * pipe no one reads, a stalled journal) never stops the daemon's loop. It
+ * did: the loop blocked in write() and stepped, paced and answered nothing.
+ * A line that finds the queue full is dropped and counted; the next one
+ * that fits is preceded by "N lines not written". */
 #ifndef WGD_LOG_H
 #define WGD_LOG_H
 
@@ -23,6 +31,8 @@ typedef struct log_slot {
     int prio;
 } log_slot;
 
+typedef struct log_out log_out; /* the writer thread (log.c) */
+
 typedef struct log_ctx {
     int prefix;           /* 1: "<N>" prefixes */
     int max_prio;         /* drop messages less severe than this (LOG_INFO) */
@@ -31,6 +41,7 @@ typedef struct log_ctx {
     uint64_t suppressed;  /* total, for STATUS/tests */
     uint32_t last_change; /* hash of the last log_change's what */
     int changes;          /* log_change called yet */
+    log_out *out;         /* the writer, once log_start ran; 0: written in place */
 } log_ctx;
 
 /* Set up: prefix chosen from the environment, max_prio LOG_INFO or LOG_DEBUG. */
@@ -39,7 +50,19 @@ void log_init(log_ctx *l, int verbose);
 /* Debug messages on or off; "<N>" prefixes when prefix or under journald. */
 void log_configure(log_ctx *l, int verbose, int prefix);
 
-/* Report suppressed counts still pending. */
+/* Write from a thread of its own from now on (see above); it inherits the
+ * caller's scheduling and blocks every signal. 0, or -1 (errno set: lines
+ * are then written in place, as before). */
+int log_start(log_ctx *l);
+
+/* One line on stdout (the foreground status line), through the writer
+ * once started. 0, or the errno of a write to stdout that failed (every
+ * later line is then refused with it). */
+int log_stdout(log_ctx *l, const char *line);
+
+/* Report suppressed counts still pending; end the writer once it has
+ * written what is queued, 2 s at most (a stdout or stderr that still takes
+ * nothing: it is left, with what it holds, to end with the process). */
 void log_fini(log_ctx *l);
 
 /* CLOCK_MONOTONIC in nanoseconds: the daemon's one clock (the rate limit

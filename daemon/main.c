@@ -46,6 +46,9 @@ static int m_lcm(wgd *d)
         log_msg(&d->log, LOG_WARNING, "mlockall: %s (raise LimitMEMLOCK=)", strerror(errno));
     if (d->conf.rt_priority > 0 && !d->conf.check_only)
         rt_sched(d);
+    if (!d->conf.check_only && log_start(&d->log)) /* after rt_sched: the writer inherits it */
+        log_msg(&d->log, LOG_WARNING, "log: no writer thread (%s): lines are written in the "
+                "loop, which a stalled stderr or stdout stops", strerror(errno));
     if (lcmio_init(&d->io, d->conf.url, d->conf.prefix, d->init_why, sizeof d->init_why))
         return 1;
     d->io_ok = 1;

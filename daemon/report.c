@@ -232,10 +232,11 @@ static void foreground(wgd *d)
     if (d->stat.fg_failed)
         return;
     report_line(d, line, sizeof line);
-    if (printf("%s\n", line) < 0 || fflush(stdout) != 0) {
+    int e = log_stdout(&d->log, line);
+    if (e) {
         d->stat.fg_failed = 1;
         log_msg(&d->log, LOG_WARNING, "foreground: cannot write the status line to stdout "
-                "(%s): not printed from now on", strerror(errno));
+                "(%s): not printed from now on", strerror(e));
     }
 }
 

@@ -4,6 +4,7 @@
  * inside is the library's (wg_snapshot.h). */
 #include "snap.h"
 
+#include "wormgear/wg_file.h"
 #include "wormgear/wg_status.h"
 
 #include <dirent.h>
@@ -59,20 +60,6 @@ static int file_path(char *path, size_t len, const char *dir, const char *name, 
 
 /* ---- writing ---------------------------------------------------------------- */
 
-static int write_all(int fd, const char *buf, size_t n)
-{
-    while (n > 0) {
-        ssize_t k = write(fd, buf, n);
-        if (k < 0 && errno == EINTR)
-            continue;
-        if (k <= 0)
-            return -1;
-        buf += k;
-        n -= (size_t)k;
-    }
-    return 0;
-}
-
 /* fsync the directory, so that a rename in it survives a crash. */
 static int sync_dir(const char *dir)
 {
@@ -100,8 +87,10 @@ static int write_atomic(const char *dir, const char *path, const char *text, siz
         snprintf(why, whylen, "cannot write %s: %s", tmp, strerror(errno));
         return WG_EIO;
     }
-    int bad = write_all(fd, text, n) != 0 || fsync(fd) != 0;
-    int e = errno;
+    int e = wg_file_write_all(fd, text, n);
+    int bad = e != 0 || fsync(fd) != 0;
+    if (bad && !e)
+        e = errno;
     if (close(fd) != 0 && !bad) {
         bad = 1;
         e = errno;

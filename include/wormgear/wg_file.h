@@ -42,6 +42,11 @@ FILE *wg_file_fopen(const char *path, const char *what, unsigned flags, long lon
 long wg_file_read(const char *path, const char *what, unsigned flags, char *buf,
                   size_t max_bytes, char *why, size_t whylen);
 
+/* Write the n bytes at buf to fd whole, again after a short write or
+ * EINTR (blocking as long as fd does): 0, or the errno of the write that
+ * failed (EIO for one that wrote nothing). */
+int wg_file_write_all(int fd, const void *buf, size_t n);
+
 /* Why a file of stat mode st_mode is not read ("is a FIFO, not a regular
  * file", ...), NULL for a regular file. */
 const char *wg_file_not_regular(unsigned st_mode);

@@ -4,6 +4,8 @@
 #include "log.h"
 #include "test.h"
 
+#include <fcntl.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <unistd.h>
 
@@ -121,5 +123,100 @@ static void test_prefixes(void)
     ASSERT_STR(out, "wormgeard: warning: plain\n<4>asked\n<3>journal\n");
 }
 
+static double mono_s(void) { return (double)log_now_ns() * 1e-9; }
+
+/* The writer thread: stdout a pipe no one reads. 3000 status lines are
+ * taken at once (the loop never blocks), those the queue cannot hold
+ * dropped whole; once the pipe is drained, the next log line is preceded
+ * by how many were not written; what arrives is whole lines, in order. */
+static void test_writer_never_blocks(void)
+{
+    char path[] = "/tmp/wgd-log-XXXXXX", out[16384];
+    int keep, fd = capture_begin(path, &keep);
+    int p[2], keep1 = dup(1);
+    ASSERT_TRUE(pipe(p) == 0 && keep1 >= 0);
+    fflush(stdout);
+    dup2(p[1], 1);
+    log_ctx l;
+    log_init(&l, 0);
+    ASSERT_EQ_INT(log_start(&l), 0);
+    char line[120];
+    double t0 = mono_s();
+    for (int i = 0; i < 3000; i++) {
+        snprintf(line, sizeof line, "status %04d %080d", i, 0);
+        ASSERT_EQ_INT(log_stdout(&l, line), 0);
+    }
+    double took = mono_s() - t0;
+    /* drain what the pipe got, until it has been quiet for 0.3 s */
+    fcntl(p[0], F_SETFL, O_NONBLOCK);
+    static char got[1 << 20];
+    size_t n = 0;
+    for (double quiet = mono_s(); mono_s() - quiet < 0.3;) {
+        ssize_t r = read(p[0], got + n, sizeof got - 1 - n);
+        if (r > 0)
+            n += (size_t)r, quiet = mono_s();
+        else
+            usleep(10000);
+    }
+    got[n] = 0;
+    log_msg(&l, LOG_WARNING, "after the stall");
+    log_fini(&l);
+    fflush(stdout);
+    dup2(keep1, 1);
+    close(keep1), close(p[0]), close(p[1]);
+    capture_end(path, fd, keep, out, sizeof out);
+    printf("  3000 lines taken in %.3f s; %zu bytes reached the pipe\n", took, n);
+    ASSERT_TRUE(took < 1.0);
+    int lines = 0, prev = -1, order = 1;
+    for (char *s = got; *s; lines++) {
+        int k = -1;
+        ASSERT_TRUE(sscanf(s, "status %d ", &k) == 1 && strlen(s) >= 93 && s[92] == '\n');
+        order &= k > prev;
+        prev = k;
+        char *nl = strchr(s, '\n');
+        if (!nl)
+            break;
+        s = nl + 1;
+    }
+    ASSERT_TRUE(order);
+    ASSERT_TRUE(lines > 100 && lines < 3000); /* a pipe and a queue: some, not all */
+    /* every line dropped is counted, once (a count goes out whenever the
+     * queue has room for it and the next line) */
+    int lost = 0, k;
+    for (char *s = strstr(out, "warning: "); s; s = strstr(s + 1, "warning: "))
+        if (sscanf(s, "warning: %d lines not written", &k) == 1)
+            lost += k;
+    ASSERT_EQ_INT(lost, 3000 - lines);
+    ASSERT_CONTAINS(out, "not written: stdout or stderr took nothing (a stopped terminal, a pipe "
+                         "no one reads)\nwormgeard: warning: after the stall\n");
+}
+
+/* A stderr that never takes anything: log_fini gives up after its 2 s. */
+static void test_fini_gives_up(void)
+{
+    signal(SIGPIPE, SIG_IGN);
+    int p[2], keep2 = dup(2);
+    ASSERT_TRUE(pipe(p) == 0 && keep2 >= 0);
+    dup2(p[1], 2);
+    log_ctx l;
+    log_init(&l, 0);
+    ASSERT_EQ_INT(log_start(&l), 0);
+    char what[128];
+    for (int i = 0; i < 4000; i++) { /* twice the queue: the pipe full, the queue too */
+        snprintf(what, sizeof what, "set: omega = %d %060d", i, 0);
+        log_change(&l, LOG_INFO, what, "%s", what);
+        if (i == 2000)
+            usleep(200000);
+    }
+    double t0 = mono_s();
+    log_fini(&l);
+    double took = mono_s() - t0;
+    dup2(keep2, 2);
+    close(keep2), close(p[0]), close(p[1]); /* the writer's write fails: it ends */
+    usleep(200000);
+    printf("  log_fini gave up after %.2f s\n", took);
+    ASSERT_TRUE(took >= 1.9 && took < 4.0);
+}
+
 TEST_MAIN(TEST(test_escape), TEST(test_one_line_per_message), TEST(test_changes_never_lost),
-          TEST(test_prefixes))
+          TEST(test_prefixes), TEST(test_writer_never_blocks), TEST(test_fini_gives_up))

@@ -3,12 +3,17 @@
  * through wg_file_open, so what it refuses and how it says so is pinned
  * here once: a directory, a FIFO (without blocking), a device, a link when
  * links are not followed, a file over the limit, one that grows past it
- * while it is read, one that is not there. */
+ * while it is read, one that is not there. And wg_file_write_all, which the
+ * daemon's snapshots and log and wgmon's frames write with: all of it
+ * through a pipe's short writes and a signal, or the errno that stopped it. */
 #include "test.h"
 #include "wormgear/wg_file.h"
 
+#include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 static char dir[64];
@@ -125,5 +130,58 @@ static void test_grew(void)
     ASSERT_STR(why, "snapshot /proc/self/status grew past 16 bytes while it was read");
 }
 
+static void on_usr1(int sig) { (void)sig; }
+
+/* 1 MiB through a pipe (64 KiB at a time) to a child that checks every
+ * byte, interrupted by a signal without SA_RESTART while it is blocked:
+ * the pipe full first, so that the write is interrupted before it wrote
+ * anything (EINTR), then short writes. */
+static void test_write_all(void)
+{
+    enum { N = 1 << 20 };
+    static unsigned char buf[N];
+    for (int i = 0; i < N; i++)
+        buf[i] = (unsigned char)(i * 31 + 7);
+    struct sigaction sa = {.sa_handler = on_usr1}, old; /* no SA_RESTART */
+    sigaction(SIGUSR1, &sa, &old);
+    int p[2];
+    ASSERT_TRUE(pipe(p) == 0);
+    pid_t kid = fork();
+    if (kid == 0) {
+        close(p[1]);
+        usleep(100000); /* the parent blocks on a full pipe: interrupt it */
+        kill(getppid(), SIGUSR1);
+        usleep(100000); /* before reading: it wrote nothing when interrupted */
+        size_t got = 0, bad = 0;
+        unsigned char b[4096];
+        for (ssize_t r; (r = read(p[0], b, sizeof b)) > 0; got += (size_t)r)
+            for (ssize_t i = 0; i < r; i++)
+                bad += b[i] != (unsigned char)((got + (size_t)i) * 31 + 7);
+        _exit(got == N && !bad ? 0 : 1);
+    }
+    close(p[0]);
+    fcntl(p[1], F_SETFL, O_NONBLOCK);
+    size_t m = 0;
+    for (ssize_t w; (w = write(p[1], buf + m, N - m)) > 0;)
+        m += (size_t)w;
+    fcntl(p[1], F_SETFL, 0);
+    ASSERT_TRUE(m > 0 && m < N);
+    ASSERT_EQ_INT(wg_file_write_all(p[1], buf + m, N - m), 0);
+    close(p[1]);
+    int st = -1;
+    waitpid(kid, &st, 0);
+    ASSERT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+    sigaction(SIGUSR1, &old, NULL);
+
+    void (*was)(int) = signal(SIGPIPE, SIG_IGN);
+    ASSERT_TRUE(pipe(p) == 0);
+    close(p[0]);
+    ASSERT_EQ_INT(wg_file_write_all(p[1], buf, 10), EPIPE);
+    close(p[1]);
+    signal(SIGPIPE, was);
+    ASSERT_EQ_INT(wg_file_write_all(-1, buf, 10), EBADF);
+    ASSERT_EQ_INT(wg_file_write_all(-1, buf, 0), 0); /* nothing to write */
+}
+
 TEST_MAIN(TEST(test_regular), TEST(test_not_regular), TEST(test_links), TEST(test_missing),
-          TEST(test_grew))
+          TEST(test_grew), TEST(test_write_all))

@@ -249,6 +249,32 @@ has log3 "stopping on Terminated"
 [ "$(grep -c 'foreground: cannot write the status line to stdout (Broken pipe): not printed from now on' "$tmp/log3")" -eq 1 ] ||
     fail "closed stdout: not one warning: $(cat "$tmp/log3")"
 
+# ---- a terminal that takes nothing (Ctrl-S in the one `wormgeard -F` runs
+# in): the daemon's status line and log blocked its loop in write() at once;
+# it stepped, paced and answered nothing until Ctrl-Q. Now it runs on at
+# rate 1 and answers every status, and ends on SIGTERM, 0, while stopped.
+if command -v tmux >/dev/null; then
+    sock=wgd-stop-$$
+    tmux -L "$sock" -f /dev/null new-session -d -x 150 -y 10 \
+        "sh -c 'echo \$\$ >$tmp/fgpid; exec $D -F --state-dir $tmp/state'; echo \$? >$tmp/fgrc"
+    wait_until 10 "$C" --timeout 0.5 status >/dev/null 2>&1 || fail "stopped terminal: no daemon"
+    tmux -L "$sock" send-keys C-s
+    sleep 1                                 # a status line is due: it blocked there
+    sim_t() { "$C" --timeout 1 status 2>/dev/null | sed -n 's/^time *t = \([0-9.]*\) s.*/\1/p'; }
+    t1=$(sim_t)
+    sleep 4
+    t2=$(sim_t)
+    echo "stopped terminal: simulated t $t1 -> $t2 s over 4 s of wall time"
+    [ -n "$t1" ] && [ -n "$t2" ] && awk -v a="$t1" -v b="$t2" 'BEGIN { exit !(b - a >= 3) }' ||
+        fail "stopped terminal: the daemon did not run on and answer (t '$t1' -> '$t2')"
+    kill -TERM "$(cat "$tmp/fgpid")"
+    wait_until 10 test -s "$tmp/fgrc"
+    [ "$(cat "$tmp/fgrc" 2>/dev/null)" = 0 ] || fail "stopped terminal: SIGTERM -> '$(cat "$tmp/fgrc" 2>/dev/null)', want 0"
+    tmux -L "$sock" kill-server 2>/dev/null
+else
+    echo "tmux not installed: the stopped-terminal check skipped"
+fi
+
 # ---- a rate beyond this machine: the overrun warning says so. It said "more
 # than 10 ticks behind (lag 0.233 ms ...)", and "the daemon was not
 # scheduled", measuring the loop's CPU from the end of the last tick's own
