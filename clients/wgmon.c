@@ -665,8 +665,11 @@ static void pump(mon *m, double until, int idle)
             lcm_handle(m->c.lcm);
         if (n > 0 && kfd >= 0 && FD_ISSET(kfd, &set))
             key(m);
-        if (n > 0 && wfd >= 0 && FD_ISSET(wfd, &set) && !mon_out_busy(m->out) && idle)
-            return;
+        if (n > 0 && wfd >= 0 && FD_ISSET(wfd, &set)) {
+            int written = !mon_out_busy(m->out); /* which reads the fd: else select spins */
+            if (written && idle)
+                return;
+        }
         if (g_winch)
             return;
     }
