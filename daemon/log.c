@@ -37,6 +37,14 @@ static void ring_copy(log_out *o, size_t at, const void *src, size_t n)
         o->ring[(at + i) % RING] = ((const unsigned char *)src)[i];
 }
 
+static void out_free(log_out *o)
+{
+    pthread_cond_destroy(&o->idle);
+    pthread_cond_destroy(&o->more);
+    pthread_mutex_destroy(&o->mu);
+    free(o);
+}
+
 static void *writer(void *arg)
 {
     log_out *o = arg;
@@ -65,12 +73,8 @@ static void *writer(void *arg)
     }
     int gone = o->abandoned;
     pthread_mutex_unlock(&o->mu);
-    if (gone) { /* log_fini gave up on it: its memory is its own */
-        pthread_cond_destroy(&o->idle);
-        pthread_cond_destroy(&o->more);
-        pthread_mutex_destroy(&o->mu);
-        free(o);
-    }
+    if (gone) /* log_fini gave up on it: its memory is its own */
+        out_free(o);
     return 0;
 }
 
@@ -122,10 +126,7 @@ int log_start(log_ctx *l)
     int rc = pthread_create(&o->th, NULL, writer, o);
     pthread_sigmask(SIG_SETMASK, &old, NULL);
     if (rc) {
-        pthread_cond_destroy(&o->idle);
-        pthread_cond_destroy(&o->more);
-        pthread_mutex_destroy(&o->mu);
-        free(o);
+        out_free(o);
         errno = rc;
         return -1;
     }
@@ -157,10 +158,7 @@ static void out_stop(log_out *o, double wait_s)
     if (left)
         return;
     pthread_join(o->th, NULL);
-    pthread_cond_destroy(&o->idle);
-    pthread_cond_destroy(&o->more);
-    pthread_mutex_destroy(&o->mu);
-    free(o);
+    out_free(o);
 }
 
 /* ---- lines ------------------------------------------------------------------ */
