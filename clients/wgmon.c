@@ -14,7 +14,6 @@
 #include "bus.h"
 #include "bus_msg.h"
 #include "cli.h"
-#include "mon_out.h"
 #include "mon_text.h"
 #include "mon_view.h"
 
@@ -25,6 +24,7 @@
 #include "lcmtypes/wormgear_status_t.h"
 #include "wormgear/wg_model.h"
 #include "wormgear/wg_regime.h"
+#include "wormgear/wg_writer.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -40,6 +40,10 @@
 #include <unistd.h>
 
 enum { TR_CAP = 1 << 17, PC_CAP = 1 << 15, NKEY = 8 };
+/* The frames' queue: a frame is queued only when the last is written (an
+ * empty queue takes one of any size), so this bounds only the closing
+ * escapes behind it. */
+enum { OUT_QUEUE = 1 << 16 };
 enum { CH_STATUS, CH_PARAMS, CH_STATE, CH_POINCARE, CH_CONTACT, NCH };
 static const char *const ch_suffix[NCH] = {"STATUS", "PARAMS", "STATE", "POINCARE", "CONTACT"};
 static const char *const key_names[NKEY] = {"omega", "xi_p", "f_m", "f_e", "k_a", "e_m", "b", "b_j"};
@@ -95,7 +99,7 @@ typedef struct mon {
     int rows, cols, frozen;
     struct termios tio;
     int raw;
-    mon_out *out;                 /* the frames' writer: a stalled terminal never stops the loop */
+    wg_writer *out;               /* the frames' writer: a stalled terminal never stops the loop */
     int stalled;                  /* at the end, the terminal still took nothing */
 } mon;
 
@@ -648,7 +652,7 @@ static void key(mon *m)
 static void pump(mon *m, double until, int idle)
 {
     int lfd = lcm_get_fileno(m->c.lcm), kfd = m->raw ? STDIN_FILENO : -1;
-    int wfd = m->out ? mon_out_fd(m->out) : -1;
+    int wfd = m->out ? wg_writer_fd(m->out) : -1;
     int top = lfd > kfd ? lfd : kfd;
     top = top > wfd ? top : wfd;
     for (double left; !g_quit && (left = until - cli_mono_s()) > 0;) {
@@ -666,7 +670,7 @@ static void pump(mon *m, double until, int idle)
         if (n > 0 && kfd >= 0 && FD_ISSET(kfd, &set))
             key(m);
         if (n > 0 && wfd >= 0 && FD_ISSET(wfd, &set)) {
-            int written = !mon_out_busy(m->out); /* which reads the fd: else select spins */
+            int written = wg_writer_idle(m->out); /* which reads the fd: else select spins */
             if (written && idle)
                 return;
         }
@@ -677,12 +681,13 @@ static void pump(mon *m, double until, int idle)
 
 /* The monitor ends: the terminal as it was, its closing escapes written
  * after the last frame within a second, and its modes restored. If it
- * still takes nothing (Ctrl-S), m->stalled: the writer, left blocked,
- * still reads the last frame, and the process must end at once. */
+ * still takes nothing (Ctrl-S), m->stalled: the process must end at once
+ * (the writer is left blocked). */
 static void finish(mon *m)
 {
-    int plain = m->o.plain;
-    m->stalled = mon_out_stop(m->out, 1.0, plain ? 0 : k_leave, plain ? 0 : sizeof k_leave - 1) != 0;
+    if (!m->o.plain)
+        wg_writer_put(m->out, STDOUT_FILENO, k_leave, sizeof k_leave - 1);
+    m->stalled = wg_writer_stop(m->out, 1.0) != 0;
     if (m->raw)
         tcsetattr(STDIN_FILENO, TCSANOW, &m->tio);
 }
@@ -702,24 +707,24 @@ static int run(mon *m)
         next = cli_mono_s();
     }
     term_enter(m);
-    if (!(m->out = mon_out_start(STDOUT_FILENO))) {
+    if (!(m->out = wg_writer_start(OUT_QUEUE))) {
         fprintf(stderr, "wgmon: cannot start the frame writer: %s\n", strerror(errno));
         term_leave(m);
         return 1;
     }
     int clear = 0;
-    for (int n = 0; !g_quit && !mon_out_error(m->out) && (!m->o.frames || n < m->o.frames);) {
+    for (int n = 0; !g_quit && !wg_writer_error(m->out, STDOUT_FILENO) && (!m->o.frames || n < m->o.frames);) {
         if (g_winch) {
             g_winch = 0;
             term_size(m);
             clear = !m->o.plain;
         }
-        if (mon_out_busy(m->out)) { /* the last frame not yet taken: the bus is read meanwhile */
+        if (!wg_writer_idle(m->out)) { /* the last frame not yet written: the bus is read meanwhile */
             pump(m, cli_mono_s() + 0.25, 1);
             continue;
         }
         render(m, &f, clear);
-        mon_out_send(m->out, f.buf, f.len);
+        wg_writer_put(m->out, STDOUT_FILENO, f.buf, f.len); /* copied */
         clear = 0;
         n++;
         double now = cli_mono_s();
@@ -727,11 +732,10 @@ static int run(mon *m)
         if (!m->o.frames || n < m->o.frames)
             pump(m, next, 0);
     }
-    while (m->o.frames && !g_quit && mon_out_busy(m->out)) /* headless: every frame out */
+    while (m->o.frames && !g_quit && !wg_writer_idle(m->out)) /* headless: every frame out */
         pump(m, cli_mono_s() + 0.25, 1);
     finish(m);
-    if (!m->stalled)
-        mon_text_free(&f);
+    mon_text_free(&f);
     return m->o.frames && !m->have_status ? 1 : 0;
 }
 

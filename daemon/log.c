@@ -2,11 +2,9 @@
  * limits, written by a thread of its own once started. */
 #include "log.h"
 
-#include "wormgear/wg_file.h"
+#include "wormgear/wg_writer.h"
 
 #include <errno.h>
-#include <pthread.h>
-#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,151 +12,27 @@
 #include <time.h>
 #include <unistd.h>
 
-/* ---- the writer: records "fd, 2-byte length, bytes" in a ring -------------- */
+/* ---- the writer ------------------------------------------------------------- */
 
-enum { RING = 65536, REC_MAX = 5000 };
+/* Lines queued for the writer: 64 KiB, about 600 log lines. A line longer
+ * than REC_MAX is cut. */
+enum { QUEUE = 65536, REC_MAX = 5000 };
 
-struct log_out {
-    pthread_t th;
-    pthread_mutex_t mu; /* guards what follows */
-    pthread_cond_t more, idle;
-    unsigned char ring[RING];
-    size_t head, used;  /* the oldest record's offset; bytes queued */
-    int busy;           /* a record taken and being written */
-    int err[3];         /* [fd]: errno of a failed write to stdout (1) or stderr (2) */
-    unsigned long lost; /* records dropped (the ring full) and not yet told */
-    int quit, abandoned;
-    unsigned char rec[REC_MAX]; /* the writer's record being written */
-};
-
-static void ring_copy(log_out *o, size_t at, const void *src, size_t n)
-{
-    for (size_t i = 0; i < n; i++)
-        o->ring[(at + i) % RING] = ((const unsigned char *)src)[i];
-}
-
-static void out_free(log_out *o)
-{
-    pthread_cond_destroy(&o->idle);
-    pthread_cond_destroy(&o->more);
-    pthread_mutex_destroy(&o->mu);
-    free(o);
-}
-
-static void *writer(void *arg)
-{
-    log_out *o = arg;
-    pthread_mutex_lock(&o->mu);
-    for (;;) {
-        while (!o->used && !o->quit)
-            pthread_cond_wait(&o->more, &o->mu);
-        if (!o->used || o->abandoned)
-            break;
-        int fd = o->ring[o->head];
-        size_t n = o->ring[(o->head + 1) % RING] | (size_t)o->ring[(o->head + 2) % RING] << 8;
-        for (size_t i = 0; i < n; i++)
-            o->rec[i] = o->ring[(o->head + 3 + i) % RING];
-        o->head = (o->head + 3 + n) % RING;
-        o->used -= 3 + n;
-        int skip = o->err[fd];
-        o->busy = 1;
-        pthread_mutex_unlock(&o->mu);
-        int e = skip ? 0 : wg_file_write_all(fd, o->rec, n); /* blocks as long as the reader likes */
-        pthread_mutex_lock(&o->mu);
-        o->busy = 0;
-        if (e)
-            o->err[fd] = e;
-        if (!o->used)
-            pthread_cond_broadcast(&o->idle);
-    }
-    int gone = o->abandoned;
-    pthread_mutex_unlock(&o->mu);
-    if (gone) /* log_fini gave up on it: its memory is its own */
-        out_free(o);
-    return 0;
-}
-
-/* Queue n bytes for fd: 0, the fd's write error, or 0 with the line
- * dropped and counted when the ring is full. A count of dropped lines is
- * queued first, on stderr, once there is room for it and the line. */
-static int out_put(log_out *o, int fd, const char *s, size_t n, const char *lost_fmt)
-{
-    if (n > REC_MAX)
-        n = REC_MAX;
-    pthread_mutex_lock(&o->mu);
-    int e = o->err[fd];
-    if (!e && o->lost) {
-        char note[200];
-        size_t k = (size_t)snprintf(note, sizeof note, lost_fmt, o->lost);
-        k = k < sizeof note ? k : sizeof note - 1;
-        if (RING - o->used >= 3 + k + 3 + n) {
-            unsigned char h[3] = {2, (unsigned char)(k & 0xff), (unsigned char)(k >> 8)};
-            ring_copy(o, o->head + o->used, h, 3);
-            ring_copy(o, o->head + o->used + 3, note, k);
-            o->used += 3 + k;
-            o->lost = 0;
-        }
-    }
-    if (!e && RING - o->used >= 3 + n) {
-        unsigned char h[3] = {(unsigned char)fd, (unsigned char)(n & 0xff), (unsigned char)(n >> 8)};
-        ring_copy(o, o->head + o->used, h, 3);
-        ring_copy(o, o->head + o->used + 3, s, n);
-        o->used += 3 + n;
-        pthread_cond_signal(&o->more);
-    } else if (!e) {
-        o->lost++;
-    }
-    pthread_mutex_unlock(&o->mu);
-    return e;
-}
+static const char *lost_fmt(const log_ctx *l);
 
 int log_start(log_ctx *l)
 {
-    log_out *o = calloc(1, sizeof *o);
-    if (!o)
+    wg_writer *w = wg_writer_start(QUEUE);
+    if (!w)
         return -1;
-    pthread_mutex_init(&o->mu, NULL);
-    pthread_cond_init(&o->more, NULL);
-    pthread_cond_init(&o->idle, NULL);
-    sigset_t all, old;
-    sigfillset(&all);
-    pthread_sigmask(SIG_SETMASK, &all, &old);
-    int rc = pthread_create(&o->th, NULL, writer, o);
-    pthread_sigmask(SIG_SETMASK, &old, NULL);
-    if (rc) {
-        out_free(o);
-        errno = rc;
+    if (wg_writer_note(w, STDERR_FILENO, lost_fmt(l))) {
+        wg_writer_stop(w, 0);
+        errno = ENOMEM;
         return -1;
     }
     fflush(stdout), fflush(stderr); /* what was written in place comes first */
-    l->out = o;
+    l->out = w;
     return 0;
-}
-
-/* End the writer once the ring is written, wait_s at most; else leave it. */
-static void out_stop(log_out *o, double wait_s)
-{
-    struct timespec end;
-    clock_gettime(CLOCK_REALTIME, &end);
-    end.tv_sec += (time_t)wait_s;
-    end.tv_nsec += (long)((wait_s - (double)(time_t)wait_s) * 1e9);
-    if (end.tv_nsec >= 1000000000)
-        end.tv_sec++, end.tv_nsec -= 1000000000;
-    pthread_mutex_lock(&o->mu);
-    int left = 0;
-    while ((o->used || o->busy) && !left)
-        left = pthread_cond_timedwait(&o->idle, &o->mu, &end) == ETIMEDOUT;
-    left = o->used || o->busy;
-    o->quit = 1;
-    o->abandoned = left;
-    if (left)
-        pthread_detach(o->th);
-    pthread_cond_signal(&o->more);
-    pthread_mutex_unlock(&o->mu); /* abandoned: o is the writer's from here */
-    if (left)
-        return;
-    pthread_join(o->th, NULL);
-    out_free(o);
 }
 
 /* ---- lines ------------------------------------------------------------------ */
@@ -203,6 +77,14 @@ static const char *lost_fmt(const log_ctx *l)
                        "(a stopped terminal, a pipe no one reads)\n";
 }
 
+/* Queue a line for fd: 0 (dropped and counted when the queue is full),
+ * or the errno of an earlier failed write to fd. */
+static int out_put(const log_ctx *l, int fd, const char *s, size_t n)
+{
+    int e = wg_writer_put(l->out, fd, s, n);
+    return e == ENOBUFS || e == ENOMEM ? 0 : e;
+}
+
 static void emit(const log_ctx *l, int prio, const char *text)
 {
     char line[REC_MAX];
@@ -211,7 +93,7 @@ static void emit(const log_ctx *l, int prio, const char *text)
                                             prio_word(prio), text),
                        sizeof line);
     if (l->out)
-        out_put(l->out, 2, line, n, lost_fmt(l));
+        out_put(l, STDERR_FILENO, line, n);
     else
         fwrite(line, 1, n, stderr);
 }
@@ -221,7 +103,7 @@ int log_stdout(log_ctx *l, const char *line)
     char buf[REC_MAX];
     size_t n = written(snprintf(buf, sizeof buf, "%s\n", line), sizeof buf);
     if (l->out)
-        return out_put(l->out, 1, buf, n, lost_fmt(l));
+        return out_put(l, STDOUT_FILENO, buf, n);
     if (fwrite(buf, 1, n, stdout) != n || fflush(stdout) != 0)
         return errno ? errno : EIO;
     return 0;
@@ -238,6 +120,8 @@ void log_configure(log_ctx *l, int verbose, int prefix)
 {
     l->prefix = prefix || getenv("JOURNAL_STREAM") != NULL;
     l->max_prio = verbose ? LOG_DEBUG : LOG_INFO;
+    if (l->out) /* the note in the lines' new form (none if out of memory: the old one stays) */
+        wg_writer_note(l->out, STDERR_FILENO, lost_fmt(l));
 }
 
 static void flush_slot(log_ctx *l, log_slot *s)
@@ -255,8 +139,8 @@ void log_fini(log_ctx *l)
 {
     for (int i = 0; i < LOG_SLOTS; i++)
         flush_slot(l, &l->slot[i]);
-    if (l->out)
-        out_stop(l->out, 2.0);
+    if (l->out) /* 2 s, else left (with what it holds) to end with the process */
+        wg_writer_stop(l->out, 2.0);
     l->out = NULL;
     fflush(stderr);
 }

@@ -31,7 +31,7 @@ typedef struct log_slot {
     int prio;
 } log_slot;
 
-typedef struct log_out log_out; /* the writer thread (log.c) */
+typedef struct wg_writer wg_writer; /* the writer thread (wormgear/wg_writer.h) */
 
 typedef struct log_ctx {
     int prefix;           /* 1: "<N>" prefixes */
@@ -41,7 +41,7 @@ typedef struct log_ctx {
     uint64_t suppressed;  /* total, for STATUS/tests */
     uint32_t last_change; /* hash of the last log_change's what */
     int changes;          /* log_change called yet */
-    log_out *out;         /* the writer, once log_start ran; 0: written in place */
+    wg_writer *out;       /* the writer, once log_start ran; 0: written in place */
 } log_ctx;
 
 /* Set up: prefix chosen from the environment, max_prio LOG_INFO or LOG_DEBUG. */
