@@ -311,12 +311,15 @@ const char *bus_params_odd(const wormgear_params_t *m, char *why, size_t len)
     return NULL;
 }
 
-int bus_params_ignore(const wormgear_params_t *m, long *count, const char *prog)
+int bus_params_ignore(const wormgear_params_t *m, long *count, const char *prog, char *say,
+                      size_t len)
 {
     char why[96];
+    if (len)
+        say[0] = 0;
     if (!bus_params_odd(m, why, sizeof why))
         return 0;
     if ((*count)++ < 3)
-        fprintf(stderr, "%s: ignored a PARAMS message no daemon sends (%s)\n", prog, why);
+        snprintf(say, len, "%s: ignored a PARAMS message no daemon sends (%s)\n", prog, why);
     return 1;
 }

@@ -171,9 +171,11 @@ int bus_wait_ack(bus *c, int timeout_ms);
  * every value finite. */
 const char *bus_params_odd(const wormgear_params_t *m, char *why, size_t len);
 
-/* 1 when m is such a PARAMS, to be ignored: counted in *count, and the
- * first three said on stderr as "PROG: ignored a PARAMS message no daemon
- * sends (why)". */
-int bus_params_ignore(const wormgear_params_t *m, long *count, const char *prog);
+/* 1 when m is such a PARAMS, to be ignored: counted in *count, and for
+ * the first three the line to say in say (len bytes; "" otherwise):
+ * "PROG: ignored a PARAMS message no daemon sends (why)\n". The caller
+ * writes it (wgrig through its writer: a stopped terminal stops no sweep). */
+int bus_params_ignore(const wormgear_params_t *m, long *count, const char *prog, char *say,
+                      size_t len);
 
 #endif

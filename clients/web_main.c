@@ -157,8 +157,11 @@ static void on_status(void *ctx, const wormgear_status_t *m)
 static void on_params(void *ctx, const wormgear_params_t *m)
 {
     wgweb *w = ctx;
-    if (bus_params_ignore(m, &w->params_ignored, "wgweb"))
+    char say[160];
+    if (bus_params_ignore(m, &w->params_ignored, "wgweb", say, sizeof say)) {
+        fputs(say, stderr);
         return; /* not forwarded: every client would show it */
+    }
     fox_params(&w->fox, m);
     if (fox_wanted(&w->fox, MSG_PARAMS)) {
         msg_params(&w->enc, m);

@@ -23,15 +23,19 @@
 #include "lcmtypes/wormgear_status_t.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_status.h"
+#include "wormgear/wg_writer.h"
 
 #include <math.h>
+#include <poll.h>
 #include <signal.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
 enum { RAMP_MAX = 1 << 20, STOPPED = -1000 };
+enum { OUT_QUEUE = 1 << 16 }; /* bytes of messages the writer holds for stderr */
 static volatile sig_atomic_t g_stop; /* set by SIGINT/SIGTERM only */
 
 typedef struct collector { /* what the POINCARE handler does with sections */
@@ -69,6 +73,8 @@ typedef struct rig {
     rig_imp imp;              /* mesh impacts from CONTACT */
     double t0;
     int done, total, restoring; /* restoring: finish()'s commands, sent even after a stop */
+    wg_writer *out;           /* stderr during the sweep: a terminal that takes nothing stops
+                                 no sweep (say) */
 } rig;
 
 /* The first Ctrl-C, SIGTERM or SIGHUP stops the sweep, which then puts the
@@ -81,6 +87,28 @@ static void on_signal(int sig) { g_stop = 1, signal(sig, SIG_DFL); }
 #define NL (isatty(STDERR_FILENO) ? "\n" : "")
 
 #define PROG "wgrig"
+
+/* A message on stderr, through the writer while the sweep runs: a terminal
+ * stopped with Ctrl-S, a stalled ssh session or a pipe no one reads would
+ * otherwise stop the loop in write(), and with it the sweep (its ACKs and
+ * sections unread, the daemon left at one value, in fast mode). A line the
+ * writer's queue cannot hold is dropped and counted. */
+static void say(rig *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void say(rig *r, const char *fmt, ...)
+{
+    char line[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    size_t len = n < 0 ? 0 : (size_t)n < sizeof line ? (size_t)n : sizeof line - 1;
+    if (!len)
+        return;
+    if (r->out)
+        wg_writer_put(r->out, STDERR_FILENO, line, len);
+    else
+        fputs(line, stderr);
+}
 
 /* ---- messages ---------------------------------------------------------------- */
 
@@ -163,8 +191,11 @@ static void on_contact(rig *r, const wormgear_contact_t *m)
 
 static void on_params(rig *r, const wormgear_params_t *m)
 {
-    if (bus_params_ignore(m, &r->bad_params, "wgrig"))
+    char line[160];
+    if (bus_params_ignore(m, &r->bad_params, "wgrig", line, sizeof line)) {
+        say(r, "%s", line);
         return;
+    }
     wg_params_default(&r->base);
     for (int i = 0; i < m->n; i++) {
         int id = wg_param_lookup(m->name[i]);
@@ -224,7 +255,7 @@ static int command(rig *r, wormgear_cmd_t *cmd, const char *what)
         if (r->c.ack.accepted)
             return 0;
         r->refusals++, refused = 1;
-        fprintf(stderr, "%swgrig: %s refused (%s): %s\n", NL, what, r->c.ack.code, r->c.ack.message);
+        say(r, "%swgrig: %s refused (%s): %s\n", NL, what, r->c.ack.code, r->c.ack.message);
         if (strcmp(r->c.ack.code, "ESTATE") != 0 || strstr(r->c.ack.message, "accept_commands"))
             return 1; /* permanent: bad name or value, commands off; ESTATE ("not now") is
                          retried */
@@ -232,7 +263,7 @@ static int command(rig *r, wormgear_cmd_t *cmd, const char *what)
     }
     if (refused || !tried) /* !tried: stopped before sending, nothing to say */
         return refused ? 1 : -1;
-    fprintf(stderr, "%swgrig: %s: no ACK after %d tries of %g s (is wormgeard running with prefix "
+    say(r, "%swgrig: %s: no ACK after %d tries of %g s (is wormgeard running with prefix "
                     "'%s' on this URL?)\n", NL, what, r->o.retries + 1, r->o.timeout_s, r->c.prefix);
     return -1;
 }
@@ -264,7 +295,7 @@ static int fetch_params(rig *r)
         return -1;
     if (bus_wait(&r->c, (int)(r->o.timeout_s * 1000), flag_true, &r->have_params) ||
         (r->o.fast && bus_wait(&r->c, 3000, flag_true, &r->have_status))) {
-        fprintf(stderr, "wgrig: no %s on %s%s\n", r->have_params ? "STATUS" : "PARAMS", r->c.prefix,
+        say(r, "wgrig: no %s on %s%s\n", r->have_params ? "STATUS" : "PARAMS", r->c.prefix,
                 r->have_params ? "STATUS" : "PARAMS");
         return -1;
     }
@@ -282,15 +313,15 @@ static int collect(rig *r, int skip, int want)
     while (c->active && !g_stop) {
         bus_wait(&r->c, 100, NULL, NULL);
         if (cli_mono_s() - c->last_at > r->o.stall_s) {
-            fprintf(stderr, "%swgrig: no POINCARE section for %g s (daemon paused, stopped, or "
+            say(r, "%swgrig: no POINCARE section for %g s (daemon paused, stopped, or "
                             "publishing elsewhere?)\n", NL, r->o.stall_s);
             break;
         }
         if (c->ramp && !r->o.quiet && isatty(STDERR_FILENO) && r->rec.n)
-            fprintf(stderr, "\rramp %s: %s = %.6g, %d sections\033[K", r->phase_dir, r->o.param,
+            say(r, "\rramp %s: %s = %.6g, %d sections\033[K", r->phase_dir, r->o.param,
                     r->rval[r->rec.n - 1], r->rec.n);
         if (c->breaks - breaks0 > r->o.retries) {
-            fprintf(stderr, "%swgrig: recording broken by dropped sections %ld times\n", NL,
+            say(r, "%swgrig: recording broken by dropped sections %ld times\n", NL,
                     c->breaks - breaks0);
             break;
         }
@@ -312,7 +343,7 @@ static void progress(rig *r, const char *dir, const wg_point *pt)
         bar[i] = i < k ? '#' : '.';
     bar[w] = 0;
     int tty = isatty(STDERR_FILENO);
-    fprintf(stderr, "%s[%s] %d/%d %s %s=%.6g %s %s %.3g imp/T | drops %ld refused %ld | %.0f s%s",
+    say(r, "%s[%s] %d/%d %s %s=%.6g %s %s %.3g imp/T | drops %ld refused %ld | %.0f s%s",
             tty ? "\r" : "", bar, r->done, r->total, dir, r->o.param, pt->value,
             out_label(pt, lab, sizeof lab), wg_motion_name(pt->motion), pt->impacts, r->pc_seq.missing,
             r->refusals, cli_mono_s() - r->t0, tty ? "\033[K" : "\n");
@@ -345,7 +376,7 @@ static int run_point(rig *r, double v, wg_point *pt, window *win)
     rig_ana_fini(&a);
     if (n < 0 && n != WG_ENONFINITE) {
         if (n != STOPPED)
-            fprintf(stderr, "%swgrig: %s=%g: %s\n", NL, r->o.param, v, why);
+            say(r, "%swgrig: %s=%g: %s\n", NL, r->o.param, v, why);
         return -1;
     }
     rig_rec_fill(&r->rec, pt);
@@ -505,7 +536,7 @@ static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, c
     rc = rc ? rc : out_pngs(r->o.out, &st, NULL, why, sizeof why);
     rc = rc ? rc : write_impacts(r, &st, ch, win, why, sizeof why);
     if (rc)
-        fprintf(stderr, "wgrig: %s\n", why);
+        say(r, "wgrig: %s\n", why);
     return rc ? 1 : 0;
 }
 
@@ -602,7 +633,7 @@ static void finish(rig *r)
     r->restoring = 1; /* sent even after a stop (they were skipped: the daemon stayed fast,
                          at the sweep's last value) */
     if (g_stop && (r->o.fast || !r->o.keep))
-        fprintf(stderr, "%swgrig: stopped; putting the daemon back (a second Ctrl-C skips it)\n",
+        say(r, "%swgrig: stopped; putting the daemon back (a second Ctrl-C skips it)\n",
                 NL);
     if (r->o.fast && r->have_status)
         set_mode(r, r->orig_mode, r->orig_rate);
@@ -628,24 +659,42 @@ static void make_chains(rig *r, wg_chain chains[2], wg_chain *ch[2], window *win
     }
 }
 
+/* The sweep is over, the daemon put back, the outputs written: the last
+ * lines (the summary) are waited for as long as stderr takes (Ctrl-Q), or
+ * until a second Ctrl-C or SIGTERM ends wgrig (the first stopped the
+ * sweep; on_signal left the default action behind it). */
+static void out_end(rig *r)
+{
+    struct pollfd p = {.fd = wg_writer_fd(r->out), .events = POLLIN};
+    while (!wg_writer_idle(r->out))
+        poll(&p, 1, -1);
+    wg_writer_stop(r->out, 0);
+    r->out = NULL;
+}
+
 /* Run the sweep, restore the daemon and write everything: the exit code. */
 static int sweep(rig *r, wg_chain chains[2], window *win[2], const char *cmdline)
 {
     wg_chain *ch[2] = {NULL, NULL};
     make_chains(r, chains, ch, win);
+    if (!(r->out = wg_writer_start(OUT_QUEUE)) ||
+        wg_writer_note(r->out, STDERR_FILENO, "wgrig: %lu lines not written: stderr took nothing "
+                                              "(a stopped terminal, a pipe no one reads)\n"))
+        return fprintf(stderr, "wgrig: cannot start the writer of its messages\n"), 1;
     int failed = 0;
     for (int d = 0; d < 2 && !failed; d++)
         if (ch[d])
             failed = r->o.ramp > 0 ? run_ramp(r, ch[d], win[d]) : run_chain(r, ch[d], win[d]);
     if (!r->o.quiet)
-        fprintf(stderr, "%s", isatty(STDERR_FILENO) ? "\n" : "");
+        say(r, "%s", isatty(STDERR_FILENO) ? "\n" : "");
     finish(r);
     int rc = write_outputs(r, ch, win, failed || g_stop, cmdline);
-    fprintf(stderr, "wgrig: %d/%d points, %ld skipped (refused), %ld refusals, %ld ACK timeouts, "
+    say(r, "wgrig: %d/%d points, %ld skipped (refused), %ld refusals, %ld ACK timeouts, "
                     "%ld POINCARE and %ld CONTACT messages dropped, %ld recordings re-waited; "
                     "%.1f s; outputs %s.*\n", r->done, r->total, r->skipped, r->refusals,
             r->timeouts, r->pc_seq.missing, r->ct_seq.missing, r->col.breaks,
             cli_mono_s() - r->t0, r->o.out);
+    out_end(r);
     return g_stop ? 130 : failed || (r->skipped && r->skipped == r->done) ? 1 : rc;
 }
 

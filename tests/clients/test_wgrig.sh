@@ -99,6 +99,37 @@ expect 0 "$C" status
 has out "mode realtime (rate 0.01)"
 has out "^omega     0\.5$"
 
+# ---- a terminal that takes nothing (Ctrl-S in wgrig's tmux pane, sent
+# before its first line): its messages blocked its loop in write(), and the
+# sweep stood still, the daemon left in fast mode at one value, until
+# Ctrl-Q. Now the sweep runs to its end while the terminal is stopped: the
+# outputs are written and the daemon put back; the summary waits for the
+# terminal, and after Ctrl-Q it is there and wgrig exits 0.
+if command -v tmux >/dev/null; then
+    sock=wgrig-stop-$$
+    tmux -L "$sock" -f /dev/null new-session -d -x 150 -y 10 \
+        "sh -c 'echo \$\$ >$tmp/ttypid; exec $R --from 0.5 --to 0.8 --points 4 --dir up --fast --out $tmp/tty'; echo \$? >$tmp/ttyrc; sleep 60"
+    tmux -L "$sock" send-keys C-s
+    if wait_until 60 test -s "$tmp/tty.md"; then
+        echo "stopped terminal: the sweep ended and wrote its outputs"
+        [ -s "$tmp/ttyrc" ] && fail "stopped terminal: wgrig ended before its summary was written"
+        expect 0 "$C" status
+        has out "mode realtime (rate 0.01)"
+        has out "^omega     0\.5$"
+    else
+        fail "stopped terminal: the sweep did not run on (no outputs in 60 s)"
+    fi
+    tmux -L "$sock" send-keys C-q
+    wait_until 10 test -s "$tmp/ttyrc"
+    [ "$(cat "$tmp/ttyrc" 2>/dev/null)" = 0 ] || fail "stopped terminal: exit '$(cat "$tmp/ttyrc" 2>/dev/null)' after Ctrl-Q, want 0"
+    tmux -L "$sock" capture-pane -p >"$tmp/pane" 2>/dev/null
+    grep -q "wgrig: 4/4 points" "$tmp/pane" || fail "stopped terminal: no summary after Ctrl-Q: $(cat "$tmp/pane")"
+    [ -s "$tmp/ttyrc" ] || kill -KILL "$(cat "$tmp/ttypid")" 2>/dev/null
+    tmux -L "$sock" kill-server 2>/dev/null
+else
+    echo "tmux not installed: the stopped-terminal check skipped"
+fi
+
 # ---- a ramp up and down, 1 s of simulated time each way (physical real time),
 # with a hostile sender on the same channels (tests/clients/wgspoof.c): its
 # PARAMS (scale NaN, N = 0, unknown model, a NaN value) are ignored, said
