@@ -158,13 +158,24 @@ lcm_subscription_t *bus_subscribe(bus *c, const char *suffix, lcm_msg_handler_t 
     return s;
 }
 
+int bus_ack_verified(const bus *c, const lcm_recv_buf_t *rb, const wormgear_ack_t *m)
+{
+    if (!c->signing)
+        return 1;
+    int n = wormgear_ack_t_encoded_size(m); /* its bytes, as checked and decoded */
+    return m->mac_len == WG_MAC_BYTES && n > WG_MAC_BYTES + 4 && (uint32_t)n <= rb->data_size &&
+           wg_mac_ok(c->key, rb->data, (size_t)n - WG_MAC_BYTES - 4, m->mac);
+}
+
 static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_t *m, void *u)
 {
-    (void)rb, (void)ch;
+    (void)ch;
     bus *c = u;
     if (m->cmd_seq != c->seq || strcmp(m->client, c->client) != 0)
         return; /* someone else's */
-    bus_ack *a = &c->ack;
+    int ok = bus_ack_verified(c, rb, m);
+    c->acks_unverified += !ok;
+    bus_ack *a = ok ? &c->ack : &c->unverified;
     a->got = 1;
     a->accepted = m->accepted;
     a->rc = m->status;
@@ -230,8 +241,14 @@ int bus_set_key(bus *c, const char *path, char *why, size_t whylen)
 
 const char *bus_hint(const bus *c, char *buf, size_t len)
 {
-    snprintf(buf, len, "is wormgeard running on %s with prefix %s? (--url, --prefix or "
-             "$WORMGEAR_URL, $WORMGEAR_PREFIX choose another)", c->url, c->prefix);
+    const bus_ack *u = &c->unverified;
+    if (c->signing && u->got && u->cmd_seq == c->seq)
+        snprintf(buf, len, "an answer came that is not signed with this key (%s: %s), and was "
+                 "not taken: a daemon without command_key_file or with another key, or another "
+                 "sender on the bus", u->code, u->message);
+    else
+        snprintf(buf, len, "is wormgeard running on %s with prefix %s? (--url, --prefix or "
+                 "$WORMGEAR_URL, $WORMGEAR_PREFIX choose another)", c->url, c->prefix);
     return buf;
 }
 
@@ -256,7 +273,7 @@ int64_t bus_send(bus *c, wormgear_cmd_t *cmd)
     cmd->utime = cli_wall_us();
     cmd->seq = ++c->seq;
     cmd->client = c->client;
-    c->ack.got = 0;
+    c->ack.got = 0, c->unverified.got = 0;
     unsigned char buf[65536], mac[WG_MAC_BYTES] = {0};
     cmd->mac_len = c->signing ? WG_MAC_BYTES : 0;
     cmd->mac = mac;

@@ -42,6 +42,9 @@ typedef struct bus {
     char client[96];          /* "<name>-<pid>@<host>" */
     int64_t seq;              /* last command seq sent */
     bus_ack ack;              /* the ACK of the last command, once it came */
+    bus_ack unverified;       /* signing: the last answer to our command that the key did not
+                                 verify (not taken: unsigned, another key, made up) */
+    long acks_unverified;     /* how many such answers came */
     lcm_subscription_t *ack_sub;
 } bus;
 
@@ -135,7 +138,8 @@ int bus_set_key(bus *c, const char *path, char *why, size_t whylen);
 
 /* What to ask when the daemon does not answer: "is wormgeard running on
  * URL with prefix P? (--url, --prefix or $WORMGEAR_URL, $WORMGEAR_PREFIX
- * choose another)", into buf. Returns buf. */
+ * choose another)", into buf; when an answer came that the key did not
+ * verify, what it said and why it was not taken instead. Returns buf. */
 const char *bus_hint(const bus *c, char *buf, size_t len);
 
 /* Close LCM. Safe on a failed open. */
@@ -162,8 +166,15 @@ int64_t bus_send(bus *c, wormgear_cmd_t *cmd);
 int bus_wait(bus *c, int timeout_ms, int (*done)(void *ctx), void *ctx);
 
 /* Wait for the ACK of the last command sent; 0 when it came (c->ack), -1
- * on timeout. */
+ * on timeout. With a key (bus_set_key) only an ACK that carries its MAC
+ * under that key is taken (PROTOCOL.md, "Signed answers"): any sender on
+ * the group can answer a command it saw, "accepted" or not; others are
+ * counted and kept in c->unverified for bus_hint. */
 int bus_wait_ack(bus *c, int timeout_ms);
+
+/* 1 if the ACK m, received in rb, carries the MAC of its bytes under c's
+ * key, or c signs nothing (nothing to verify); else 0. */
+int bus_ack_verified(const bus *c, const lcm_recv_buf_t *rb, const wormgear_ack_t *m);
 
 /* Why m is not a PARAMS a daemon sends (any sender on the group can
  * publish one), in why, or NULL: its scale positive and finite, N in

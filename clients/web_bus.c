@@ -64,8 +64,12 @@ static void on_params(const lcm_recv_buf_t *rb, const char *ch, const wormgear_p
 
 static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_t *m, void *u)
 {
-    (void)rb, (void)ch;
+    (void)ch;
     web_bus *b = u;
+    if (!bus_ack_verified(&b->c, rb, m)) { /* signing: not the daemon's answer */
+        b->acks_unverified++;
+        return;
+    }
     seq_seen(b, WEB_BUS_ACK, m->seq);
     if (b->h.ack)
         b->h.ack(b->h.ctx, m);

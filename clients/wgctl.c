@@ -192,7 +192,7 @@ static int report(ctl *t, const char *what)
 {
     bus_ack *a = &t->c.ack;
     if (!a->got) {
-        char hint[512], msg[1024];
+        char hint[1024], msg[1280];
         const char *late = late_answer(t, what);
         if (t->o.json) { /* the same words as on stderr: it said only "no ACK within N s" */
             snprintf(msg, sizeof msg, "no ACK within %g s: %s", t->o.timeout_s,

@@ -263,8 +263,9 @@ static int command(rig *r, wormgear_cmd_t *cmd, const char *what)
     }
     if (refused || !tried) /* !tried: stopped before sending, nothing to say */
         return refused ? 1 : -1;
-    say(r, "%swgrig: %s: no ACK after %d tries of %g s (is wormgeard running with prefix "
-                    "'%s' on this URL?)\n", NL, what, r->o.retries + 1, r->o.timeout_s, r->c.prefix);
+    char hint[1024];
+    say(r, "%swgrig: %s: no ACK after %d tries of %g s: %s\n", NL, what, r->o.retries + 1,
+        r->o.timeout_s, bus_hint(&r->c, hint, sizeof hint));
     return -1;
 }
 

@@ -1,6 +1,7 @@
 /* lcmio.c - LCM instance, channel names, encode-and-publish helpers. */
 #include "lcmio.h"
 
+#include "wormgear/wg_key.h"
 #include "wormgear/wg_status.h"
 
 #include <dirent.h>
@@ -124,7 +125,6 @@ static int send(lcmio *io, int ch, int len)
         m->seq = io->seq[CH]++;                                                     \
         return send(io, CH, wormgear_##T##_t_encode(io->buf, 0, LCMIO_BUF, m));     \
     }
-PUB(ack, CH_ACK)
 PUB(params, CH_PARAMS)
 PUB(state, CH_STATE)
 PUB(poincare, CH_POINCARE)
@@ -132,3 +132,16 @@ PUB(contact, CH_CONTACT)
 PUB(status, CH_STATUS)
 PUB(scope, CH_SCOPE)
 #undef PUB
+
+int lcmio_pub_ack(lcmio *io, wormgear_ack_t *m, const unsigned char *key)
+{
+    unsigned char mac[WG_MAC_BYTES] = {0};
+    m->utime = lcmio_now_us();
+    m->seq = io->seq[CH_ACK]++;
+    m->mac_len = key ? WG_MAC_BYTES : 0, m->mac = mac;
+    int n = wormgear_ack_t_encode(io->buf, 0, LCMIO_BUF, m);
+    m->mac_len = 0, m->mac = NULL;
+    if (n > 0 && key) /* mac is the last field: it covers what precedes mac_len */
+        wg_mac(key, io->buf, (size_t)n - WG_MAC_BYTES - 4, io->buf + n - WG_MAC_BYTES);
+    return send(io, CH_ACK, n);
+}

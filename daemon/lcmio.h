@@ -61,8 +61,12 @@ uint64_t lcmio_rx_dropped(void);
 /* Microseconds since the epoch (utime of outgoing messages). */
 int64_t lcmio_now_us(void);
 
-/* Stamp utime and seq, encode and publish. 0, or -1 (counted as dropped). */
-int lcmio_pub_ack(lcmio *io, wormgear_ack_t *m);
+/* Stamp utime and seq, encode and publish. 0, or -1 (counted as dropped).
+ * An ACK is signed with key (WG_KEY_BYTES; NULL: unsigned): its MAC covers
+ * every byte before mac_len, as a signed command's (PROTOCOL.md, "Signed
+ * answers"), so a client with the key tells it from one a sender on the
+ * group made up. */
+int lcmio_pub_ack(lcmio *io, wormgear_ack_t *m, const unsigned char *key);
 int lcmio_pub_params(lcmio *io, wormgear_params_t *m);
 int lcmio_pub_state(lcmio *io, wormgear_state_t *m);
 int lcmio_pub_poincare(lcmio *io, wormgear_poincare_t *m);

@@ -42,7 +42,8 @@ typedef struct fld {
  * by field, with their names (count slots: 0 n, 1 nstate, 2 nbearing). */
 static const fld ACK[] = {I64("utime"), I64("seq"), STR(0, "client"), I64("cmd_seq"),
                           STR(0, "op"), I8("accepted"), I32("status"), STR(0, "code"),
-                          STR(0, "message"), F64("tau"), F64("t_s"), I64("steps"), END};
+                          STR(0, "message"), F64("tau"), F64("t_s"), I64("steps"),
+                          MACLEN(0, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 0, "mac"), END};
 static const fld STATE[] = {
     I64("utime"), I64("seq"), I64("step0"), I32("decimation"), N32(0, 0, "n"),
     D(0, "tau"), D(0, "t_s"), D(0, "omega"), D(0, "xn"), D(0, "dxn"), D(0, "force"),

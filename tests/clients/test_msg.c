@@ -50,7 +50,8 @@ static void encode(int type, enc *e)
 {
     switch (type) {
     case BUS_ACK: {
-        wormgear_ack_t m = {.client = "c-1@h", .op = "set", .code = "OK", .message = "fine"};
+        wormgear_ack_t m = {.client = "c-1@h", .op = "set", .code = "OK", .message = "fine",
+                            .mac_len = 32, .mac = mac}; /* a signing daemon's */
         ENCODE(wormgear_ack_t, &m, e);
         break;
     }

@@ -20,8 +20,14 @@
  * With "flood", only this: messages of 250 kB (bytes no type decodes) on
  * PREFIX STATE, as fast as it can publish them, for a client whose loop
  * stalls: LCM queues what the loop has not handled.
- * usage: wgspoof URL PREFIX SECONDS [params|valid|flood] */
+ * With "ack", only this: every command seen on PREFIX CMD is answered on
+ * PREFIX ACK at once, twice, "accepted" (code OK, message "forged by
+ * wgspoof"), echoing its client and seq as the daemon's ACK does: once
+ * unsigned, once with a MAC that is not one (32 bytes of 0x5a). A client
+ * that signs must take neither; one that does not cannot tell.
+ * usage: wgspoof URL PREFIX SECONDS [params|valid|flood|ack] */
 #include "lcmtypes/wormgear_ack_t.h"
+#include "lcmtypes/wormgear_cmd_t.h"
 #include "lcmtypes/wormgear_contact_t.h"
 #include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_poincare_t.h"
@@ -58,6 +64,45 @@ static int flood(lcm_t *l, const char *ch, double end)
     printf("wgspoof: flooded %s with %ld messages of %d bytes\n", ch, n, SIZE);
     free(b);
     return n > 0 ? 0 : 1;
+}
+
+/* "ack": the forged answers to each command seen (see above). */
+typedef struct forger {
+    lcm_t *l;
+    char ack[128];
+    long n;
+} forger;
+
+static void on_cmd(const lcm_recv_buf_t *rb, const char *ch, const wormgear_cmd_t *m, void *u)
+{
+    (void)rb, (void)ch;
+    forger *f = u;
+    unsigned char mac[32];
+    memset(mac, 0x5a, sizeof mac);
+    for (int k = 0; k < 2; k++) {
+        wormgear_ack_t a = {.utime = m->utime, .client = m->client, .cmd_seq = m->seq,
+                            .op = m->op, .accepted = 1, .code = "OK",
+                            .message = "forged by wgspoof", .mac_len = k ? 32 : 0,
+                            .mac = k ? mac : NULL};
+        wormgear_ack_t_publish(f->l, f->ack, &a);
+    }
+    f->n++;
+}
+
+static void channel(char *out, size_t n, const char *prefix, const char *suffix);
+
+static int forge_acks(lcm_t *l, const char *prefix, double end)
+{
+    forger f = {.l = l};
+    char cc[128];
+    channel(f.ack, sizeof f.ack, prefix, "ACK");
+    channel(cc, sizeof cc, prefix, "CMD");
+    wormgear_cmd_t_subscription_t *s = wormgear_cmd_t_subscribe(l, cc, on_cmd, &f);
+    while (now_s() < end)
+        lcm_handle_timeout(l, 100);
+    wormgear_cmd_t_unsubscribe(l, s);
+    printf("wgspoof: answered %ld commands\n", f.n);
+    return 0;
 }
 
 static void channel(char *out, size_t n, const char *prefix, const char *suffix)
@@ -189,8 +234,8 @@ static int publish_hostile_bytes(lcm_t *l, const char *prefix)
 int main(int argc, char **argv)
 {
     if (argc != 4 && !(argc == 5 && (!strcmp(argv[4], "params") || !strcmp(argv[4], "valid") ||
-                                      !strcmp(argv[4], "flood")))) {
-        fprintf(stderr, "usage: wgspoof URL PREFIX SECONDS [params|valid|flood]\n");
+                                      !strcmp(argv[4], "flood") || !strcmp(argv[4], "ack")))) {
+        fprintf(stderr, "usage: wgspoof URL PREFIX SECONDS [params|valid|flood|ack]\n");
         return 2;
     }
     lcm_t *l = lcm_create(argv[1]);
@@ -206,8 +251,8 @@ int main(int argc, char **argv)
     channel(cp, sizeof cp, argv[2], "POINCARE");
     channel(cq, sizeof cq, argv[2], "PARAMS");
     double end = now_s() + atof(argv[3]);
-    if (argc == 5 && !strcmp(argv[4], "flood")) {
-        int frc = flood(l, ct, end);
+    if (argc == 5 && (!strcmp(argv[4], "flood") || !strcmp(argv[4], "ack"))) {
+        int frc = !strcmp(argv[4], "ack") ? forge_acks(l, argv[2], end) : flood(l, ct, end);
         lcm_destroy(l);
         return frc;
     }

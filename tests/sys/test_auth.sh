@@ -4,14 +4,15 @@
 # and played back (lcm-logplayer) is refused by the daemon that accepted it
 # and, after a SIGKILL and a restart with the same key, by the new one; a
 # shell loop of 300 signed wgctl calls (300 client ids within 30 s) is
-# accepted whole; a key rotated in place is taken at SIGHUP. Run through
-# netns.sh (host-local URL only).
-D=$1 C=$2 L=$3 P=$4
+# accepted whole; a key rotated in place is taken at SIGHUP; answers made
+# up by another sender (wgspoof ack) are not taken. Run through netns.sh
+# (host-local URL only).
+D=$1 C=$2 L=$3 P=$4 SPOOF=$5
 code=0
 tmp=$(mktemp -d) || exit 1
-pid= lpid=
+pid= lpid= spid=
 cleanup() {
-    for p in $pid $lpid; do kill -KILL "$p" 2>/dev/null; done
+    for p in $pid $lpid $spid; do kill -KILL "$p" 2>/dev/null; done
     rm -rf "$tmp"
 }
 trap cleanup EXIT
@@ -91,6 +92,29 @@ grep -q "bad signature" "$tmp/out" || fail "old key: not 'bad signature': $(cat 
 "$C" $K set omega=1.3 >"$tmp/out" 2>&1 || fail "the rotated-in key refused: $(cat "$tmp/out")"
 omega_is 1.3 "after the key rotated in place"
 grep -q "holds a new key" "$tmp/log" || fail "no 'holds a new key' line: $(cat "$tmp/log")"
+
+# ---- answers made up by another sender on the group: wgspoof answers every
+# command at once, "accepted", unsigned and with a MAC that is not one. With
+# the daemon stopped (SIGSTOP) they are the only answers: a signed wgctl
+# takes neither, says what came and why it was not taken, exit 1 (before
+# the daemon signed its ACKs it took the first: "accepted", exit 0, nothing
+# applied). With the daemon running beside them, its own signed refusal is
+# the one reported.
+"$SPOOF" "$WORMGEAR_URL" AUTH_ 30 ack >"$tmp/spoof.out" 2>&1 &
+spid=$!
+sleep 0.5                    # subscribed
+kill -STOP $pid
+"$C" $K --timeout 1 set omega=1.4 >"$tmp/out" 2>&1 && fail "a forged ACK taken: $(cat "$tmp/out")"
+grep -q "an answer came that is not signed with this key (OK: forged by wgspoof)" "$tmp/out" ||
+    fail "forged ACK: not said so: $(cat "$tmp/out")"
+kill -CONT $pid
+sleep 0.3                    # the command itself was the client's: applied now, fresh and signed
+omega_is 1.4 "the set sent while the daemon was stopped, once it went on"
+"$C" $K set omega=20 >"$tmp/out" 2>&1 && fail "an out-of-range set reported accepted beside the forger: $(cat "$tmp/out")"
+grep -q "ERANGE" "$tmp/out" || fail "out-of-range set beside the forger: not the daemon's ERANGE: $(cat "$tmp/out")"
+"$C" $K set omega=1.5 >"$tmp/out" 2>&1 || fail "a signed set beside the forger refused: $(cat "$tmp/out")"
+omega_is 1.5 "a signed set beside the forger"
+kill $spid; wait $spid 2>/dev/null; spid=
 
 kill -TERM $pid; wait $pid; rc=$?; pid=
 [ $rc -eq 0 ] || fail "SIGTERM: exit $rc"
