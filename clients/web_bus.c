@@ -68,6 +68,8 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
     web_bus *b = u;
     if (!bus_ack_verified(&b->c, rb, m)) { /* signing: not the daemon's answer */
         b->acks_unverified++;
+        if (b->h.ack_unverified)
+            b->h.ack_unverified(b->h.ctx, m);
         return;
     }
     seq_seen(b, WEB_BUS_ACK, m->seq);

@@ -27,6 +27,7 @@ typedef struct web_bus_hooks {
     void (*status)(void *ctx, const wormgear_status_t *m);
     void (*params)(void *ctx, const wormgear_params_t *m);
     void (*ack)(void *ctx, const wormgear_ack_t *m);
+    void (*ack_unverified)(void *ctx, const wormgear_ack_t *m); /* with a key: one it did not verify */
 } web_bus_hooks;
 
 enum { WEB_BUS_STATE, WEB_BUS_POINCARE, WEB_BUS_CONTACT, WEB_BUS_STATUS, WEB_BUS_PARAMS,

@@ -372,6 +372,13 @@ void fox_ack(fox *f, const wormgear_ack_t *a, const char *client_id)
     p->used = 0;
 }
 
+void fox_ack_unverified(fox *f, const wormgear_ack_t *a, const char *client_id)
+{
+    fox_pending *p = pending_of(f, a, client_id);
+    if (p)
+        snprintf(p->unverified, sizeof p->unverified, "%s: %s", a->code, a->message);
+}
+
 fox_pending *fox_pending_new(fox *f)
 {
     fox_pending *oldest = &f->pend[0];
@@ -395,9 +402,15 @@ void fox_tick(fox *f, double now_s)
         if (!p->used || now_s < p->deadline_s)
             continue;
         int ci = client_index(f, p->client);
-        if (ci >= 0) {
+        if (ci >= 0 && p->unverified[0])
+            fox_status(f, ci, 2, "no signed ACK within %g s: an answer came that is not signed "
+                       "with the bridge's key (%s), and was not taken: a daemon without "
+                       "command_key_file or with another key, or another sender on the bus",
+                       f->conf.ack_timeout_s, p->unverified);
+        else if (ci >= 0)
             fox_status(f, ci, 2, "no ACK from the daemon within %g s (is wormgeard running on %s?)",
                        f->conf.ack_timeout_s, f->conf.prefix);
+        if (ci >= 0) {
             if (p->setparams)
                 answer_setparams(f, ci, p, 0);
         }

@@ -70,6 +70,7 @@ typedef struct fox_pending {
     int n;             /* setParameters: the names and values asked for */
     char name[FOX_MAX_PARAMS][48];
     double value[FOX_MAX_PARAMS];
+    char unverified[200]; /* an answer the bridge's key did not verify: "CODE: message" */
 } fox_pending;
 
 typedef struct fox {
@@ -144,6 +145,11 @@ unsigned fox_ack_owner(const fox *f, const wormgear_ack_t *a, const char *client
  * it, with the daemon's code and reason; setParameters gets its
  * parameterValues. */
 void fox_ack(fox *f, const wormgear_ack_t *a, const char *client_id);
+
+/* An answer to one of our commands that this bridge's key did not verify
+ * (lcmtypes/PROTOCOL.md, "Signed answers"): not taken, but kept, so that
+ * the timeout says what came instead of asking whether a daemon runs. */
+void fox_ack_unverified(fox *f, const wormgear_ack_t *a, const char *client_id);
 
 /* Wall time now_s: expire commands without ACK. */
 void fox_tick(fox *f, double now_s);

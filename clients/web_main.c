@@ -184,6 +184,12 @@ static void on_ack(void *ctx, const wormgear_ack_t *m)
     fox_ack(&w->fox, m, web_bus_client_id(&w->bus));
 }
 
+static void on_ack_unverified(void *ctx, const wormgear_ack_t *m)
+{
+    wgweb *w = ctx;
+    fox_ack_unverified(&w->fox, m, web_bus_client_id(&w->bus));
+}
+
 /* ---- fox hooks */
 
 static void hook_wake(void *ctx, void *conn) { srv_wake(&((wgweb *)ctx)->srv, conn); }
@@ -306,7 +312,8 @@ static int start(wgweb *w)
 {
     char why[256];
     web_bus_hooks bh = {.ctx = w, .state = on_state, .poincare = on_poincare, .contact = on_contact,
-                    .status = on_status, .params = on_params, .ack = on_ack};
+                    .status = on_status, .params = on_params, .ack = on_ack,
+                          .ack_unverified = on_ack_unverified};
     if (msg_schemas_init(&w->schemas) != 0)
         return fprintf(stderr, "wgweb: out of memory\n"), -1;
     if (web_bus_open(&w->bus, w->o.url, w->o.prefix, &bh, why, sizeof why) != 0 ||

@@ -319,6 +319,16 @@ static void test_parameters(void)
     rx(a, "{\"op\":\"setParameters\",\"parameters\":[{\"name\":\"omega\",\"value\":2}],\"id\":\"t\"}");
     fox_tick(&F, 5.0); /* no ACK: a status error and the current value */
     ASSERT_CONTAINS(drain(a, NULL), "no ACK from the daemon");
+    /* an answer the bridge's key did not verify: not taken, and the timeout says what it was */
+    rx(a, "{\"op\":\"setParameters\",\"parameters\":[{\"name\":\"omega\",\"value\":2}],\"id\":\"u\"}");
+    wormgear_ack_t forged = {.client = "me", .cmd_seq = K.cmds, .op = "set", .accepted = 1,
+                             .code = "OK", .message = "forged"};
+    fox_ack_unverified(&F, &forged, "me");
+    ASSERT_STR(drain(a, NULL), "");
+    fox_tick(&F, 10.0);
+    t = drain(a, NULL);
+    ASSERT_CONTAINS(t, "an answer came that is not signed with the bridge's key (OK: forged)");
+    ASSERT_CONTAINS(t, "\"value\":1.3,\"type\":\"float64\"}],\"id\":\"u\""); /* not applied */
     teardown();
 }
 
