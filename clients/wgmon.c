@@ -14,6 +14,7 @@
 #include "bus.h"
 #include "bus_msg.h"
 #include "cli.h"
+#include "mon_term.h"
 #include "mon_text.h"
 #include "mon_view.h"
 
@@ -36,7 +37,6 @@
 #include <string.h>
 #include <sys/ioctl.h>
 #include <sys/select.h>
-#include <termios.h>
 #include <unistd.h>
 
 enum { TR_CAP = 1 << 17, PC_CAP = 1 << 15, NKEY = 8 };
@@ -97,8 +97,7 @@ typedef struct mon {
     wg_tracker trk;               /* last consecutive sections: the local period */
     long contacts[WG_NCONTACT][WG_NEVKIND]; /* CONTACT events in the session */
     int rows, cols, frozen;
-    struct termios tio;
-    int raw;
+    mon_term term;                /* raw keys, the alternate screen */
     wg_writer *out;               /* the frames' writer: a stalled terminal never stops the loop */
     int stalled;                  /* at the end, the terminal still took nothing */
 } mon;
@@ -607,33 +606,6 @@ static void term_size(mon *m)
         m->cols = ws.ws_col, m->rows = ws.ws_row;
 }
 
-static void term_enter(mon *m)
-{
-    if (m->o.plain)
-        return;
-    if (isatty(STDIN_FILENO) && tcgetattr(STDIN_FILENO, &m->tio) == 0) {
-        struct termios t = m->tio;
-        t.c_lflag &= ~(tcflag_t)(ICANON | ECHO);
-        t.c_cc[VMIN] = 0;
-        t.c_cc[VTIME] = 0;
-        m->raw = tcsetattr(STDIN_FILENO, TCSANOW, &t) == 0;
-    }
-    fputs("\033[?1049h\033[?25l\033[2J", stdout);
-    fflush(stdout); /* before the writer's first frame */
-}
-
-static const char k_leave[] = "\033[?25h\033[?1049l"; /* the cursor back, the screen as it was */
-
-static void term_leave(mon *m)
-{
-    if (m->o.plain)
-        return;
-    if (m->raw)
-        tcsetattr(STDIN_FILENO, TCSANOW, &m->tio);
-    fputs(k_leave, stdout);
-    fflush(stdout);
-}
-
 static void key(mon *m)
 {
     char ch;
@@ -651,7 +623,7 @@ static void key(mon *m)
  * idle, until the writer has written its frame, if that is sooner. */
 static void pump(mon *m, double until, int idle)
 {
-    int lfd = lcm_get_fileno(m->c.lcm), kfd = m->raw ? STDIN_FILENO : -1;
+    int lfd = lcm_get_fileno(m->c.lcm), kfd = m->term.raw ? STDIN_FILENO : -1;
     int wfd = m->out ? wg_writer_fd(m->out) : -1;
     int top = lfd > kfd ? lfd : kfd;
     top = top > wfd ? top : wfd;
@@ -686,10 +658,9 @@ static void pump(mon *m, double until, int idle)
 static void finish(mon *m)
 {
     if (!m->o.plain)
-        wg_writer_put(m->out, STDOUT_FILENO, k_leave, sizeof k_leave - 1);
+        wg_writer_put(m->out, STDOUT_FILENO, mon_term_leave_seq, mon_term_leave_len);
     m->stalled = wg_writer_stop(m->out, 1.0) != 0;
-    if (m->raw)
-        tcsetattr(STDIN_FILENO, TCSANOW, &m->tio);
+    mon_term_restore(&m->term);
 }
 
 static int run(mon *m)
@@ -706,10 +677,12 @@ static int run(mon *m)
             pump(m, fmin(end, cli_mono_s() + 0.05), 0);
         next = cli_mono_s();
     }
-    term_enter(m);
+    if (!m->o.plain)
+        mon_term_enter(&m->term);
     if (!(m->out = wg_writer_start(OUT_QUEUE))) {
         fprintf(stderr, "wgmon: cannot start the frame writer: %s\n", strerror(errno));
-        term_leave(m);
+        if (!m->o.plain)
+            mon_term_leave(&m->term);
         return 1;
     }
     int clear = 0;
