@@ -158,13 +158,19 @@ lcm_subscription_t *bus_subscribe(bus *c, const char *suffix, lcm_msg_handler_t 
     return s;
 }
 
-int bus_ack_verified(const bus *c, const lcm_recv_buf_t *rb, const wormgear_ack_t *m)
+int bus_signed(bus *c, int type, const lcm_recv_buf_t *rb)
 {
     if (!c->signing)
         return 1;
-    int n = wormgear_ack_t_encoded_size(m); /* its bytes, as checked and decoded */
-    return m->mac_len == WG_MAC_BYTES && n > WG_MAC_BYTES + 4 && (uint32_t)n <= rb->data_size &&
-           wg_mac_ok(c->key, rb->data, (size_t)n - WG_MAC_BYTES - 4, m->mac);
+    const unsigned char *b = rb->data;
+    long n = bus_msg_size(type, b, (long)rb->data_size); /* the MAC is its last field */
+    int ok = n > WG_MAC_BYTES + 4 && msg_be(b + n - WG_MAC_BYTES - 4, 4) == WG_MAC_BYTES &&
+             wg_mac_ok(c->key, b, (size_t)n - WG_MAC_BYTES - 4, b + n - WG_MAC_BYTES);
+    if (!ok) {
+        c->unverified_n++;
+        c->unverified_type = type == BUS_ACK ? "ACK" : type == BUS_PARAMS ? "PARAMS" : "STATUS";
+    }
+    return ok;
 }
 
 static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_t *m, void *u)
@@ -173,9 +179,7 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
     bus *c = u;
     if (m->cmd_seq != c->seq || strcmp(m->client, c->client) != 0)
         return; /* someone else's */
-    int ok = bus_ack_verified(c, rb, m);
-    c->acks_unverified += !ok;
-    bus_ack *a = ok ? &c->ack : &c->unverified;
+    bus_ack *a = bus_signed(c, BUS_ACK, rb) ? &c->ack : &c->unverified;
     a->got = 1;
     a->accepted = m->accepted;
     a->rc = m->status;
@@ -246,6 +250,10 @@ const char *bus_hint(const bus *c, char *buf, size_t len)
         snprintf(buf, len, "an answer came that is not signed with this key (%s: %s), and was "
                  "not taken: a daemon without command_key_file or with another key, or another "
                  "sender on the bus", u->code, u->message);
+    else if (c->signing && c->unverified_n)
+        snprintf(buf, len, "%ld messages came (the last on %s) that are not signed with this "
+                 "key, and were not taken: a daemon without command_key_file or with another "
+                 "key, or another sender on the bus", c->unverified_n, c->unverified_type);
     else
         snprintf(buf, len, "is wormgeard running on %s with prefix %s? (--url, --prefix or "
                  "$WORMGEAR_URL, $WORMGEAR_PREFIX choose another)", c->url, c->prefix);

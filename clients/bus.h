@@ -44,7 +44,8 @@ typedef struct bus {
     bus_ack ack;              /* the ACK of the last command, once it came */
     bus_ack unverified;       /* signing: the last answer to our command that the key did not
                                  verify (not taken: unsigned, another key, made up) */
-    long acks_unverified;     /* how many such answers came */
+    long unverified_n;        /* signing: ACK, PARAMS, STATUS messages not verified (bus_signed) */
+    const char *unverified_type; /* the last one's channel suffix */
     lcm_subscription_t *ack_sub;
 } bus;
 
@@ -172,9 +173,15 @@ int bus_wait(bus *c, int timeout_ms, int (*done)(void *ctx), void *ctx);
  * counted and kept in c->unverified for bus_hint. */
 int bus_wait_ack(bus *c, int timeout_ms);
 
-/* 1 if the ACK m, received in rb, carries the MAC of its bytes under c's
- * key, or c signs nothing (nothing to verify); else 0. */
-int bus_ack_verified(const bus *c, const lcm_recv_buf_t *rb, const wormgear_ack_t *m);
+/* 1 if the message of type (BUS_ACK, BUS_PARAMS or BUS_STATUS: those a
+ * daemon with a key signs), received in rb and already checked
+ * (BUS_DECODE), carries the MAC of its bytes under c's key, or c signs
+ * nothing (nothing to verify); else 0, counted in c->unverified_n. A
+ * client with a key takes nothing else of those types: what it does
+ * (restore a mode, a value; show the daemon's state) must be the daemon's,
+ * not what any sender on the group says it is (PROTOCOL.md, "Signed
+ * answers"). */
+int bus_signed(bus *c, int type, const lcm_recv_buf_t *rb);
 
 /* Why m is not a PARAMS a daemon sends (any sender on the group can
  * publish one), in why, or NULL: its scale positive and finite, N in

@@ -45,8 +45,10 @@ static void on_contact(const lcm_recv_buf_t *rb, const char *ch, const wormgear_
 static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_status_t *m,
                       void *u)
 {
-    (void)rb, (void)ch;
+    (void)ch;
     web_bus *b = u;
+    if (!bus_signed(&b->c, BUS_STATUS, rb)) /* signing: not the daemon's (counted) */
+        return;
     seq_seen(b, WEB_BUS_STATUS, m->seq);
     if (b->h.status)
         b->h.status(b->h.ctx, m);
@@ -55,8 +57,10 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
 static void on_params(const lcm_recv_buf_t *rb, const char *ch, const wormgear_params_t *m,
                       void *u)
 {
-    (void)rb, (void)ch;
+    (void)ch;
     web_bus *b = u;
+    if (!bus_signed(&b->c, BUS_PARAMS, rb)) /* signing: not the daemon's (counted) */
+        return;
     seq_seen(b, WEB_BUS_PARAMS, m->seq);
     if (b->h.params)
         b->h.params(b->h.ctx, m);
@@ -66,8 +70,7 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
 {
     (void)ch;
     web_bus *b = u;
-    if (!bus_ack_verified(&b->c, rb, m)) { /* signing: not the daemon's answer */
-        b->acks_unverified++;
+    if (!bus_signed(&b->c, BUS_ACK, rb)) { /* signing: not the daemon's answer */
         if (b->h.ack_unverified)
             b->h.ack_unverified(b->h.ctx, m);
         return;

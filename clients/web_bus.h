@@ -40,7 +40,6 @@ typedef struct web_bus {
     lcm_subscription_t *sub[WEB_BUS_NCH];
     bus_seq seq[WEB_BUS_NCH];
     uint64_t msgs;             /* messages received, all channels */
-    uint64_t acks_unverified;  /* with a key: ACKs it did not verify, not passed on */
 } web_bus;
 
 /* Open LCM on url with prefix (NULL: the defaults) and subscribe the

@@ -73,7 +73,7 @@ static const char *const bridge_fields[] = {
     "i:daemon_restarts:daemon restarts seen (STATUS seq going back)",
     "b:commands_allowed:--allow-commands", "i:origins_refused:WebSockets refused for their web page Origin",
     "i:params_ignored:PARAMS messages no daemon sends (scale, N, model, stepper or a value off), not forwarded",
-    "i:acks_unverified:with --key-file: ACKs not signed with its key (a daemon without it, or another sender), not forwarded",
+    "i:unverified:with --key-file: ACK, PARAMS and STATUS messages not signed with its key (a daemon without it, or another sender), not forwarded",
     "i:clients:connected WebSocket clients",
     "i:lcm_msgs:LCM messages received", "i:lcm_gaps:messages lost in seq gaps",
     "n:scope_hz:target /scope samples per wall second",

@@ -334,10 +334,10 @@ static int do_simple(ctl *t, const char *op, int n)
 static void on_params(const lcm_recv_buf_t *rb, const char *ch, const wormgear_params_t *m,
                       void *u)
 {
-    (void)rb;
     (void)ch;
     ctl *t = u;
-    if (!t->params && m->cmd_seq == t->c.seq && strcmp(m->cmd_client, t->c.client) == 0) {
+    if (!t->params && m->cmd_seq == t->c.seq && strcmp(m->cmd_client, t->c.client) == 0 &&
+        bus_signed(&t->c, BUS_PARAMS, rb)) { /* with a key: the daemon's only */
         t->params = wormgear_params_t_copy(m);
         if (t->params)
             clean_params(t->params);
@@ -461,10 +461,9 @@ static int do_get(ctl *t)
 static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_status_t *m,
                       void *u)
 {
-    (void)rb;
     (void)ch;
     ctl *t = u;
-    if (!t->status) {
+    if (!t->status && bus_signed(&t->c, BUS_STATUS, rb)) { /* with a key: the daemon's only */
         t->status = wormgear_status_t_copy(m);
         if (t->status)
             clean_status(t->status);

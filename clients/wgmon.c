@@ -362,6 +362,11 @@ static void on_raw(const lcm_recv_buf_t *rb, const char *channel, void *u)
     int k = 0;
     while (k < NCH && strcmp(channel + strlen(m->c.prefix), ch_suffix[k]) != 0)
         k++;
+    if ((k == CH_STATUS || k == CH_PARAMS) &&
+        !bus_signed(&m->c, k == CH_STATUS ? BUS_STATUS : BUS_PARAMS, rb)) {
+        m->sc[k].bad++; /* with a key: not the daemon's */
+        return;
+    }
     switch (k) {
     case CH_STATUS: DECODE(wormgear_status_t, BUS_STATUS, on_status); break;
     case CH_PARAMS: DECODE(wormgear_params_t, BUS_PARAMS, on_params); break;

@@ -232,8 +232,11 @@ static void on_raw(const lcm_recv_buf_t *rb, const char *ch, void *u)
     const char *s = ch + strlen(r->c.prefix);
     if (!strcmp(s, "POINCARE")) DECODE(wormgear_poincare_t, BUS_POINCARE, on_poincare);
     else if (!strcmp(s, "CONTACT")) DECODE(wormgear_contact_t, BUS_CONTACT, on_contact);
-    else if (!strcmp(s, "PARAMS")) DECODE(wormgear_params_t, BUS_PARAMS, on_params);
-    else if (!strcmp(s, "STATUS")) DECODE(wormgear_status_t, BUS_STATUS, on_status);
+    /* with a key, the daemon's only: the restore at the end sends what they said */
+    else if (!strcmp(s, "PARAMS") && bus_signed(&r->c, BUS_PARAMS, rb))
+        DECODE(wormgear_params_t, BUS_PARAMS, on_params);
+    else if (!strcmp(s, "STATUS") && bus_signed(&r->c, BUS_STATUS, rb))
+        DECODE(wormgear_status_t, BUS_STATUS, on_status);
 }
 
 /* ---- commands --------------------------------------------------------------------- */
@@ -296,8 +299,9 @@ static int fetch_params(rig *r)
         return -1;
     if (bus_wait(&r->c, (int)(r->o.timeout_s * 1000), flag_true, &r->have_params) ||
         (r->o.fast && bus_wait(&r->c, 3000, flag_true, &r->have_status))) {
-        say(r, "wgrig: no %s on %s%s\n", r->have_params ? "STATUS" : "PARAMS", r->c.prefix,
-                r->have_params ? "STATUS" : "PARAMS");
+        char hint[1024];
+        say(r, "wgrig: no %s on %s%s: %s\n", r->have_params ? "STATUS" : "PARAMS", r->c.prefix,
+            r->have_params ? "STATUS" : "PARAMS", bus_hint(&r->c, hint, sizeof hint));
         return -1;
     }
     return 0;

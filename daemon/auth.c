@@ -50,6 +50,8 @@ int auth_load(auth *a, const char *path, int64_t now_us, char *why, size_t whyle
 
 int64_t auth_open_us(const auth *a) { return a->since_us + (int64_t)(AUTH_AHEAD_S * US); }
 
+const unsigned char *auth_key(const auth *a) { return a->on ? a->key : NULL; }
+
 void auth_fini(auth *a)
 {
     volatile unsigned char *k = a->key; /* not optimised away */

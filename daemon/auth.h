@@ -61,6 +61,10 @@ int auth_load(auth *a, const char *path, int64_t now_us, char *why, size_t whyle
  * accepted from any id: the caller waits for it before taking commands. */
 int64_t auth_open_us(const auth *a);
 
+/* The key the daemon signs its ACK, PARAMS and STATUS with (lcmio), or
+ * NULL when signing is off. */
+const unsigned char *auth_key(const auth *a);
+
 /* Forget the key (memory wiped). */
 void auth_fini(auth *a);
 

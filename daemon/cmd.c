@@ -53,7 +53,7 @@ static void ack(wgd *d, const char *client, int64_t seq, const char *op, int rc,
                         .message = (char *)msg, .tau = d->sim.tau,
                         .t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau),
                         .steps = (int64_t)d->sim.steps};
-    lcmio_pub_ack(&d->io, &a, d->auth.on ? d->auth.key : NULL);
+    lcmio_pub_ack(&d->io, &a, auth_key(&d->auth));
     if (rc == WG_OK) {
         d->stat.cmds_accepted++;
         if (strcmp(op, "get") && strcmp(op, "step")) { /* a state change: never lost */

@@ -125,23 +125,34 @@ static int send(lcmio *io, int ch, int len)
         m->seq = io->seq[CH]++;                                                     \
         return send(io, CH, wormgear_##T##_t_encode(io->buf, 0, LCMIO_BUF, m));     \
     }
-PUB(params, CH_PARAMS)
 PUB(state, CH_STATE)
 PUB(poincare, CH_POINCARE)
 PUB(contact, CH_CONTACT)
-PUB(status, CH_STATUS)
 PUB(scope, CH_SCOPE)
 #undef PUB
 
-int lcmio_pub_ack(lcmio *io, wormgear_ack_t *m, const unsigned char *key)
+/* n bytes encoded in io->buf whose last field is a MAC (mac_len, then
+ * WG_MAC_BYTES): with key, the MAC of every byte before mac_len written
+ * into it. n, or n < 0 as it came. */
+static int sign(lcmio *io, int n, const unsigned char *key)
 {
-    unsigned char mac[WG_MAC_BYTES] = {0};
-    m->utime = lcmio_now_us();
-    m->seq = io->seq[CH_ACK]++;
-    m->mac_len = key ? WG_MAC_BYTES : 0, m->mac = mac;
-    int n = wormgear_ack_t_encode(io->buf, 0, LCMIO_BUF, m);
-    m->mac_len = 0, m->mac = NULL;
-    if (n > 0 && key) /* mac is the last field: it covers what precedes mac_len */
+    if (n > WG_MAC_BYTES + 4 && key)
         wg_mac(key, io->buf, (size_t)n - WG_MAC_BYTES - 4, io->buf + n - WG_MAC_BYTES);
-    return send(io, CH_ACK, n);
+    return n;
 }
+
+#define PUB_SIGNED(T, CH)                                                              \
+    int lcmio_pub_##T(lcmio *io, wormgear_##T##_t *m, const unsigned char *key)        \
+    {                                                                                  \
+        unsigned char mac[WG_MAC_BYTES] = {0};                                         \
+        m->utime = lcmio_now_us();                                                     \
+        m->seq = io->seq[CH]++;                                                        \
+        m->mac_len = key ? WG_MAC_BYTES : 0, m->mac = mac;                             \
+        int n = wormgear_##T##_t_encode(io->buf, 0, LCMIO_BUF, m);                     \
+        m->mac_len = 0, m->mac = NULL;                                                 \
+        return send(io, CH, sign(io, n, key));                                         \
+    }
+PUB_SIGNED(ack, CH_ACK)
+PUB_SIGNED(params, CH_PARAMS)
+PUB_SIGNED(status, CH_STATUS)
+#undef PUB_SIGNED

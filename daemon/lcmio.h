@@ -62,16 +62,16 @@ uint64_t lcmio_rx_dropped(void);
 int64_t lcmio_now_us(void);
 
 /* Stamp utime and seq, encode and publish. 0, or -1 (counted as dropped).
- * An ACK is signed with key (WG_KEY_BYTES; NULL: unsigned): its MAC covers
- * every byte before mac_len, as a signed command's (PROTOCOL.md, "Signed
- * answers"), so a client with the key tells it from one a sender on the
- * group made up. */
+ * ACK, PARAMS and STATUS are signed with key (WG_KEY_BYTES; NULL:
+ * unsigned): the MAC covers every byte before mac_len, as a signed
+ * command's (PROTOCOL.md, "Signed answers"), so a client with the key tells
+ * them from ones a sender on the group made up. */
 int lcmio_pub_ack(lcmio *io, wormgear_ack_t *m, const unsigned char *key);
-int lcmio_pub_params(lcmio *io, wormgear_params_t *m);
+int lcmio_pub_params(lcmio *io, wormgear_params_t *m, const unsigned char *key);
 int lcmio_pub_state(lcmio *io, wormgear_state_t *m);
 int lcmio_pub_poincare(lcmio *io, wormgear_poincare_t *m);
 int lcmio_pub_contact(lcmio *io, wormgear_contact_t *m);
-int lcmio_pub_status(lcmio *io, wormgear_status_t *m);
+int lcmio_pub_status(lcmio *io, wormgear_status_t *m, const unsigned char *key);
 int lcmio_pub_scope(lcmio *io, wormgear_scope_t *m);
 
 #endif

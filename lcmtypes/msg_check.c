@@ -66,14 +66,16 @@ static const fld STATUS[] = {
     I64("msgs_dropped"), I64("cmds_accepted"), I64("cmds_refused"), I64("cmds_dropped"),
     I64("rx_dropped"), STR(0, "motion"), F64("impacts_per_period"), N8(2, "nbearing"),
     D(2, "bearing_impacts_per_period"), D(2, "bearing_impact_vmax"), STR(0, "regime"),
-    I8("ramp_active"), F64("uptime_s"), END};
+    I8("ramp_active"), F64("uptime_s"), MACLEN(0, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 0, "mac"),
+    END};
 static const fld PARAMS[] = {
     I64("utime"), I64("seq"), STR(0, "reason"), STR(0, "cmd_client"), I64("cmd_seq"),
     STR(0, "scene"), STR(0, "model"), STR(0, "stepper"), I32("steps_per_period"),
     F64("omega_n_rad_s"), F64("length_m"), F64("mesh_stiffness_N_m"), F64("tau"),
     N32(0, 0, "n"), STRS(0, 0, "name"), STRS(0, 0, "unit"), D(0, "value"), D(0, "min"),
     D(0, "max"), D(0, "def"), ARR(1, 0, "rampable"), I8("ramp_active"), STR(0, "ramp_param"),
-    F64("ramp_from"), F64("ramp_to"), F64("ramp_tau0"), F64("ramp_duration_tau"), END};
+    F64("ramp_from"), F64("ramp_to"), F64("ramp_tau0"), F64("ramp_duration_tau"),
+    MACLEN(1, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 1, "mac"), END};
 static const fld CMD[] = {
     I64("utime"), I64("seq"), STR(MSG_CMD_MAX_CLIENT, "client"), STR(MSG_CMD_MAX_STRING, "op"),
     N32(0, MSG_CMD_MAX_PARAMS, "nparams"), STRS(0, MSG_CMD_MAX_STRING, "names"),

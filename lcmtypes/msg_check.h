@@ -33,7 +33,7 @@ enum {
 /* What a walk found. */
 typedef struct msg_walk {
     long end;          /* the bytes the message occupies from buf, or -1 */
-    int64_t count[3];  /* the counts read (cmd_t: [0] nparams, [1] mac_len) */
+    int64_t count[3];  /* the counts read (cmd_t: [0] nparams, [1] mac_len; a MAC's length in a free slot) */
     const char *field; /* on a fault: the field at fault ... */
     int index;         /* ... its array index, or -1 ... */
     long at;           /* ... the byte the walk stood at ... */

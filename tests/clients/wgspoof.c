@@ -20,11 +20,13 @@
  * With "flood", only this: messages of 250 kB (bytes no type decodes) on
  * PREFIX STATE, as fast as it can publish them, for a client whose loop
  * stalls: LCM queues what the loop has not handled.
- * With "ack", only this: every command seen on PREFIX CMD is answered on
- * PREFIX ACK at once, twice, "accepted" (code OK, message "forged by
- * wgspoof"), echoing its client and seq as the daemon's ACK does: once
- * unsigned, once with a MAC that is not one (32 bytes of 0x5a). A client
- * that signs must take neither; one that does not cannot tell.
+ * With "ack", only this: every command seen on PREFIX CMD is answered at
+ * once as the daemon answers a `get`: a PARAMS whose one parameter is
+ * omega = 9.75 (on PREFIX PARAMS, its cmd_client and cmd_seq echoed), then
+ * twice on PREFIX ACK, "accepted" (code OK, message "forged by wgspoof"),
+ * echoing client and seq: once unsigned, once with a MAC that is not one
+ * (32 bytes of 0x5a). A client that signs must take none of them; one that
+ * does not cannot tell.
  * usage: wgspoof URL PREFIX SECONDS [params|valid|flood|ack] */
 #include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_cmd_t.h"
@@ -69,7 +71,7 @@ static int flood(lcm_t *l, const char *ch, double end)
 /* "ack": the forged answers to each command seen (see above). */
 typedef struct forger {
     lcm_t *l;
-    char ack[128];
+    char ack[128], params[128];
     long n;
 } forger;
 
@@ -79,6 +81,16 @@ static void on_cmd(const lcm_recv_buf_t *rb, const char *ch, const wormgear_cmd_
     forger *f = u;
     unsigned char mac[32];
     memset(mac, 0x5a, sizeof mac);
+    char *names[1] = {"omega"}, *units[1] = {"1"};
+    double v[1] = {9.75}, mn[1] = {0.01}, mx[1] = {10}, def[1] = {1};
+    int8_t ramp[1] = {1};
+    wormgear_params_t p = {.utime = m->utime, .reason = "get", .cmd_client = m->client,
+                           .cmd_seq = m->seq, .scene = "table3", .model = "consistent",
+                           .stepper = "rk4-event", .steps_per_period = 128, .omega_n_rad_s = 1,
+                           .length_m = 1, .mesh_stiffness_N_m = 1, .n = 1, .name = names,
+                           .unit = units, .value = v, .min = mn, .max = mx, .def = def,
+                           .rampable = ramp, .ramp_param = "", .mac_len = 32, .mac = mac};
+    wormgear_params_t_publish(f->l, f->params, &p);
     for (int k = 0; k < 2; k++) {
         wormgear_ack_t a = {.utime = m->utime, .client = m->client, .cmd_seq = m->seq,
                             .op = m->op, .accepted = 1, .code = "OK",
@@ -96,6 +108,7 @@ static int forge_acks(lcm_t *l, const char *prefix, double end)
     forger f = {.l = l};
     char cc[128];
     channel(f.ack, sizeof f.ack, prefix, "ACK");
+    channel(f.params, sizeof f.params, prefix, "PARAMS");
     channel(cc, sizeof cc, prefix, "CMD");
     wormgear_cmd_t_subscription_t *s = wormgear_cmd_t_subscribe(l, cc, on_cmd, &f);
     while (now_s() < end)

@@ -94,12 +94,14 @@ omega_is 1.3 "after the key rotated in place"
 grep -q "holds a new key" "$tmp/log" || fail "no 'holds a new key' line: $(cat "$tmp/log")"
 
 # ---- answers made up by another sender on the group: wgspoof answers every
-# command at once, "accepted", unsigned and with a MAC that is not one. With
-# the daemon stopped (SIGSTOP) they are the only answers: a signed wgctl
-# takes neither, says what came and why it was not taken, exit 1 (before
-# the daemon signed its ACKs it took the first: "accepted", exit 0, nothing
-# applied). With the daemon running beside them, its own signed refusal is
-# the one reported.
+# command at once, a PARAMS saying omega = 9.75, then "accepted", unsigned
+# and with a MAC that is not one. With the daemon stopped (SIGSTOP) they
+# are the only answers: a signed wgctl takes none, says what came and why
+# it was not taken, exit 1 (before the daemon signed its ACK, PARAMS and
+# STATUS it took the first: "accepted", or omega 9.75, exit 0, nothing
+# applied). With the daemon running beside them, its own signed answers
+# are the ones reported. A plausible STATUS from another sender (wgspoof's
+# default mode) is not shown by `wgctl status` either.
 "$SPOOF" "$WORMGEAR_URL" AUTH_ 30 ack >"$tmp/spoof.out" 2>&1 &
 spid=$!
 sleep 0.5                    # subscribed
@@ -107,6 +109,8 @@ kill -STOP $pid
 "$C" $K --timeout 1 set omega=1.4 >"$tmp/out" 2>&1 && fail "a forged ACK taken: $(cat "$tmp/out")"
 grep -q "an answer came that is not signed with this key (OK: forged by wgspoof)" "$tmp/out" ||
     fail "forged ACK: not said so: $(cat "$tmp/out")"
+"$C" $K --timeout 1 get omega >"$tmp/out" 2>&1 && fail "a forged get answered: $(cat "$tmp/out")"
+grep -q "9.75" "$tmp/out" && fail "the forged PARAMS shown: $(cat "$tmp/out")"
 kill -CONT $pid
 sleep 0.3                    # the command itself was the client's: applied now, fresh and signed
 omega_is 1.4 "the set sent while the daemon was stopped, once it went on"
@@ -114,6 +118,15 @@ omega_is 1.4 "the set sent while the daemon was stopped, once it went on"
 grep -q "ERANGE" "$tmp/out" || fail "out-of-range set beside the forger: not the daemon's ERANGE: $(cat "$tmp/out")"
 "$C" $K set omega=1.5 >"$tmp/out" 2>&1 || fail "a signed set beside the forger refused: $(cat "$tmp/out")"
 omega_is 1.5 "a signed set beside the forger"
+kill $spid; wait $spid 2>/dev/null; spid=
+"$SPOOF" "$WORMGEAR_URL" AUTH_ 30 >"$tmp/spoof.out" 2>&1 &
+spid=$!
+kill -STOP $pid
+"$C" $K --timeout 1 status >"$tmp/out" 2>&1 && fail "a forged STATUS shown: $(cat "$tmp/out")"
+grep -q "messages came (the last on STATUS) that are not signed with this key" "$tmp/out" ||
+    fail "forged STATUS: not said so: $(cat "$tmp/out")"
+kill -CONT $pid
+"$C" $K status >"$tmp/out" 2>&1 || fail "signed status beside a forger: $(cat "$tmp/out")"
 kill $spid; wait $spid 2>/dev/null; spid=
 
 kill -TERM $pid; wait $pid; rc=$?; pid=
