@@ -134,11 +134,16 @@ check "Ctrl-C: one line, interrupted after $rows periods" said_rows
 # Blocked writing to a full pipe (a FIFO nobody reads): the first SIGTERM
 # leaves wgsim there (the write goes on after the handler: it would fail
 # with EINTR and stdio drop a buffer of rows); a second ends it at once.
+# blocked PID: wait until it is blocked writing to the pipe (its handlers are
+# installed by then; under a loaded sanitizer build 0.5 s was not always
+# enough, and a SIGTERM before them ended it by the default action), where
+# the kernel says so (/proc/PID/wchan); else half a second
+blocked() { wait_until 10 grep -q pipe_write "/proc/$1/wchan" 2>/dev/null || sleep 0.5; }
 mkfifo "$tmp/fifo1" "$tmp/fifo2"
 exec 3<>"$tmp/fifo1"
 "$WGSIM" --periods 100000000 --transient 0 --trace "$tmp/fifo1" 2>"$tmp/f1.err" 3>&- &
 pid=$!
-sleep 0.5
+blocked $pid
 kill -TERM $pid
 sleep 0.5
 check "first SIGTERM, blocked on a full pipe: still running" kill -0 $pid
@@ -150,7 +155,7 @@ check "second SIGTERM: ends it at once, by the signal ($rc)" test "$rc" = 143
 exec 3<>"$tmp/fifo2"
 "$WGSIM" --periods 100000000 --transient 0 --trace "$tmp/fifo2" 2>"$tmp/f2.err" 3>&- &
 pid=$!
-sleep 0.5
+blocked $pid
 kill -TERM $pid
 sleep 0.3
 exec 4<"$tmp/fifo2" # the reader, open before our end closes (else SIGPIPE)
