@@ -253,7 +253,8 @@ const char *bus_hint(const bus *c, char *buf, size_t len)
     else if (c->signing && c->unverified_n)
         snprintf(buf, len, "%ld messages came (the last on %s) that are not signed with this "
                  "key, and were not taken: a daemon without command_key_file or with another "
-                 "key, or another sender on the bus", c->unverified_n, c->unverified_type);
+                 "key, or another sender on the bus; is wormgeard running with this key on %s "
+                 "with prefix %s?", c->unverified_n, c->unverified_type, c->url, c->prefix);
     else
         snprintf(buf, len, "is wormgeard running on %s with prefix %s? (--url, --prefix or "
                  "$WORMGEAR_URL, $WORMGEAR_PREFIX choose another)", c->url, c->prefix);

@@ -684,8 +684,12 @@ static int sweep(rig *r, wg_chain chains[2], window *win[2], const char *cmdline
     make_chains(r, chains, ch, win);
     if (!(r->out = wg_writer_start(OUT_QUEUE)) ||
         wg_writer_note(r->out, STDERR_FILENO, "wgrig: %lu lines not written: stderr took nothing "
-                                              "(a stopped terminal, a pipe no one reads)\n"))
+                                              "(a stopped terminal, a pipe no one reads)\n")) {
+        if (r->out)
+            wg_writer_stop(r->out, 0);
+        r->out = NULL;
         return fprintf(stderr, "wgrig: cannot start the writer of its messages\n"), 1;
+    }
     int failed = 0;
     for (int d = 0; d < 2 && !failed; d++)
         if (ch[d])
