@@ -248,8 +248,9 @@ const char *bus_hint(const bus *c, char *buf, size_t len)
     const bus_ack *u = &c->unverified;
     if (c->signing && u->got && u->cmd_seq == c->seq)
         snprintf(buf, len, "an answer came that is not signed with this key (%s: %s), and was "
-                 "not taken: a daemon without command_key_file or with another key, or another "
-                 "sender on the bus", u->code, u->message);
+                 "not taken: a daemon without command_key_file or with another key (if it was "
+                 "the daemon's, it did what that says), or another sender on the bus", u->code,
+                 u->message);
     else if (c->signing && c->unverified_n)
         snprintf(buf, len, "%ld messages came (the last on %s) that are not signed with this "
                  "key, and were not taken: a daemon without command_key_file or with another "

@@ -405,7 +405,8 @@ void fox_tick(fox *f, double now_s)
         if (ci >= 0 && p->unverified[0])
             fox_status(f, ci, 2, "no signed ACK within %g s: an answer came that is not signed "
                        "with the bridge's key (%s), and was not taken: a daemon without "
-                       "command_key_file or with another key, or another sender on the bus",
+                       "command_key_file or with another key (if it was the daemon's, it did "
+                       "what that says), or another sender on the bus",
                        f->conf.ack_timeout_s, p->unverified);
         else if (ci >= 0)
             fox_status(f, ci, 2, "no ACK from the daemon within %g s (is wormgeard running on %s?)",
