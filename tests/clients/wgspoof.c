@@ -25,8 +25,9 @@
  * omega = 9.75 (on PREFIX PARAMS, its cmd_client and cmd_seq echoed), then
  * twice on PREFIX ACK, "accepted" (code OK, message "forged by wgspoof"),
  * echoing client and seq: once unsigned, once with a MAC that is not one
- * (32 bytes of 0x5a). A client that signs must take none of them; one that
- * does not cannot tell.
+ * (32 bytes of 0x5a); and every 20 ms a plausible STATUS (mode realtime,
+ * rate 1, healthy) on PREFIX STATUS. A client that signs must take none of
+ * them; one that does not cannot tell.
  * usage: wgspoof URL PREFIX SECONDS [params|valid|flood|ack] */
 #include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_cmd_t.h"
@@ -110,9 +111,20 @@ static int forge_acks(lcm_t *l, const char *prefix, double end)
     channel(f.ack, sizeof f.ack, prefix, "ACK");
     channel(f.params, sizeof f.params, prefix, "PARAMS");
     channel(cc, sizeof cc, prefix, "CMD");
+    char cs[128];
+    channel(cs, sizeof cs, prefix, "STATUS");
     wormgear_cmd_t_subscription_t *s = wormgear_cmd_t_subscribe(l, cc, on_cmd, &f);
-    while (now_s() < end)
-        lcm_handle_timeout(l, 100);
+    for (int64_t seq = 0; now_s() < end; seq++) {
+        double zero6[6] = {0};
+        wormgear_status_t st = {.utime = (int64_t)(now_s() * 1e6), .seq = seq, .scene = "table3",
+                                .mode = "realtime", .rate = 1.0, .run = "running",
+                                .health = "ok", .fault = "", .steps_per_period = 128,
+                                .rtf = 1.0, .motion = "no_impact", .nbearing = 6,
+                                .bearing_impacts_per_period = zero6,
+                                .bearing_impact_vmax = zero6, .regime = "P1"};
+        wormgear_status_t_publish(l, cs, &st);
+        lcm_handle_timeout(l, 20);
+    }
     wormgear_cmd_t_unsubscribe(l, s);
     printf("wgspoof: answered %ld commands\n", f.n);
     return 0;

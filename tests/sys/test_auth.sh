@@ -7,7 +7,7 @@
 # accepted whole; a key rotated in place is taken at SIGHUP; answers made
 # up by another sender (wgspoof ack) are not taken. Run through netns.sh
 # (host-local URL only).
-D=$1 C=$2 L=$3 P=$4 SPOOF=$5
+D=$1 C=$2 L=$3 P=$4 SPOOF=$5 RIG=$6
 code=0
 tmp=$(mktemp -d) || exit 1
 pid= lpid= spid=
@@ -119,6 +119,19 @@ grep -q "ERANGE" "$tmp/out" || fail "out-of-range set beside the forger: not the
 "$C" $K set omega=1.5 >"$tmp/out" 2>&1 || fail "a signed set beside the forger refused: $(cat "$tmp/out")"
 omega_is 1.5 "a signed set beside the forger"
 kill $spid; wait $spid 2>/dev/null; spid=
+# wgrig with the key beside the forger (its ACKs, PARAMS and a STATUS every
+# 20 ms saying realtime at rate 1): the sweep's sets are the daemon's, and
+# at the end it puts the daemon back to the mode and omega the daemon's own
+# STATUS and PARAMS said (rate 0.05, omega 1.5), not the forger's
+"$SPOOF" "$WORMGEAR_URL" AUTH_ 120 ack >"$tmp/spoof.out" 2>&1 &
+spid=$!
+sleep 0.5
+"$RIG" $K --from 0.5 --to 0.6 --points 2 --dir up --fast --settle 50 --record 64 --no-lle \
+    --out "$tmp/rig" >"$tmp/rig.out" 2>&1 || fail "wgrig with the key beside the forger: $(tail -3 "$tmp/rig.out")"
+kill $spid; wait $spid 2>/dev/null; spid= # the forger gone: what follows is the daemon's
+"$C" $K status >"$tmp/out" 2>&1
+grep -q "mode realtime (rate 0.05)" "$tmp/out" || fail "wgrig restored the forger's mode: $(head -3 "$tmp/out")"
+omega_is 1.5 "wgrig's restore beside the forger"
 "$SPOOF" "$WORMGEAR_URL" AUTH_ 30 >"$tmp/spoof.out" 2>&1 &
 spid=$!
 kill -STOP $pid
