@@ -164,8 +164,7 @@ int bus_signed(bus *c, int type, const lcm_recv_buf_t *rb)
         return 1;
     const unsigned char *b = rb->data;
     long n = bus_msg_size(type, b, (long)rb->data_size); /* the MAC is its last field */
-    int ok = n > WG_MAC_BYTES + 4 && msg_be(b + n - WG_MAC_BYTES - 4, 4) == WG_MAC_BYTES &&
-             wg_mac_ok(c->key, b, (size_t)n - WG_MAC_BYTES - 4, b + n - WG_MAC_BYTES);
+    int ok = n > 0 && wg_mac_sealed(c->key, b, (size_t)n);
     if (!ok) {
         c->unverified_n++;
         c->unverified_type = type == BUS_ACK ? "ACK" : type == BUS_PARAMS ? "PARAMS" : "STATUS";
@@ -292,7 +291,7 @@ int64_t bus_send(bus *c, wormgear_cmd_t *cmd)
     if (n < 0)
         return -1;
     if (c->signing) /* mac is the message's last field: it covers what precedes mac_len */
-        wg_mac(c->key, buf, (size_t)n - WG_MAC_BYTES - 4, buf + n - WG_MAC_BYTES);
+        wg_mac_seal(c->key, buf, (size_t)n);
     if (lcm_publish(c->lcm, bus_channel(c, "CMD", ch, sizeof ch), buf, (unsigned)n) != 0)
         return -1;
     return cmd->seq;

@@ -131,13 +131,12 @@ PUB(contact, CH_CONTACT)
 PUB(scope, CH_SCOPE)
 #undef PUB
 
-/* n bytes encoded in io->buf whose last field is a MAC (mac_len, then
- * WG_MAC_BYTES): with key, the MAC of every byte before mac_len written
- * into it. n, or n < 0 as it came. */
+/* n bytes encoded in io->buf, sealed with key (wg_mac_seal) when there is
+ * one. n, or n < 0 as it came. */
 static int sign(lcmio *io, int n, const unsigned char *key)
 {
-    if (n > WG_MAC_BYTES + 4 && key)
-        wg_mac(key, io->buf, (size_t)n - WG_MAC_BYTES - 4, io->buf + n - WG_MAC_BYTES);
+    if (n > 0 && key)
+        wg_mac_seal(key, io->buf, (size_t)n);
     return n;
 }
 

@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <sodium.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -89,4 +90,21 @@ int wg_mac_ok(const unsigned char key[WG_KEY_BYTES], const void *msg, size_t len
 {
     sodium_ready();
     return crypto_auth_verify(mac, msg, len, key) == 0;
+}
+
+enum { TAIL = 4 + WG_MAC_BYTES }; /* mac_len, then the MAC */
+
+void wg_mac_seal(const unsigned char key[WG_KEY_BYTES], unsigned char *msg, size_t n)
+{
+    if (n >= TAIL)
+        wg_mac(key, msg, n - TAIL, msg + n - WG_MAC_BYTES);
+}
+
+int wg_mac_sealed(const unsigned char key[WG_KEY_BYTES], const unsigned char *msg, size_t n)
+{
+    if (n < TAIL)
+        return 0;
+    const unsigned char *len = msg + n - TAIL;
+    uint32_t mac_len = (uint32_t)len[0] << 24 | (uint32_t)len[1] << 16 | (uint32_t)len[2] << 8 | len[3];
+    return mac_len == WG_MAC_BYTES && wg_mac_ok(key, msg, n - TAIL, msg + n - WG_MAC_BYTES);
 }

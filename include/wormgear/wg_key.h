@@ -29,4 +29,17 @@ void wg_mac(const unsigned char key[WG_KEY_BYTES], const void *msg, size_t len,
 int wg_mac_ok(const unsigned char key[WG_KEY_BYTES], const void *msg, size_t len,
               const unsigned char mac[WG_MAC_BYTES]);
 
+/* A signed message's tail (lcmtypes/PROTOCOL.md, "Signed commands" and
+ * "Signed answers"): its last field is the MAC, an int32 mac_len (big-endian,
+ * WG_MAC_BYTES) and then the MAC of every byte before mac_len. msg is the
+ * whole encoded message, n bytes. */
+
+/* Write the MAC into msg's last WG_MAC_BYTES (encoded with mac_len =
+ * WG_MAC_BYTES); nothing when n is too short to hold the tail. */
+void wg_mac_seal(const unsigned char key[WG_KEY_BYTES], unsigned char *msg, size_t n);
+
+/* 1 if msg ends in such a tail (mac_len = WG_MAC_BYTES) and its MAC is
+ * right under key (constant time), else 0. */
+int wg_mac_sealed(const unsigned char key[WG_KEY_BYTES], const unsigned char *msg, size_t n);
+
 #endif
