@@ -297,6 +297,23 @@ int64_t bus_send(bus *c, wormgear_cmd_t *cmd)
     return cmd->seq;
 }
 
+int64_t bus_tick(bus *c, int64_t nsteps)
+{
+    char ch[128];
+    unsigned char buf[512], mac[WG_MAC_BYTES] = {0};
+    wormgear_tick_t t = {.utime = cli_wall_us(), .seq = c->tick_seq + 1, .nsteps = nsteps,
+                         .client = c->client, .mac_len = c->signing ? WG_MAC_BYTES : 0,
+                         .mac = mac};
+    int n = wormgear_tick_t_encode(buf, 0, sizeof buf, &t);
+    if (n < 0)
+        return -1;
+    if (c->signing)
+        wg_mac_seal(c->key, buf, (size_t)n);
+    if (lcm_publish(c->lcm, bus_channel(c, "TICK", ch, sizeof ch), buf, (unsigned)n) != 0)
+        return -1;
+    return c->tick_seq = t.seq;
+}
+
 int bus_wait(bus *c, int timeout_ms, int (*done)(void *ctx), void *ctx)
 {
     int64_t end = cli_mono_ns() / 1000000 + timeout_ms;

@@ -15,6 +15,7 @@
 #include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_cmd_t.h"
 #include "lcmtypes/wormgear_params_t.h"
+#include "lcmtypes/wormgear_tick_t.h"
 #include "wormgear/wg_key.h"
 
 #define BUS_DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
@@ -41,6 +42,7 @@ typedef struct bus {
     char prefix[64];
     char client[96];          /* "<name>-<pid>@<host>" */
     int64_t seq;              /* last command seq sent */
+    int64_t tick_seq;         /* last TICK seq sent (a counter of its own) */
     bus_ack ack;              /* the ACK of the last command, once it came */
     bus_ack unverified;       /* signing: the last answer to our command that the key did not
                                  verify (not taken: unsigned, another key, made up) */
@@ -161,6 +163,11 @@ wormgear_cmd_t bus_cmd(const char *op);
  * (mac over every byte before mac_len, PROTOCOL.md) and publish it on CMD.
  * Returns the seq, or -1 if encoding or publishing failed. */
 int64_t bus_send(bus *c, wormgear_cmd_t *cmd);
+
+/* Publish one TICK owing nsteps (lockstep; no answer), stamped (utime,
+ * seq = ++c->tick_seq, client) and signed as bus_send signs a command.
+ * Returns the seq, or -1 if encoding or publishing failed. */
+int64_t bus_tick(bus *c, int64_t nsteps);
 
 /* Handle LCM messages until done(ctx) is true or timeout_ms passes.
  * Returns 0 when done, -1 on timeout. done may be NULL (just wait). */

@@ -11,6 +11,7 @@
 #include "wormgear/wg_param.h"
 
 #include <float.h>
+#include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -51,6 +52,8 @@ static void usage(FILE *f)
             "  pause | resume             stop / continue the simulation (resume clears a fault)\n"
             "  reset [--params]           back to the scene's initial state (and parameters)\n"
             "  step N                     advance N RK4 steps (lockstep mode, or paused)\n"
+            "  tick N                     one TICK owing N RK4 steps (lockstep; a TICK has no\n"
+            "                             answer: status shows the steps; signed with a key)\n"
             "  mode realtime|fast|lockstep [RATE]\n"
             "                             change pacing (RATE: realtime factor, 1 = physical)\n"
             "  contacts all|mesh|none [N] which contact events the daemon publishes on CONTACT:\n"
@@ -76,7 +79,7 @@ static void usage(FILE *f)
             "  --key-file FILE  sign commands with this key (default $WORMGEAR_KEY_FILE;\n"
             "                   needed when the daemon has command_key_file)\n"
             "  -h, --help       this text\n\n"
-            "Exit status: 0 accepted, 1 refused or no answer, 2 usage error.\n",
+            "Exit status: 0 accepted (tick: sent), 1 refused or no answer, 2 usage error.\n",
             BUS_DEFAULT_URL, BUS_DEFAULT_PREFIX);
 }
 
@@ -287,6 +290,27 @@ static int do_step(ctl *t, int n, char **args)
     wormgear_cmd_t c = bus_cmd("step");
     c.nsteps = v;
     return send_wait(t, &c);
+}
+
+/* A TICK is not answered: say what was sent and where its effect shows. */
+static int do_tick(ctl *t, int n, char **args)
+{
+    int64_t v;
+    if (n != 1 || cli_int64(args[0], 1, 10000000, &v))
+        return cli_usage_error(PROG, "tick: expected a step count N in [1, 10000000]");
+    int64_t seq = bus_tick(&t->c, v);
+    if (seq < 0) {
+        fprintf(stderr, "wgctl: tick: could not publish on %sTICK\n", t->c.prefix);
+        return 1;
+    }
+    if (t->o.json)
+        printf("{\"sent\":true,\"op\":\"tick\",\"seq\":%" PRId64 ",\"nsteps\":%" PRId64
+               ",\"signed\":%s}\n", seq, v, t->c.signing ? "true" : "false");
+    else
+        printf("sent TICK seq %" PRId64 ": %" PRId64 " steps, %s (no answer comes: in lockstep "
+               "mode the daemon runs them; 'wgctl status' shows its steps)\n", seq, v,
+               t->c.signing ? "signed" : "unsigned");
+    return 0;
 }
 
 static int do_named(ctl *t, const char *op, int n, char **args)
@@ -612,6 +636,7 @@ static int dispatch(ctl *t, const char *cmd, int n, char **args)
     if (!strcmp(cmd, "set")) return do_set(t, n, args);
     if (!strcmp(cmd, "ramp")) return do_ramp(t, n, args);
     if (!strcmp(cmd, "step")) return do_step(t, n, args);
+    if (!strcmp(cmd, "tick")) return do_tick(t, n, args);
     if (!strcmp(cmd, "save") || !strcmp(cmd, "restore")) return do_named(t, cmd, n, args);
     if (!strcmp(cmd, "mode")) return do_mode(t, n, args);
     if (!strcmp(cmd, "contacts")) return do_contacts(t, n, args);
@@ -653,7 +678,7 @@ static int run(ctl *t, int argc, char **argv)
         return npos > 1 ? cli_usage_error(PROG, "params takes no arguments") : do_params(t);
     if (!strcmp(pos[0], "keygen"))
         return npos != 2 ? cli_usage_error(PROG, "keygen: expected one FILE") : do_keygen(pos[1]);
-    static const char *const known[] = {"set", "ramp", "step", "save", "restore", "mode",
+    static const char *const known[] = {"set", "ramp", "step", "tick", "save", "restore", "mode",
                                         "pause", "resume", "reset", "get", "status", "contacts"};
     unsigned k = 0;
     while (k < sizeof known / sizeof known[0] && strcmp(known[k], pos[0]))

@@ -69,9 +69,9 @@ static int64_t floor_us(const auth *a)
     return a->forgot_us > open ? a->forgot_us : open;
 }
 
-static uint64_t id_hash(const char *id) /* FNV-1a: a quick first test */
+static uint64_t id_hash(int chan, const char *id) /* FNV-1a: a quick first test */
 {
-    uint64_t h = 14695981039346656037u;
+    uint64_t h = (14695981039346656037u ^ (unsigned)chan) * 1099511628211u;
     for (; *id; id++)
         h = (h ^ (unsigned char)*id) * 1099511628211u;
     return h;
@@ -89,11 +89,11 @@ static void forget(auth *a, auth_client *c)
 /* The slot tracking id, or NULL. A slot whose commands are all stale by
  * now is let go: they are refused as stale anyway, and the id may be a new
  * process with a reused pid, counting from 1 again. */
-static auth_client *find(auth *a, const char *id, uint64_t h, int64_t now_us)
+static auth_client *find(auth *a, int chan, const char *id, uint64_t h, int64_t now_us)
 {
     for (int i = 0; i < AUTH_CLIENTS; i++) {
         auth_client *c = &a->seen[i];
-        if (!c->used || c->hash != h || strcmp(c->id, id) != 0)
+        if (!c->used || c->hash != h || c->chan != chan || strcmp(c->id, id) != 0)
             continue;
         if (((double)now_us - (double)c->max_utime) / US > AUTH_WINDOW_S) {
             forget(a, c);
@@ -107,7 +107,7 @@ static auth_client *find(auth *a, const char *id, uint64_t h, int64_t now_us)
 /* A slot for id: a free one, else the one whose latest command is oldest
  * (forgetting it raises the floor the least). Never refuses: a full table
  * costs only clients whose clocks lag, through the floor. */
-static auth_client *take(auth *a, const char *id, uint64_t h)
+static auth_client *take(auth *a, int chan, const char *id, uint64_t h)
 {
     auth_client *old = &a->seen[0];
     for (int i = 0; i < AUTH_CLIENTS && old->used; i++)
@@ -115,12 +115,13 @@ static auth_client *take(auth *a, const char *id, uint64_t h)
             old = &a->seen[i];
     if (old->used)
         forget(a, old);
-    *old = (auth_client){.used = 1, .hash = h, .last_seq = INT64_MIN, .max_utime = INT64_MIN};
+    *old = (auth_client){.used = 1, .chan = (unsigned char)chan, .hash = h,
+                         .last_seq = INT64_MIN, .max_utime = INT64_MIN};
     snprintf(old->id, sizeof old->id, "%s", id);
     return old;
 }
 
-/* Why a command from an id not tracked, signed at utime, is refused, and
+/* Why a message from an id not tracked, signed at utime, is refused, and
  * when signing it again helps. */
 static void say_too_early(const auth *a, int64_t utime, int64_t now_us, char *why, size_t len)
 {
@@ -135,34 +136,36 @@ static void say_too_early(const auth *a, int64_t utime, int64_t now_us, char *wh
                  "earlier run or another key accepted: %s (if this repeats, this host's clock "
                  "lags the daemon's)", ((double)open - (double)utime) / US, AUTH_AHEAD_S, again);
     else
-        snprintf(why, len, "signed no later than a command of a client this daemon stopped "
+        snprintf(why, len, "signed no later than a message of a client this daemon stopped "
                  "tracking to make room (it tracks %d signing clients; one it does not could "
                  "replay): %s (if this repeats, this host's clock lags the daemon's)",
                  AUTH_CLIENTS, again);
 }
 
+static const char *noun(int chan) { return chan == AUTH_TICK ? "tick" : "command"; }
+
 /* The time checks: the window, then the counter or the floor. */
-static int fresh_ok(auth *a, const char *client, int64_t seq, int64_t utime, int64_t now_us,
-                    char *why, size_t whylen)
+static int fresh_ok(auth *a, int chan, const char *client, int64_t seq, int64_t utime,
+                    int64_t now_us, char *why, size_t whylen)
 {
     double skew = ((double)utime - (double)now_us) / US;
-    uint64_t h = id_hash(client);
+    uint64_t h = id_hash(chan, client);
     auth_client *c = NULL;
     if (!(skew >= -AUTH_WINDOW_S))
-        snprintf(why, whylen, "stale command: signed %.3g s before the daemon's clock (it "
-                 "accepts up to %g s before and %g s ahead)", -skew, AUTH_WINDOW_S,
+        snprintf(why, whylen, "stale %s: signed %.3g s before the daemon's clock (it "
+                 "accepts up to %g s before and %g s ahead)", noun(chan), -skew, AUTH_WINDOW_S,
                  AUTH_AHEAD_S);
     else if (!(skew <= AUTH_AHEAD_S))
         snprintf(why, whylen, "signed %.3g s ahead of the daemon's clock (it accepts up to %g s "
                  "ahead, as a command from further ahead could outlive a daemon restart, and "
                  "%g s before): check the clocks (NTP)", skew, AUTH_AHEAD_S, AUTH_WINDOW_S);
-    else if (!(c = find(a, client, h, now_us)) && utime <= floor_us(a))
+    else if (!(c = find(a, chan, client, h, now_us)) && utime <= floor_us(a))
         say_too_early(a, utime, now_us, why, whylen);
     else if (c && seq <= c->last_seq)
-        snprintf(why, whylen, "replayed or reordered command: seq %" PRId64 " is not above %"
-                 PRId64 ", the last accepted from this client", seq, c->last_seq);
+        snprintf(why, whylen, "replayed or reordered %s: seq %" PRId64 " is not above %" PRId64
+                 ", the last accepted from this client", noun(chan), seq, c->last_seq);
     else {
-        c = c ? c : take(a, client, h);
+        c = c ? c : take(a, chan, client, h);
         c->last_seq = seq;
         c->max_utime = utime > c->max_utime ? utime : c->max_utime;
         return WG_OK;
@@ -170,18 +173,18 @@ static int fresh_ok(auth *a, const char *client, int64_t seq, int64_t utime, int
     return WG_EAUTH;
 }
 
-int auth_check(auth *a, const void *buf, const wire_sig *sig, const char *client,
-               int64_t seq, int64_t utime, int64_t now_us, char *why, size_t whylen)
+int auth_check(auth *a, int chan, const void *msg, size_t len, int32_t mac_len,
+               const char *client, int64_t seq, int64_t utime, int64_t now_us, char *why,
+               size_t whylen)
 {
     if (!a->on)
         return WG_OK;
-    const unsigned char *b = buf;
-    if (sig->mac_len != WG_MAC_BYTES)
-        snprintf(why, whylen, "unsigned command: this daemon accepts signed commands only "
-                              "(PROTOCOL.md, \"Signed commands\"; a client's --key-file)");
-    else if (!wg_mac_ok(a->key, b, sig->signed_len, b + sig->mac_at))
+    if (mac_len != WG_MAC_BYTES)
+        snprintf(why, whylen, "unsigned %s: this daemon accepts signed %ss only (PROTOCOL.md, "
+                 "\"Signed commands\"; a client's --key-file)", noun(chan), noun(chan));
+    else if (!wg_mac_sealed(a->key, msg, len))
         snprintf(why, whylen, "bad signature: not signed with this daemon's key");
-    else if (fresh_ok(a, client, seq, utime, now_us, why, whylen) == WG_OK)
+    else if (fresh_ok(a, chan, client, seq, utime, now_us, why, whylen) == WG_OK)
         return WG_OK;
     a->refused++;
     return WG_EAUTH;

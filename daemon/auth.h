@@ -1,4 +1,4 @@
-/* auth.h - signed commands: with a key, every CMD must carry a MAC.
+/* auth.h - signed commands: with a key, every CMD and TICK must carry a MAC.
  *
  * LCM has no authentication: anything that reaches the multicast group can
  * send commands. With `command_key_file` set, a command is accepted only if
@@ -9,14 +9,16 @@
  * one accepted from the same client id, or, for an id the daemon does not
  * track (new, or forgotten to make room), its utime is after the daemon
  * took the key plus AUTH_AHEAD_S and after the latest utime of every id it
- * forgot. (3) is what makes a replay fail: every command accepted before,
- * by this run or an earlier one (a restart, a crash), is either under its
- * id's counter or signed no later than that floor. Anything else gets
- * EAUTH and changes nothing. The key file holds the key as 64 hexadecimal
- * digits (wgctl keygen FILE writes one; wormgear/wg_key.h); a relative name
- * is looked up in $CREDENTIALS_DIRECTORY (systemd LoadCredential=). Without
- * a key, commands are accepted unsigned (a MAC, if present, is ignored), as
- * before. Lower module: no calls up; time comes in as arguments. */
+ * forgot (an id's commands and its ticks are counted apart). (3) is what
+ * makes a replay fail: every command or tick accepted before, by this run
+ * or an earlier one (a restart, a crash), is either under its id's counter
+ * or signed no later than that floor. Anything else gets EAUTH (a tick:
+ * logged and dropped) and changes nothing. The key file holds the key as
+ * 64 hexadecimal digits (wgctl keygen FILE writes one; wormgear/wg_key.h);
+ * a relative name is looked up in $CREDENTIALS_DIRECTORY (systemd
+ * LoadCredential=). Without a key, commands and ticks are accepted
+ * unsigned (a MAC, if present, is ignored), as before. Lower module: no
+ * calls up; time comes in as arguments. */
 #ifndef WGD_AUTH_H
 #define WGD_AUTH_H
 
@@ -30,8 +32,12 @@ enum { AUTH_CLIENTS = 1024 };
 #define AUTH_WINDOW_S 30.0 /* utime may be this far behind the daemon's clock, seconds */
 #define AUTH_AHEAD_S 1.0   /* and this far ahead (the wait after taking a key) */
 
+/* What a signed message is: each client id has a counter on each. */
+enum { AUTH_CMD, AUTH_TICK };
+
 typedef struct auth_client {
     int used;                  /* 0: a free slot ("" is an id like any other) */
+    unsigned char chan;        /* AUTH_CMD or AUTH_TICK */
     char id[WIRE_MAX_CLIENT + 1];
     uint64_t hash;             /* of id: most slots are passed over on it */
     int64_t last_seq;          /* highest seq accepted from this id */
@@ -68,11 +74,13 @@ const unsigned char *auth_key(const auth *a);
 /* Forget the key (memory wiped). */
 void auth_fini(auth *a);
 
-/* Check the signed message buf of len bytes (already through
- * wire_cmd_check, sig its layout) from client with seq and utime, at wall
- * time now_us: WG_OK (and the client's counter advanced), or WG_EAUTH with
- * why. Always WG_OK when signing is off. */
-int auth_check(auth *a, const void *buf, const wire_sig *sig, const char *client,
-               int64_t seq, int64_t utime, int64_t now_us, char *why, size_t whylen);
+/* Check the message msg of len bytes on chan (a command or a tick, already
+ * through wire_cmd_check or wire_tick_check, which said mac_len) from
+ * client with seq and utime, at wall time now_us: WG_OK (and the client's
+ * counter on chan advanced), or WG_EAUTH with why. Always WG_OK when
+ * signing is off. */
+int auth_check(auth *a, int chan, const void *msg, size_t len, int32_t mac_len,
+               const char *client, int64_t seq, int64_t utime, int64_t now_us, char *why,
+               size_t whylen);
 
 #endif

@@ -611,8 +611,8 @@ void cmd_handle(wgd *d, const void *buf, size_t len)
         undecodable(d, buf, len, "too large");
         return;
     }
-    wire_sig sig;
-    if (wire_cmd_check(buf, len, &sig, why, sizeof why)) { /* decode only what decodes whole */
+    int32_t mac_len;
+    if (wire_cmd_check(buf, len, &mac_len, why, sizeof why)) { /* decode only what decodes whole */
         undecodable(d, buf, len, why);
         return;
     }
@@ -621,8 +621,8 @@ void cmd_handle(wgd *d, const void *buf, size_t len)
         return;
     }
     char awhy[ACK_TEXT];
-    if (auth_check(&d->auth, buf, &sig, c.client, c.seq, c.utime, lcmio_now_us(), awhy,
-                   sizeof awhy))
+    if (auth_check(&d->auth, AUTH_CMD, buf, len, mac_len, c.client, c.seq, c.utime,
+                   lcmio_now_us(), awhy, sizeof awhy))
         ack(d, c.client, c.seq, c.op, WG_EAUTH, awhy);
     else
         dispatch(d, &c);
@@ -686,19 +686,32 @@ static void tick_seq(wgd *d, int64_t seq)
 }
 
 /* External lockstep tick: owe nsteps, run by the loop in bounded chunks
- * (cmd_tick_progress); no ACK. */
+ * (cmd_tick_progress); no ACK. With a key, a tick that is not signed, fresh
+ * and new from its client is logged, counted as dropped and changes
+ * nothing (not even the seq count: a forger's seq says nothing). */
 static void on_tick(const lcm_recv_buf_t *rb, const char *channel, void *user)
 {
     (void)channel;
     wgd *d = user;
     wormgear_tick_t t;
-    if (wormgear_tick_t_decode(rb->data, 0, (int)rb->data_size, &t) < 0) {
+    char why[ACK_TEXT] = "rejected by the decoder";
+    int32_t mac_len;
+    if (wire_tick_check(rb->data, rb->data_size, &mac_len, why, sizeof why) ||
+        wormgear_tick_t_decode(rb->data, 0, (int)rb->data_size, &t) < 0) {
         d->stat.drops++;
-        log_msg(&d->log, LOG_WARNING, "undecodable TICK message (%u bytes) ignored",
-                rb->data_size);
+        log_msg(&d->log, LOG_WARNING, "undecodable TICK message (%u bytes) ignored: %s",
+                rb->data_size, why);
         return;
     }
-    wormgear_tick_t_decode_cleanup(&t); /* no dynamic members */
+    int rc = auth_check(&d->auth, AUTH_TICK, rb->data, rb->data_size, mac_len, t.client, t.seq,
+                        t.utime, lcmio_now_us(), why, sizeof why);
+    wormgear_tick_t_decode_cleanup(&t);
+    if (rc) {
+        d->stat.drops++;
+        log_msg(&d->log, LOG_WARNING, "TICK (seq %" PRId64 ", %" PRId64 " steps) refused: %s",
+                t.seq, t.nsteps, why);
+        return;
+    }
     tick_seq(d, t.seq);
     if (d->conf.mode != MODE_LOCKSTEP || d->run != RUN_RUNNING || d->step.active)
         return;

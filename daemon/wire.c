@@ -1,25 +1,29 @@
-/* wire.c - an encoded wormgear.cmd_t checked before it is decoded: the
- * walk of lcmtypes/msg_check.c, and what the daemon adds to it. */
+/* wire.c - an encoded wormgear.cmd_t or tick_t checked before it is
+ * decoded: the walk of lcmtypes/msg_check.c, and what the daemon adds to
+ * it. */
 #include "wire.h"
 
 #include "lcmtypes/wormgear_cmd_t.h"
+#include "lcmtypes/wormgear_tick_t.h"
 #include "msg_check.h"
 #include "wormgear/wg_status.h"
 
 #include <stdio.h>
 #include <string.h>
 
-int wire_cmd_check(const void *buf, size_t len, wire_sig *sig, char *why, size_t whylen)
+/* The walk of type (hash its fingerprint, name its type's name), and no
+ * byte after the message. */
+static int check(int type, int64_t hash, const char *name, const void *buf, size_t len,
+                 int32_t *mac_len, char *why, size_t whylen)
 {
     const unsigned char *b = buf;
-    if (len >= 8 && (int64_t)msg_be(b, 8) != __wormgear_cmd_t_get_hash()) {
-        snprintf(why, whylen, "fingerprint mismatch: not a wormgear.cmd_t, or another version "
-                              "of it (%zu bytes)", len);
+    if (len >= 8 && (int64_t)msg_be(b, 8) != hash) {
+        snprintf(why, whylen, "fingerprint mismatch: not a wormgear.%s, or another version "
+                              "of it (%zu bytes)", name, len);
         return WG_EDECODE;
     }
     msg_walk w;
-    long end = msg_check(MSG_CMD, buf, (long)len, &w);
-    int64_t mac_len = w.count[1]; /* 0 or WIRE_MAC_BYTES, said the walk */
+    long end = msg_check(type, buf, (long)len, &w);
     if (end < 0) {
         char idx[16] = "";
         if (w.index >= 0)
@@ -29,16 +33,24 @@ int wire_cmd_check(const void *buf, size_t len, wire_sig *sig, char *why, size_t
         return WG_EDECODE;
     }
     if ((size_t)end != len) {
-        snprintf(why, whylen, "%zu bytes after the end of a complete cmd_t (at byte %ld of %zu)",
-                 len - (size_t)end, end, len);
+        snprintf(why, whylen, "%zu bytes after the end of a complete %s (at byte %ld of %zu)",
+                 len - (size_t)end, name, end, len);
         return WG_EDECODE;
     }
-    if (sig) { /* mac_len and the MAC end the message */
-        sig->mac_at = (size_t)(end - mac_len);
-        sig->signed_len = sig->mac_at - 4;
-        sig->mac_len = (int32_t)mac_len;
-    }
+    if (mac_len)
+        *mac_len = (int32_t)w.count[1]; /* 0 or WIRE_MAC_BYTES, said the walk */
     return WG_OK;
+}
+
+int wire_cmd_check(const void *buf, size_t len, int32_t *mac_len, char *why, size_t whylen)
+{
+    return check(MSG_CMD, __wormgear_cmd_t_get_hash(), "cmd_t", buf, len, mac_len, why, whylen);
+}
+
+int wire_tick_check(const void *buf, size_t len, int32_t *mac_len, char *why, size_t whylen)
+{
+    return check(MSG_TICK, __wormgear_tick_t_get_hash(), "tick_t", buf, len, mac_len, why,
+                 whylen);
 }
 
 void wire_cmd_header(const void *buf, size_t len, char *client, size_t clen, int64_t *seq)

@@ -83,7 +83,9 @@ static const fld CMD[] = {
     STR(MSG_CMD_MAX_STRING, "unit"), I64("nsteps"), STR(MSG_CMD_MAX_STRING, "name"),
     F64("rate"), I8("at_section"), MACLEN(1, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 1, "mac"),
     END};
-static const fld TICK[] = {I64("utime"), I64("seq"), I64("nsteps"), END};
+static const fld TICK[] = {I64("utime"), I64("seq"), I64("nsteps"),
+                           STR(MSG_CMD_MAX_CLIENT, "client"),
+                           MACLEN(1, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 1, "mac"), END};
 static const fld SCOPE[] = {I64("utime"), I64("seq"), F64("t_s"), F64("tau"), F64("omega"),
                             F64("xn"), F64("dxn"), F64("force"), END};
 

@@ -102,7 +102,8 @@ static void encode(int type, enc *e)
         break;
     }
     case BUS_TICK: {
-        wormgear_tick_t m = {.nsteps = 0}; /* scalars 0: a 4-byte window holding 2..32 is a count */
+        /* scalars 0: a 4-byte window holding 2..32 is a count */
+        wormgear_tick_t m = {.client = "c", .mac_len = 32, .mac = mac};
         ENCODE(wormgear_tick_t, &m, e);
         break;
     }

@@ -100,7 +100,7 @@ static void write_others(lcm_eventlog_t *l)
     wormgear_ack_t a = {.seq = 0, .client = "t", .cmd_seq = 9, .op = "set", .code = "ERANGE",
                         .message = "omega = 99 out of range [0.01, 10], \"said\" the table"};
     PUT(wormgear_ack_t, l, "RIG1_ACK", 1200100, &a);
-    wormgear_tick_t t = {.seq = 0, .nsteps = 5};
+    wormgear_tick_t t = {.seq = 0, .nsteps = 5, .client = (char *)""};
     PUT(wormgear_tick_t, l, "RIG1_TICK", 1300000, &t);
     put(l, "OTHER", 1300001, "not an lcm message", 18);
     put(l, "EVIL\033]0;pwned\007\033[2J", 1300002, "x", 1); /* escapes in a channel name */

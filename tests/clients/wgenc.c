@@ -85,7 +85,7 @@ int main(int argc, char **argv)
     wormgear_ack_t ack = {.seq = 48, .client = "c", .cmd_seq = 47, .op = "set", .code = "ERANGE",
                           .message = "omega = 99 out of range [0.01, 10]", .status = -2};
     ENC(wormgear_ack_t, "ack_t", &ack);
-    wormgear_tick_t tk = {1, 49, 5};
+    wormgear_tick_t tk = {1, 49, 5, (char *)"rig-1@host", 0, NULL};
     ENC(wormgear_tick_t, "tick_t", &tk);
     wormgear_scope_t sc = {.utime = 1, .seq = 50, .t_s = 0.25, .tau = 7975.25, .omega = 1.2,
                            .xn = 1.2154, .dxn = -0.03, .force = 0.41};

@@ -97,6 +97,65 @@ static void test_signed_commands(void)
     teardown(d);
 }
 
+/* Encode a TICK of nsteps from client with seq, signed with key (NULL:
+ * unsigned), utime shifted by skew seconds from now, into buf; publish it
+ * and handle it. Returns its length (to play it back). */
+static int send_tick(wgd *d, const unsigned char *key, int64_t seq, double skew,
+                     int64_t nsteps, unsigned char *buf, int cap)
+{
+    unsigned char mac[WG_MAC_BYTES] = {0};
+    wormgear_tick_t t = {.utime = lcmio_now_us() + (int64_t)(skew * 1e6), .seq = seq,
+                         .nsteps = nsteps, .client = "signer", /* the id of send_set too */
+                         .mac_len = key ? WG_MAC_BYTES : 0, .mac = mac};
+    int len = wormgear_tick_t_encode(buf, 0, cap, &t);
+    if (key)
+        wg_mac_seal(key, buf, (size_t)len);
+    lcm_publish(d->io.lcm, "T_TICK", buf, (unsigned)len);
+    drain(d);
+    return len;
+}
+
+/* With a key a TICK is a command without an answer: anyone on the group
+ * could otherwise drive a lockstep run (a rig's co-simulation) step by
+ * step. A signed tick owes its steps; unsigned, another key's, stale,
+ * ahead, or played back, it owes nothing and counts as dropped. A client's
+ * ticks count apart from its commands: tick seq 1 after command seq 10. */
+static void test_signed_ticks(void)
+{
+    new_keys();
+    char path[300], why[300];
+    snprintf(path, sizeof path, "%s/key", fx_statedir());
+    write_key(path, key_a, 0600);
+    wgd *d = setup(128);
+    ASSERT_EQ_INT(auth_load(&d->auth, path, lcmio_now_us() - 2000000, why, sizeof why), WG_OK);
+    send_set(d, key_a, 10, 0, 1.1);
+    ASSERT_STR(F.code, "OK");
+    unsigned char buf[512], other[512];
+    int len = send_tick(d, key_a, 1, 0, 100, buf, sizeof buf);
+    ASSERT_EQ_INT(d->owed.ticks, 100);
+    uint64_t drops = d->stat.drops;
+    lcm_publish(d->io.lcm, "T_TICK", buf, (unsigned)len); /* played back */
+    drain(d);
+    ASSERT_EQ_INT(d->owed.ticks, 100);
+    ASSERT_EQ_INT(d->stat.drops, drops + 1);
+    struct { const unsigned char *key; int64_t seq; double skew; } bad[] = {
+        {NULL, 2, 0}, {key_b, 3, 0}, {key_a, 4, 60}, {key_a, 5, -45}, {key_a, 1, 0}};
+    for (unsigned i = 0; i < sizeof bad / sizeof bad[0]; i++)
+        send_tick(d, bad[i].key, bad[i].seq, bad[i].skew, 1000, other, sizeof other);
+    ASSERT_EQ_INT(d->owed.ticks, 100);
+    ASSERT_EQ_INT(d->stat.drops, drops + 6);
+    ASSERT_EQ_INT(d->auth.refused, 6);
+    send_tick(d, key_a, 6, 0, 20, other, sizeof other);
+    ASSERT_EQ_INT(d->owed.ticks, 120);
+    send_set(d, key_a, 11, 0, 1.2); /* the command counter untouched by the ticks */
+    ASSERT_STR(F.code, "OK");
+    ASSERT_EQ_INT(auth_load(&d->auth, "", lcmio_now_us(), why, sizeof why), WG_OK);
+    send_tick(d, NULL, 7, 0, 5, other, sizeof other); /* signing off: unsigned taken */
+    ASSERT_EQ_INT(d->owed.ticks, 125);
+    unlink(path);
+    teardown(d);
+}
+
 /* ---- the auth module alone, on a clock of our own -------------------------- */
 
 #define T0 INT64_C(1700000000000000) /* a wall time, us */
@@ -105,7 +164,8 @@ static void test_signed_commands(void)
 typedef struct msg {
     unsigned char buf[512];
     int len;
-    wire_sig sig;
+    int32_t mac_len;
+    int chan; /* AUTH_CMD (sign) or AUTH_TICK (sign_tick) */
     char client[64];
     int64_t seq, utime;
 } msg;
@@ -122,7 +182,22 @@ static msg sign(const unsigned char *key, const char *client, int64_t seq, int64
                         .unit = "", .name = "", .mac_len = WG_MAC_BYTES, .mac = mac};
     m.len = wormgear_cmd_t_encode(m.buf, 0, sizeof m.buf, &c);
     wg_mac(key, m.buf, (size_t)m.len - WG_MAC_BYTES - 4, m.buf + m.len - WG_MAC_BYTES);
-    ASSERT_EQ_INT(wire_cmd_check(m.buf, (size_t)m.len, &m.sig, WHY, sizeof WHY), WG_OK);
+    ASSERT_EQ_INT(wire_cmd_check(m.buf, (size_t)m.len, &m.mac_len, WHY, sizeof WHY), WG_OK);
+    return m;
+}
+
+/* The same as a TICK of 1 step (chan AUTH_TICK); key NULL: unsigned. */
+static msg sign_tick(const unsigned char *key, const char *client, int64_t seq, int64_t utime)
+{
+    msg m = {.seq = seq, .utime = utime, .chan = AUTH_TICK};
+    unsigned char mac[WG_MAC_BYTES] = {0};
+    snprintf(m.client, sizeof m.client, "%s", client);
+    wormgear_tick_t t = {.utime = utime, .seq = seq, .nsteps = 1, .client = m.client,
+                         .mac_len = key ? WG_MAC_BYTES : 0, .mac = mac};
+    m.len = wormgear_tick_t_encode(m.buf, 0, sizeof m.buf, &t);
+    if (key)
+        wg_mac_seal(key, m.buf, (size_t)m.len);
+    ASSERT_EQ_INT(wire_tick_check(m.buf, (size_t)m.len, &m.mac_len, WHY, sizeof WHY), WG_OK);
     return m;
 }
 
@@ -130,8 +205,8 @@ static msg sign(const unsigned char *key, const char *client, int64_t seq, int64
 static int check(auth *a, const msg *m, int64_t now_us)
 {
     WHY[0] = 0;
-    return auth_check(a, m->buf, &m->sig, m->client, m->seq, m->utime, now_us, WHY,
-                      sizeof WHY);
+    return auth_check(a, m->chan, m->buf, (size_t)m->len, m->mac_len, m->client, m->seq,
+                      m->utime, now_us, WHY, sizeof WHY);
 }
 
 /* A daemon that takes the key in path at now_us: a fresh auth, as every
@@ -282,5 +357,42 @@ static void test_many_clients(void)
     unlink(path);
 }
 
-TEST_MAIN(TEST(test_signed_commands), TEST(test_replay_after_restart), TEST(test_key_change),
-          TEST(test_many_clients))
+/* One id's ticks and commands count apart, and a tick's refusal says
+ * "tick": a rig may tick from 1 after sending commands, and reads why. */
+static void test_tick_counters(void)
+{
+    new_keys();
+    const char *path = key_file("key", key_a);
+    auth *a = start(path, T0);
+    int64_t t = T0 + 2 * SEC;
+    msg c5 = sign(key_a, "rig-1@h", 5, t);
+    ASSERT_EQ_INT(check(a, &c5, t), WG_OK);
+    msg k1 = sign_tick(key_a, "rig-1@h", 1, t);
+    ASSERT_EQ_INT(check(a, &k1, t), WG_OK);
+    ASSERT_EQ_INT(check(a, &k1, t + 1), WG_EAUTH);
+    ASSERT_CONTAINS(WHY, "replayed or reordered tick: seq 1 is not above 1");
+    msg c2 = sign(key_a, "rig-1@h", 2, t);
+    ASSERT_EQ_INT(check(a, &c2, t), WG_EAUTH);
+    ASSERT_CONTAINS(WHY, "replayed or reordered command: seq 2 is not above 5");
+    msg u = sign_tick(NULL, "rig-1@h", 2, t);
+    ASSERT_EQ_INT(check(a, &u, t), WG_EAUTH);
+    ASSERT_CONTAINS(WHY, "unsigned tick: this daemon accepts signed ticks only");
+    msg other = sign_tick(key_b, "rig-1@h", 2, t);
+    ASSERT_EQ_INT(check(a, &other, t), WG_EAUTH);
+    ASSERT_CONTAINS(WHY, "bad signature");
+    msg stale = sign_tick(key_a, "rig-1@h", 3, t - 40 * SEC);
+    ASSERT_EQ_INT(check(a, &stale, t), WG_EAUTH);
+    ASSERT_CONTAINS(WHY, "stale tick");
+    msg early = sign_tick(key_a, "rig-2@h", 1, T0 + SEC / 2);
+    ASSERT_EQ_INT(check(a, &early, t), WG_EAUTH);
+    ASSERT_CONTAINS(WHY, "before this daemon started taking signed commands");
+    msg k2 = sign_tick(key_a, "rig-1@h", 2, t);
+    ASSERT_EQ_INT(check(a, &k2, t), WG_OK);
+    ASSERT_EQ_INT(a->refused, 6);
+    auth_fini(a);
+    free(a);
+    unlink(path);
+}
+
+TEST_MAIN(TEST(test_signed_commands), TEST(test_signed_ticks), TEST(test_replay_after_restart),
+          TEST(test_key_change), TEST(test_many_clients), TEST(test_tick_counters))

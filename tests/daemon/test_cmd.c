@@ -317,7 +317,7 @@ static void test_step_pause_resume(void)
 
 static void tick(wgd *d, int64_t seq, int64_t nsteps)
 {
-    wormgear_tick_t t = {.utime = 1, .seq = seq, .nsteps = nsteps};
+    wormgear_tick_t t = {.utime = 1, .seq = seq, .nsteps = nsteps, .client = (char *)""};
     wormgear_tick_t_publish(d->io.lcm, "T_TICK", &t);
     drain(d);
 }

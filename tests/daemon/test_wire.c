@@ -215,5 +215,51 @@ static void test_client_echo(void)
     teardown(d);
 }
 
-TEST_MAIN(TEST(test_wire_check), TEST(test_decode_errors), TEST(test_fuzz_one_ack_each),
+/* A TICK carries a client id since ticks are signed: its bytes are walked
+ * as a command's are before the generated decoder (which would take any
+ * string length) sees them. In the daemon a bad one owes nothing and is
+ * counted as dropped. */
+static void test_tick_check(void)
+{
+    unsigned char buf[1024], bad[1024], mac[32] = {0};
+    char why[160], id[300];
+    wormgear_tick_t t = {.utime = 1, .seq = 3, .nsteps = 5, .client = "rig",
+                         .mac_len = 32, .mac = mac};
+    int len = wormgear_tick_t_encode(buf, 0, sizeof buf, &t);
+    int32_t mac_len = -1;
+    ASSERT_EQ_INT(wire_tick_check(buf, (size_t)len, &mac_len, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(mac_len, 32);
+    for (int cut = 0; cut < len; cut++)
+        ASSERT_EQ_INT(wire_tick_check(buf, (size_t)cut, NULL, why, sizeof why), WG_EDECODE);
+    ASSERT_EQ_INT(wire_tick_check(buf, (size_t)len + 1, NULL, why, sizeof why), WG_EDECODE);
+    ASSERT_CONTAINS(why, "1 bytes after the end of a complete tick_t");
+    memcpy(bad, buf, (size_t)len);
+    bad[32] = 0x7f; /* the client's length (after fingerprint, utime, seq, nsteps) huge */
+    ASSERT_EQ_INT(wire_tick_check(bad, (size_t)len, NULL, why, sizeof why), WG_EDECODE);
+    ASSERT_CONTAINS(why, "client");
+    memset(id, 'x', sizeof id - 1);
+    id[sizeof id - 1] = 0;
+    t.client = id; /* 299 bytes: over WIRE_MAX_CLIENT */
+    len = wormgear_tick_t_encode(buf, 0, sizeof buf, &t);
+    ASSERT_EQ_INT(wire_tick_check(buf, (size_t)len, NULL, why, sizeof why), WG_EDECODE);
+    ASSERT_CONTAINS(why, "the limit is 256");
+    ASSERT_EQ_INT(wire_cmd_check(buf, (size_t)len, NULL, why, sizeof why), WG_EDECODE);
+    ASSERT_CONTAINS(why, "not a wormgear.cmd_t");
+    wgd *d = setup(128);
+    uint64_t drops = d->stat.drops;
+    lcm_publish(d->io.lcm, "T_TICK", buf, (unsigned)len);
+    memcpy(bad, buf, (size_t)len);
+    lcm_publish(d->io.lcm, "T_TICK", bad, 20);
+    drain(d);
+    ASSERT_EQ_INT(d->owed.ticks, 0);
+    ASSERT_EQ_INT(d->stat.drops, drops + 2);
+    t.client = "rig";
+    len = wormgear_tick_t_encode(buf, 0, sizeof buf, &t);
+    lcm_publish(d->io.lcm, "T_TICK", buf, (unsigned)len); /* keyless: a MAC is ignored */
+    drain(d);
+    ASSERT_EQ_INT(d->owed.ticks, 5);
+    teardown(d);
+}
+
+TEST_MAIN(TEST(test_wire_check), TEST(test_tick_check), TEST(test_decode_errors), TEST(test_fuzz_one_ack_each),
           TEST(test_trailing_and_inner_nul), TEST(test_client_echo))

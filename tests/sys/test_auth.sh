@@ -5,7 +5,8 @@
 # and, after a SIGKILL and a restart with the same key, by the new one; a
 # shell loop of 300 signed wgctl calls (300 client ids within 30 s) is
 # accepted whole; a key rotated in place is taken at SIGHUP; answers made
-# up by another sender (wgspoof ack) are not taken. Run through netns.sh
+# up by another sender (wgspoof ack) are not taken; in lockstep only signed
+# ticks (wgctl tick) run, once. Run through netns.sh
 # (host-local URL only).
 D=$1 C=$2 L=$3 P=$4 SPOOF=$5 RIG=$6
 code=0
@@ -141,6 +142,31 @@ grep -q "messages came (the last on STATUS) that are not signed with this key" "
 kill -CONT $pid
 "$C" $K status >"$tmp/out" 2>&1 || fail "signed status beside a forger: $(cat "$tmp/out")"
 kill $spid; wait $spid 2>/dev/null; spid=
+
+# ---- ticks: in lockstep a TICK owes steps and gets no answer; with a key
+# only a signed, fresh, new one does (else anyone on the group could drive
+# a rig's lockstep run): an unsigned tick and a signed one played back owe
+# nothing, and the daemon's log says why
+steps() { "$C" $K status 2>/dev/null | sed -n 's/.*, step \([0-9]*\),.*/\1/p'; }
+steps_are() { [ "$(steps)" = "$1" ]; }
+"$C" $K mode lockstep >/dev/null || fail "signed mode lockstep refused"
+s0=$(steps)
+[ -n "$s0" ] || fail "no step count in wgctl status"
+"$C" tick 1000 >"$tmp/out" 2>&1 || fail "unsigned wgctl tick not sent: $(cat "$tmp/out")"
+grep -q "sent TICK seq 1: 1000 steps, unsigned" "$tmp/out" || fail "unsigned tick: $(cat "$tmp/out")"
+"$L" --lcm-url="$WORMGEAR_URL" -c AUTH_TICK -q "$tmp/tick.lcmlog" &
+lpid=$!
+sleep 1
+"$C" $K tick 500 >"$tmp/out" 2>&1 || fail "signed wgctl tick not sent: $(cat "$tmp/out")"
+grep -q "500 steps, signed" "$tmp/out" || fail "signed tick: $(cat "$tmp/out")"
+sleep 0.3
+kill -INT $lpid; wait $lpid; lpid=
+wait_until 5 steps_are $((s0 + 500)) || fail "after an unsigned tick of 1000 and a signed one of 500: step $(steps), want $((s0 + 500))"
+grep -q "TICK (seq 1, 1000 steps) refused: unsigned tick" "$tmp/log" || fail "no 'unsigned tick' refusal: $(tail -3 "$tmp/log")"
+"$P" --lcm-url="$WORMGEAR_URL" "$tmp/tick.lcmlog" >/dev/null 2>&1
+sleep 0.5
+steps_are $((s0 + 500)) || fail "a signed tick played back ran: step $(steps), want $((s0 + 500))"
+grep -q "TICK (seq 1, 500 steps) refused: replayed or reordered tick" "$tmp/log" || fail "no 'replayed tick' refusal: $(tail -3 "$tmp/log")"
 
 kill -TERM $pid; wait $pid; rc=$?; pid=
 [ $rc -eq 0 ] || fail "SIGTERM: exit $rc"

@@ -683,7 +683,8 @@ static void ticks(void)
     own("resume", "", 3000);
     static const int64_t seqs[] = {0, INT64_MAX, INT64_MIN, 5, 1000000000005LL, -7, 6};
     for (unsigned i = 0; i < sizeof seqs / sizeof seqs[0]; i++) {
-        wormgear_tick_t t = {.utime = 1, .seq = seqs[i], .nsteps = 1 + (int64_t)i};
+        wormgear_tick_t t = {.utime = 1, .seq = seqs[i], .nsteps = 1 + (int64_t)i,
+                             .client = (char *)"wgfuzz"};
         unsigned char b[64];
         int n = wormgear_tick_t_encode(b, 0, sizeof b, &t);
         publish("TICK", b, (size_t)n);
@@ -694,7 +695,7 @@ static void ticks(void)
     if (dropped < 0 || dropped > 1000)
         fail("hostile tick seqs: msgs_dropped %lld (one gap must count at most a bound)",
              dropped);
-    wormgear_tick_t t = {.utime = 1, .seq = 7, .nsteps = 10000000};
+    wormgear_tick_t t = {.utime = 1, .seq = 7, .nsteps = 10000000, .client = (char *)"wgfuzz"};
     unsigned char b[64];
     int n = wormgear_tick_t_encode(b, 0, sizeof b, &t);
     publish("TICK", b, (size_t)n);
