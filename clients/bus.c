@@ -164,12 +164,26 @@ int bus_signed(bus *c, int type, const lcm_recv_buf_t *rb)
         return 1;
     const unsigned char *b = rb->data;
     long n = bus_msg_size(type, b, (long)rb->data_size); /* the MAC is its last field */
-    int ok = n > 0 && wg_mac_sealed(c->key, b, (size_t)n);
-    if (!ok) {
+    const char *name = type == BUS_ACK ? "ACK" : type == BUS_PARAMS ? "PARAMS" : "STATUS";
+    if (!(n > 0 && wg_mac_sealed(c->key, b, (size_t)n))) {
         c->unverified_n++;
-        c->unverified_type = type == BUS_ACK ? "ACK" : type == BUS_PARAMS ? "PARAMS" : "STATUS";
+        c->unverified_type = name;
+        return 0;
     }
-    return ok;
+    /* the daemon's, but when? utime follows the fingerprint in every type */
+    int k = type == BUS_ACK ? 0 : type == BUS_PARAMS ? 1 : 2;
+    int64_t utime = (int64_t)msg_be(b + 8, 8);
+    int64_t floor = c->opened_us - (int64_t)(BUS_AHEAD_S * 1e6);
+    int newer = c->newest_us[k] > floor; /* the floor: the newest taken, else the start */
+    floor = newer ? c->newest_us[k] : floor;
+    if (utime < floor) {
+        c->old_n++;
+        c->old_type = name;
+        c->old_s = ((double)(newer ? floor : c->opened_us) - (double)utime) * 1e-6;
+        return 0;
+    }
+    c->newest_us[k] = utime;
+    return 1;
 }
 
 static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_t *m, void *u)
@@ -178,8 +192,10 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
     bus *c = u;
     if (m->cmd_seq != c->seq || strcmp(m->client, c->client) != 0)
         return; /* someone else's */
+    long old = c->old_n;
     bus_ack *a = bus_signed(c, BUS_ACK, rb) ? &c->ack : &c->unverified;
     a->got = 1;
+    a->old = c->old_n != old;
     a->accepted = m->accepted;
     a->rc = m->status;
     a->cmd_seq = m->cmd_seq;
@@ -221,6 +237,7 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
     snprintf(c->prefix, sizeof c->prefix, "%s", prefix ? prefix : bus_default_prefix());
     gethostname(host, sizeof host - 1);
     snprintf(c->client, sizeof c->client, "%s-%d@%s", name, (int)getpid(), host);
+    c->opened_us = cli_wall_us();
     c->lcm = lcm_create(url);
     if (!c->lcm) {
         snprintf(why, whylen, "cannot open LCM URL '%s'", url);
@@ -245,16 +262,26 @@ int bus_set_key(bus *c, const char *path, char *why, size_t whylen)
 const char *bus_hint(const bus *c, char *buf, size_t len)
 {
     const bus_ack *u = &c->unverified;
-    if (c->signing && u->got && u->cmd_seq == c->seq)
+    if (c->signing && u->got && u->cmd_seq == c->seq && u->old)
+        snprintf(buf, len, "an answer signed with this key came (%s: %s), and was not taken: "
+                 "the daemon sent it %.1f s before this client started (or before an answer "
+                 "taken earlier), so it answered an earlier process with this client id and "
+                 "seq, played back by another sender; or the daemon's clock stepped back",
+                 u->code, u->message, c->old_s);
+    else if (c->signing && u->got && u->cmd_seq == c->seq)
         snprintf(buf, len, "an answer came that is not signed with this key (%s: %s), and was "
-                 "not taken: a daemon without command_key_file or with another key (if it was "
-                 "the daemon's, it did what that says), or another sender on the bus", u->code,
-                 u->message);
+                 "not taken: " WG_KEY_UNSIGNED_WHO, u->code, u->message);
     else if (c->signing && c->unverified_n)
         snprintf(buf, len, "%ld messages came (the last on %s) that are not signed with this "
                  "key, and were not taken: a daemon without command_key_file or with another "
                  "key, or another sender on the bus; is wormgeard running with this key on %s "
                  "with prefix %s?", c->unverified_n, c->unverified_type, c->url, c->prefix);
+    else if (c->signing && c->old_n)
+        snprintf(buf, len, "%ld messages signed with this key came (the last on %s, sent %.1f "
+                 "s before this client started or before one taken earlier) and were not "
+                 "taken: old ones played back by another sender, or the daemon's clock stepped "
+                 "back; is wormgeard running on %s with prefix %s?", c->old_n, c->old_type,
+                 c->old_s, c->url, c->prefix);
     else
         snprintf(buf, len, "is wormgeard running on %s with prefix %s? (--url, --prefix or "
                  "$WORMGEAR_URL, $WORMGEAR_PREFIX choose another)", c->url, c->prefix);

@@ -32,6 +32,7 @@ typedef struct bus_ack {
     char code[32];
     char op[16];
     char message[768];
+    int old;                  /* signed, but older than bus_signed takes (c->old_s behind) */
 } bus_ack;
 
 typedef struct bus {
@@ -48,6 +49,11 @@ typedef struct bus {
                                  verify (not taken: unsigned, another key, made up) */
     long unverified_n;        /* signing: ACK, PARAMS, STATUS messages not verified (bus_signed) */
     const char *unverified_type; /* the last one's channel suffix */
+    int64_t opened_us;        /* wall clock at bus_open */
+    int64_t newest_us[3];     /* signing: the newest utime taken on ACK, PARAMS, STATUS */
+    long old_n;               /* signing: signed ones not taken as older (bus_signed) */
+    const char *old_type;     /* the last one's channel suffix ... */
+    double old_s;             /* ... how far behind the newest taken, else the start, s */
     lcm_subscription_t *ack_sub;
 } bus;
 
@@ -187,7 +193,10 @@ int bus_wait_ack(bus *c, int timeout_ms);
  * client with a key takes nothing else of those types: what it does
  * (restore a mode, a value; show the daemon's state) must be the daemon's,
  * not what any sender on the group says it is (PROTOCOL.md, "Signed
- * answers"). */
+ * answers"). Nor does it take a signed one played back: its utime (the
+ * daemon's clock) must be at most BUS_AHEAD_S before bus_open, and not
+ * before the newest of its type taken; else 0, counted in c->old_n. */
+#define BUS_AHEAD_S 1.0 /* the daemon's clock may lag a client's this much (its AUTH_AHEAD_S) */
 int bus_signed(bus *c, int type, const lcm_recv_buf_t *rb);
 
 /* Why m is not a PARAMS a daemon sends (any sender on the group can

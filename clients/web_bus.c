@@ -70,8 +70,9 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
 {
     (void)ch;
     web_bus *b = u;
-    if (!bus_signed(&b->c, BUS_ACK, rb)) { /* signing: not the daemon's answer */
-        if (b->h.ack_unverified)
+    long old = b->c.old_n;
+    if (!bus_signed(&b->c, BUS_ACK, rb)) { /* signing: not the daemon's answer, or not now */
+        if (b->c.old_n == old && b->h.ack_unverified)
             b->h.ack_unverified(b->h.ctx, m);
         return;
     }

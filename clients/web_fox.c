@@ -1,6 +1,8 @@
 /* web_fox.c - Foxglove protocol: clients, queues, frames, parameters. */
 #include "web_fox_int.h"
 
+#include "wormgear/wg_key.h"
+
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -404,9 +406,7 @@ void fox_tick(fox *f, double now_s)
         int ci = client_index(f, p->client);
         if (ci >= 0 && p->unverified[0])
             fox_status(f, ci, 2, "no signed ACK within %g s: an answer came that is not signed "
-                       "with the bridge's key (%s), and was not taken: a daemon without "
-                       "command_key_file or with another key (if it was the daemon's, it did "
-                       "what that says), or another sender on the bus",
+                       "with the bridge's key (%s), and was not taken: " WG_KEY_UNSIGNED_WHO,
                        f->conf.ack_timeout_s, p->unverified);
         else if (ci >= 0)
             fox_status(f, ci, 2, "no ACK from the daemon within %g s (is wormgeard running on %s?)",

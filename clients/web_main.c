@@ -227,6 +227,7 @@ static void bridge_status(wgweb *w, double now)
     jb_key(b, "origins_refused"), jb_int(b, (int64_t)w->srv.bad_origin);
     jb_key(b, "params_ignored"), jb_int(b, (int64_t)w->params_ignored);
     jb_key(b, "unverified"), jb_int(b, (int64_t)w->bus.c.unverified_n);
+    jb_key(b, "signed_old"), jb_int(b, (int64_t)w->bus.c.old_n);
     jb_key(b, "clients"), jb_int(b, fox_nclients(&w->fox));
     jb_key(b, "lcm_msgs"), jb_int(b, (int64_t)w->bus.msgs);
     jb_key(b, "lcm_gaps"), jb_int(b, (int64_t)web_bus_gaps(&w->bus));

@@ -74,6 +74,7 @@ static const char *const bridge_fields[] = {
     "b:commands_allowed:--allow-commands", "i:origins_refused:WebSockets refused for their web page Origin",
     "i:params_ignored:PARAMS messages no daemon sends (scale, N, model, stepper or a value off), not forwarded",
     "i:unverified:with --key-file: ACK, PARAMS and STATUS messages not signed with its key (a daemon without it, or another sender), not forwarded",
+    "i:signed_old:with --key-file: signed ACK, PARAMS and STATUS older than the bridge's start or the newest of their kind (played back), not forwarded",
     "i:clients:connected WebSocket clients",
     "i:lcm_msgs:LCM messages received", "i:lcm_gaps:messages lost in seq gaps",
     "n:scope_hz:target /scope samples per wall second",

@@ -42,4 +42,10 @@ void wg_mac_seal(const unsigned char key[WG_KEY_BYTES], unsigned char *msg, size
  * right under key (constant time), else 0. */
 int wg_mac_sealed(const unsigned char key[WG_KEY_BYTES], const unsigned char *msg, size_t n);
 
+/* Who may have sent an answer that a client with a key did not take, as
+ * wgctl, wgrig and wgweb say when no signed one came. */
+#define WG_KEY_UNSIGNED_WHO                                                                 \
+    "a daemon without command_key_file or with another key (if it was the daemon's, it "     \
+    "did what that says), or another sender on the bus"
+
 #endif
