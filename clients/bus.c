@@ -158,31 +158,39 @@ lcm_subscription_t *bus_subscribe(bus *c, const char *suffix, lcm_msg_handler_t 
     return s;
 }
 
+_Static_assert(sizeof ((bus *)0)->newest_us / sizeof(int64_t) == BUS_NTYPE,
+               "bus.newest_us: one per message type");
+
 int bus_signed(bus *c, int type, const lcm_recv_buf_t *rb)
 {
     if (!c->signing)
         return 1;
     const unsigned char *b = rb->data;
     long n = bus_msg_size(type, b, (long)rb->data_size); /* the MAC is its last field */
-    const char *name = type == BUS_ACK ? "ACK" : type == BUS_PARAMS ? "PARAMS" : "STATUS";
+    static const char *const names[BUS_NTYPE] = {
+        [BUS_ACK] = "ACK", [BUS_STATE] = "STATE", [BUS_POINCARE] = "POINCARE",
+        [BUS_CONTACT] = "CONTACT", [BUS_STATUS] = "STATUS", [BUS_PARAMS] = "PARAMS",
+        [BUS_CMD] = "CMD", [BUS_TICK] = "TICK", [BUS_SCOPE] = "SCOPE"};
+    if (type < 0 || type >= BUS_NTYPE)
+        return 0;
+    const char *name = names[type];
     if (!(n > 0 && wg_mac_sealed(c->key, b, (size_t)n))) {
         c->unverified_n++;
         c->unverified_type = name;
         return 0;
     }
     /* the daemon's, but when? utime follows the fingerprint in every type */
-    int k = type == BUS_ACK ? 0 : type == BUS_PARAMS ? 1 : 2;
     int64_t utime = (int64_t)msg_be(b + 8, 8);
     int64_t floor = c->opened_us - (int64_t)(BUS_AHEAD_S * 1e6);
-    int newer = c->newest_us[k] > floor; /* the floor: the newest taken, else the start */
-    floor = newer ? c->newest_us[k] : floor;
+    int newer = c->newest_us[type] > floor; /* the floor: the newest taken, else the start */
+    floor = newer ? c->newest_us[type] : floor;
     if (utime < floor) {
         c->old_n++;
         c->old_type = name;
         c->old_s = ((double)(newer ? floor : c->opened_us) - (double)utime) * 1e-6;
         return 0;
     }
-    c->newest_us[k] = utime;
+    c->newest_us[type] = utime;
     return 1;
 }
 

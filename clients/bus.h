@@ -47,10 +47,10 @@ typedef struct bus {
     bus_ack ack;              /* the ACK of the last command, once it came */
     bus_ack unverified;       /* signing: the last answer to our command that the key did not
                                  verify (not taken: unsigned, another key, made up) */
-    long unverified_n;        /* signing: ACK, PARAMS, STATUS messages not verified (bus_signed) */
+    long unverified_n;        /* signing: messages not verified (bus_signed) */
     const char *unverified_type; /* the last one's channel suffix */
     int64_t opened_us;        /* wall clock at bus_open */
-    int64_t newest_us[3];     /* signing: the newest utime taken on ACK, PARAMS, STATUS */
+    int64_t newest_us[9];     /* signing: the newest utime taken of each type (BUS_NTYPE) */
     long old_n;               /* signing: signed ones not taken as older (bus_signed) */
     const char *old_type;     /* the last one's channel suffix ... */
     double old_s;             /* ... how far behind the newest taken, else the start, s */
@@ -186,16 +186,17 @@ int bus_wait(bus *c, int timeout_ms, int (*done)(void *ctx), void *ctx);
  * counted and kept in c->unverified for bus_hint. */
 int bus_wait_ack(bus *c, int timeout_ms);
 
-/* 1 if the message of type (BUS_ACK, BUS_PARAMS or BUS_STATUS: those a
- * daemon with a key signs), received in rb and already checked
- * (BUS_DECODE), carries the MAC of its bytes under c's key, or c signs
- * nothing (nothing to verify); else 0, counted in c->unverified_n. A
- * client with a key takes nothing else of those types: what it does
- * (restore a mode, a value; show the daemon's state) must be the daemon's,
- * not what any sender on the group says it is (PROTOCOL.md, "Signed
- * answers"). Nor does it take a signed one played back: its utime (the
- * daemon's clock) must be at most BUS_AHEAD_S before bus_open, and not
- * before the newest of its type taken; else 0, counted in c->old_n. */
+/* 1 if the message of type (any the daemon publishes: ACK, PARAMS and
+ * STATUS, and the streams STATE, POINCARE, CONTACT, SCOPE), received in rb
+ * and already checked (BUS_DECODE), carries the MAC of its bytes under c's
+ * key, or c signs nothing (nothing to verify); else 0, counted in
+ * c->unverified_n. A client with a key takes nothing else: what it does
+ * (restore a mode, a value; record a section; show the daemon's state)
+ * must be the daemon's, not what any sender on the group says it is
+ * (PROTOCOL.md, "Signed answers", "Signed streams"). Nor does it take a
+ * signed one played back: its utime (the daemon's clock) must be at most
+ * BUS_AHEAD_S before bus_open, and not before the newest of its type
+ * taken; else 0, counted in c->old_n. */
 #define BUS_AHEAD_S 1.0 /* the daemon's clock may lag a client's this much (its AUTH_AHEAD_S) */
 int bus_signed(bus *c, int type, const lcm_recv_buf_t *rb);
 

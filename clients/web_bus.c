@@ -15,8 +15,10 @@ static void seq_seen(web_bus *b, int k, int64_t seq)
 
 static void on_state(const lcm_recv_buf_t *rb, const char *ch, const wormgear_state_t *m, void *u)
 {
-    (void)rb, (void)ch;
+    (void)ch;
     web_bus *b = u;
+    if (!bus_signed(&b->c, BUS_STATE, rb)) /* signing: not the daemon's (counted) */
+        return;
     seq_seen(b, WEB_BUS_STATE, m->seq);
     if (b->h.state)
         b->h.state(b->h.ctx, m);
@@ -25,8 +27,10 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, const wormgear_st
 static void on_poincare(const lcm_recv_buf_t *rb, const char *ch, const wormgear_poincare_t *m,
                         void *u)
 {
-    (void)rb, (void)ch;
+    (void)ch;
     web_bus *b = u;
+    if (!bus_signed(&b->c, BUS_POINCARE, rb)) /* signing: not the daemon's (counted) */
+        return;
     seq_seen(b, WEB_BUS_POINCARE, m->seq);
     if (b->h.poincare)
         b->h.poincare(b->h.ctx, m);
@@ -35,8 +39,10 @@ static void on_poincare(const lcm_recv_buf_t *rb, const char *ch, const wormgear
 static void on_contact(const lcm_recv_buf_t *rb, const char *ch, const wormgear_contact_t *m,
                        void *u)
 {
-    (void)rb, (void)ch;
+    (void)ch;
     web_bus *b = u;
+    if (!bus_signed(&b->c, BUS_CONTACT, rb)) /* signing: not the daemon's (counted) */
+        return;
     seq_seen(b, WEB_BUS_CONTACT, m->seq);
     if (b->h.contact)
         b->h.contact(b->h.ctx, m);

@@ -61,7 +61,7 @@ typedef struct opts {
 
 typedef struct seqc {      /* per-channel counters */
     bus_streams seq;      /* its senders; .missing: messages dropped */
-    int64_t count, bad;
+    int64_t count, bad, unverified; /* undecodable; with a key, not signed or old */
     int64_t ignored;      /* messages of a sender not shown */
 } seqc;
 
@@ -362,9 +362,11 @@ static void on_raw(const lcm_recv_buf_t *rb, const char *channel, void *u)
     int k = 0;
     while (k < NCH && strcmp(channel + strlen(m->c.prefix), ch_suffix[k]) != 0)
         k++;
-    if ((k == CH_STATUS || k == CH_PARAMS) &&
-        !bus_signed(&m->c, k == CH_STATUS ? BUS_STATUS : BUS_PARAMS, rb)) {
-        m->sc[k].bad++; /* with a key: not the daemon's */
+    static const int type[NCH] = {[CH_STATUS] = BUS_STATUS, [CH_PARAMS] = BUS_PARAMS,
+                                  [CH_STATE] = BUS_STATE, [CH_POINCARE] = BUS_POINCARE,
+                                  [CH_CONTACT] = BUS_CONTACT};
+    if (k < NCH && !bus_signed(&m->c, type[k], rb)) {
+        m->sc[k].unverified++; /* with a key: not the daemon's, or not now */
         return;
     }
     switch (k) {
@@ -558,6 +560,8 @@ static void draw_msgs(mon *m, mon_text *f)
             mon_text_put(f, 33, " (-%ld)", c->seq.missing);
         if (c->bad)
             mon_text_put(f, 31, " (%lld undecodable)", (long long)c->bad);
+        if (c->unverified)
+            mon_text_put(f, 31, " (%lld unverified)", (long long)c->unverified);
     }
     mon_text_put(f, drop ? 33 : 0, "  dropped %ld", drop);
     if (ign)

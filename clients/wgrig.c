@@ -230,9 +230,12 @@ static void on_raw(const lcm_recv_buf_t *rb, const char *ch, void *u)
 {
     rig *r = u;
     const char *s = ch + strlen(r->c.prefix);
-    if (!strcmp(s, "POINCARE")) DECODE(wormgear_poincare_t, BUS_POINCARE, on_poincare);
-    else if (!strcmp(s, "CONTACT")) DECODE(wormgear_contact_t, BUS_CONTACT, on_contact);
-    /* with a key, the daemon's only: the restore at the end sends what they said */
+    /* with a key, the daemon's only: the sections are what it records, and the
+     * restore at the end sends what PARAMS and STATUS said */
+    if (!strcmp(s, "POINCARE") && bus_signed(&r->c, BUS_POINCARE, rb))
+        DECODE(wormgear_poincare_t, BUS_POINCARE, on_poincare);
+    else if (!strcmp(s, "CONTACT") && bus_signed(&r->c, BUS_CONTACT, rb))
+        DECODE(wormgear_contact_t, BUS_CONTACT, on_contact);
     else if (!strcmp(s, "PARAMS") && bus_signed(&r->c, BUS_PARAMS, rb))
         DECODE(wormgear_params_t, BUS_PARAMS, on_params);
     else if (!strcmp(s, "STATUS") && bus_signed(&r->c, BUS_STATUS, rb))

@@ -53,7 +53,7 @@ static void ack(wgd *d, const char *client, int64_t seq, const char *op, int rc,
                         .message = (char *)msg, .tau = d->sim.tau,
                         .t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau),
                         .steps = (int64_t)d->sim.steps};
-    lcmio_pub_ack(&d->io, &a, auth_key(&d->auth));
+    lcmio_pub_ack(&d->io, &a);
     if (rc == WG_OK) {
         d->stat.cmds_accepted++;
         if (strcmp(op, "get") && strcmp(op, "step")) { /* a state change: never lost */
@@ -753,14 +753,20 @@ static void wait_until_us(int64_t t_us)
         ;
 }
 
+int cmd_key_load(wgd *d, char *why, size_t whylen)
+{
+    int rc = auth_load(&d->auth, d->conf.command_key_file, lcmio_now_us(), why, whylen);
+    lcmio_sign_with(&d->io, auth_key(&d->auth)); /* the key in use, new or kept, or none */
+    return rc;
+}
+
 int cmd_init(wgd *d)
 {
     if (inbox_init(&d->in, INBOX_BYTES)) {
         snprintf(d->init_why, sizeof d->init_why, "out of memory for the command inbox");
         return WG_ENOMEM;
     }
-    int rc = auth_load(&d->auth, d->conf.command_key_file, lcmio_now_us(), d->init_why,
-                       sizeof d->init_why);
+    int rc = cmd_key_load(d, d->init_why, sizeof d->init_why);
     if (rc)
         return rc;
     if (d->auth.on) {
@@ -785,5 +791,6 @@ void cmd_fini(wgd *d)
     cmd_step_cancel(d, WG_ESTATE, "cancelled: the daemon is stopping");
     sync_cancel(d, WG_ESTATE, "set at the next section cancelled: the daemon is stopping");
     inbox_fini(&d->in);
+    lcmio_sign_with(&d->io, NULL);
     auth_fini(&d->auth);
 }

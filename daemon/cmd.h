@@ -18,6 +18,12 @@ struct wgd;
 /* Subscribe CMD and TICK. WG_OK or WG_EIO with d->init_why. */
 int cmd_init(struct wgd *d);
 
+/* Take the key of conf.command_key_file ("" = none) for commands and
+ * ticks (auth_load) and sign every message published with the key then in
+ * use (lcmio_sign_with): at the start and at each reload. WG_OK, or
+ * auth_load's error with why (the previous key kept, and still signing). */
+int cmd_key_load(struct wgd *d, char *why, size_t whylen);
+
 /* Nothing to release (subscriptions end with the lcm instance). */
 void cmd_fini(struct wgd *d);
 

@@ -118,40 +118,33 @@ static int send(lcmio *io, int ch, int len)
     return 0;
 }
 
-#define PUB(T, CH)                                                                  \
-    int lcmio_pub_##T(lcmio *io, wormgear_##T##_t *m)                               \
-    {                                                                               \
-        m->utime = lcmio_now_us();                                                  \
-        m->seq = io->seq[CH]++;                                                     \
-        return send(io, CH, wormgear_##T##_t_encode(io->buf, 0, LCMIO_BUF, m));     \
+void lcmio_sign_with(lcmio *io, const unsigned char *key) { io->key = key; }
+
+/* n bytes encoded in io->buf, sealed (wg_mac_seal) when a key is set. n,
+ * or n < 0 as it came. */
+static int sign(lcmio *io, int n)
+{
+    if (n > 0 && io->key)
+        wg_mac_seal(io->key, io->buf, (size_t)n);
+    return n;
+}
+
+#define PUB(T, CH)                                                                     \
+    int lcmio_pub_##T(lcmio *io, wormgear_##T##_t *m)                                  \
+    {                                                                                  \
+        unsigned char mac[WG_MAC_BYTES] = {0};                                         \
+        m->utime = lcmio_now_us();                                                     \
+        m->seq = io->seq[CH]++;                                                        \
+        m->mac_len = io->key ? WG_MAC_BYTES : 0, m->mac = mac;                         \
+        int n = wormgear_##T##_t_encode(io->buf, 0, LCMIO_BUF, m);                     \
+        m->mac_len = 0, m->mac = NULL;                                                 \
+        return send(io, CH, sign(io, n));                                              \
     }
+PUB(ack, CH_ACK)
+PUB(params, CH_PARAMS)
+PUB(status, CH_STATUS)
 PUB(state, CH_STATE)
 PUB(poincare, CH_POINCARE)
 PUB(contact, CH_CONTACT)
 PUB(scope, CH_SCOPE)
 #undef PUB
-
-/* n bytes encoded in io->buf, sealed with key (wg_mac_seal) when there is
- * one. n, or n < 0 as it came. */
-static int sign(lcmio *io, int n, const unsigned char *key)
-{
-    if (n > 0 && key)
-        wg_mac_seal(key, io->buf, (size_t)n);
-    return n;
-}
-
-#define PUB_SIGNED(T, CH)                                                              \
-    int lcmio_pub_##T(lcmio *io, wormgear_##T##_t *m, const unsigned char *key)        \
-    {                                                                                  \
-        unsigned char mac[WG_MAC_BYTES] = {0};                                         \
-        m->utime = lcmio_now_us();                                                     \
-        m->seq = io->seq[CH]++;                                                        \
-        m->mac_len = key ? WG_MAC_BYTES : 0, m->mac = mac;                             \
-        int n = wormgear_##T##_t_encode(io->buf, 0, LCMIO_BUF, m);                     \
-        m->mac_len = 0, m->mac = NULL;                                                 \
-        return send(io, CH, sign(io, n, key));                                         \
-    }
-PUB_SIGNED(ack, CH_ACK)
-PUB_SIGNED(params, CH_PARAMS)
-PUB_SIGNED(status, CH_STATUS)
-#undef PUB_SIGNED

@@ -32,6 +32,7 @@ typedef struct lcmio {
     char ch[CH_COUNT][112];  /* prefix + name */
     int64_t seq[CH_COUNT];   /* next seq per outgoing channel */
     uint64_t published, dropped;
+    const unsigned char *key; /* lcmio_sign_with: the caller's, or NULL */
     unsigned char buf[LCMIO_BUF];
 } lcmio;
 
@@ -61,17 +62,22 @@ uint64_t lcmio_rx_dropped(void);
 /* Microseconds since the epoch (utime of outgoing messages). */
 int64_t lcmio_now_us(void);
 
-/* Stamp utime and seq, encode and publish. 0, or -1 (counted as dropped).
- * ACK, PARAMS and STATUS are signed with key (WG_KEY_BYTES; NULL:
- * unsigned): the MAC covers every byte before mac_len, as a signed
- * command's (PROTOCOL.md, "Signed answers"), so a client with the key tells
- * them from ones a sender on the group made up. */
-int lcmio_pub_ack(lcmio *io, wormgear_ack_t *m, const unsigned char *key);
-int lcmio_pub_params(lcmio *io, wormgear_params_t *m, const unsigned char *key);
+/* Sign every message published from now on with key (WG_KEY_BYTES, the
+ * caller's: it must stay valid while set; NULL: unsigned). The daemon
+ * calls it each time it takes a key or lets one go. */
+void lcmio_sign_with(lcmio *io, const unsigned char *key);
+
+/* Stamp utime and seq, encode, sign when a key is set, and publish. 0, or
+ * -1 (counted as dropped). The MAC covers every byte before mac_len, as a
+ * signed command's (PROTOCOL.md, "Signed answers" and "Signed streams"),
+ * so a client with the key tells the daemon's messages from ones a sender
+ * on the group made up. */
+int lcmio_pub_ack(lcmio *io, wormgear_ack_t *m);
+int lcmio_pub_params(lcmio *io, wormgear_params_t *m);
 int lcmio_pub_state(lcmio *io, wormgear_state_t *m);
 int lcmio_pub_poincare(lcmio *io, wormgear_poincare_t *m);
 int lcmio_pub_contact(lcmio *io, wormgear_contact_t *m);
-int lcmio_pub_status(lcmio *io, wormgear_status_t *m, const unsigned char *key);
+int lcmio_pub_status(lcmio *io, wormgear_status_t *m);
 int lcmio_pub_scope(lcmio *io, wormgear_scope_t *m);
 
 #endif

@@ -250,7 +250,7 @@ static void apply_key(void *ctx, const conf *was)
 {
     wgd *d = ctx;
     char why[640];
-    if (auth_load(&d->auth, d->conf.command_key_file, lcmio_now_us(), why, sizeof why)) {
+    if (cmd_key_load(d, why, sizeof why)) {
         log_msg(&d->log, LOG_ERR, "reload: %s; keeping the previous key", why);
         snprintf(d->conf.command_key_file, sizeof d->conf.command_key_file, "%s",
                  was->command_key_file);
@@ -268,7 +268,7 @@ static void reread_key(wgd *d)
 {
     char why[640];
     int64_t since = d->auth.since_us;
-    if (auth_load(&d->auth, d->conf.command_key_file, lcmio_now_us(), why, sizeof why))
+    if (cmd_key_load(d, why, sizeof why))
         log_msg(&d->log, LOG_ERR, "reload: %s; keeping the running key", why);
     else if (d->auth.since_us != since)
         log_msg(&d->log, LOG_NOTICE, "reload: %s holds a new key: signed commands only under it "

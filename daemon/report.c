@@ -156,7 +156,7 @@ void report_status(wgd *d)
     wormgear_status_t m;
     char regime[24];
     fill_status(d, &m, regime, sizeof regime);
-    lcmio_pub_status(&d->io, &m, auth_key(&d->auth));
+    lcmio_pub_status(&d->io, &m);
 }
 
 void report_fault(wgd *d)
@@ -212,7 +212,7 @@ void report_params(wgd *d, const char *reason, const char *client, int64_t cmd_s
         .ramp_param = rp->active ? (char *)wg_param_info_get(rp->id)->name : (char *)"",
         .ramp_from = rp->v0, .ramp_to = rp->v1, .ramp_tau0 = rp->tau0,
         .ramp_duration_tau = rp->dur};
-    lcmio_pub_params(&d->io, &m, auth_key(&d->auth));
+    lcmio_pub_params(&d->io, &m);
 }
 
 void report_change(wgd *d, int what, const char *reason, const char *client, int64_t cmd_seq)
@@ -257,7 +257,7 @@ void report_tick(wgd *d, int64_t now)
         wormgear_status_t m;
         char regime[24];
         fill_status(d, &m, regime, sizeof regime);
-        lcmio_pub_status(&d->io, &m, auth_key(&d->auth));
+        lcmio_pub_status(&d->io, &m);
         interval_start(d, now);
         s->next_status_ns = now + (int64_t)(SEC_NS / d->conf.status_hz);
     }

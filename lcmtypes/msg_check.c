@@ -39,7 +39,8 @@ typedef struct fld {
 #define D(s, nm) ARR(8, s, nm) /* double nm[count s] */
 
 /* The layouts of the .lcm files here after the 8-byte fingerprint, field
- * by field, with their names (count slots: 0 n, 1 nstate, 2 nbearing). */
+ * by field, with their names (count slots: 0 n, 1 nstate, 2 nbearing; a
+ * MAC's length in slot 1 once nothing after it reads nstate). */
 static const fld ACK[] = {I64("utime"), I64("seq"), STR(0, "client"), I64("cmd_seq"),
                           STR(0, "op"), I8("accepted"), I32("status"), STR(0, "code"),
                           STR(0, "message"), F64("tau"), F64("t_s"), I64("steps"),
@@ -48,16 +49,17 @@ static const fld STATE[] = {
     I64("utime"), I64("seq"), I64("step0"), I32("decimation"), N32(0, 0, "n"),
     D(0, "tau"), D(0, "t_s"), D(0, "omega"), D(0, "xn"), D(0, "dxn"), D(0, "force"),
     D(0, "fb_x1"), D(0, "fb_y1"), D(0, "fb_z1"), D(0, "fb_x2"), D(0, "fb_y2"), D(0, "fb_z2"),
-    D(0, "theta1"), D(0, "theta2"), END};
+    D(0, "theta1"), D(0, "theta2"), MACLEN(1, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 1, "mac"), END};
 static const fld POINCARE[] = {
     I64("utime"), I64("seq"), N32(1, 0, "nstate"), N32(0, 0, "n"), ARR(8, 0, "period"),
     D(0, "tau"), D(0, "t_s"), D(0, "omega"), D(0, "xn"), D(0, "dxn"), D(0, "force"),
     D(0, "min_xn"), D(0, "max_xn"), ARR(1, 0, "motion"), ARR(4, 0, "impacts"),
     ARR2(8, 0, 1, "y"), N32(2, 0, "nbearing"), ARR2(4, 0, 2, "bearing_impacts"),
-    ARR2(8, 0, 2, "bearing_vmax"), END};
+    ARR2(8, 0, 2, "bearing_vmax"), MACLEN(1, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 1, "mac"), END};
 static const fld CONTACT[] = {I64("utime"), I64("seq"), I32("bearing_every"), N32(0, 0, "n"),
                               D(0, "tau"), D(0, "t_s"), D(0, "velocity"), ARR(8, 0, "period"),
-                              ARR(1, 0, "contact"), ARR(1, 0, "kind"), END};
+                              ARR(1, 0, "contact"), ARR(1, 0, "kind"),
+                              MACLEN(1, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 1, "mac"), END};
 static const fld STATUS[] = {
     I64("utime"), I64("seq"), STR(0, "scene"), STR(0, "mode"), F64("rate"), STR(0, "run"),
     STR(0, "health"), STR(0, "fault"), F64("tau"), F64("t_s"), F64("omega"), I64("steps"),
@@ -87,7 +89,8 @@ static const fld TICK[] = {I64("utime"), I64("seq"), I64("nsteps"),
                            STR(MSG_CMD_MAX_CLIENT, "client"),
                            MACLEN(1, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 1, "mac"), END};
 static const fld SCOPE[] = {I64("utime"), I64("seq"), F64("t_s"), F64("tau"), F64("omega"),
-                            F64("xn"), F64("dxn"), F64("force"), END};
+                            F64("xn"), F64("dxn"), F64("force"),
+                            MACLEN(1, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 1, "mac"), END};
 
 static const fld *const LAYOUT[MSG_NTYPE] = {ACK,    STATE, POINCARE, CONTACT, STATUS,
                                              PARAMS, CMD,   TICK,     SCOPE};

@@ -55,16 +55,16 @@ int main(int argc, char **argv)
     for (int i = 0; i < 2; i++)
         for (int k = 0; k < 14; k++)
             yv[i][k] = i + k / 3.0;
-    wormgear_state_t st = {1, 42, 7, 10, 3, a, a, a, a, a, a, a, a, a, a, a, a, a, a};
+    wormgear_state_t st = {1, 42, 7, 10, 3, a, a, a, a, a, a, a, a, a, a, a, a, a, a, 0, NULL};
     ENC(wormgear_state_t, "state_t", &st);
     int64_t per[2] = {5, 6};
     int8_t mot[2] = {1, 2}, kind[2] = {1, 2};
     int32_t imp[2] = {1, 2};
     int32_t bi[2][6] = {{0}, {0, 0, 0, 3, 0, 1}}, *bir[2] = {bi[0], bi[1]};
     double bv[2][6] = {{0}, {0, 0, 0, 0.5, 0, 0.25}}, *bvr[2] = {bv[0], bv[1]};
-    wormgear_poincare_t pc = {1, 43, 14, 2, per, a, a, a, a, a, a, a, a, mot, imp, y, 6, bir, bvr};
+    wormgear_poincare_t pc = {1, 43, 14, 2, per, a, a, a, a, a, a, a, a, mot, imp, y, 6, bir, bvr, 0, NULL};
     ENC(wormgear_poincare_t, "poincare_t", &pc);
-    wormgear_contact_t ct = {1, 44, 10, 2, a, a, a, per, mot, kind};
+    wormgear_contact_t ct = {1, 44, 10, 2, a, a, a, per, mot, kind, 0, NULL};
     ENC(wormgear_contact_t, "contact_t", &ct);
     wormgear_status_t ss = {.utime = 1, .seq = 45, .scene = "table3", .mode = "realtime",
                             .rate = 1, .run = "running", .health = "ok", .fault = "",

@@ -26,8 +26,9 @@
  * twice on PREFIX ACK, "accepted" (code OK, message "forged by wgspoof"),
  * echoing client and seq: once unsigned, once with a MAC that is not one
  * (32 bytes of 0x5a); and every 20 ms a plausible STATUS (mode realtime,
- * rate 1, healthy) on PREFIX STATUS. A client that signs must take none of
- * them; one that does not cannot tell.
+ * rate 1, healthy) on PREFIX STATUS and a plausible POINCARE section at the
+ * omega the last `set` sent, with x_n = 7.77. A client that signs must take
+ * none of them; one that does not cannot tell.
  * usage: wgspoof URL PREFIX SECONDS [params|valid|flood|ack] */
 #include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_cmd_t.h"
@@ -74,12 +75,16 @@ typedef struct forger {
     lcm_t *l;
     char ack[128], params[128];
     long n;
+    double omega; /* the last omega a command set: forged sections carry it */
 } forger;
 
 static void on_cmd(const lcm_recv_buf_t *rb, const char *ch, const wormgear_cmd_t *m, void *u)
 {
     (void)rb, (void)ch;
     forger *f = u;
+    for (int i = 0; !strcmp(m->op, "set") && i < m->nparams; i++)
+        if (!strcmp(m->names[i], "omega"))
+            f->omega = m->values[i];
     unsigned char mac[32];
     memset(mac, 0x5a, sizeof mac);
     char *names[1] = {"omega"}, *units[1] = {"1"};
@@ -104,6 +109,24 @@ static void on_cmd(const lcm_recv_buf_t *rb, const char *ch, const wormgear_cmd_
 
 static void channel(char *out, size_t n, const char *prefix, const char *suffix);
 
+/* "ack": a plausible section at the omega last set, x_n = 7.77 b_c (no
+ * orbit of table3 reaches it), later than any the daemon has sent (tau and
+ * period from 1e9): a rig that took it records it. */
+static void section(lcm_t *l, const char *ch, int64_t seq, double omega)
+{
+    int64_t period = 1000000000 + seq;
+    double y[14] = {0}, *rows[1] = {y}, brow[6] = {0}, *brows[1] = {brow};
+    double t = 1e9 + (double)seq, w = omega, xn = 7.77, dxn = 0.1, force = 7.77;
+    int32_t irow[6] = {0}, *irows[1] = {irow}, imp = 0;
+    int8_t mot = 0;
+    wormgear_poincare_t p = {.utime = (int64_t)(now_s() * 1e6), .seq = seq, .nstate = 14,
+                             .n = 1, .period = &period, .tau = &t, .t_s = &t, .omega = &w,
+                             .xn = &xn, .dxn = &dxn, .force = &force, .min_xn = &xn,
+                             .max_xn = &xn, .motion = &mot, .impacts = &imp, .y = rows,
+                             .nbearing = 6, .bearing_impacts = irows, .bearing_vmax = brows};
+    wormgear_poincare_t_publish(l, ch, &p);
+}
+
 static int forge_acks(lcm_t *l, const char *prefix, double end)
 {
     forger f = {.l = l};
@@ -111,8 +134,9 @@ static int forge_acks(lcm_t *l, const char *prefix, double end)
     channel(f.ack, sizeof f.ack, prefix, "ACK");
     channel(f.params, sizeof f.params, prefix, "PARAMS");
     channel(cc, sizeof cc, prefix, "CMD");
-    char cs[128];
+    char cs[128], cp[128];
     channel(cs, sizeof cs, prefix, "STATUS");
+    channel(cp, sizeof cp, prefix, "POINCARE");
     wormgear_cmd_t_subscription_t *s = wormgear_cmd_t_subscribe(l, cc, on_cmd, &f);
     for (int64_t seq = 0; now_s() < end; seq++) {
         double zero6[6] = {0};
@@ -123,6 +147,7 @@ static int forge_acks(lcm_t *l, const char *prefix, double end)
                                 .bearing_impacts_per_period = zero6,
                                 .bearing_impact_vmax = zero6, .regime = "P1"};
         wormgear_status_t_publish(l, cs, &st);
+        section(l, cp, seq, f.omega);
         lcm_handle_timeout(l, 20);
     }
     wormgear_cmd_t_unsubscribe(l, s);

@@ -1,5 +1,5 @@
 #!/bin/sh
-# test_auth.sh WORMGEARD WGCTL LCM_LOGGER LCM_LOGPLAYER - signed commands
+# test_auth.sh WORMGEARD WGCTL LCM_LOGGER LCM_LOGPLAYER WGSPOOF WGRIG WGMON - signed commands
 # against the real daemon: a signed command captured on the bus (lcm-logger)
 # and played back (lcm-logplayer) is refused by the daemon that accepted it
 # and, after a SIGKILL and a restart with the same key, by the new one; a
@@ -8,7 +8,7 @@
 # up by another sender (wgspoof ack) are not taken; in lockstep only signed
 # ticks (wgctl tick) run, once. Run through netns.sh
 # (host-local URL only).
-D=$1 C=$2 L=$3 P=$4 SPOOF=$5 RIG=$6
+D=$1 C=$2 L=$3 P=$4 SPOOF=$5 RIG=$6 MON=$7
 code=0
 tmp=$(mktemp -d) || exit 1
 pid= lpid= spid=
@@ -130,6 +130,11 @@ sleep 0.5
 "$RIG" $K --from 0.5 --to 0.6 --points 2 --dir up --fast --settle 50 --record 64 --no-lle \
     --out "$tmp/rig" >"$tmp/rig.out" 2>&1 || fail "wgrig with the key beside the forger: $(tail -3 "$tmp/rig.out")"
 kill $spid; wait $spid 2>/dev/null; spid= # the forger gone: what follows is the daemon's
+# the forger's sections (x_n = 7.77 at the omega just set, every 20 ms) are
+# not among what wgrig recorded; the daemon's are (a field of exactly 7.77:
+# the daemon's tau may hold those digits)
+[ "$(wc -l <"$tmp/rig-sections.csv")" -gt 10 ] || fail "wgrig recorded no sections: $(head -3 "$tmp/rig-sections.csv")"
+grep -q ",7\.77," "$tmp/rig-sections.csv" && fail "wgrig recorded the forger's sections: $(grep -m2 ",7\.77," "$tmp/rig-sections.csv")"
 "$C" $K status >"$tmp/out" 2>&1
 grep -q "mode realtime (rate 0.05)" "$tmp/out" || fail "wgrig restored the forger's mode: $(head -3 "$tmp/out")"
 omega_is 1.5 "wgrig's restore beside the forger"
@@ -141,6 +146,12 @@ grep -q "messages came (the last on STATUS) that are not signed with this key" "
     fail "forged STATUS: not said so: $(cat "$tmp/out")"
 kill -CONT $pid
 "$C" $K status >"$tmp/out" 2>&1 || fail "signed status beside a forger: $(cat "$tmp/out")"
+# wgmon with the key beside the forger's STATE, POINCARE and STATUS: the
+# daemon's messages shown, the forger's counted as unverified
+WORMGEAR_KEY_FILE="$tmp/key" "$MON" --once --size 160x40 >"$tmp/mon.out" 2>&1 ||
+    fail "wgmon with the key beside a forger: $(tail -3 "$tmp/mon.out")"
+grep -Eq "STATE [1-9][0-9]* \([0-9]+ unverified\)" "$tmp/mon.out" ||
+    fail "wgmon: no daemon STATE with the forger's counted unverified: $(grep msgs "$tmp/mon.out")"
 kill $spid; wait $spid 2>/dev/null; spid=
 
 # ---- ticks: in lockstep a TICK owes steps and gets no answer; with a key
