@@ -165,8 +165,6 @@ int bus_signed(bus *c, int type, const lcm_recv_buf_t *rb)
 {
     if (!c->signing)
         return 1;
-    const unsigned char *b = rb->data;
-    long n = bus_msg_size(type, b, (long)rb->data_size); /* the MAC is its last field */
     static const char *const names[BUS_NTYPE] = {
         [BUS_ACK] = "ACK", [BUS_STATE] = "STATE", [BUS_POINCARE] = "POINCARE",
         [BUS_CONTACT] = "CONTACT", [BUS_STATUS] = "STATUS", [BUS_PARAMS] = "PARAMS",
@@ -174,6 +172,8 @@ int bus_signed(bus *c, int type, const lcm_recv_buf_t *rb)
     if (type < 0 || type >= BUS_NTYPE)
         return 0;
     const char *name = names[type];
+    const unsigned char *b = rb->data;
+    long n = bus_msg_size(type, b, (long)rb->data_size); /* the MAC is its last field */
     if (!(n > 0 && wg_mac_sealed(c->key, b, (size_t)n))) {
         c->unverified_n++;
         c->unverified_type = name;
