@@ -311,9 +311,21 @@ wormgear_cmd_t bus_cmd(const char *op)
     return (wormgear_cmd_t){.op = (char *)op, .unit = (char *)"", .name = (char *)""};
 }
 
-int64_t bus_send(bus *c, wormgear_cmd_t *cmd)
+/* n bytes encoded in buf (n < 0: encoding failed), sealed when c signs
+ * (the MAC is the message's last field: it covers what precedes mac_len),
+ * published on PREFIX+suffix. 0, or -1. */
+static int seal_publish(bus *c, const char *suffix, unsigned char *buf, int n)
 {
     char ch[128];
+    if (n < 0)
+        return -1;
+    if (c->signing)
+        wg_mac_seal(c->key, buf, (size_t)n);
+    return lcm_publish(c->lcm, bus_channel(c, suffix, ch, sizeof ch), buf, (unsigned)n) ? -1 : 0;
+}
+
+int64_t bus_send(bus *c, wormgear_cmd_t *cmd)
+{
     cmd->utime = cli_wall_us();
     cmd->seq = ++c->seq;
     cmd->client = c->client;
@@ -323,28 +335,16 @@ int64_t bus_send(bus *c, wormgear_cmd_t *cmd)
     cmd->mac = mac;
     int n = wormgear_cmd_t_encode(buf, 0, sizeof buf, cmd);
     cmd->mac = NULL, cmd->mac_len = 0;
-    if (n < 0)
-        return -1;
-    if (c->signing) /* mac is the message's last field: it covers what precedes mac_len */
-        wg_mac_seal(c->key, buf, (size_t)n);
-    if (lcm_publish(c->lcm, bus_channel(c, "CMD", ch, sizeof ch), buf, (unsigned)n) != 0)
-        return -1;
-    return cmd->seq;
+    return seal_publish(c, "CMD", buf, n) ? -1 : cmd->seq;
 }
 
 int64_t bus_tick(bus *c, int64_t nsteps)
 {
-    char ch[128];
     unsigned char buf[512], mac[WG_MAC_BYTES] = {0};
     wormgear_tick_t t = {.utime = cli_wall_us(), .seq = c->tick_seq + 1, .nsteps = nsteps,
                          .client = c->client, .mac_len = c->signing ? WG_MAC_BYTES : 0,
                          .mac = mac};
-    int n = wormgear_tick_t_encode(buf, 0, sizeof buf, &t);
-    if (n < 0)
-        return -1;
-    if (c->signing)
-        wg_mac_seal(c->key, buf, (size_t)n);
-    if (lcm_publish(c->lcm, bus_channel(c, "TICK", ch, sizeof ch), buf, (unsigned)n) != 0)
+    if (seal_publish(c, "TICK", buf, wormgear_tick_t_encode(buf, 0, sizeof buf, &t)))
         return -1;
     return c->tick_seq = t.seq;
 }
