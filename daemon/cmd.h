@@ -5,8 +5,8 @@
  * undecodable messages silently): a message that does not decode is still
  * answered (EDECODE; client and seq recovered when the header is intact,
  * else "" / -1). Validation happens completely before anything changes;
- * refusals are logged (rate-limited) and counted. Also subscribes TICK for
- * external lockstep. Semantics and codes: lcmtypes/PROTOCOL.md. */
+ * refusals are logged (rate-limited) and counted. TICK (external lockstep)
+ * is lockstep.h's. Semantics and codes: lcmtypes/PROTOCOL.md. */
 #ifndef WGD_CMD_H
 #define WGD_CMD_H
 
@@ -15,7 +15,7 @@
 
 struct wgd;
 
-/* Subscribe CMD and TICK. WG_OK or WG_EIO with d->init_why. */
+/* Subscribe CMD. WG_OK or WG_EIO with d->init_why. */
 int cmd_init(struct wgd *d);
 
 /* Take the key of conf.command_key_file ("" = none) for commands and
@@ -44,10 +44,6 @@ uint64_t cmd_run(struct wgd *d, uint64_t n);
 /* Advance a pending `step` command by at most max steps; ACKs it when done
  * (or refuses it on a blow-up). Returns the steps run. */
 uint64_t cmd_step_progress(struct wgd *d, uint64_t max);
-
-/* Run at most max of the steps TICK messages asked for (lockstep and
- * running; otherwise they lapse); returns the steps run. */
-uint64_t cmd_tick_progress(struct wgd *d, uint64_t max);
 
 /* Refuse a pending `step` (pause, reset, mode change) with return code
  * code (WG_E*) and why. */

@@ -3,6 +3,7 @@
 
 #include "cmd.h"
 #include "engine.h"
+#include "lockstep.h"
 #include "report.h"
 #include "sdn.h"
 #include "snap.h"
@@ -84,7 +85,7 @@ static int step_slice(wgd *d, uint64_t n)
     if (d->step.active) {
         cmd_step_progress(d, n);
     } else if (d->owed.ticks && running_in(d, MODE_LOCKSTEP)) {
-        cmd_tick_progress(d, n);
+        lockstep_progress(d, n);
     } else if (d->owed.realtime && running_in(d, MODE_REALTIME)) {
         n = n < d->owed.realtime ? n : d->owed.realtime;
         uint64_t done = cmd_run(d, n);
@@ -206,7 +207,7 @@ static void on_lcm(struct ev_loop *loop, ev_io *w, int revents)
     (void)loop;
     (void)revents;
     wgd *d = w->data;
-    lcmio_drain(&d->io, 256); /* cmd.c's CMD and TICK handlers: quick, CMD only queues */
+    lcmio_drain(&d->io, 256); /* CMD (cmd.c) and TICK (lockstep.c) handlers: quick */
     cmd_process(d, WORK_CHUNK_NS);
     sync_work(d);
 }

@@ -3,6 +3,7 @@
  * start, 2 on a usage or configuration error. */
 #include "cmd.h"
 #include "engine.h"
+#include "lockstep.h"
 #include "loop.h"
 #include "report.h"
 #include "sdn.h"
@@ -88,13 +89,14 @@ static int m_snap(wgd *d)
 }
 
 static int m_cmd(wgd *d) { return cmd_init(d) ? 1 : 0; }
+static int m_lockstep(wgd *d) { return lockstep_init(d) ? 1 : 0; }
 static int m_loop(wgd *d) { return loop_init(d) ? 1 : 0; }
 static int m_report(wgd *d) { return report_init(d), 0; }
 static int m_sdn(wgd *d) { return sdn_init(&d->sd), 0; }
 static void f_lcm(wgd *d) { lcmio_fini(&d->io); }
 static void f_stream(wgd *d) { stream_fini(&d->st); }
 static void f_sdn(wgd *d) { sdn_fini(&d->sd); }
-static void f_snap(wgd *d) { (void)d; }
+static void f_none(wgd *d) { (void)d; }
 
 /* In dependency order; finalised in reverse. */
 static const struct module {
@@ -102,11 +104,12 @@ static const struct module {
     int (*init)(wgd *d); /* 0, 1 runtime failure, 2 config error */
     void (*fini)(wgd *d);
 } modules[] = {
-    {"snap", m_snap, f_snap},
+    {"snap", m_snap, f_none},
     {"engine", m_engine, engine_fini},
     {"lcm", m_lcm, f_lcm},
     {"stream", m_stream, f_stream},
     {"cmd", m_cmd, cmd_fini},
+    {"lockstep", m_lockstep, f_none},
     {"loop", m_loop, loop_fini},
     {"report", m_report, report_fini},
     {"sdn", m_sdn, f_sdn},

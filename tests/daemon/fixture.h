@@ -12,6 +12,7 @@
 #define WGD_FIXTURE_H
 
 #include "cmd.h"
+#include "lockstep.h"
 #include "engine.h"
 #include "report.h"
 
@@ -198,6 +199,7 @@ static inline wgd *setup(int steps_per_period)
                   WG_OK);
     stream_init(&d->st, d->sim.nstate, &d->scene.scale, 1);
     ASSERT_EQ_INT(cmd_init(d), WG_OK);
+    ASSERT_EQ_INT(lockstep_init(d), WG_OK);
     pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
                    d->sim.tau);
     report_init(d);

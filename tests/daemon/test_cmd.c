@@ -341,7 +341,7 @@ static void test_ticks(void)
     ASSERT_EQ_INT(d->owed.ticks, 10000008);
     ASSERT_EQ_INT(d->sim.steps, 0); /* nothing ran in the LCM callback */
     ASSERT_EQ_INT(simple(d, "get", ""), WG_OK); /* answered with 1e7 steps owed */
-    uint64_t done = cmd_tick_progress(d, 1000);
+    uint64_t done = lockstep_progress(d, 1000);
     ASSERT_EQ_INT(done, 1000);
     ASSERT_EQ_INT(d->owed.ticks, 10000008 - 1000);
     tick(d, 12, 0); /* out of range: ignored */
@@ -350,7 +350,7 @@ static void test_ticks(void)
         tick(d, 13 + i, 10000000);
     ASSERT_TRUE(d->owed.ticks <= 1000000000);
     ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK); /* a stopped run: owed ticks lapse */
-    ASSERT_EQ_INT(cmd_tick_progress(d, 1000), 0);
+    ASSERT_EQ_INT(lockstep_progress(d, 1000), 0);
     ASSERT_EQ_INT(d->owed.ticks, 0);
     teardown(d);
 }
@@ -368,7 +368,7 @@ static void test_ticks_lapse(void)
         tick(d, i, 10000000);
     ASSERT_EQ_INT(d->owed.ticks, 1000000000);
     ASSERT_STR(report_run_name(d), "stepping");
-    ASSERT_EQ_INT(cmd_tick_progress(d, 1000), 1000);
+    ASSERT_EQ_INT(lockstep_progress(d, 1000), 1000);
     ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK);
     ASSERT_EQ_INT(d->owed.ticks, 0); /* at once, not when the loop next looks */
     ASSERT_STR(report_run_name(d), "paused");

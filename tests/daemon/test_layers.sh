@@ -4,13 +4,15 @@
 #
 # One module is one .c/.h pair whose public functions carry its name as a
 # prefix (cmd.c: cmd_*). The layers, top first:
-#   main > loop > cmd > engine, report > stream, pace, auth > lcmio, inbox, snap, wire, sdn, conf, log
+#   main > loop > lockstep > cmd > engine, report > stream, pace, auth >
+#   lcmio, inbox, snap, wire, sdn, conf, log
 # A module may call functions of, or include the header of, modules in lower
 # layers only: never its own layer (engine and report are peers) nor above.
 # What a lower module must tell an upper one, it returns or reports through
 # a hook the upper one passes in. wgd.h (the one struct) is shared by all.
 #
-# (inbox: the commands waiting, below cmd.)
+# (inbox: the commands waiting, below cmd; lockstep: TICK, above cmd, whose
+# step path cmd_run it runs the owed steps through.)
 #
 # Checked: every daemon/*.c is placed in a layer; every non-static function
 # a .c defines is declared in its own header with its prefix; no call,
@@ -19,7 +21,7 @@
 set -u
 dir=${1:?usage: test_layers.sh DAEMON_DIR [CC]}
 cc=${2:-cc}
-layers="main:6 loop:5 cmd:4 engine:3 report:3 stream:2 pace:2 auth:2 lcmio:1 inbox:1 snap:1 wire:1 sdn:1 conf:1 log:1"
+layers="main:7 loop:6 lockstep:5 cmd:4 engine:3 report:3 stream:2 pace:2 auth:2 lcmio:1 inbox:1 snap:1 wire:1 sdn:1 conf:1 log:1"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
