@@ -53,7 +53,8 @@ static void usage(FILE *f)
             "  reset [--params]           back to the scene's initial state (and parameters)\n"
             "  step N                     advance N RK4 steps (lockstep mode, or paused)\n"
             "  tick N                     one TICK owing N RK4 steps (lockstep; a TICK has no\n"
-            "                             answer: status shows the steps; signed with a key)\n"
+            "                             answer: status shows the steps, or why ticks were\n"
+            "                             refused; signed with a key)\n"
             "  mode realtime|fast|lockstep [RATE]\n"
             "                             change pacing (RATE: realtime factor, 1 = physical)\n"
             "  contacts all|mesh|none [N] which contact events the daemon publishes on CONTACT:\n"
@@ -157,7 +158,7 @@ static void clean_params(wormgear_params_t *p)
 static void clean_status(wormgear_status_t *s)
 {
     CLEAN(s->scene), CLEAN(s->mode), CLEAN(s->run), CLEAN(s->health), CLEAN(s->fault);
-    CLEAN(s->motion), CLEAN(s->regime);
+    CLEAN(s->motion), CLEAN(s->regime), CLEAN(s->tick_refusal);
 }
 
 /* s as a JSON string literal (quotes, backslashes and control characters
@@ -308,7 +309,8 @@ static int do_tick(ctl *t, int n, char **args)
                ",\"signed\":%s}\n", seq, v, t->c.signing ? "true" : "false");
     else
         printf("sent TICK seq %" PRId64 ": %" PRId64 " steps, %s (no answer comes: in lockstep "
-               "mode the daemon runs them; 'wgctl status' shows its steps)\n", seq, v,
+               "mode the daemon runs them; 'wgctl status' shows its steps, and its ticks "
+               "refused with why)\n", seq, v,
                t->c.signing ? "signed" : "unsigned");
     return 0;
 }
@@ -523,6 +525,8 @@ static void print_status(const ctl *t, const wormgear_status_t *s)
         json_str(stdout, s->motion);
         printf(",\"impacts_per_period\":%.6g,\"regime\":", s->impacts_per_period);
         json_str(stdout, s->regime);
+        printf(",\"ticks_refused\":%lld,\"tick_refusal\":", (long long)s->ticks_refused);
+        json_str(stdout, s->tick_refusal);
         printf(",\"seq\":%lld}\n", (long long)s->seq);
         return;
     }
@@ -543,6 +547,9 @@ static void print_status(const ctl *t, const wormgear_status_t *s)
     printf("messages  %lld dropped; commands %lld accepted, %lld refused; up %.1f s\n",
            (long long)s->msgs_dropped, (long long)s->cmds_accepted, (long long)s->cmds_refused,
            s->uptime_s);
+    if (s->ticks_refused) /* a tick has no answer: this is its refusal */
+        printf("ticks     %lld refused; the last: %s\n", (long long)s->ticks_refused,
+               s->tick_refusal);
 }
 
 static int do_status(ctl *t)

@@ -67,9 +67,10 @@ typedef struct seqc {      /* per-channel counters */
 
 typedef struct status_copy {
     char scene[64], mode[16], run[16], health[16], fault[160], motion[24], regime[32];
+    char tick_refusal[200];
     double rate, tau, t_s, omega, rtf, lag_s, loop_mean_us, loop_max_us, steps_per_s, cpu;
     double imp_pp, uptime_s;
-    int64_t period, overruns, dropped, acc, ref;
+    int64_t period, overruns, dropped, acc, ref, ticks_refused;
     int N, ramp;
 } status_copy;
 
@@ -273,7 +274,8 @@ static void on_status(mon *m, const wormgear_status_t *s)
     status_copy *c = &m->st;
     CPY(c->scene, s->scene); CPY(c->mode, s->mode); CPY(c->run, s->run);
     CPY(c->health, s->health); CPY(c->fault, s->fault); CPY(c->motion, s->motion);
-    CPY(c->regime, s->regime);
+    CPY(c->regime, s->regime); CPY(c->tick_refusal, s->tick_refusal);
+    c->ticks_refused = s->ticks_refused;
     c->rate = s->rate; c->tau = s->tau; c->t_s = s->t_s; c->omega = s->omega;
     c->rtf = s->rtf; c->lag_s = s->lag_s; c->loop_mean_us = s->loop_mean_us;
     c->loop_max_us = s->loop_max_us; c->steps_per_s = s->steps_per_s; c->cpu = s->cpu_share;
@@ -571,6 +573,11 @@ static void draw_msgs(mon *m, mon_text *f)
     mon_text_put(f, 0, "  mesh impacts %ld",
                  m->contacts[WG_C_MESH][WG_EV_DRIVE_IMPACT] + m->contacts[WG_C_MESH][WG_EV_BACK_IMPACT]);
     mon_text_nl(f);
+    if (m->st.ticks_refused) { /* a TICK has no answer: its refusal shows here */
+        mon_text_put(f, 31, "ticks   %lld refused", (long long)m->st.ticks_refused);
+        mon_text_put(f, 0, ", the last: %s", m->st.tick_refusal);
+        mon_text_nl(f);
+    }
 }
 
 /* Build a frame (clear: the whole screen first, after a resize). */

@@ -7,14 +7,15 @@
 #include "wormgear/wg_status.h"
 
 #include <inttypes.h>
+#include <stdarg.h>
 #include <stdio.h>
 
-enum { TICK_WHY = 640,       /* room for why a tick was not taken */
-       TICK_QUEUE = 16384 }; /* TICK messages LCM may hold for us */
+enum { TICK_QUEUE = 16384,         /* TICK messages LCM may hold for us */
+       TICK_NSTEPS_MAX = 10000000 }; /* the steps one tick may owe */
 
 /* TICK seq: a gap up to TICK_GAP_MAX is messages lost; a larger jump, or
  * one backwards, is a new or restarted sender (counted apart, never added
- * to drops). Wrap-safe: seq is any int64, INT64_MAX included. */
+ * to the gaps). Wrap-safe: seq is any int64, INT64_MAX included. */
 enum { TICK_GAP_MAX = 100000 };
 #define TICK_OWED_MAX 1e9 /* steps owed to TICKs beyond this are refused */
 
@@ -24,7 +25,7 @@ static void tick_seq(wgd *d, int64_t seq)
     uint64_t gap = (uint64_t)seq - s->tick_seq_next;
     if (s->tick_seen && gap != 0) {
         if (gap <= TICK_GAP_MAX) {
-            s->drops += gap;
+            s->tick_gaps += gap;
         } else {
             s->tick_senders++;
             log_msg(&d->log, LOG_NOTICE, "TICK seq jumped to %" PRId64 " (expected %" PRId64
@@ -36,46 +37,62 @@ static void tick_seq(wgd *d, int64_t seq)
     s->tick_seen = 1;
 }
 
+/* A tick not taken: it changes nothing but this count and why (STATUS
+ * ticks_refused, tick_refusal: the driver's one answer) and a log line,
+ * limited per call site. */
+static void refuse(wgd *d, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void refuse(wgd *d, const char *fmt, ...)
+{
+    char text[WGD_TICK_WHY], safe[4 * WGD_TICK_WHY];
+    va_list ap, aq;
+    va_start(ap, fmt);
+    va_copy(aq, ap);
+    vsnprintf(text, sizeof text, fmt, ap);
+    log_vmsg(&d->log, LOG_WARNING, fmt, aq);
+    va_end(aq);
+    va_end(ap);
+    snprintf(d->stat.tick_why, sizeof d->stat.tick_why, "%s", log_escape(text, safe, sizeof safe));
+    d->stat.ticks_refused++;
+}
+
 /* External lockstep tick: owe nsteps, run by the loop in bounded chunks
- * (lockstep_progress); no ACK. With a key, a tick that is not signed, fresh
- * and new from its client is logged, counted as dropped and changes
- * nothing (not even the seq count: a forger's seq says nothing). */
+ * (lockstep_progress); no ACK. A tick that does not decode, asks for steps
+ * outside [1, TICK_NSTEPS_MAX] or more than TICK_OWED_MAX owed in all, or
+ * (with a key) is not signed, fresh and new from its client, is refused
+ * (refuse) and changes nothing (a key's refusal not even the seq count: a
+ * forger's seq says nothing). Outside lockstep, paused, or while a `step`
+ * command runs, a tick lapses: STATUS mode and run say why. */
 static void on_tick(const lcm_recv_buf_t *rb, const char *channel, void *user)
 {
     (void)channel;
     wgd *d = user;
     wormgear_tick_t t;
-    char why[TICK_WHY] = "rejected by the decoder";
+    char why[WGD_TICK_WHY] = "rejected by the decoder";
     int32_t mac_len;
     if (wire_tick_check(rb->data, rb->data_size, &mac_len, why, sizeof why) ||
         wormgear_tick_t_decode(rb->data, 0, (int)rb->data_size, &t) < 0) {
-        d->stat.drops++;
-        log_msg(&d->log, LOG_WARNING, "undecodable TICK message (%u bytes) ignored: %s",
-                rb->data_size, why);
+        refuse(d, "undecodable TICK message (%u bytes) ignored: %s", rb->data_size, why);
         return;
     }
     int rc = auth_check(&d->auth, AUTH_TICK, rb->data, rb->data_size, mac_len, t.client, t.seq,
                         t.utime, lcmio_now_us(), why, sizeof why);
-    wormgear_tick_t_decode_cleanup(&t);
+    wormgear_tick_t_decode_cleanup(&t); /* t.client freed; the numbers stay */
     if (rc) {
-        d->stat.drops++;
-        log_msg(&d->log, LOG_WARNING, "TICK (seq %" PRId64 ", %" PRId64 " steps) refused: %s",
-                t.seq, t.nsteps, why);
+        refuse(d, "TICK (seq %" PRId64 ", %" PRId64 " steps) refused: %s", t.seq, t.nsteps, why);
         return;
     }
     tick_seq(d, t.seq);
-    if (d->conf.mode != MODE_LOCKSTEP || d->run != RUN_RUNNING || d->step.active)
-        return;
-    if (t.nsteps < 1 || t.nsteps > 10000000) {
-        log_msg(&d->log, LOG_WARNING, "TICK nsteps = %" PRId64 " outside [1, 1e7]: ignored",
-                t.nsteps);
+    if (t.nsteps < 1 || t.nsteps > TICK_NSTEPS_MAX) {
+        refuse(d, "TICK (seq %" PRId64 ", %" PRId64 " steps) refused: a tick owes 1 to %d "
+               "steps", t.seq, t.nsteps, TICK_NSTEPS_MAX);
         return;
     }
+    if (d->conf.mode != MODE_LOCKSTEP || d->run != RUN_RUNNING || d->step.active)
+        return;
     if ((double)d->owed.ticks + (double)t.nsteps > TICK_OWED_MAX) {
-        d->stat.drops++;
-        log_msg(&d->log, LOG_WARNING, "TICK of %" PRId64 " steps ignored: %" PRIu64 " steps "
-                "from earlier ticks still to run (limit %g)", t.nsteps, d->owed.ticks,
-                TICK_OWED_MAX);
+        refuse(d, "TICK (seq %" PRId64 ", %" PRId64 " steps) refused: %" PRIu64 " steps from "
+               "earlier ticks still to run, at most %g may be owed", t.seq, t.nsteps,
+               d->owed.ticks, TICK_OWED_MAX);
         return;
     }
     d->owed.ticks += (uint64_t)t.nsteps;

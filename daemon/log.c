@@ -186,13 +186,18 @@ static void vemit(const log_ctx *l, int prio, const char *fmt, va_list ap)
     emit(l, prio, log_escape(text, safe, sizeof safe));
 }
 
-void log_msg(log_ctx *l, int prio, const char *fmt, ...)
+void log_vmsg(log_ctx *l, int prio, const char *fmt, va_list ap)
 {
     if (prio > l->max_prio || limited(l, prio, fmt))
         return;
+    vemit(l, prio, fmt, ap);
+}
+
+void log_msg(log_ctx *l, int prio, const char *fmt, ...)
+{
     va_list ap;
     va_start(ap, fmt);
-    vemit(l, prio, fmt, ap);
+    log_vmsg(l, prio, fmt, ap);
     va_end(ap);
 }
 

@@ -17,6 +17,7 @@
 #ifndef WGD_LOG_H
 #define WGD_LOG_H
 
+#include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <syslog.h>
@@ -77,6 +78,10 @@ const char *log_escape(const char *s, char *out, size_t n);
 /* Log one line at syslog priority prio (LOG_ERR ... LOG_DEBUG), rate-limited
  * per format string. */
 void log_msg(log_ctx *l, int prio, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+/* log_msg with its arguments in ap (limited per fmt as log_msg is). */
+void log_vmsg(log_ctx *l, int prio, const char *fmt, va_list ap)
+    __attribute__((format(printf, 3, 0)));
 
 /* Log an accepted state change: never rate-limited, except a repeat of the
  * change just logged (the same `what`, e.g. op and result), which is

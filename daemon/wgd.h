@@ -25,6 +25,7 @@
 
 enum { RUN_RUNNING, RUN_PAUSED };
 enum { HEALTH_OK, HEALTH_LAGGING, HEALTH_FAULT };
+enum { WGD_TICK_WHY = 512 }; /* room for why a TICK was not taken (STATUS tick_refusal) */
 
 /* A `step` command in progress (its ACK is sent when it completes). */
 typedef struct stepjob {
@@ -67,7 +68,10 @@ typedef struct stats {
     double bearing_ipp[WG_NBEARING], bearing_vmax[WG_NBEARING]; /* per bearing, x1 ... z2 */
     int health;
     int64_t next_status_ns, next_params_ns, next_fg_ns, next_flush_ns, next_scope_ns;
-    uint64_t cmds_accepted, cmds_refused, drops; /* drops: tick gaps and the like */
+    uint64_t cmds_accepted, cmds_refused;
+    uint64_t tick_gaps;        /* TICKs lost: the gaps in their seq */
+    uint64_t ticks_refused;    /* TICKs not taken (lockstep.c) */
+    char tick_why[WGD_TICK_WHY]; /* why the last was not taken, escaped ("" none yet) */
     uint64_t tick_seq_next;    /* expected TICK seq (wraps; valid once tick_seen) */
     int tick_seen;
     uint64_t tick_senders;     /* TICK seq discontinuities: a new or restarted sender */

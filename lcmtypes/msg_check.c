@@ -66,7 +66,8 @@ static const fld STATUS[] = {
     I64("period"), I32("steps_per_period"), F64("rtf"), F64("lag_s"), I64("overruns"),
     F64("loop_mean_us"), F64("loop_max_us"), F64("steps_per_s"), F64("cpu_share"),
     I64("msgs_dropped"), I64("cmds_accepted"), I64("cmds_refused"), I64("cmds_dropped"),
-    I64("rx_dropped"), STR(0, "motion"), F64("impacts_per_period"), N8(2, "nbearing"),
+    I64("rx_dropped"), I64("ticks_refused"), STR(0, "tick_refusal"), STR(0, "motion"),
+    F64("impacts_per_period"), N8(2, "nbearing"),
     D(2, "bearing_impacts_per_period"), D(2, "bearing_impact_vmax"), STR(0, "regime"),
     I8("ramp_active"), F64("uptime_s"), MACLEN(0, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 0, "mac"),
     END};

@@ -36,7 +36,7 @@ static void on_status(const lcm_recv_buf_t *r, const char *ch, const wormgear_st
     B.last = *m;
     snprintf(B.health, sizeof B.health, "%s", m->health);
     B.last.scene = B.last.mode = B.last.run = B.last.health = B.last.fault = B.last.motion =
-        B.last.regime = NULL;
+        B.last.regime = B.last.tick_refusal = NULL;
     B.nstatus++;
 }
 

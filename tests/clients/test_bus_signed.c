@@ -40,7 +40,7 @@ static int status(int64_t utime)
     wormgear_status_t m = {.utime = utime, .scene = "s", .mode = "fast", .run = "running",
                            .health = "ok", .fault = "", .motion = "", .nbearing = 6,
                            .bearing_impacts_per_period = z, .bearing_impact_vmax = z,
-                           .regime = "", .mac_len = WG_MAC_BYTES, .mac = mac};
+                           .regime = "", .tick_refusal = "", .mac_len = WG_MAC_BYTES, .mac = mac};
     int n = wormgear_status_t_encode(buf, 0, sizeof buf, &m);
     wg_mac_seal(KEY, buf, (size_t)n);
     return n;

@@ -83,7 +83,8 @@ static void encode(int type, enc *e)
         wormgear_status_t m = {.scene = "table3", .mode = "realtime", .run = "running",
                                .health = "ok", .fault = "", .motion = "no_impact",
                                .nbearing = NB, .bearing_impacts_per_period = d,
-                               .bearing_impact_vmax = d, .regime = "P1"};
+                               .bearing_impact_vmax = d, .regime = "P1",
+                               .tick_refusal = ""};
         ENCODE(wormgear_status_t, &m, e);
         break;
     }

@@ -63,7 +63,8 @@ static void write_others(lcm_eventlog_t *l)
     for (int k = 0; k < 3; k++) {
         wormgear_status_t s = {.seq = sseq[k], .scene = "table3", .mode = "realtime",
                                .run = "running", .health = "ok", .fault = "",
-                               .motion = "single_sided", .regime = "periodic", .omega = 0.7};
+                               .motion = "single_sided", .regime = "periodic", .omega = 0.7,
+                               .tick_refusal = ""};
         PUT(wormgear_status_t, l, "RIG1_STATUS", 1000000 + 500000 * k, &s);
     }
     double y[2][14] = {{0}}, d2[2] = {0.5, 0.25};
@@ -114,7 +115,8 @@ static void write_mixed(lcm_eventlog_t *l)
     for (int k = 0; k < 5; k++) {
         wormgear_status_t a = {.seq = 100 + k, .utime = t0 + 500000 * k, .scene = "table3",
                                .mode = "realtime", .run = "running", .health = "ok",
-                               .fault = "", .motion = "no_impact", .regime = "period-1"};
+                               .fault = "", .motion = "no_impact", .regime = "period-1",
+                               .tick_refusal = ""};
         wormgear_status_t b = a;
         b.seq = 3 + k, b.utime = t0 - 3600000000 + 500000 * k;
         PUT(wormgear_status_t, l, "RIG2_STATUS", t0 + 500000 * k + 1000, &a);
@@ -377,7 +379,8 @@ static void test_hostile_messages(void)
             buf[28] = 0x7f, buf[29] = buf[30] = buf[31] = 0xff;
         put(l, "BENT_CONTACT", 1000 * (i + 1), buf, n);
         wormgear_status_t st = {.seq = i, .scene = "s", .mode = "m", .run = "r", .health = "h",
-                                .fault = "", .motion = "", .regime = ""};
+                                .fault = "", .motion = "", .regime = "",
+                                .tick_refusal = ""};
         n = wormgear_status_t_encode(buf, 0, sizeof buf, &st);
         if (i == 1) /* the scene string's length */
             buf[24] = 0x7f, buf[25] = buf[26] = buf[27] = 0xff;

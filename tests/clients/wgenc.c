@@ -68,7 +68,8 @@ int main(int argc, char **argv)
     ENC(wormgear_contact_t, "contact_t", &ct);
     wormgear_status_t ss = {.utime = 1, .seq = 45, .scene = "table3", .mode = "realtime",
                             .rate = 1, .run = "running", .health = "ok", .fault = "",
-                            .omega = 0.7, .motion = "single_sided", .regime = "period-1"};
+                            .omega = 0.7, .motion = "single_sided", .regime = "period-1",
+                            .tick_refusal = ""};
     ENC(wormgear_status_t, "status_t", &ss);
     char *names[2] = {"omega", "xi_p"}, *units[2] = {"1", "1"};
     double v[2] = {1.3, 0.08};

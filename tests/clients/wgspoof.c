@@ -145,7 +145,8 @@ static int forge_acks(lcm_t *l, const char *prefix, double end)
                                 .health = "ok", .fault = "", .steps_per_period = 128,
                                 .rtf = 1.0, .motion = "no_impact", .nbearing = 6,
                                 .bearing_impacts_per_period = zero6,
-                                .bearing_impact_vmax = zero6, .regime = "P1"};
+                                .bearing_impact_vmax = zero6, .regime = "P1",
+                                .tick_refusal = ""};
         wormgear_status_t_publish(l, cs, &st);
         section(l, cp, seq, f.omega);
         lcm_handle_timeout(l, 20);
@@ -180,6 +181,8 @@ static int publish_status(lcm_t *l, const char *ch, int64_t seq)
     s.bearing_impacts_per_period = zero6;
     s.bearing_impact_vmax = zero6;
     s.regime = "<b id=wgpwn>P9</b>\033[31m";
+    s.ticks_refused = 3;
+    s.tick_refusal = "<img src=x onerror=\"window.wgPwned=2\"> \033[2J\033]0;pwned\007";
     s.uptime_s = 1.0;
     return wormgear_status_t_publish(l, ch, &s);
 }
@@ -270,7 +273,7 @@ static int publish_hostile_bytes(lcm_t *l, const char *prefix)
     channel(ch, sizeof ch, prefix, "CONTACT");
     rc |= publish_bent(l, ch, buf, n, 8 + 8 + 8 + 4); /* n */
     wormgear_status_t s = {.scene = "s", .mode = "m", .run = "r", .health = "h", .fault = "",
-                           .motion = "", .regime = ""};
+                           .motion = "", .regime = "", .tick_refusal = ""};
     n = wormgear_status_t_encode(buf, 0, sizeof buf, &s);
     channel(ch, sizeof ch, prefix, "STATUS");
     rc |= publish_bent(l, ch, buf, n, 8 + 8 + 8); /* scene's length */

@@ -55,6 +55,8 @@ typedef struct fx {
     double bearing_ipp[WG_NBEARING], bearing_vmax[WG_NBEARING];
     double ack_tau;
     int nstatus;
+    int64_t msgs_dropped, ticks_refused; /* STATUS */
+    char tick_refusal[512];
     int64_t myseq;
     void *subs[6];
 } fx;
@@ -169,6 +171,9 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
 {
     (void)rb, (void)ch, (void)u;
     F.nstatus++;
+    F.msgs_dropped = m->msgs_dropped;
+    F.ticks_refused = m->ticks_refused;
+    snprintf(F.tick_refusal, sizeof F.tick_refusal, "%s", m->tick_refusal);
     snprintf(F.health, sizeof F.health, "%s", m->health);
     snprintf(F.regime, sizeof F.regime, "%s", m->regime);
     snprintf(F.motion, sizeof F.motion, "%s", m->motion);

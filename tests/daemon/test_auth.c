@@ -118,7 +118,8 @@ static int send_tick(wgd *d, const unsigned char *key, int64_t seq, double skew,
 /* With a key a TICK is a command without an answer: anyone on the group
  * could otherwise drive a lockstep run (a rig's co-simulation) step by
  * step. A signed tick owes its steps; unsigned, another key's, stale,
- * ahead, or played back, it owes nothing and counts as dropped. A client's
+ * ahead, or played back, it owes nothing, counts as refused (the seq gaps
+ * untouched: a forger's seq says nothing) and says why. A client's
  * ticks count apart from its commands: tick seq 1 after command seq 10. */
 static void test_signed_ticks(void)
 {
@@ -133,18 +134,26 @@ static void test_signed_ticks(void)
     unsigned char buf[512], other[512];
     int len = send_tick(d, key_a, 1, 0, 100, buf, sizeof buf);
     ASSERT_EQ_INT(d->owed.ticks, 100);
-    uint64_t drops = d->stat.drops;
+    uint64_t gaps = d->stat.tick_gaps;
+    ASSERT_EQ_INT(d->stat.ticks_refused, 0);
     lcm_publish(d->io.lcm, "T_TICK", buf, (unsigned)len); /* played back */
     drain(d);
     ASSERT_EQ_INT(d->owed.ticks, 100);
-    ASSERT_EQ_INT(d->stat.drops, drops + 1);
+    ASSERT_EQ_INT(d->stat.ticks_refused, 1);
+    ASSERT_CONTAINS(d->stat.tick_why,
+                    "TICK (seq 1, 100 steps) refused: replayed or reordered tick");
     struct { const unsigned char *key; int64_t seq; double skew; } bad[] = {
         {NULL, 2, 0}, {key_b, 3, 0}, {key_a, 4, 60}, {key_a, 5, -45}, {key_a, 1, 0}};
     for (unsigned i = 0; i < sizeof bad / sizeof bad[0]; i++)
         send_tick(d, bad[i].key, bad[i].seq, bad[i].skew, 1000, other, sizeof other);
     ASSERT_EQ_INT(d->owed.ticks, 100);
-    ASSERT_EQ_INT(d->stat.drops, drops + 6);
+    ASSERT_EQ_INT(d->stat.ticks_refused, 6);
+    ASSERT_EQ_INT(d->stat.tick_gaps, gaps); /* seqs 2 ... 5 skipped: not counted as lost */
     ASSERT_EQ_INT(d->auth.refused, 6);
+    report_status(d);
+    drain(d);
+    ASSERT_EQ_INT(F.ticks_refused, 6); /* what the driver sees */
+    ASSERT_CONTAINS(F.tick_refusal, "TICK (seq 1, 1000 steps) refused: replayed or reordered");
     send_tick(d, key_a, 6, 0, 20, other, sizeof other);
     ASSERT_EQ_INT(d->owed.ticks, 120);
     send_set(d, key_a, 11, 0, 1.2); /* the command counter untouched by the ticks */

@@ -334,7 +334,7 @@ static void test_ticks(void)
         tick(d, seqs[i], 1);
     /* 0 -> MAX: new sender; MAX -> MIN: in order (wraps); MIN -> 5: new; 5 -> 1e12+5:
      * new; -> -7: new (backwards); -7 -> 6: 12 lost; 6 -> 10: 3 lost */
-    ASSERT_EQ_INT(d->stat.drops, 15);
+    ASSERT_EQ_INT(d->stat.tick_gaps, 15);
     ASSERT_EQ_INT(d->stat.tick_senders, 4);
     ASSERT_EQ_INT(d->owed.ticks, 8);
     tick(d, 11, 10000000);
@@ -344,14 +344,31 @@ static void test_ticks(void)
     uint64_t done = lockstep_progress(d, 1000);
     ASSERT_EQ_INT(done, 1000);
     ASSERT_EQ_INT(d->owed.ticks, 10000008 - 1000);
-    tick(d, 12, 0); /* out of range: ignored */
+    ASSERT_EQ_INT(d->stat.ticks_refused, 0);
+    tick(d, 12, 0); /* out of range: refused */
     ASSERT_EQ_INT(d->owed.ticks, 10000008 - 1000);
+    ASSERT_EQ_INT(d->stat.ticks_refused, 1);
+    ASSERT_STR(d->stat.tick_why, "TICK (seq 12, 0 steps) refused: a tick owes 1 to 10000000 steps");
+    tick(d, 13, 10000001);
+    ASSERT_EQ_INT(d->stat.ticks_refused, 2);
     for (int i = 0; i < 120; i++) /* up to the limit of owed steps */
-        tick(d, 13 + i, 10000000);
+        tick(d, 14 + i, 10000000);
     ASSERT_TRUE(d->owed.ticks <= 1000000000);
+    ASSERT_EQ_INT(d->stat.ticks_refused, 2 + 21); /* 99 of the 120 fitted */
+    ASSERT_CONTAINS(d->stat.tick_why, "TICK (seq 133, 10000000 steps) refused: 999999008 steps "
+                    "from earlier ticks still to run, at most 1e+09 may be owed");
+    report_status(d);
+    drain(d);
+    ASSERT_EQ_INT(F.ticks_refused, 23);
+    ASSERT_STR(F.tick_refusal, d->stat.tick_why);
+    ASSERT_EQ_INT(F.msgs_dropped, 15); /* the gaps; not the refusals */
     ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK); /* a stopped run: owed ticks lapse */
     ASSERT_EQ_INT(lockstep_progress(d, 1000), 0);
     ASSERT_EQ_INT(d->owed.ticks, 0);
+    tick(d, 134, 5); /* paused: lapses, not refused (STATUS run says why) */
+    ASSERT_EQ_INT(d->stat.ticks_refused, 23);
+    tick(d, 135, -1); /* refused whatever the run */
+    ASSERT_EQ_INT(d->stat.ticks_refused, 24);
     teardown(d);
 }
 

@@ -246,13 +246,14 @@ static void test_tick_check(void)
     ASSERT_EQ_INT(wire_cmd_check(buf, (size_t)len, NULL, why, sizeof why), WG_EDECODE);
     ASSERT_CONTAINS(why, "not a wormgear.cmd_t");
     wgd *d = setup(128);
-    uint64_t drops = d->stat.drops;
+    uint64_t refused = d->stat.ticks_refused;
     lcm_publish(d->io.lcm, "T_TICK", buf, (unsigned)len);
     memcpy(bad, buf, (size_t)len);
     lcm_publish(d->io.lcm, "T_TICK", bad, 20);
     drain(d);
     ASSERT_EQ_INT(d->owed.ticks, 0);
-    ASSERT_EQ_INT(d->stat.drops, drops + 2);
+    ASSERT_EQ_INT(d->stat.ticks_refused, refused + 2);
+    ASSERT_CONTAINS(d->stat.tick_why, "undecodable TICK message (20 bytes) ignored: ");
     t.client = "rig";
     len = wormgear_tick_t_encode(buf, 0, sizeof buf, &t);
     lcm_publish(d->io.lcm, "T_TICK", buf, (unsigned)len); /* keyless: a MAC is ignored */

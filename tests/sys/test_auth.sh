@@ -178,6 +178,11 @@ grep -q "TICK (seq 1, 1000 steps) refused: unsigned tick" "$tmp/log" || fail "no
 sleep 0.5
 steps_are $((s0 + 500)) || fail "a signed tick played back ran: step $(steps), want $((s0 + 500))"
 grep -q "TICK (seq 1, 500 steps) refused: replayed or reordered tick" "$tmp/log" || fail "no 'replayed tick' refusal: $(tail -3 "$tmp/log")"
+# a tick's only answer: STATUS counts the refusals and says why the last
+ticks_told() { "$C" $K status 2>/dev/null | grep -q "^ticks     2 refused; the last: TICK (seq 1, 500 steps) refused: replayed or reordered tick"; }
+wait_until 5 ticks_told || fail "wgctl status does not tell the 2 refused ticks: $("$C" $K status 2>&1 | tail -2)"
+"$C" $K --json status | grep -q '"ticks_refused":2,"tick_refusal":"TICK (seq 1, 500 steps) refused: replayed' ||
+    fail "wgctl --json status: $("$C" $K --json status 2>&1)"
 
 kill -TERM $pid; wait $pid; rc=$?; pid=
 [ $rc -eq 0 ] || fail "SIGTERM: exit $rc"

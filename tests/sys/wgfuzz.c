@@ -62,6 +62,8 @@ typedef struct fz {
     long long st_dropped;        /* the last STATUS's msgs_dropped */
     long long st_rx_dropped;     /* ... rx_dropped and cmds_dropped */
     long long st_cmds_dropped, st_handled; /* handled: accepted + refused */
+    long long st_ticks_refused;  /* ... ticks_refused, and why the last */
+    char st_tick_refusal[600];
     int have_status;
     double lat[200000];
     long nlat;
@@ -231,6 +233,8 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
     F.st_rx_dropped = (long long)m->rx_dropped;
     F.st_cmds_dropped = (long long)m->cmds_dropped;
     F.st_handled = (long long)(m->cmds_accepted + m->cmds_refused);
+    F.st_ticks_refused = (long long)m->ticks_refused;
+    snprintf(F.st_tick_refusal, sizeof F.st_tick_refusal, "%s", m->tick_refusal);
     F.have_status = 1;
 }
 
@@ -695,9 +699,40 @@ static void ticks(void)
     if (dropped < 0 || dropped > 1000)
         fail("hostile tick seqs: msgs_dropped %lld (one gap must count at most a bound)",
              dropped);
-    wormgear_tick_t t = {.utime = 1, .seq = 7, .nsteps = 10000000, .client = (char *)"wgfuzz"};
-    unsigned char b[64];
-    int n = wormgear_tick_t_encode(b, 0, sizeof b, &t);
+    /* ticks no driver may send, each refused and told (a tick has no ACK:
+     * STATUS ticks_refused and tick_refusal are its answer); seqs 7 ... 11
+     * in order, so no gap is counted */
+    long long refused0 = F.st_ticks_refused;
+    static const int64_t bad_steps[] = {0, -1, INT64_MIN, INT64_MAX, 10000001};
+    unsigned char b[64], cut[64];
+    int n = 0, nbad = 0;
+    for (unsigned i = 0; i < sizeof bad_steps / sizeof bad_steps[0]; i++, nbad++) {
+        wormgear_tick_t t = {.utime = 1, .seq = 7 + (int64_t)i, .nsteps = bad_steps[i],
+                             .client = (char *)"wgfuzz"};
+        n = wormgear_tick_t_encode(b, 0, sizeof b, &t);
+        publish("TICK", b, (size_t)n);
+    }
+    for (int len = 1; len < n; len += 7, nbad++) /* cut short anywhere: undecodable */
+        publish("TICK", b, (size_t)len);
+    memcpy(cut, b, (size_t)n);
+    cut[n] = 0x5a; /* a byte after its end */
+    publish("TICK", cut, (size_t)n + 1), nbad++;
+    cut[32] ^= 0x80; /* the client's length huge */
+    publish("TICK", cut, (size_t)n), nbad++;
+    pump(700);
+    long long told = F.st_ticks_refused - refused0;
+    printf("ticks: %lld of %d hostile ticks refused on STATUS; the last: %s\n", told, nbad,
+           F.st_tick_refusal);
+    if (told != nbad)
+        fail("hostile ticks: STATUS ticks_refused grew by %lld, want %d", told, nbad);
+    if (!strstr(F.st_tick_refusal, "undecodable TICK message (47 bytes) ignored: ") ||
+        !strstr(F.st_tick_refusal, "client"))
+        fail("hostile ticks: STATUS tick_refusal does not say why: '%s'", F.st_tick_refusal);
+    if (F.st_dropped != dropped)
+        fail("hostile ticks counted as lost messages: msgs_dropped %lld, was %lld",
+             F.st_dropped, dropped);
+    wormgear_tick_t t = {.utime = 1, .seq = 12, .nsteps = 10000000, .client = (char *)"wgfuzz"};
+    n = wormgear_tick_t_encode(b, 0, sizeof b, &t);
     publish("TICK", b, (size_t)n);
     double worst = 0;
     for (int i = 0; i < 20; i++) { /* rigs poll while the daemon steps */

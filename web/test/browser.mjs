@@ -109,6 +109,8 @@ async function spoofed(page) {
     const markup = await page.evaluate(() => ({
       pwned: window.wgPwned, injected: document.getElementById("wgpwn") !== null,
       shownAsText: document.querySelector("#status").textContent.includes("<b id=wgpwn>P9</b>"),
+      // STATUS tick_refusal (a tick's only answer) shown in its row, as text
+      tickAsText: document.querySelector("#status").textContent.includes("3 — the last: <img src=x onerror"),
       img: document.querySelectorAll("#status img").length,
     }));
     const caption = await page.textContent("#caption");
@@ -120,7 +122,7 @@ async function spoofed(page) {
     assert.ok(rejected > 0, "the page saw wgspoof's angles");
     assert.deepEqual(bad, [], "only angles in [0, 360)° are shown");
     console.log(`ok? markup in STATUS strings: ${JSON.stringify(markup)}`);
-    assert.deepEqual(markup, { pwned: undefined, injected: false, shownAsText: true, img: 0 },
+    assert.deepEqual(markup, { pwned: undefined, injected: false, shownAsText: true, tickAsText: true, img: 0 },
       "STATUS strings shown as text, never run as markup");
     console.log("ok spoofed: no angle that is not an angle was shown");
     assert.ok(/^scene table3 /.test(caption) && !/passwd|NaN/.test(caption),
