@@ -5,7 +5,13 @@
 # on 127.0.0.1, LCM on a ttl=0 URL). Exit 77 (skipped) without node or
 # web/node_modules, or without chromium for the browser test. wgweb must
 # exit 0 on SIGTERM with nothing on stderr from the sanitizers.
+# TEST-keyed runs TEST with a new key: the daemon (and the one the test
+# restarts) with --command-key-file, both bridges with $WORMGEAR_KEY_FILE,
+# so every command they send is signed and every message they forward
+# checked.
 T=$1 D=$2 W=$3 JS=$4 OUT=$5
+keyed=
+case $T in *-keyed) T=${T%-keyed} keyed=1;; esac
 node=${WG_NODE:-$(command -v node)}
 if [ ! -x "$node" ]; then echo "SKIP: node not found"; exit 77; fi
 if [ ! -d "$JS/../node_modules/@foxglove/ws-protocol" ]; then
@@ -23,6 +29,13 @@ cleanup() {
 }
 trap cleanup EXIT
 . "$(dirname "$0")/../wait.sh" # wait_until
+if [ -n "$keyed" ]; then
+    (umask 077 && od -An -tx1 -N32 /dev/urandom | tr -d ' \n' >"$tmp/key" && echo >>"$tmp/key")
+    printf '#!/bin/sh\nexec "%s" --command-key-file "%s" "$@"\n' "$D" "$tmp/key" >"$tmp/wormgeard"
+    chmod +x "$tmp/wormgeard"
+    D=$tmp/wormgeard
+    export WORMGEAR_KEY_FILE="$tmp/key"
+fi
 export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0" WORMGEAR_PREFIX=WEBT_
 "$D" --state-dir "$tmp" >"$tmp/d.log" 2>&1 &
 dpid=$!
@@ -50,6 +63,9 @@ for p in $wpid $rpid; do
     [ $rc -eq 0 ] || { echo "FAIL: wgweb exit $rc after SIGTERM"; status=1; }
 done
 wpid= rpid=
+if [ -n "$keyed" ] && ! grep -q "signed commands only" "$tmp/d.log"; then
+    echo "FAIL: the daemon did not take the key: $(tail -3 "$tmp/d.log")"; status=1
+fi
 if grep -q "Sanitizer" "$tmp/w.err" "$tmp/r.err"; then
     echo "FAIL: sanitizer report:"; cat "$tmp/w.err" "$tmp/r.err"; status=1
 fi
