@@ -8,6 +8,11 @@
  *            flip of a valid snapshot; FIFO, symlink, directory, oversized
  *   wgfuzz WORMGEARD kill [SEED]           SIGKILL at random moments of
  *            repeated saves: the file is always the old or the new one
+ *   wgfuzz WORMGEARD commands-keyed [SEED|- [N]]  the commands run against
+ *            a daemon with a key (command_key_file), by an attacker without
+ *            it: every hostile message refused EAUTH or EDECODE, one ACK
+ *            each, nothing changed; every hostile tick refused and told on
+ *            STATUS. wgfuzz's own commands and the big tick are signed.
  *
  * Invariants, checked for every message: exactly one ACK, matched on client
  * and seq (an undecodable one: one ACK before the next command's); a refused
@@ -20,6 +25,8 @@
 #include "lcmtypes/wormgear_cmd_t.h"
 #include "lcmtypes/wormgear_status_t.h"
 #include "lcmtypes/wormgear_tick_t.h"
+#include "wormgear/wg_key.h"
+#include "wormgear/wg_status.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -51,7 +58,10 @@ typedef struct ackrec {
 
 typedef struct fz {
     const char *bin;
-    char url[128], dir[96], log[128];
+    char url[128], dir[96], log[128], keyfile[128];
+    int keyed;                   /* commands-keyed: the daemon has keyfile's key */
+    unsigned char key[WG_KEY_BYTES];
+    int64_t tick_seq;            /* our own signed ticks' seq */
     pid_t pid;
     lcm_t *lcm;
     uint64_t rng;
@@ -63,6 +73,7 @@ typedef struct fz {
     long long st_rx_dropped;     /* ... rx_dropped and cmds_dropped */
     long long st_cmds_dropped, st_handled; /* handled: accepted + refused */
     long long st_ticks_refused;  /* ... ticks_refused, and why the last */
+    long long st_steps;
     char st_tick_refusal[600];
     int have_status;
     double lat[200000];
@@ -182,6 +193,30 @@ static void encode_cmd(enc *e, const cmdspec *c)
     put_i32(e, 0); /* mac_len: unsigned */
 }
 
+static int64_t now_us(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
+}
+
+/* Keyed: sign one of our own messages as a client with the key does (its
+ * utime now, the mac_len 0 encode_cmd ended it with made 32 and the MAC
+ * after it). Nothing without a key. */
+static void seal_own(enc *e)
+{
+    if (!F.keyed || e->n < 4 || e->n + WG_MAC_BYTES > MAXMSG)
+        return;
+    int64_t t = now_us();
+    for (int i = 0; i < 8; i++) /* utime: after the 8-byte fingerprint */
+        e->b[8 + i] = (unsigned char)((uint64_t)t >> (56 - 8 * i));
+    e->n -= 4;
+    put_i32(e, WG_MAC_BYTES);
+    memset(e->b + e->n, 0, WG_MAC_BYTES);
+    e->n += WG_MAC_BYTES;
+    wg_mac_seal(F.key, e->b, e->n);
+}
+
 /* Our encoder must agree with lcm-gen's on a plain message. */
 static void encoder_self_check(void)
 {
@@ -234,6 +269,7 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
     F.st_cmds_dropped = (long long)m->cmds_dropped;
     F.st_handled = (long long)(m->cmds_accepted + m->cmds_refused);
     F.st_ticks_refused = (long long)m->ticks_refused;
+    F.st_steps = (long long)m->steps;
     snprintf(F.st_tick_refusal, sizeof F.st_tick_refusal, "%s", m->tick_refusal);
     F.have_status = 1;
 }
@@ -282,6 +318,7 @@ static int own(const char *op, const char *name, double wait_ms)
     cmdspec c = {.seq = ++F.seq, .client = "fz-self", .op = op, .name = name, .unit = ""};
     static enc e;
     encode_cmd(&e, &c);
+    seal_own(&e);
     publish("CMD", e.b, e.n);
     int i = wait_for(c.seq, wait_ms);
     if (i < 0) {
@@ -302,7 +339,7 @@ static void start_daemon(const char *extra)
             dup2(fd, 2);
         execl(F.bin, F.bin, "--url", F.url, "--prefix", "FZ_", "--state-dir", F.dir,
               "--start-paused", "--status-hz", "10", "--state-rate-hz", "0", extra,
-              (char *)NULL);
+              F.keyed ? "--command-key-file" : (char *)NULL, F.keyfile, (char *)NULL);
         _exit(127);
     }
     for (int i = 0; i < 200; i++) { /* up when it answers a get */
@@ -310,6 +347,7 @@ static void start_daemon(const char *extra)
         cmdspec c = {.seq = ++F.seq, .client = "fz-self", .op = "get", .unit = "", .name = ""};
         static enc e;
         encode_cmd(&e, &c);
+        seal_own(&e);
         publish("CMD", e.b, e.n);
         if (wait_for(c.seq, 50) >= 0)
             return;
@@ -430,6 +468,13 @@ static void hostile(const char *what, const void *b, size_t n, const expect *x)
     ackrec *a = &F.win[0];
     record_latency(a->at_ms - t0, what);
     a->accepted ? F.accepted++ : F.refused++;
+    expect kx = {2, NULL, NULL, x ? x->client : NULL, x ? x->client_len : 0};
+    if (F.keyed) { /* an attacker without the key: nothing gets past the door */
+        if (a->accepted || (a->code != WG_EAUTH && a->code != WG_EDECODE))
+            fail("%s, unsigned to a daemon with a key: %s (%d) '%s', expected EAUTH or EDECODE",
+                 what, a->codename, a->code, a->message);
+        x = &kx; /* the client echo still checked, the refusal's text is the door's */
+    }
     if (x && x->code != 2 && ((x->code == 1 && a->accepted) || (x->code <= 0 && a->code != x->code)))
         fail("%s: %s (%d) '%s', expected code %d", what, a->codename, a->code, a->message,
              x->code);
@@ -679,19 +724,25 @@ static void burst(int n, double ms)
         fail("burst: the daemon answered %lld of %d commands", handled, n);
 }
 
-/* defects 3 and 6: hostile ticks; a get answered while a big tick runs. */
+/* defects 3 and 6: hostile ticks; a get answered while a big tick runs.
+ * Keyed, every hostile tick is also unsigned: refused, its seq not counted
+ * as a gap (a forger's seq says nothing), and only our signed tick runs. */
 static void ticks(void)
 {
     mark();
     own("mode", "lockstep", 3000);
     own("resume", "", 3000);
+    pump(300); /* a STATUS before */
+    long long refused0 = F.st_ticks_refused, dropped0 = F.st_dropped;
     static const int64_t seqs[] = {0, INT64_MAX, INT64_MIN, 5, 1000000000005LL, -7, 6};
+    int nbad = 0;
     for (unsigned i = 0; i < sizeof seqs / sizeof seqs[0]; i++) {
         wormgear_tick_t t = {.utime = 1, .seq = seqs[i], .nsteps = 1 + (int64_t)i,
                              .client = (char *)"wgfuzz"};
         unsigned char b[64];
         int n = wormgear_tick_t_encode(b, 0, sizeof b, &t);
         publish("TICK", b, (size_t)n);
+        nbad += F.keyed;
     }
     pump(700);
     long long dropped = F.have_status ? F.st_dropped : -1;
@@ -699,13 +750,15 @@ static void ticks(void)
     if (dropped < 0 || dropped > 1000)
         fail("hostile tick seqs: msgs_dropped %lld (one gap must count at most a bound)",
              dropped);
+    if (F.keyed && dropped != dropped0)
+        fail("unsigned ticks' seqs counted as gaps: msgs_dropped %lld, was %lld", dropped,
+             dropped0);
     /* ticks no driver may send, each refused and told (a tick has no ACK:
      * STATUS ticks_refused and tick_refusal are its answer); seqs 7 ... 11
      * in order, so no gap is counted */
-    long long refused0 = F.st_ticks_refused;
     static const int64_t bad_steps[] = {0, -1, INT64_MIN, INT64_MAX, 10000001};
-    unsigned char b[64], cut[64];
-    int n = 0, nbad = 0;
+    unsigned char b[128], cut[128];
+    int n = 0;
     for (unsigned i = 0; i < sizeof bad_steps / sizeof bad_steps[0]; i++, nbad++) {
         wormgear_tick_t t = {.utime = 1, .seq = 7 + (int64_t)i, .nsteps = bad_steps[i],
                              .client = (char *)"wgfuzz"};
@@ -731,8 +784,14 @@ static void ticks(void)
     if (F.st_dropped != dropped)
         fail("hostile ticks counted as lost messages: msgs_dropped %lld, was %lld",
              F.st_dropped, dropped);
-    wormgear_tick_t t = {.utime = 1, .seq = 12, .nsteps = 10000000, .client = (char *)"wgfuzz"};
+    long long steps0 = F.st_steps;
+    unsigned char zero[WG_MAC_BYTES] = {0};
+    wormgear_tick_t t = {.utime = F.keyed ? now_us() : 1, .seq = F.keyed ? ++F.tick_seq : 12,
+                         .nsteps = 10000000, .client = (char *)(F.keyed ? "fz-self" : "wgfuzz"),
+                         .mac_len = F.keyed ? WG_MAC_BYTES : 0, .mac = zero};
     n = wormgear_tick_t_encode(b, 0, sizeof b, &t);
+    if (F.keyed)
+        wg_mac_seal(F.key, b, (size_t)n);
     publish("TICK", b, (size_t)n);
     double worst = 0;
     for (int i = 0; i < 20; i++) { /* rigs poll while the daemon steps */
@@ -742,8 +801,12 @@ static void ticks(void)
             worst = fmax(worst, F.win[F.nwin - 1].at_ms - t0);
         pump(20);
     }
-    printf("ticks: slowest get while a 1e7-step tick runs: %.1f ms\n", worst);
+    printf("ticks: slowest get while a 1e7-step tick runs: %.1f ms; %lld steps run\n", worst,
+           F.st_steps - steps0);
     record_latency(worst, "get during a 1e7-step tick");
+    if (F.st_steps <= steps0)
+        fail("the 1e7-step tick%s ran no step (STATUS steps %lld, was %lld)",
+             F.keyed ? ", signed," : "", F.st_steps, steps0);
     own("pause", "", 3000);
     own("mode", "realtime", 3000);
     rebase();
@@ -850,6 +913,7 @@ static void own_set(const char *name, double v)
                  .names = {name}, .values = {v}, .unit = "", .name = ""};
     static enc e;
     encode_cmd(&e, &c);
+    seal_own(&e);
     publish("CMD", e.b, e.n);
     if (wait_for(c.seq, 3000) < 0)
         fail("no ACK to our own set %s", name);
@@ -931,7 +995,8 @@ static void figures(void)
 int main(int argc, char **argv)
 {
     if (argc < 3) {
-        fprintf(stderr, "usage: wgfuzz WORMGEARD commands|snapshots|kill [SEED [N]]\n");
+        fprintf(stderr, "usage: wgfuzz WORMGEARD commands|commands-keyed|snapshots|kill "
+                "[SEED [N]]\n");
         return 2;
     }
     F.bin = argv[1];
@@ -947,6 +1012,16 @@ int main(int argc, char **argv)
     if (!mkdtemp(F.dir))
         return 1;
     snprintf(F.log, sizeof F.log, "%s/daemon.log", F.dir);
+    if (!strcmp(argv[2], "commands-keyed")) {
+        snprintf(F.keyfile, sizeof F.keyfile, "%s/key", F.dir);
+        char why[300];
+        if (wg_key_create(F.keyfile, why, sizeof why) ||
+            wg_key_load(F.keyfile, F.key, why, sizeof why)) {
+            fprintf(stderr, "wgfuzz: %s\n", why);
+            return 1;
+        }
+        F.keyed = 1;
+    }
     char lurl[160]; /* our receive buffer sized for the burst's ACKs and PARAMS */
     snprintf(lurl, sizeof lurl, "%s&recv_buf_size=8388608", F.url);
     F.lcm = lcm_create(lurl);
@@ -959,7 +1034,7 @@ int main(int argc, char **argv)
     start_daemon("--verbose=no");
     own("save", "fzbase", 3000);
     own("save", "fzpre", 3000);
-    if (!strcmp(argv[2], "commands")) {
+    if (!strcmp(argv[2], "commands") || F.keyed) {
         directed_names();
         directed_ramps();
         directed_clients();
