@@ -198,8 +198,9 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
 {
     (void)ch;
     bus *c = u;
-    if (m->cmd_seq != c->seq || strcmp(m->client, c->client) != 0)
-        return; /* someone else's */
+    if (m->cmd_seq != c->seq || m->cmd_utime != c->cmd_utime || strcmp(m->client, c->client))
+        return; /* someone else's, or an answer to an earlier process's command (same id
+                 * and seq: a reused pid), played back */
     long old = c->old_n;
     bus_ack *a = bus_signed(c, BUS_ACK, rb) ? &c->ack : &c->unverified;
     a->got = 1;
@@ -326,7 +327,7 @@ static int seal_publish(bus *c, const char *suffix, unsigned char *buf, int n)
 
 int64_t bus_send(bus *c, wormgear_cmd_t *cmd)
 {
-    cmd->utime = cli_wall_us();
+    cmd->utime = c->cmd_utime = cli_wall_us();
     cmd->seq = ++c->seq;
     cmd->client = c->client;
     c->ack.got = 0, c->unverified.got = 0;

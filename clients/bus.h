@@ -43,6 +43,7 @@ typedef struct bus {
     char prefix[64];
     char client[96];          /* "<name>-<pid>@<host>" */
     int64_t seq;              /* last command seq sent */
+    int64_t cmd_utime;        /* ... and its utime: an ACK echoes both (and the client) */
     int64_t tick_seq;         /* last TICK seq sent (a counter of its own) */
     bus_ack ack;              /* the ACK of the last command, once it came */
     bus_ack unverified;       /* signing: the last answer to our command that the key did not

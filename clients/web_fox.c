@@ -318,7 +318,7 @@ static fox_pending *pending_of(const fox *f, const wormgear_ack_t *a, const char
     if (strcmp(a->client, client_id) != 0)
         return NULL;
     for (int k = 0; k < FOX_MAX_PENDING; k++)
-        if (f->pend[k].used && f->pend[k].seq == a->cmd_seq)
+        if (f->pend[k].used && f->pend[k].seq == a->cmd_seq && f->pend[k].utime == a->cmd_utime)
             return (fox_pending *)&f->pend[k];
     return NULL;
 }

@@ -62,7 +62,7 @@ typedef struct fox_client {
 
 typedef struct fox_pending {
     int used;
-    int64_t seq;       /* cmd seq on the bus */
+    int64_t seq, utime; /* cmd seq and utime on the bus (its ACK echoes both) */
     unsigned client;   /* fox_client id */
     int setparams;     /* a setParameters request (answer with parameterValues) */
     char id[64];       /* the request's id ("" none) */

@@ -219,6 +219,7 @@ static void send_command(fox *f, int ci, web_cmd *wc, const char *id, int setpar
     fox_pending *p = fox_pending_new(f);
     p->used = 1;
     p->seq = seq;
+    p->utime = wc->cmd.utime; /* set by the hook as it sent it */
     p->client = f->cl[ci].id;
     p->setparams = setparams;
     p->deadline_s = f->now_s + f->conf.ack_timeout_s;

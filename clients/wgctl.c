@@ -362,7 +362,8 @@ static void on_params(const lcm_recv_buf_t *rb, const char *ch, const wormgear_p
 {
     (void)ch;
     ctl *t = u;
-    if (!t->params && m->cmd_seq == t->c.seq && strcmp(m->cmd_client, t->c.client) == 0 &&
+    if (!t->params && m->cmd_seq == t->c.seq && m->cmd_utime == t->c.cmd_utime &&
+        strcmp(m->cmd_client, t->c.client) == 0 &&
         bus_signed(&t->c, BUS_PARAMS, rb)) { /* with a key: the daemon's only */
         t->params = wormgear_params_t_copy(m);
         if (t->params)

@@ -270,7 +270,7 @@ static int rows_params(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
         r->scale = sc; /* the samples after it are in its scale */
     if (f && c->msgs == 0) {
         c->ncols = m.n;
-        fprintf(f, "log_utime,utime,seq,reason,cmd_client,cmd_seq,scene,model,stepper,"
+        fprintf(f, "log_utime,utime,seq,reason,cmd_client,cmd_seq,cmd_utime,scene,model,stepper,"
                    "steps_per_period,omega_n_rad_s,length_m,mesh_stiffness_N_m,tau,ramp_active,"
                    "ramp_param,ramp_from,ramp_to,ramp_tau0,ramp_duration_tau");
         for (int i = 0; i < m.n; i++)
@@ -279,7 +279,8 @@ static int rows_params(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
     }
     if (f) {
         lead(f, ev->timestamp, m.utime, m.seq);
-        csc(f, m.reason), csc(f, m.cmd_client), ci(f, m.cmd_seq), csc(f, m.scene);
+        csc(f, m.reason), csc(f, m.cmd_client), ci(f, m.cmd_seq), ci(f, m.cmd_utime);
+        csc(f, m.scene);
         csc(f, m.model), csc(f, m.stepper), ci(f, m.steps_per_period), cd(f, m.omega_n_rad_s);
         cd(f, m.length_m), cd(f, m.mesh_stiffness_N_m), cd(f, m.tau), ci(f, m.ramp_active);
         csc(f, m.ramp_param), cd(f, m.ramp_from), cd(f, m.ramp_to), cd(f, m.ramp_tau0);
@@ -322,10 +323,11 @@ static int rows_ack(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
     DECODE_OR_FAIL(wormgear_ack_t, BUS_ACK, m, ev);
     FILE *f = c->csv;
     if (f && c->msgs == 0)
-        head(f, "client,cmd_seq,op,accepted,status,code,message,tau,t_s,steps");
+        head(f, "client,cmd_seq,cmd_utime,op,accepted,status,code,message,tau,t_s,steps");
     if (f) {
         lead(f, ev->timestamp, m.utime, m.seq);
-        csc(f, m.client), ci(f, m.cmd_seq), csc(f, m.op), ci(f, m.accepted), ci(f, m.status);
+        csc(f, m.client), ci(f, m.cmd_seq), ci(f, m.cmd_utime), csc(f, m.op);
+        ci(f, m.accepted), ci(f, m.status);
         csc(f, m.code), csc(f, m.message), cd(f, m.tau), cd(f, m.t_s), ci(f, m.steps);
         fputc('\n', f);
     }

@@ -43,11 +43,12 @@ static const char *echo(const char *s, char *out, size_t n)
     return out;
 }
 
-static void ack(wgd *d, const char *client, int64_t seq, const char *op, int rc,
+static void ack(wgd *d, const char *client, int64_t seq, int64_t utime, const char *op, int rc,
                 const char *msg)
 {
     char cl[WIRE_MAX_CLIENT + 1], o[33];
     wormgear_ack_t a = {.client = (char *)echo(client, cl, sizeof cl), .cmd_seq = seq,
+                        .cmd_utime = utime,
                         .op = (char *)echo(op, o, sizeof o), .accepted = rc == WG_OK,
                         .status = rc, .code = (char *)wg_status_name(rc),
                         .message = (char *)msg, .tau = d->sim.tau,
@@ -81,13 +82,13 @@ static void changed(wgd *d, int what, const char *reason)
 }
 
 /* The noted change, reported (regime restart, decimation, PARAMS) with the
- * client and seq of the command that made it. */
-static void report_changed(wgd *d, const char *client, int64_t seq)
+ * client, seq and utime of the command that made it. */
+static void report_changed(wgd *d, const char *client, int64_t seq, int64_t utime)
 {
     change c = d->changed;
     d->changed.due = 0;
     if (c.due)
-        report_change(d, c.what, c.reason, client, seq);
+        report_change(d, c.what, c.reason, client, seq, utime);
 }
 
 /* ---- parameters ------------------------------------------------------------ */
@@ -184,7 +185,7 @@ static int defer_set(wgd *d, const wormgear_cmd_t *c, const int *ids, char *why,
         return rc;
     if (!section_comes(d, why, len))
         return WG_ESTATE;
-    *j = (syncjob){.active = 1, .n = c->nparams, .seq = c->seq};
+    *j = (syncjob){.active = 1, .n = c->nparams, .seq = c->seq, .utime = c->utime};
     memcpy(j->ids, ids, sizeof(int) * (size_t)c->nparams);
     memcpy(j->values, c->values, sizeof(double) * (size_t)c->nparams);
     snprintf(j->client, sizeof j->client, "%s", c->client);
@@ -213,8 +214,8 @@ static void sync_apply(wgd *d)
     j->active = 0;
     char why[ACK_TEXT];
     int rc = apply_set(d, j->ids, j->values, j->n, why, sizeof why);
-    ack(d, j->client, j->seq, "set", rc, why);
-    report_changed(d, j->client, j->seq);
+    ack(d, j->client, j->seq, j->utime, "set", rc, why);
+    report_changed(d, j->client, j->seq, j->utime);
 }
 
 /* Refuse a set waiting for the section (reset, restore, shutdown). */
@@ -224,7 +225,7 @@ static void sync_cancel(wgd *d, int code, const char *why)
     if (!j->active)
         return;
     j->active = 0;
-    ack(d, j->client, j->seq, "set", code, why);
+    ack(d, j->client, j->seq, j->utime, "set", code, why);
 }
 
 /* n steps on the engine, then what they did announced: the end of a ramp
@@ -234,7 +235,7 @@ static uint64_t run_steps(wgd *d, uint64_t n)
     int events;
     uint64_t done = engine_run(d, n, &events);
     if (events & ENGINE_RAMP_ENDED)
-        report_change(d, REPORT_ORBIT, "ramp-end", "", -1);
+        report_change(d, REPORT_ORBIT, "ramp-end", "", -1, 0);
     if (events & ENGINE_FAULTED) {
         report_fault(d);
         sync_cancel(d, WG_ESTATE, "set at the next section cancelled: the run faulted and "
@@ -409,7 +410,7 @@ static int op_step(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
     }
     stepjob *j = &d->step;
     *j = (stepjob){.active = 1, .left = (uint64_t)c->nsteps, .total = (uint64_t)c->nsteps,
-                   .seq = c->seq};
+                   .seq = c->seq, .utime = c->utime};
     snprintf(j->client, sizeof j->client, "%s", c->client);
     snprintf(j->op, sizeof j->op, "%s", c->op);
     cmd_step_progress(d, 1000); /* small steps answer at once; the rest from the loop */
@@ -425,12 +426,12 @@ uint64_t cmd_step_progress(wgd *d, uint64_t max)
     j->left -= done;
     if (done < n) {
         j->active = 0;
-        ack(d, j->client, j->seq, j->op, WG_ENONFINITE, d->fault_msg);
+        ack(d, j->client, j->seq, j->utime, j->op, WG_ENONFINITE, d->fault_msg);
     } else if (!j->left) {
         char msg[96];
         j->active = 0;
         snprintf(msg, sizeof msg, "stepped %" PRIu64 " steps", j->total);
-        ack(d, j->client, j->seq, j->op, WG_OK, msg);
+        ack(d, j->client, j->seq, j->utime, j->op, WG_OK, msg);
     }
     return done;
 }
@@ -444,7 +445,7 @@ void cmd_step_cancel(wgd *d, int code, const char *why)
     snprintf(msg, sizeof msg, "%s after %" PRIu64 " of %" PRIu64 " steps", why,
              j->total - j->left, j->total);
     j->active = 0;
-    ack(d, j->client, j->seq, j->op, code, msg);
+    ack(d, j->client, j->seq, j->utime, j->op, code, msg);
 }
 
 void cmd_mode_changed(wgd *d, const char *cause)
@@ -524,7 +525,7 @@ static int op_restore(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 
 static int op_get(wgd *d, const wormgear_cmd_t *c, char *why, size_t len)
 {
-    report_params(d, "get", c->client, c->seq);
+    report_params(d, "get", c->client, c->seq, c->utime);
     snprintf(why, len, "parameters published on %s", d->io.ch[CH_PARAMS]);
     return WG_OK;
 }
@@ -585,8 +586,8 @@ static void dispatch(wgd *d, const wormgear_cmd_t *c)
     } else
         rc = ops[i].fn(d, c, why, len);
     if (rc != CMD_PENDING)
-        ack(d, c->client, c->seq, c->op, rc, why);
-    report_changed(d, c->client, c->seq); /* PARAMS right behind the ACK */
+        ack(d, c->client, c->seq, c->utime, c->op, rc, why);
+    report_changed(d, c->client, c->seq, c->utime); /* PARAMS right behind the ACK */
 }
 
 /* ---- decoding --------------------------------------------------------------- */
@@ -596,11 +597,11 @@ static void dispatch(wgd *d, const wormgear_cmd_t *c)
 static void undecodable(wgd *d, const void *buf, size_t len, const char *reason)
 {
     char client[WIRE_MAX_CLIENT + 1], msg[400];
-    int64_t seq;
-    wire_cmd_header(buf, len, client, sizeof client, &seq);
+    int64_t seq, utime;
+    wire_cmd_header(buf, len, client, sizeof client, &seq, &utime);
     snprintf(msg, sizeof msg, "undecodable CMD message (%zu bytes): %s%s", len, reason,
              seq < 0 ? "; client and seq unknown" : "");
-    ack(d, client, seq, "", WG_EDECODE, msg);
+    ack(d, client, seq, utime, "", WG_EDECODE, msg);
 }
 
 void cmd_handle(wgd *d, const void *buf, size_t len)
@@ -623,7 +624,7 @@ void cmd_handle(wgd *d, const void *buf, size_t len)
     char awhy[ACK_TEXT];
     if (auth_check(&d->auth, AUTH_CMD, buf, len, mac_len, c.client, c.seq, c.utime,
                    lcmio_now_us(), awhy, sizeof awhy))
-        ack(d, c.client, c.seq, c.op, WG_EAUTH, awhy);
+        ack(d, c.client, c.seq, c.utime, c.op, WG_EAUTH, awhy);
     else
         dispatch(d, &c);
     wormgear_cmd_t_decode_cleanup(&c);

@@ -312,7 +312,7 @@ static void reload(wgd *d)
                     kept);
         pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
                        d->sim.tau);
-        report_change(d, REPORT_RATE, "reload", "", -1);
+        report_change(d, REPORT_RATE, "reload", "", -1, 0);
         log_msg(&d->log, LOG_NOTICE, "reloaded %s: mode %s, rate %g",
                 d->conf.path[0] ? d->conf.path : "(no config file)",
                 conf_mode_name(d->conf.mode), d->conf.rate);

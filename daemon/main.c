@@ -131,7 +131,7 @@ static void started(wgd *d)
             wg_sim_kernel_name(&d->sim, kn, sizeof kn), wg_stepper_name(d->sim.cfg.stepper),
             d->sim.cfg.steps_per_period, conf_mode_name(d->conf.mode), d->conf.rate,
             d->conf.url, d->conf.prefix, d->conf.state_dir);
-    report_params(d, "start", "", -1);
+    report_params(d, "start", "", -1, 0);
 }
 
 static int run(wgd *d)

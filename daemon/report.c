@@ -185,7 +185,8 @@ void report_line(const wgd *d, char *buf, unsigned len)
              (unsigned long long)s->cmds_accepted, (unsigned long long)s->cmds_refused);
 }
 
-void report_params(wgd *d, const char *reason, const char *client, int64_t cmd_seq)
+void report_params(wgd *d, const char *reason, const char *client, int64_t cmd_seq,
+                   int64_t cmd_utime)
 {
     char *name[WG_NPARAM], *unit[WG_NPARAM];
     double val[WG_NPARAM], lo[WG_NPARAM], hi[WG_NPARAM], def[WG_NPARAM];
@@ -203,6 +204,7 @@ void report_params(wgd *d, const char *reason, const char *client, int64_t cmd_s
     const wg_ramp *rp = &d->sim.ramp;
     wormgear_params_t m = {
         .reason = (char *)reason, .cmd_client = (char *)client, .cmd_seq = cmd_seq,
+        .cmd_utime = cmd_utime,
         .scene = d->scene.name, .model = (char *)wg_model_name(d->sim.cfg.model),
         .stepper = (char *)wg_stepper_name(d->sim.cfg.stepper),
         .steps_per_period = d->sim.cfg.steps_per_period,
@@ -216,13 +218,14 @@ void report_params(wgd *d, const char *reason, const char *client, int64_t cmd_s
     lcmio_pub_params(&d->io, &m);
 }
 
-void report_change(wgd *d, int what, const char *reason, const char *client, int64_t cmd_seq)
+void report_change(wgd *d, int what, const char *reason, const char *client, int64_t cmd_seq,
+                   int64_t cmd_utime)
 {
     if (what & REPORT_ORBIT)
         stream_regime_reset(&d->st);
     if (what & REPORT_RATE)
         report_decimation(d);
-    report_params(d, reason, client, cmd_seq);
+    report_params(d, reason, client, cmd_seq, cmd_utime);
 }
 
 /* The status line on stdout; once a write fails (a closed pipe: EPIPE, a
@@ -263,7 +266,7 @@ void report_tick(wgd *d, int64_t now)
         s->next_status_ns = now + (int64_t)(SEC_NS / d->conf.status_hz);
     }
     if (now >= s->next_params_ns) {
-        report_params(d, "periodic", "", -1);
+        report_params(d, "periodic", "", -1, 0);
         s->next_params_ns = now + SEC_NS;
         char line[400];
         report_line(d, line, sizeof line);

@@ -35,9 +35,10 @@ void report_status(struct wgd *d);
  * at the last good state, then a STATUS with health fault, at once. */
 void report_fault(struct wgd *d);
 
-/* Publish the full parameter set; reason as in params_t, client/cmd_seq of
- * the causing command ("" / -1 if none). */
-void report_params(struct wgd *d, const char *reason, const char *client, int64_t cmd_seq);
+/* Publish the full parameter set; reason as in params_t, client, cmd_seq
+ * and cmd_utime of the causing command ("", -1, 0 if none). */
+void report_params(struct wgd *d, const char *reason, const char *client, int64_t cmd_seq,
+                   int64_t cmd_utime);
 
 /* One-line human summary (foreground, sd_notify STATUS=): the same motion,
  * regime and impacts per period as STATUS. */
@@ -54,7 +55,7 @@ enum { REPORT_ORBIT = 1, REPORT_RATE = 2 };
  * restore); with REPORT_RATE the STATE decimation is recomputed (the step
  * rate moved); then PARAMS is published as report_params. */
 void report_change(struct wgd *d, int what, const char *reason, const char *client,
-                   int64_t cmd_seq);
+                   int64_t cmd_seq, int64_t cmd_utime);
 
 /* Names: "ok" "lagging" "fault"; "running" "paused", "stepping" (a step
  * command, or the steps TICKs owe in lockstep, being run) and "waiting"

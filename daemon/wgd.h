@@ -33,7 +33,7 @@ typedef struct stepjob {
     uint64_t left, total;
     char client[WIRE_MAX_CLIENT + 1]; /* echoed byte for byte in its ACK */
     char op[16];
-    int64_t seq;
+    int64_t seq, utime;
 } stepjob;
 
 /* A `set` waiting for the next Poincare section (at_section = 1): the
@@ -43,7 +43,7 @@ typedef struct syncjob {
     int n, ids[WG_NPARAM];
     double values[WG_NPARAM];
     char client[WIRE_MAX_CLIENT + 1]; /* echoed byte for byte in its ACK */
-    int64_t seq;
+    int64_t seq, utime;
 } syncjob;
 
 /* What the command being handled changed (cmd.c): reported once its ACK

@@ -53,13 +53,16 @@ int wire_tick_check(const void *buf, size_t len, int32_t *mac_len, char *why, si
                  whylen);
 }
 
-void wire_cmd_header(const void *buf, size_t len, char *client, size_t clen, int64_t *seq)
+void wire_cmd_header(const void *buf, size_t len, char *client, size_t clen, int64_t *seq,
+                     int64_t *utime)
 {
     const unsigned char *b = buf;
     client[0] = 0;
     *seq = -1;
+    *utime = 0;
     if (len < 24 || (int64_t)msg_be(b, 8) != __wormgear_cmd_t_get_hash())
         return;
+    *utime = (int64_t)msg_be(b + 8, 8);
     *seq = (int64_t)msg_be(b + 16, 8);
     if (len < 28 || clen == 0)
         return;

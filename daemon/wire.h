@@ -39,10 +39,11 @@ int wire_cmd_check(const void *buf, size_t len, int32_t *mac_len, char *why, siz
  * bytes). */
 int wire_tick_check(const void *buf, size_t len, int32_t *mac_len, char *why, size_t whylen);
 
-/* What an answer to a bad message can be addressed to: the seq (-1 if the
- * fingerprint or the first 24 bytes are not there) and the client id's
- * first bytes, up to clen - 1 and the first NUL ("" if unreadable), even
- * when the id is longer than any limit. */
-void wire_cmd_header(const void *buf, size_t len, char *client, size_t clen, int64_t *seq);
+/* What an answer to a bad message can be addressed to: the seq and utime
+ * (-1 and 0 if the fingerprint or the first 24 bytes are not there) and
+ * the client id's first bytes, up to clen - 1 and the first NUL ("" if
+ * unreadable), even when the id is longer than any limit. */
+void wire_cmd_header(const void *buf, size_t len, char *client, size_t clen, int64_t *seq,
+                     int64_t *utime);
 
 #endif

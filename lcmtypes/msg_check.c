@@ -42,8 +42,9 @@ typedef struct fld {
  * by field, with their names (count slots: 0 n, 1 nstate, 2 nbearing; a
  * MAC's length in slot 1 once nothing after it reads nstate). */
 static const fld ACK[] = {I64("utime"), I64("seq"), STR(0, "client"), I64("cmd_seq"),
-                          STR(0, "op"), I8("accepted"), I32("status"), STR(0, "code"),
-                          STR(0, "message"), F64("tau"), F64("t_s"), I64("steps"),
+                          I64("cmd_utime"), STR(0, "op"), I8("accepted"), I32("status"),
+                          STR(0, "code"), STR(0, "message"), F64("tau"), F64("t_s"),
+                          I64("steps"),
                           MACLEN(0, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 0, "mac"), END};
 static const fld STATE[] = {
     I64("utime"), I64("seq"), I64("step0"), I32("decimation"), N32(0, 0, "n"),
@@ -73,7 +74,7 @@ static const fld STATUS[] = {
     END};
 static const fld PARAMS[] = {
     I64("utime"), I64("seq"), STR(0, "reason"), STR(0, "cmd_client"), I64("cmd_seq"),
-    STR(0, "scene"), STR(0, "model"), STR(0, "stepper"), I32("steps_per_period"),
+    I64("cmd_utime"), STR(0, "scene"), STR(0, "model"), STR(0, "stepper"), I32("steps_per_period"),
     F64("omega_n_rad_s"), F64("length_m"), F64("mesh_stiffness_N_m"), F64("tau"),
     N32(0, 0, "n"), STRS(0, 0, "name"), STRS(0, 0, "unit"), D(0, "value"), D(0, "min"),
     D(0, "max"), D(0, "def"), ARR(1, 0, "rampable"), I8("ramp_active"), STR(0, "ramp_param"),

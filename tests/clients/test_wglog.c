@@ -98,7 +98,8 @@ static void write_others(lcm_eventlog_t *l)
     wormgear_cmd_t cmd = {.seq = 9, .client = "t", .op = "set", .nparams = 2, .names = names,
                           .values = val, .unit = "", .name = ""};
     PUT(wormgear_cmd_t, l, "RIG1_CMD", 1200000, &cmd);
-    wormgear_ack_t a = {.seq = 0, .client = "t", .cmd_seq = 9, .op = "set", .code = "ERANGE",
+    wormgear_ack_t a = {.seq = 0, .client = "t", .cmd_seq = 9, .cmd_utime = 1199000,
+                        .op = "set", .code = "ERANGE",
                         .message = "omega = 99 out of range [0.01, 10], \"said\" the table"};
     PUT(wormgear_ack_t, l, "RIG1_ACK", 1200100, &a);
     wormgear_tick_t t = {.seq = 0, .nsteps = 5, .client = (char *)""};
@@ -269,9 +270,9 @@ static void test_export(void)
     ASSERT_EQ_INT(cell(path, 2, 10, c, sizeof c), 0);
     ASSERT_STR(c, "x2");
     snprintf(path, sizeof path, "%s/csv/RIG1_PARAMS.csv", dir);
-    ASSERT_EQ_INT(cell(path, 0, 21, c, sizeof c), 0);
+    ASSERT_EQ_INT(cell(path, 0, 22, c, sizeof c), 0);
     ASSERT_STR(c, "xi_p");
-    ASSERT_EQ_INT(cell(path, 1, 21, c, sizeof c), 0);
+    ASSERT_EQ_INT(cell(path, 1, 22, c, sizeof c), 0);
     ASSERT_STR(c, "0.08"); /* shortest round trip, not 0.080000000000000002 */
     FILE *fp = fopen(path, "r");
     char hdr[2048] = "";
@@ -288,7 +289,9 @@ static void test_export(void)
     ASSERT_TRUE(f && fread(all, 1, sizeof all - 1, f) > 0);
     if (f)
         fclose(f);
-    ASSERT_CONTAINS(all, "\"omega = 99 out of range [0.01, 10], \"\"said\"\" the table\"");
+    ASSERT_CONTAINS(all, "client,cmd_seq,cmd_utime,op,");
+    ASSERT_CONTAINS(all, ",t,9,1199000,set,0,0,ERANGE,\"omega = 99 out of range [0.01, 10], "
+                         "\"\"said\"\" the table\""); /* the command it answers: t, 9, 1199000 */
     snprintf(path, sizeof path, "%s/csv/OTHER.csv", dir);
     ASSERT_TRUE(access(path, F_OK) != 0); /* foreign channel skipped */
 }

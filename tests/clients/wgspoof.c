@@ -22,7 +22,7 @@
  * stalls: LCM queues what the loop has not handled.
  * With "ack", only this: every command seen on PREFIX CMD is answered at
  * once as the daemon answers a `get`: a PARAMS whose one parameter is
- * omega = 9.75 (on PREFIX PARAMS, its cmd_client and cmd_seq echoed), then
+ * omega = 9.75 (on PREFIX PARAMS, its cmd_client, cmd_seq and cmd_utime echoed), then
  * twice on PREFIX ACK, "accepted" (code OK, message "forged by wgspoof"),
  * echoing client and seq: once unsigned, once with a MAC that is not one
  * (32 bytes of 0x5a); and every 20 ms a plausible STATUS (mode realtime,
@@ -91,7 +91,8 @@ static void on_cmd(const lcm_recv_buf_t *rb, const char *ch, const wormgear_cmd_
     double v[1] = {9.75}, mn[1] = {0.01}, mx[1] = {10}, def[1] = {1};
     int8_t ramp[1] = {1};
     wormgear_params_t p = {.utime = m->utime, .reason = "get", .cmd_client = m->client,
-                           .cmd_seq = m->seq, .scene = "table3", .model = "consistent",
+                           .cmd_seq = m->seq, .cmd_utime = m->utime, .scene = "table3",
+                           .model = "consistent",
                            .stepper = "rk4-event", .steps_per_period = 128, .omega_n_rad_s = 1,
                            .length_m = 1, .mesh_stiffness_N_m = 1, .n = 1, .name = names,
                            .unit = units, .value = v, .min = mn, .max = mx, .def = def,
@@ -99,6 +100,7 @@ static void on_cmd(const lcm_recv_buf_t *rb, const char *ch, const wormgear_cmd_
     wormgear_params_t_publish(f->l, f->params, &p);
     for (int k = 0; k < 2; k++) {
         wormgear_ack_t a = {.utime = m->utime, .client = m->client, .cmd_seq = m->seq,
+                            .cmd_utime = m->utime,
                             .op = m->op, .accepted = 1, .code = "OK",
                             .message = "forged by wgspoof", .mac_len = k ? 32 : 0,
                             .mac = k ? mac : NULL};

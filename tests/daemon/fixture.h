@@ -35,11 +35,11 @@ typedef struct fx {
     wgd *d;
     int nack;
     int accepted, rc;
-    int64_t cmd_seq;
+    int64_t cmd_seq, cmd_utime;
     char client[300], code[32], message[700];
     int nparams_msgs;
     char params_reason[32];
-    int64_t params_cmd_seq;
+    int64_t params_cmd_seq, params_cmd_utime;
     int64_t seq_next[3], seq_gaps;  /* STATE POINCARE CONTACT */
     int nsamples, npc, nct;
     long pc_bimp[WG_NBEARING];          /* POINCARE: bearing impacts, largest speeds */
@@ -103,6 +103,7 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
     F.accepted = m->accepted;
     F.rc = m->status;
     F.cmd_seq = m->cmd_seq;
+    F.cmd_utime = m->cmd_utime;
     F.ack_tau = m->tau;
     snprintf(F.client, sizeof F.client, "%s", m->client); /* up to 299 bytes */
     snprintf(F.code, sizeof F.code, "%s", m->code);
@@ -116,6 +117,7 @@ static void on_params(const lcm_recv_buf_t *rb, const char *ch, const wormgear_p
     F.nparams_msgs++;
     snprintf(F.params_reason, sizeof F.params_reason, "%s", m->reason);
     F.params_cmd_seq = m->cmd_seq;
+    F.params_cmd_utime = m->cmd_utime;
 }
 
 static void seqcheck(int i, int64_t seq)
@@ -252,11 +254,13 @@ static inline int send(wgd *d, wormgear_cmd_t *c)
     c->unit = c->unit ? c->unit : (char *)"";
     c->name = c->name ? c->name : (char *)"";
     c->seq = ++F.myseq;
+    c->utime = c->utime ? c->utime : 1000003 * c->seq; /* a time of its own, echoed */
     int before = F.nack;
     wormgear_cmd_t_publish(d->io.lcm, "T_CMD", c);
     drain(d);
     ASSERT_EQ_INT(F.nack, before + 1);
     ASSERT_EQ_INT(F.cmd_seq, c->seq);
+    ASSERT_EQ_INT(F.cmd_utime, c->utime); /* the ACK names the command: client, seq, utime */
     return F.rc;
 }
 
@@ -265,6 +269,7 @@ static inline void send_pending(wgd *d, wormgear_cmd_t *c)
 {
     c->client = (char *)"tester", c->unit = (char *)"", c->name = (char *)"";
     c->seq = ++F.myseq;
+    c->utime = 1000003 * c->seq;
     int before = F.nack;
     wormgear_cmd_t_publish(d->io.lcm, "T_CMD", c);
     drain(d);

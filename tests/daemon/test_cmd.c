@@ -16,6 +16,7 @@ static void test_set_atomic(void)
     ASSERT_NEAR(d->sim.p.v[WG_P_XI_P], 0.1, 0);
     ASSERT_STR(F.params_reason, "set");
     ASSERT_EQ_INT(F.params_cmd_seq, F.myseq);
+    ASSERT_EQ_INT(F.params_cmd_utime, c.utime); /* PARAMS names its command too */
     /* one bad value: nothing applied */
     wg_params before = d->sim.p;
     double bad[2] = {2.0, 5.0};
@@ -105,6 +106,8 @@ static void test_set_at_section(void)
     drain(d);
     ASSERT_EQ_INT(F.nack, before + 1);
     ASSERT_EQ_INT(F.cmd_seq, c.seq);
+    ASSERT_EQ_INT(F.cmd_utime, c.utime); /* a deferred ACK names its command too */
+    ASSERT_EQ_INT(F.params_cmd_utime, c.utime);
     ASSERT_EQ_INT(F.rc, WG_OK);
     ASSERT_NEAR(F.ack_tau, tau_section, 1e-9); /* took effect at the section */
     ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.3, 0);
@@ -211,7 +214,8 @@ static void test_step_and_modes(void)
     c.nsteps = 300000;
     int n0 = F.nack;
     wormgear_cmd_t_publish(d->io.lcm, "T_CMD", &(wormgear_cmd_t){.seq = ++F.myseq,
-        .client = "tester", .op = "step", .nsteps = 300000, .unit = "", .name = ""});
+        .utime = 4242, .client = "tester", .op = "step", .nsteps = 300000, .unit = "",
+        .name = ""});
     drain(d);
     ASSERT_EQ_INT(F.nack, n0);
     ASSERT_TRUE(d->step.active);
@@ -222,6 +226,7 @@ static void test_step_and_modes(void)
     drain(d);
     ASSERT_EQ_INT(F.nack, n0 + 2);
     ASSERT_EQ_INT(F.cmd_seq, F.myseq - 1);
+    ASSERT_EQ_INT(F.cmd_utime, 4242); /* the step's ACK, when it comes, names it */
     ASSERT_EQ_INT(F.rc, WG_OK);
     ASSERT_EQ_INT(d->sim.steps, s0 + 500 + 300000);
     /* realtime and running: step refused; paused: allowed */

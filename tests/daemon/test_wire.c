@@ -8,7 +8,8 @@ static int encode_full(unsigned char *buf, int max)
 {
     char *n[3] = {"omega", "xi_p", "k_a"};
     double v[3] = {1.1, 0.09, 0.3};
-    wormgear_cmd_t c = {.seq = 7, .client = "wire", .op = "set", .nparams = 3, .names = n,
+    wormgear_cmd_t c = {.utime = 1700000000123456, .seq = 7, .client = "wire", .op = "set",
+                        .nparams = 3, .names = n,
                         .values = v, .has_from = 1, .from = 2, .duration = 3, .unit = "s",
                         .nsteps = 9, .name = "x", .rate = 1};
     return wormgear_cmd_t_encode(buf, 0, max, &c);
@@ -40,10 +41,14 @@ static void test_wire_check(void)
     ASSERT_EQ_INT(wire_cmd_check(bad, (size_t)len, NULL, why, sizeof why), WG_EDECODE);
     ASSERT_CONTAINS(why, "NUL");
     char client[65];
-    int64_t seq;
-    wire_cmd_header(buf, 40, client, sizeof client, &seq);
+    int64_t seq, utime;
+    wire_cmd_header(buf, 40, client, sizeof client, &seq, &utime);
     ASSERT_STR(client, "wire");
     ASSERT_EQ_INT(seq, 7);
+    ASSERT_EQ_INT(utime, 1700000000123456);
+    wire_cmd_header(buf, 23, client, sizeof client, &seq, &utime); /* no seq: nothing */
+    ASSERT_EQ_INT(seq, -1);
+    ASSERT_EQ_INT(utime, 0);
 }
 
 static void test_decode_errors(void)

@@ -30,6 +30,7 @@ static int64_t f_cmd(void *ctx, wormgear_cmd_t *c)
     k->last_at_section = c->at_section;
     snprintf(k->last_name0, sizeof k->last_name0, "%s", c->nparams ? c->names[0] : "");
     k->last_v0 = c->nparams ? c->values[0] : 0;
+    c->utime = 1700000000000000 + 1000 * (k->cmds + 1); /* as bus_send stamps it */
     return ++k->cmds;
 }
 
@@ -306,6 +307,9 @@ static void test_parameters(void)
     wormgear_ack_t ack = {.client = "me", .cmd_seq = K.cmds, .op = "set", .accepted = 0,
                           .code = "ERANGE", .message = "omega = 12 out of range [0.01, 10]"};
     char id[64];
+    ack.cmd_utime = 1700000000000000 + 1000 * K.cmds - 1; /* another command's (same seq) */
+    ASSERT_EQ_INT(fox_ack_owner(&F, &ack, "me", id, sizeof id), 0);
+    ack.cmd_utime += 1; /* this one's: client, seq and utime */
     ASSERT_EQ_INT(fox_ack_owner(&F, &ack, "me", id, sizeof id), F.cl[a].id);
     ASSERT_STR(id, "s");
     fox_ack(&F, &ack, "me");
@@ -322,7 +326,8 @@ static void test_parameters(void)
     /* an answer the bridge's key did not verify: not taken, and the timeout says what it was */
     rx(a, "{\"op\":\"setParameters\",\"parameters\":[{\"name\":\"omega\",\"value\":2}],\"id\":\"u\"}");
     wormgear_ack_t forged = {.client = "me", .cmd_seq = K.cmds, .op = "set", .accepted = 1,
-                             .code = "OK", .message = "forged"};
+                             .code = "OK", .message = "forged",
+                             .cmd_utime = 1700000000000000 + 1000 * K.cmds};
     fox_ack_unverified(&F, &forged, "me");
     ASSERT_STR(drain(a, NULL), "");
     fox_tick(&F, 10.0);
