@@ -12,6 +12,7 @@
 #include <getopt.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 /* The exit code of a usage error, in every client. */
 enum { CLI_EUSAGE = 2 };
@@ -104,5 +105,9 @@ int cli_utf8_len(const char *p);
  * character to fit n bytes. Strings off the bus are whatever a sender put
  * there. dst may be s (never longer than s). Returns dst. */
 char *cli_text(char *dst, size_t n, const char *s);
+
+/* s (NULL: "") as a JSON string literal on f: quotes, backslashes and
+ * control characters escaped. */
+void cli_json_str(FILE *f, const char *s);
 
 #endif

@@ -3,6 +3,7 @@
 #include "bus.h"
 #include "bus_msg.h"
 #include "cli.h"
+#include "ctl_tick.h"
 #include "units.h"
 
 #include "lcmtypes/wormgear_params_t.h"
@@ -26,6 +27,7 @@ typedef struct opts {
     int have_over;
     int reset_params;
     int at_section;      /* set: apply at the next Poincare section */
+    int wait;            /* tick: watch STATUS for what came of it */
 } opts;
 
 typedef struct ctl {
@@ -52,9 +54,10 @@ static void usage(FILE *f)
             "  pause | resume             stop / continue the simulation (resume clears a fault)\n"
             "  reset [--params]           back to the scene's initial state (and parameters)\n"
             "  step N                     advance N RK4 steps (lockstep mode, or paused)\n"
-            "  tick N                     one TICK owing N RK4 steps (lockstep; a TICK has no\n"
-            "                             answer: status shows the steps, or why ticks were\n"
-            "                             refused; signed with a key)\n"
+            "  tick N [--wait]            one TICK owing N RK4 steps (lockstep; signed with a\n"
+            "                             key). A TICK has no answer: --wait watches STATUS\n"
+            "                             until the steps ran (exit 0), or the tick was refused\n"
+            "                             or lapsed (not lockstep, paused: exit 1, saying why)\n"
             "  mode realtime|fast|lockstep [RATE]\n"
             "                             change pacing (RATE: realtime factor, 1 = physical)\n"
             "  contacts all|mesh|none [N] which contact events the daemon publishes on CONTACT:\n"
@@ -76,11 +79,13 @@ static void usage(FILE *f)
             "  --params         reset: the scene's parameters too\n"
             "  --at-section     set: apply at the next Poincare section (psi = 0), not\n"
             "                   mid-period; the answer comes then, with that section's tau\n"
+            "  --wait           tick: wait for the steps to run (see tick; --timeout)\n"
             "  --json           machine-readable output on stdout\n"
             "  --key-file FILE  sign commands with this key (default $WORMGEAR_KEY_FILE;\n"
             "                   needed when the daemon has command_key_file)\n"
             "  -h, --help       this text\n\n"
-            "Exit status: 0 accepted (tick: sent), 1 refused or no answer, 2 usage error.\n",
+            "Exit status: 0 accepted (tick: sent; with --wait: run), 1 refused or no answer,\n"
+            "2 usage error.\n",
             BUS_DEFAULT_URL, BUS_DEFAULT_PREFIX);
 }
 
@@ -111,6 +116,7 @@ static int option(opts *o, const char *name, const char *val, int *used)
         o->have_over = 1;
     } else if (!strcmp(name, "params")) o->reset_params = 1;
     else if (!strcmp(name, "at-section")) o->at_section = 1;
+    else if (!strcmp(name, "wait")) o->wait = 1;
     else if (!strcmp(name, "json")) o->json = 1;
     else if (!strcmp(name, "help")) { usage(stdout); exit(0); }
     else return cli_usage_error(PROG, "unknown option '--%s'", name);
@@ -161,23 +167,6 @@ static void clean_status(wormgear_status_t *s)
     CLEAN(s->motion), CLEAN(s->regime), CLEAN(s->tick_refusal);
 }
 
-/* s as a JSON string literal (quotes, backslashes and control characters
- * escaped). */
-static void json_str(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; s && *s; s++) {
-        unsigned char ch = (unsigned char)*s;
-        if (ch == '"' || ch == '\\')
-            fprintf(f, "\\%c", ch);
-        else if (ch < 0x20)
-            fprintf(f, "\\u%04x", ch);
-        else
-            fputc(ch, f);
-    }
-    fputc('"', f);
-}
-
 /* Commands whose ACK comes only when something has happened in the run
  * (PROTOCOL.md): their silence need not mean that no daemon is there. */
 static const char *late_answer(const ctl *t, const char *what)
@@ -202,7 +191,7 @@ static int report(ctl *t, const char *what)
             snprintf(msg, sizeof msg, "no ACK within %g s: %s", t->o.timeout_s,
                      late ? late : bus_hint(&t->c, hint, sizeof hint));
             printf("{\"accepted\":false,\"code\":\"ETIMEDOUT\",\"message\":");
-            json_str(stdout, msg);
+            cli_json_str(stdout, msg);
             printf("}\n");
         }
         if (late)
@@ -215,12 +204,12 @@ static int report(ctl *t, const char *what)
     }
     if (t->o.json) {
         printf("{\"accepted\":%s,\"code\":", a->accepted ? "true" : "false");
-        json_str(stdout, a->code);
+        cli_json_str(stdout, a->code);
         printf(",\"status\":%d,\"message\":", a->rc);
-        json_str(stdout, a->message);
+        cli_json_str(stdout, a->message);
         printf(",\"tau\":%.17g,\"t_s\":%.17g,\"steps\":%lld,\"seq\":%lld,\"client\":", a->tau,
                a->t_s, (long long)a->steps, (long long)a->cmd_seq);
-        json_str(stdout, t->c.client);
+        cli_json_str(stdout, t->c.client);
         printf("}\n");
     } else if (a->accepted) {
         printf("ok: %s [tau %.9g, t %.6g s]\n", a->message, a->tau, a->t_s);
@@ -293,26 +282,14 @@ static int do_step(ctl *t, int n, char **args)
     return send_wait(t, &c);
 }
 
-/* A TICK is not answered: say what was sent and where its effect shows. */
+/* A TICK is not answered: ctl_tick says what was sent, or with --wait what
+ * STATUS showed of it. */
 static int do_tick(ctl *t, int n, char **args)
 {
     int64_t v;
     if (n != 1 || cli_int64(args[0], 1, 10000000, &v))
         return cli_usage_error(PROG, "tick: expected a step count N in [1, 10000000]");
-    int64_t seq = bus_tick(&t->c, v);
-    if (seq < 0) {
-        fprintf(stderr, "wgctl: tick: could not publish on %sTICK\n", t->c.prefix);
-        return 1;
-    }
-    if (t->o.json)
-        printf("{\"sent\":true,\"op\":\"tick\",\"seq\":%" PRId64 ",\"nsteps\":%" PRId64
-               ",\"signed\":%s}\n", seq, v, t->c.signing ? "true" : "false");
-    else
-        printf("sent TICK seq %" PRId64 ": %" PRId64 " steps, %s (no answer comes: in lockstep "
-               "mode the daemon runs them; 'wgctl status' shows its steps, and its ticks "
-               "refused with why)\n", seq, v,
-               t->c.signing ? "signed" : "unsigned");
-    return 0;
+    return ctl_tick(&t->c, v, t->o.wait, t->o.timeout_s, t->o.json);
 }
 
 static int do_named(ctl *t, const char *op, int n, char **args)
@@ -407,14 +384,14 @@ static void print_params_json(const ctl *t, const wormgear_params_t *p)
     units_scale sc;
     params_of(p, &v, &sc);
     printf("{\"scene\":");
-    json_str(stdout, p->scene);
+    cli_json_str(stdout, p->scene);
     printf(",\"tau\":%.17g,\"omega_n_rad_s\":%.17g,\"length_m\":%.17g,"
            "\"mesh_stiffness_N_m\":%.17g,\"steps_per_period\":%d,\"params\":{",
            p->tau, p->omega_n_rad_s, p->length_m, p->mesh_stiffness_N_m, p->steps_per_period);
     for (int i = 0, k = 0; i < p->n; i++)
         if (wanted(t, p->name[i])) {
             printf("%s", k++ ? "," : "");
-            json_str(stdout, p->name[i]);
+            cli_json_str(stdout, p->name[i]);
             printf(":%.17g", p->value[i]);
         }
     printf("},\"physical\":{");
@@ -423,7 +400,7 @@ static void print_params_json(const ctl *t, const wormgear_params_t *p)
         const char *u;
         if (wanted(t, p->name[i]) && !units_param(wg_param_lookup(p->name[i]), &v, &sc, &x, &u)) {
             printf("%s", k++ ? "," : "");
-            json_str(stdout, p->name[i]);
+            cli_json_str(stdout, p->name[i]);
             printf(":{\"value\":%.17g,\"unit\":\"%s\"}", x, u);
         }
     }
@@ -505,15 +482,15 @@ static void print_status(const ctl *t, const wormgear_status_t *s)
 {
     if (t->o.json) {
         printf("{\"scene\":");
-        json_str(stdout, s->scene);
+        cli_json_str(stdout, s->scene);
         printf(",\"mode\":");
-        json_str(stdout, s->mode);
+        cli_json_str(stdout, s->mode);
         printf(",\"rate\":%.17g,\"run\":", s->rate);
-        json_str(stdout, s->run);
+        cli_json_str(stdout, s->run);
         printf(",\"health\":");
-        json_str(stdout, s->health);
+        cli_json_str(stdout, s->health);
         printf(",\"fault\":");
-        json_str(stdout, s->fault);
+        cli_json_str(stdout, s->fault);
         printf(",\"tau\":%.17g,\"t_s\":%.17g,\"omega\":%.17g,\"steps\":%lld,\"period\":%lld,"
                "\"rtf\":%.6g,\"lag_s\":%.6g,\"overruns\":%lld,\"loop_mean_us\":%.6g,"
                "\"loop_max_us\":%.6g,\"steps_per_s\":%.6g,\"cpu_share\":%.6g,"
@@ -523,11 +500,11 @@ static void print_status(const ctl *t, const wormgear_status_t *s)
                s->lag_s, (long long)s->overruns, s->loop_mean_us, s->loop_max_us,
                s->steps_per_s, s->cpu_share, (long long)s->msgs_dropped,
                (long long)s->cmds_accepted, (long long)s->cmds_refused);
-        json_str(stdout, s->motion);
+        cli_json_str(stdout, s->motion);
         printf(",\"impacts_per_period\":%.6g,\"regime\":", s->impacts_per_period);
-        json_str(stdout, s->regime);
+        cli_json_str(stdout, s->regime);
         printf(",\"ticks_refused\":%lld,\"tick_refusal\":", (long long)s->ticks_refused);
-        json_str(stdout, s->tick_refusal);
+        cli_json_str(stdout, s->tick_refusal);
         printf(",\"seq\":%lld}\n", (long long)s->seq);
         return;
     }
@@ -595,7 +572,7 @@ static int do_params(const ctl *t)
             printf("%s{\"name\":\"%s\",\"unit\":\"%s\",\"min\":%.17g,\"max\":%.17g,"
                    "\"default\":%.17g,\"rampable\":%s,\"help\":", i ? "," : "[", r->name, r->unit,
                    r->min, r->max, r->def, r->flags & WG_PF_RAMP ? "true" : "false");
-            json_str(stdout, r->help);
+            cli_json_str(stdout, r->help);
             printf("}%s", i == WG_NPARAM - 1 ? "]\n" : "\n");
         } else {
             char range[48];

@@ -183,6 +183,22 @@ ticks_told() { "$C" $K status 2>/dev/null | grep -q "^ticks     2 refused; the l
 wait_until 5 ticks_told || fail "wgctl status does not tell the 2 refused ticks: $("$C" $K status 2>&1 | tail -2)"
 "$C" $K --json status | grep -q '"ticks_refused":2,"tick_refusal":"TICK (seq 1, 500 steps) refused: replayed' ||
     fail "wgctl --json status: $("$C" $K --json status 2>&1)"
+# wgctl tick --wait watches STATUS for what came of its tick: the
+# unsigned one refused (exit 1, the daemon's why), a signed one run (exit 0)
+"$C" tick 700 --wait >"$tmp/out" 2>&1 && fail "an unsigned tick --wait said run: $(cat "$tmp/out")"
+grep -q "^wgctl: tick: TICK (seq 1, 700 steps) refused: unsigned tick" "$tmp/out" ||
+    fail "unsigned tick --wait: not the daemon's refusal: $(cat "$tmp/out")"
+s1=$(steps)
+"$C" $K tick 300 --wait >"$tmp/out" 2>&1 || fail "a signed tick --wait: $(cat "$tmp/out")"
+grep -q "^TICK seq 1 (signed): 300 steps run (the daemon's step $s1 -> $((s1 + 300)))" "$tmp/out" ||
+    fail "signed tick --wait: $(cat "$tmp/out")"
+"$C" $K --json tick 5 --wait >"$tmp/out" 2>&1 || fail "tick --wait --json: $(cat "$tmp/out")"
+grep -q '"result":"ran","steps":'$((s1 + 305)) "$tmp/out" || fail "tick --wait --json: $(cat "$tmp/out")"
+"$C" $K pause >/dev/null || fail "signed pause refused"
+"$C" $K tick 5 --wait >"$tmp/out" 2>&1 && fail "a tick to a paused daemon said run: $(cat "$tmp/out")"
+grep -q "did not run: the daemon is paused in lockstep mode, where a tick lapses" "$tmp/out" ||
+    fail "tick --wait, paused: $(cat "$tmp/out")"
+steps_are $((s1 + 305)) || fail "a tick to a paused daemon ran: step $(steps), want $((s1 + 305))"
 
 kill -TERM $pid; wait $pid; rc=$?; pid=
 [ $rc -eq 0 ] || fail "SIGTERM: exit $rc"

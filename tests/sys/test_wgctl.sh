@@ -89,6 +89,12 @@ has out "stepped 1000 steps"
 expect 0 "$C" resume
 expect 1 "$C" step 10
 has err "ESTATE"
+# a TICK in realtime mode lapses: --wait says so (the pace's steps are not
+# the tick's), where plain tick only says it was sent
+expect 1 "$C" tick 1000 --wait
+has err "TICK seq 1 did not run: the daemon is running in realtime mode, where a tick lapses"
+expect 0 "$C" tick 1000
+has out "sent TICK seq 1: 1000 steps, unsigned (no answer comes"
 # a long step while paused: resume is refused while it runs (it said
 # "running from tau" and the step went on), pause cancels it
 expect 0 "$C" pause
