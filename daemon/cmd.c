@@ -694,15 +694,10 @@ int cmd_init(wgd *d)
         log_msg(&d->log, LOG_INFO, "signed commands only (key %s)", d->auth.path);
         wait_until_us(auth_open_us(&d->auth));
     }
-    lcm_subscription_t *a = lcm_subscribe(d->io.lcm, d->io.ch[CH_CMD], on_cmd, d);
-    if (!a) {
-        snprintf(d->init_why, sizeof d->init_why, "LCM: cannot subscribe %s", d->io.ch[CH_CMD]);
-        return WG_EIO;
-    }
     /* room for a burst (PROTOCOL.md: 2,000 commands at once are all
      * answered); what the kernel still drops is counted (rx_dropped) */
-    lcm_subscription_set_queue_capacity(a, CMD_QUEUE);
-    return WG_OK;
+    return lcmio_subscribe(&d->io, CH_CMD, on_cmd, d, CMD_QUEUE, d->init_why,
+                           sizeof d->init_why);
 }
 
 void cmd_fini(wgd *d)

@@ -38,6 +38,18 @@ int lcmio_init(lcmio *io, const char *url, const char *prefix, char *why, size_t
     return WG_OK;
 }
 
+int lcmio_subscribe(lcmio *io, int ch, lcm_msg_handler_t fn, void *user, int queue, char *why,
+                    size_t whylen)
+{
+    lcm_subscription_t *s = lcm_subscribe(io->lcm, io->ch[ch], fn, user);
+    if (!s) {
+        snprintf(why, whylen, "LCM: cannot subscribe %s", io->ch[ch]);
+        return WG_EIO;
+    }
+    lcm_subscription_set_queue_capacity(s, queue);
+    return WG_OK;
+}
+
 void lcmio_fini(lcmio *io)
 {
     if (io->lcm)

@@ -52,6 +52,11 @@ int lcmio_fileno(const lcmio *io);
 /* 1 when a message waits to be handled (one poll, no wait), else 0. */
 int lcmio_waiting(const lcmio *io);
 
+/* Subscribe fn (a raw handler, given user) to channel ch (CH_*), with room
+ * for queue messages LCM may hold for it. WG_OK, or WG_EIO with why. */
+int lcmio_subscribe(lcmio *io, int ch, lcm_msg_handler_t fn, void *user, int queue, char *why,
+                    size_t whylen);
+
 /* Handle every message already waiting, at most max; returns the count. */
 int lcmio_drain(lcmio *io, int max);
 

@@ -111,11 +111,6 @@ uint64_t lockstep_progress(wgd *d, uint64_t max)
 
 int lockstep_init(wgd *d)
 {
-    lcm_subscription_t *s = lcm_subscribe(d->io.lcm, d->io.ch[CH_TICK], on_tick, d);
-    if (!s) {
-        snprintf(d->init_why, sizeof d->init_why, "LCM: cannot subscribe %s", d->io.ch[CH_TICK]);
-        return WG_EIO;
-    }
-    lcm_subscription_set_queue_capacity(s, TICK_QUEUE);
-    return WG_OK;
+    return lcmio_subscribe(&d->io, CH_TICK, on_tick, d, TICK_QUEUE, d->init_why,
+                           sizeof d->init_why);
 }
