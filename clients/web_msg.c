@@ -19,12 +19,13 @@ static const char *const status_fields[] = {
     "n:rtf:real-time factor (simulated s / wall s)", "n:lag_s:behind the pace target [s]",
     "i:overruns:ticks that hit the catch-up cap", "n:loop_mean_us:loop iteration [us]",
     "n:loop_max_us:longest loop iteration [us]", "n:steps_per_s:steps per wall second",
-    "n:cpu_share:daemon CPU time / wall time (1 = one core)", "i:msgs_dropped:daemon drops",
+    "n:cpu_share:daemon CPU time / wall time (1 = one core)", "i:msgs_dropped:messages the daemon failed to publish",
     "i:cmds_accepted:commands accepted", "i:cmds_refused:commands refused",
     "i:cmds_dropped:commands the daemon's inbox had no room for",
     "i:rx_dropped:datagrams the kernel dropped on the daemon's sockets",
     "i:ticks_refused:TICKs not taken (undecodable, out of range, unsigned, stale, replayed)",
     "s:tick_refusal:why the last TICK was not taken",
+    "i:ticks_lost:TICKs lost on the way (gaps in their seq)",
     "s:motion:no_impact | single_sided | double_sided", "n:impacts_per_period:mesh impacts per period",
     "s:regime:period-N | aperiodic | ramping | unknown", "b:ramp_active:a ramp is running",
     "n:uptime_s:daemon uptime [s]", NULL};
@@ -311,6 +312,7 @@ void msg_status(jbuf *b, const wormgear_status_t *m)
     ki(b, "cmds_accepted", m->cmds_accepted), ki(b, "cmds_refused", m->cmds_refused);
     ki(b, "cmds_dropped", m->cmds_dropped), ki(b, "rx_dropped", m->rx_dropped);
     ki(b, "ticks_refused", m->ticks_refused), ks(b, "tick_refusal", m->tick_refusal);
+    ki(b, "ticks_lost", m->ticks_lost);
     ks(b, "motion", m->motion), kn(b, "impacts_per_period", m->impacts_per_period);
     ks(b, "regime", m->regime), kb(b, "ramp_active", m->ramp_active);
     kn(b, "uptime_s", m->uptime_s);

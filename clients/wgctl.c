@@ -505,7 +505,8 @@ static void print_status(const ctl *t, const wormgear_status_t *s)
         cli_json_str(stdout, s->regime);
         printf(",\"ticks_refused\":%lld,\"tick_refusal\":", (long long)s->ticks_refused);
         cli_json_str(stdout, s->tick_refusal);
-        printf(",\"seq\":%lld}\n", (long long)s->seq);
+        printf(",\"ticks_lost\":%lld,\"seq\":%lld}\n", (long long)s->ticks_lost,
+               (long long)s->seq);
         return;
     }
     printf("scene %s, mode %s (rate %g), %s, health %s%s%s\n", s->scene, s->mode, s->rate,
@@ -522,9 +523,11 @@ static void print_status(const ctl *t, const wormgear_status_t *s)
            s->steps_per_s, s->cpu_share * 100, s->loop_mean_us, s->loop_max_us);
     printf("motion    %s, %.3g impacts per period, regime %s\n", s->motion,
            s->impacts_per_period, s->regime);
-    printf("messages  %lld dropped; commands %lld accepted, %lld refused; up %.1f s\n",
+    printf("messages  %lld not published; commands %lld accepted, %lld refused; up %.1f s\n",
            (long long)s->msgs_dropped, (long long)s->cmds_accepted, (long long)s->cmds_refused,
            s->uptime_s);
+    if (s->ticks_lost) /* gaps in the seq of the ticks the daemon took */
+        printf("ticks     %lld lost on the way (gaps in their seq)\n", (long long)s->ticks_lost);
     if (s->ticks_refused) /* a tick has no answer: this is its refusal */
         printf("ticks     %lld refused; the last: %s\n", (long long)s->ticks_refused,
                s->tick_refusal);

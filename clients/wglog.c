@@ -240,7 +240,7 @@ static int rows_status(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
         head(f, "scene,mode,rate,run,health,fault,tau,t_s,omega,steps,period,steps_per_period,"
                 "rtf,lag_s,overruns,loop_mean_us,loop_max_us,steps_per_s,cpu_share,"
                 "msgs_dropped,cmds_accepted,cmds_refused,cmds_dropped,rx_dropped,"
-                "ticks_refused,tick_refusal,motion,impacts_per_period,regime,ramp_active,"
+                "ticks_refused,tick_refusal,ticks_lost,motion,impacts_per_period,regime,ramp_active,"
                 "uptime_s");
     if (f) {
         lead(f, ev->timestamp, m.utime, m.seq);
@@ -250,7 +250,7 @@ static int rows_status(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
         ci(f, m.overruns), cd(f, m.loop_mean_us), cd(f, m.loop_max_us), cd(f, m.steps_per_s);
         cd(f, m.cpu_share), ci(f, m.msgs_dropped), ci(f, m.cmds_accepted);
         ci(f, m.cmds_refused), ci(f, m.cmds_dropped), ci(f, m.rx_dropped);
-        ci(f, m.ticks_refused), csc(f, m.tick_refusal), csc(f, m.motion);
+        ci(f, m.ticks_refused), csc(f, m.tick_refusal), ci(f, m.ticks_lost), csc(f, m.motion);
         cd(f, m.impacts_per_period);
         csc(f, m.regime), ci(f, m.ramp_active), cd(f, m.uptime_s);
         fputc('\n', f);

@@ -70,7 +70,7 @@ typedef struct status_copy {
     char tick_refusal[200];
     double rate, tau, t_s, omega, rtf, lag_s, loop_mean_us, loop_max_us, steps_per_s, cpu;
     double imp_pp, uptime_s;
-    int64_t period, overruns, dropped, acc, ref, ticks_refused;
+    int64_t period, overruns, dropped, acc, ref, ticks_refused, ticks_lost;
     int N, ramp;
 } status_copy;
 
@@ -275,7 +275,7 @@ static void on_status(mon *m, const wormgear_status_t *s)
     CPY(c->scene, s->scene); CPY(c->mode, s->mode); CPY(c->run, s->run);
     CPY(c->health, s->health); CPY(c->fault, s->fault); CPY(c->motion, s->motion);
     CPY(c->regime, s->regime); CPY(c->tick_refusal, s->tick_refusal);
-    c->ticks_refused = s->ticks_refused;
+    c->ticks_refused = s->ticks_refused, c->ticks_lost = s->ticks_lost;
     c->rate = s->rate; c->tau = s->tau; c->t_s = s->t_s; c->omega = s->omega;
     c->rtf = s->rtf; c->lag_s = s->lag_s; c->loop_mean_us = s->loop_mean_us;
     c->loop_max_us = s->loop_max_us; c->steps_per_s = s->steps_per_s; c->cpu = s->cpu_share;
@@ -568,7 +568,7 @@ static void draw_msgs(mon *m, mon_text *f)
     mon_text_put(f, drop ? 33 : 0, "  dropped %ld", drop);
     if (ign)
         mon_text_put(f, 33, "  not shown %ld (other senders)", ign);
-    mon_text_put(f, 0, "  daemon-side %lld", (long long)m->st.dropped);
+    mon_text_put(f, 0, "  not published %lld", (long long)m->st.dropped);
     mon_text_put(f, 0, "  cmds %lld/%lld refused", (long long)m->st.acc, (long long)m->st.ref);
     mon_text_put(f, 0, "  mesh impacts %ld",
                  m->contacts[WG_C_MESH][WG_EV_DRIVE_IMPACT] + m->contacts[WG_C_MESH][WG_EV_BACK_IMPACT]);
@@ -576,6 +576,10 @@ static void draw_msgs(mon *m, mon_text *f)
     if (m->st.ticks_refused) { /* a TICK has no answer: its refusal shows here */
         mon_text_put(f, 31, "ticks   %lld refused", (long long)m->st.ticks_refused);
         mon_text_put(f, 0, ", the last: %s", m->st.tick_refusal);
+        mon_text_nl(f);
+    }
+    if (m->st.ticks_lost) { /* gaps in the seq of the ticks taken */
+        mon_text_put(f, 33, "ticks   %lld lost on the way", (long long)m->st.ticks_lost);
         mon_text_nl(f);
     }
 }

@@ -102,11 +102,13 @@ cp "$tmp/out" "$tmp/json"
 kill "$spid" 2>/dev/null; wait "$spid" 2>/dev/null
 has human '^scene spoof, mode realtime .*health ok: <img src=x onerror="window.wgPwned=1"> ?\[2J?\]0;pwned? ?31m ?$'
 has human "regime <b id=wgpwn>P9</b>?\[31m$"
+has human '^messages  5 not published; commands '
+has human '^ticks     7 lost on the way (gaps in their seq)$'
 has human '^ticks     3 refused; the last: <img src=x onerror="window.wgPwned=2"> ?\[2J?\]0;pwned?$'
 for f in human json; do
     LC_ALL=C grep -q "$(printf '[\033\007\377]')" "$tmp/$f" && fail "status ($f): an escape or a non-UTF-8 byte printed"
     LC_ALL=C grep -q "$(printf '\302\233')" "$tmp/$f" && fail "status ($f): a C1 CSI printed"
 done
-python3 -c 'import json, sys; s = json.load(open(sys.argv[1])); assert s["regime"] == "<b id=wgpwn>P9</b>?[31m", s["regime"]; assert s["fault"].startswith("<img src=x onerror=\"window"), s["fault"]; assert s["ticks_refused"] == 3 and s["tick_refusal"].startswith("<img src=x onerror=\"window.wgPwned=2"), s' "$tmp/json" ||
+python3 -c 'import json, sys; s = json.load(open(sys.argv[1])); assert s["regime"] == "<b id=wgpwn>P9</b>?[31m", s["regime"]; assert s["fault"].startswith("<img src=x onerror=\"window"), s["fault"]; assert s["ticks_lost"] == 7 and s["msgs_dropped"] == 5; assert s["ticks_refused"] == 3 and s["tick_refusal"].startswith("<img src=x onerror=\"window.wgPwned=2"), s' "$tmp/json" ||
     fail "status --json: not JSON, or the strings changed: $(cat "$tmp/json")"
 exit $code

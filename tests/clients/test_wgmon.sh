@@ -161,6 +161,8 @@ LC_ALL=C grep -q "$(printf '[\033\007\377]')" "$tmp/out" &&
     fail "hostile sender: an escape or a non-UTF-8 byte reached the terminal"
 LC_ALL=C grep -q "$(printf '\302\233')" "$tmp/out" && fail "hostile sender: a C1 CSI reached the terminal"
 has out "(<img src=x onerror=\"window.wgPwned=1\"> ?\[2J?\]0;pwned? ?31m ?)"
+has out "^ticks   7 lost on the way"
+has out "  not published 5"
 has out "^ticks   3 refused, the last: <img src=x onerror=\"window.wgPwned=2\"> ?\[2J?\]0;pwned?"
 # ... and, its messages all ending on the valid pair (1.5, 3.0 rad), the
 # monitor shows that pair. (Above, every other message ends on a bad

@@ -184,6 +184,8 @@ static int publish_status(lcm_t *l, const char *ch, int64_t seq)
     s.bearing_impact_vmax = zero6;
     s.regime = "<b id=wgpwn>P9</b>\033[31m";
     s.ticks_refused = 3;
+    s.ticks_lost = 7;
+    s.msgs_dropped = 5;
     s.tick_refusal = "<img src=x onerror=\"window.wgPwned=2\"> \033[2J\033]0;pwned\007";
     s.uptime_s = 1.0;
     return wormgear_status_t_publish(l, ch, &s);

@@ -55,7 +55,7 @@ typedef struct fx {
     double bearing_ipp[WG_NBEARING], bearing_vmax[WG_NBEARING];
     double ack_tau;
     int nstatus;
-    int64_t msgs_dropped, ticks_refused; /* STATUS */
+    int64_t msgs_dropped, ticks_refused, ticks_lost; /* STATUS */
     char tick_refusal[512];
     int64_t myseq;
     void *subs[6];
@@ -175,6 +175,7 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
     F.nstatus++;
     F.msgs_dropped = m->msgs_dropped;
     F.ticks_refused = m->ticks_refused;
+    F.ticks_lost = m->ticks_lost;
     snprintf(F.tick_refusal, sizeof F.tick_refusal, "%s", m->tick_refusal);
     snprintf(F.health, sizeof F.health, "%s", m->health);
     snprintf(F.regime, sizeof F.regime, "%s", m->regime);

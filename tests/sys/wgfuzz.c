@@ -69,7 +69,7 @@ typedef struct fz {
     ackrec win[LOGACK];          /* ACKs since the last mark (the window) */
     int nwin, nwin_total;
     long acks_total;
-    long long st_dropped;        /* the last STATUS's msgs_dropped */
+    long long st_ticks_lost;     /* ... ticks_lost (gaps in the TICK seq) */
     long long st_rx_dropped;     /* ... rx_dropped and cmds_dropped */
     long long st_cmds_dropped, st_handled; /* handled: accepted + refused */
     long long st_ticks_refused;  /* ... ticks_refused, and why the last */
@@ -264,7 +264,7 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
                       void *u)
 {
     (void)rb, (void)ch, (void)u;
-    F.st_dropped = (long long)m->msgs_dropped;
+    F.st_ticks_lost = (long long)m->ticks_lost;
     F.st_rx_dropped = (long long)m->rx_dropped;
     F.st_cmds_dropped = (long long)m->cmds_dropped;
     F.st_handled = (long long)(m->cmds_accepted + m->cmds_refused);
@@ -733,7 +733,7 @@ static void ticks(void)
     own("mode", "lockstep", 3000);
     own("resume", "", 3000);
     pump(300); /* a STATUS before */
-    long long refused0 = F.st_ticks_refused, dropped0 = F.st_dropped;
+    long long refused0 = F.st_ticks_refused, lost0 = F.st_ticks_lost;
     static const int64_t seqs[] = {0, INT64_MAX, INT64_MIN, 5, 1000000000005LL, -7, 6};
     int nbad = 0;
     for (unsigned i = 0; i < sizeof seqs / sizeof seqs[0]; i++) {
@@ -745,14 +745,12 @@ static void ticks(void)
         nbad += F.keyed;
     }
     pump(700);
-    long long dropped = F.have_status ? F.st_dropped : -1;
-    printf("ticks: STATUS msgs_dropped %lld after hostile tick seqs\n", dropped);
-    if (dropped < 0 || dropped > 1000)
-        fail("hostile tick seqs: msgs_dropped %lld (one gap must count at most a bound)",
-             dropped);
-    if (F.keyed && dropped != dropped0)
-        fail("unsigned ticks' seqs counted as gaps: msgs_dropped %lld, was %lld", dropped,
-             dropped0);
+    long long lost = F.have_status ? F.st_ticks_lost : -1;
+    printf("ticks: STATUS ticks_lost %lld after hostile tick seqs\n", lost);
+    if (lost < 0 || lost > 1000)
+        fail("hostile tick seqs: ticks_lost %lld (one gap must count at most a bound)", lost);
+    if (F.keyed && lost != lost0)
+        fail("unsigned ticks' seqs counted as gaps: ticks_lost %lld, was %lld", lost, lost0);
     /* ticks no driver may send, each refused and told (a tick has no ACK:
      * STATUS ticks_refused and tick_refusal are its answer); seqs 7 ... 11
      * in order, so no gap is counted */
@@ -781,9 +779,9 @@ static void ticks(void)
     if (!strstr(F.st_tick_refusal, "undecodable TICK message (47 bytes) ignored: ") ||
         !strstr(F.st_tick_refusal, "client"))
         fail("hostile ticks: STATUS tick_refusal does not say why: '%s'", F.st_tick_refusal);
-    if (F.st_dropped != dropped)
-        fail("hostile ticks counted as lost messages: msgs_dropped %lld, was %lld",
-             F.st_dropped, dropped);
+    if (F.st_ticks_lost != lost)
+        fail("hostile ticks counted as lost ticks: ticks_lost %lld, was %lld", F.st_ticks_lost,
+             lost);
     long long steps0 = F.st_steps;
     unsigned char zero[WG_MAC_BYTES] = {0};
     wormgear_tick_t t = {.utime = F.keyed ? now_us() : 1, .seq = F.keyed ? ++F.tick_seq : 12,

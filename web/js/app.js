@@ -283,7 +283,7 @@ function updateStatus() {
     ["ω", om], ["regime", st.regime], ["motion", st.motion], ["impacts / period", fmt(st.impacts_per_period)],
     ["simulated time", `${fmt(st.t_s, 6)} s (τ ${fmt(st.tau, 7)})`],
     ["worm θ1, wheel θ2", S.theta ? S.theta.map((a) => `${(a * 180 / Math.PI).toFixed(2)}°`).join(", ") : "–"],
-    ["drops", `daemon ${st.msgs_dropped}, LCM gaps ${br?.lcm_gaps ?? "–"}, bridge queues ${br?.queue_drops ?? "–"}`],
+    ["drops", `daemon not published ${st.msgs_dropped}, ticks lost ${st.ticks_lost ?? "–"}, LCM gaps ${br?.lcm_gaps ?? "–"}, bridge queues ${br?.queue_drops ?? "–"}`],
     ["scope", br ? `${fmt(br.scope_in_hz)} → ${fmt(br.scope_hz)} samples/s` : "–"],
     // a TICK has no answer: its refusal shows here (lockstep drivers)
     ...(st.ticks_refused > 0 ? [["ticks refused", `${st.ticks_refused} — the last: ${st.tick_refusal}`]] : []),

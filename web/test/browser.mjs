@@ -112,6 +112,8 @@ async function spoofed(page) {
       // STATUS tick_refusal (a tick's only answer) shown in its row, as text
       tickAsText: document.querySelector("#status").textContent.includes("3 — the last: <img src=x onerror"),
       img: document.querySelectorAll("#status img").length,
+      // STATUS drops told apart: publish failures and ticks lost
+      drops: document.querySelector("#status").textContent.includes("daemon not published 5, ticks lost 7,"),
     }));
     const caption = await page.textContent("#caption");
     const code = await exited;
@@ -122,7 +124,7 @@ async function spoofed(page) {
     assert.ok(rejected > 0, "the page saw wgspoof's angles");
     assert.deepEqual(bad, [], "only angles in [0, 360)° are shown");
     console.log(`ok? markup in STATUS strings: ${JSON.stringify(markup)}`);
-    assert.deepEqual(markup, { pwned: undefined, injected: false, shownAsText: true, tickAsText: true, img: 0 },
+    assert.deepEqual(markup, { pwned: undefined, injected: false, shownAsText: true, tickAsText: true, img: 0, drops: true },
       "STATUS strings shown as text, never run as markup");
     console.log("ok spoofed: no angle that is not an angle was shown");
     assert.ok(/^scene table3 /.test(caption) && !/passwd|NaN/.test(caption),
