@@ -325,9 +325,20 @@ static int seal_publish(bus *c, const char *suffix, unsigned char *buf, int n)
     return lcm_publish(c->lcm, bus_channel(c, suffix, ch, sizeof ch), buf, (unsigned)n) ? -1 : 0;
 }
 
+/* The wall clock, us, but never the utime of the last command or tick
+ * sent: an ACK names its message by client, seq and utime, and command and
+ * tick seqs are counters of their own. */
+static int64_t stamp(const bus *c)
+{
+    int64_t u = cli_wall_us();
+    while (u == c->cmd_utime || u == c->tick_utime)
+        u++;
+    return u;
+}
+
 int64_t bus_send(bus *c, wormgear_cmd_t *cmd)
 {
-    cmd->utime = c->cmd_utime = cli_wall_us();
+    cmd->utime = c->cmd_utime = stamp(c);
     cmd->seq = ++c->seq;
     cmd->client = c->client;
     c->ack.got = 0, c->unverified.got = 0;
@@ -342,11 +353,12 @@ int64_t bus_send(bus *c, wormgear_cmd_t *cmd)
 int64_t bus_tick(bus *c, int64_t nsteps)
 {
     unsigned char buf[512], mac[WG_MAC_BYTES] = {0};
-    wormgear_tick_t t = {.utime = cli_wall_us(), .seq = c->tick_seq + 1, .nsteps = nsteps,
+    wormgear_tick_t t = {.utime = stamp(c), .seq = c->tick_seq + 1, .nsteps = nsteps,
                          .client = c->client, .mac_len = c->signing ? WG_MAC_BYTES : 0,
                          .mac = mac};
     if (seal_publish(c, "TICK", buf, wormgear_tick_t_encode(buf, 0, sizeof buf, &t)))
         return -1;
+    c->tick_utime = t.utime;
     return c->tick_seq = t.seq;
 }
 

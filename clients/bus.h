@@ -44,7 +44,10 @@ typedef struct bus {
     char client[96];          /* "<name>-<pid>@<host>" */
     int64_t seq;              /* last command seq sent */
     int64_t cmd_utime;        /* ... and its utime: an ACK echoes both (and the client) */
-    int64_t tick_seq;         /* last TICK seq sent (a counter of its own) */
+    int64_t tick_seq;         /* last TICK seq sent (a counter of its own) ... */
+    int64_t tick_utime;       /* ... and its utime (a refused tick's ACK echoes both); no two
+                                 messages sent share a utime, so a tick's ACK never answers
+                                 a command */
     bus_ack ack;              /* the ACK of the last command, once it came */
     bus_ack unverified;       /* signing: the last answer to our command that the key did not
                                  verify (not taken: unsigned, another key, made up) */
@@ -171,9 +174,10 @@ wormgear_cmd_t bus_cmd(const char *op);
  * Returns the seq, or -1 if encoding or publishing failed. */
 int64_t bus_send(bus *c, wormgear_cmd_t *cmd);
 
-/* Publish one TICK owing nsteps (lockstep; no answer), stamped (utime,
- * seq = ++c->tick_seq, client) and signed as bus_send signs a command.
- * Returns the seq, or -1 if encoding or publishing failed. */
+/* Publish one TICK owing nsteps (lockstep: a tick taken has no answer, a
+ * refused one an ACK with op "tick"), stamped (utime, seq = ++c->tick_seq,
+ * client) and signed as bus_send signs a command. Returns the seq, or -1
+ * if encoding or publishing failed. */
 int64_t bus_tick(bus *c, int64_t nsteps);
 
 /* Handle LCM messages until done(ctx) is true or timeout_ms passes.

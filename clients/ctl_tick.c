@@ -1,10 +1,11 @@
-/* ctl_tick.c - wgctl's tick: send, and with --wait watch STATUS for what
- * came of it (ctl_tick.h). */
+/* ctl_tick.c - wgctl's tick: send, and with --wait watch what came of it:
+ * its refusal on ACK, or its steps on STATUS (ctl_tick.h). */
 #include "ctl_tick.h"
 
 #include "bus_msg.h"
 #include "cli.h"
 
+#include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_status_t.h"
 
 #include <inttypes.h>
@@ -13,15 +14,17 @@
 
 enum { RAN = 1, REFUSED, LAPSED };
 
-/* What the STATUS messages taken so far said (the last one). */
+/* What the STATUS messages taken so far said (the last one), and the
+ * tick's refusal if one came. */
 typedef struct watch {
     bus *c;
     int n;                       /* STATUS messages taken */
-    int64_t steps, refused;      /* steps and ticks_refused of the last */
-    char mode[16], run[16], why[512];
+    int64_t steps;               /* steps of the last */
+    char mode[16], run[16];
     int n0;                      /* n when the tick was sent */
-    int64_t steps0, refused0, want;
-    char mine[80];               /* how a refusal of this tick begins */
+    int64_t steps0, want, seq;   /* seq: the tick's (0: not sent yet) */
+    int refused;                 /* its ACK came: refused, with why */
+    char code[32], why[768];
 } watch;
 
 static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_status_t *m,
@@ -32,27 +35,44 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
     if (!bus_signed(w->c, BUS_STATUS, rb)) /* with a key: the daemon's only */
         return;
     w->n++;
-    w->steps = m->steps, w->refused = m->ticks_refused;
+    w->steps = m->steps;
     cli_text(w->mode, sizeof w->mode, m->mode);
     cli_text(w->run, sizeof w->run, m->run);
-    cli_text(w->why, sizeof w->why, m->tick_refusal);
 }
 
 BUS_RAW_HANDLER(on_status_raw, wormgear_status_t, BUS_STATUS, on_status)
 
+/* A refused tick's one answer: an ACK with op "tick" naming this tick by
+ * client, seq and utime (with a key, the daemon's only); a tick taken has
+ * none, so a flood of others' refusals hides nothing. */
+static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_t *m, void *u)
+{
+    (void)ch;
+    watch *w = u;
+    if (!w->seq || m->cmd_seq != w->seq || m->cmd_utime != w->c->tick_utime ||
+        strcmp(m->op, "tick") || strcmp(m->client, w->c->client) ||
+        !bus_signed(w->c, BUS_ACK, rb))
+        return;
+    w->refused = 1;
+    cli_text(w->code, sizeof w->code, m->code);
+    cli_text(w->why, sizeof w->why, m->message);
+}
+
+BUS_RAW_HANDLER(on_ack_raw, wormgear_ack_t, BUS_ACK, on_ack)
+
 static int have_status(void *u) { return ((watch *)u)->n > 0; }
 
-/* What a STATUS after the tick shows: refused (its own refusal, by seq
- * and steps); lapsed (not lockstep, or paused: said by the second STATUS
- * since, as the first may have left before the tick arrived; realtime's
- * steps are the pace's, not the tick's); ran (in lockstep, the step count
- * grew by nsteps); or 0: not yet. */
+/* What came of the tick: refused (its ACK); lapsed (not lockstep, or
+ * paused: said by the second STATUS since, as the first may have left
+ * before the tick arrived; realtime's steps are the pace's, not the
+ * tick's); ran (in lockstep, the step count grew by nsteps); or 0: not
+ * yet. */
 static int outcome(const watch *w)
 {
+    if (w->refused)
+        return REFUSED;
     if (w->n == w->n0)
         return 0;
-    if (w->refused > w->refused0 && !strncmp(w->why, w->mine, strlen(w->mine)))
-        return REFUSED;
     if (strcmp(w->mode, "lockstep") || !strcmp(w->run, "paused"))
         return w->n >= w->n0 + 2 ? LAPSED : 0;
     return w->steps >= w->steps0 + w->want ? RAN : 0;
@@ -63,25 +83,27 @@ static int decided(void *u) { return outcome(u) != 0; }
 int ctl_tick(bus *c, int64_t nsteps, int wait, double timeout_s, int json)
 {
     watch w = {.c = c, .want = nsteps};
-    lcm_subscription_t *sub = NULL;
+    lcm_subscription_t *sub = NULL, *asub = NULL;
     char hint[512];
     int ms = (int)(timeout_s * 1000);
     if (wait) {
         sub = bus_subscribe(c, "STATUS", on_status_raw, &w, 0);
+        asub = bus_subscribe(c, "ACK", on_ack_raw, &w, 0);
         bus_wait(c, ms, have_status, &w);
         if (!w.n) {
             lcm_unsubscribe(c->lcm, sub);
+            lcm_unsubscribe(c->lcm, asub);
             fprintf(stderr, "wgctl: tick: not sent: no STATUS on %sSTATUS within %g s to "
                     "measure it against: %s\n", c->prefix, timeout_s,
                     bus_hint(c, hint, sizeof hint));
             return 1;
         }
-        w.n0 = w.n, w.steps0 = w.steps, w.refused0 = w.refused;
+        w.n0 = w.n, w.steps0 = w.steps;
     }
-    int64_t seq = bus_tick(c, nsteps);
+    int64_t seq = w.seq = bus_tick(c, nsteps);
     if (seq < 0) {
         if (sub)
-            lcm_unsubscribe(c->lcm, sub);
+            lcm_unsubscribe(c->lcm, sub), lcm_unsubscribe(c->lcm, asub);
         fprintf(stderr, "wgctl: tick: could not publish on %sTICK\n", c->prefix);
         return 1;
     }
@@ -91,37 +113,38 @@ int ctl_tick(bus *c, int64_t nsteps, int wait, double timeout_s, int json)
             printf("{\"sent\":true,\"op\":\"tick\",\"seq\":%" PRId64 ",\"nsteps\":%" PRId64
                    ",\"signed\":%s}\n", seq, nsteps, c->signing ? "true" : "false");
         else
-            printf("sent TICK seq %" PRId64 ": %" PRId64 " steps, %s (no answer comes: in "
-                   "lockstep mode the daemon runs them; --wait watches STATUS for them, and "
-                   "'wgctl status' shows its steps and ticks refused with why)\n", seq,
-                   nsteps, sg);
+            printf("sent TICK seq %" PRId64 ": %" PRId64 " steps, %s (a tick taken has no "
+                   "answer: in lockstep mode the daemon runs its steps; a refused one is "
+                   "answered on ACK; --wait waits for either, and 'wgctl status' shows the "
+                   "steps and the ticks refused with why)\n", seq, nsteps, sg);
         return 0;
     }
-    snprintf(w.mine, sizeof w.mine, "TICK (seq %" PRId64 ", %" PRId64 " steps) refused", seq,
-             nsteps);
     bus_wait(c, ms, decided, &w);
     lcm_unsubscribe(c->lcm, sub);
+    lcm_unsubscribe(c->lcm, asub);
     int out = outcome(&w);
     static const char *const name[] = {"unknown", "ran", "refused", "lapsed"};
     if (json) {
         printf("{\"sent\":true,\"op\":\"tick\",\"seq\":%" PRId64 ",\"nsteps\":%" PRId64
-               ",\"signed\":%s,\"result\":\"%s\",\"steps\":%" PRId64 ",\"message\":",
+               ",\"signed\":%s,\"result\":\"%s\",\"steps\":%" PRId64 ",\"code\":",
                seq, nsteps, c->signing ? "true" : "false", name[out], w.steps);
+        cli_json_str(stdout, out == REFUSED ? w.code : "");
+        printf(",\"message\":");
         cli_json_str(stdout, out == REFUSED ? w.why : "");
         printf("}\n");
     } else if (out == RAN) {
         printf("TICK seq %" PRId64 " (%s): %" PRId64 " steps run (the daemon's step %" PRId64
                " -> %" PRId64 ")\n", seq, sg, nsteps, w.steps0, w.steps);
     } else if (out == REFUSED) {
-        fprintf(stderr, "wgctl: tick: %s\n", w.why);
+        fprintf(stderr, "wgctl: tick: %s: %s\n", w.code, w.why);
     } else if (out == LAPSED) {
         fprintf(stderr, "wgctl: tick: TICK seq %" PRId64 " did not run: the daemon is %s in "
                 "%s mode, where a tick lapses (ticks run in lockstep mode while running: "
                 "wgctl mode lockstep, wgctl resume)\n", seq, w.run, w.mode);
     } else {
         fprintf(stderr, "wgctl: tick: within %g s no STATUS showed TICK seq %" PRId64 "'s %"
-                PRId64 " steps run (the daemon's step %" PRId64 " -> %" PRId64 ") nor the "
-                "tick refused%s%s\n", timeout_s, seq, nsteps, w.steps0, w.steps,
+                PRId64 " steps run (the daemon's step %" PRId64 " -> %" PRId64 ") nor an "
+                "ACK refusing it%s%s\n", timeout_s, seq, nsteps, w.steps0, w.steps,
                 w.n == w.n0 ? ": no STATUS came after it; " : "",
                 w.n == w.n0 ? bus_hint(c, hint, sizeof hint) : "");
     }

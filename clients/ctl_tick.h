@@ -1,8 +1,8 @@
 /* ctl_tick.h - `wgctl tick N [--wait]`: one TICK (lockstep) and, with
- * --wait, what came of it. A TICK has no answer (lcmtypes/PROTOCOL.md,
- * "TICK"); what shows it is STATUS: the steps run, the tick refused
- * (ticks_refused grew and tick_refusal names its seq and steps), or a mode
- * or run in which a tick lapses (not lockstep, or paused). */
+ * --wait, what came of it. A tick taken has no answer (lcmtypes/PROTOCOL.md,
+ * "TICK"); a refused one an ACK with op "tick" naming it; STATUS shows the
+ * steps run, or a mode or run in which a tick lapses (not lockstep, or
+ * paused). */
 #ifndef WG_CTL_TICK_H
 #define WG_CTL_TICK_H
 

@@ -55,9 +55,10 @@ static void usage(FILE *f)
             "  reset [--params]           back to the scene's initial state (and parameters)\n"
             "  step N                     advance N RK4 steps (lockstep mode, or paused)\n"
             "  tick N [--wait]            one TICK owing N RK4 steps (lockstep; signed with a\n"
-            "                             key). A TICK has no answer: --wait watches STATUS\n"
-            "                             until the steps ran (exit 0), or the tick was refused\n"
-            "                             or lapsed (not lockstep, paused: exit 1, saying why)\n"
+            "                             key). A tick taken has no answer: --wait watches\n"
+            "                             STATUS until the steps ran (exit 0), or ACK for its\n"
+            "                             refusal, or STATUS for it lapsing (not lockstep,\n"
+            "                             paused): exit 1, saying why\n"
             "  mode realtime|fast|lockstep [RATE]\n"
             "                             change pacing (RATE: realtime factor, 1 = physical)\n"
             "  contacts all|mesh|none [N] which contact events the daemon publishes on CONTACT:\n"
@@ -528,7 +529,7 @@ static void print_status(const ctl *t, const wormgear_status_t *s)
            s->uptime_s);
     if (s->ticks_lost) /* gaps in the seq of the ticks the daemon took */
         printf("ticks     %lld lost on the way (gaps in their seq)\n", (long long)s->ticks_lost);
-    if (s->ticks_refused) /* a tick has no answer: this is its refusal */
+    if (s->ticks_refused) /* refused ticks: their ACKs went to their senders */
         printf("ticks     %lld refused; the last: %s\n", (long long)s->ticks_refused,
                s->tick_refusal);
 }

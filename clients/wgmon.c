@@ -573,7 +573,7 @@ static void draw_msgs(mon *m, mon_text *f)
     mon_text_put(f, 0, "  mesh impacts %ld",
                  m->contacts[WG_C_MESH][WG_EV_DRIVE_IMPACT] + m->contacts[WG_C_MESH][WG_EV_BACK_IMPACT]);
     mon_text_nl(f);
-    if (m->st.ticks_refused) { /* a TICK has no answer: its refusal shows here */
+    if (m->st.ticks_refused) { /* refused ticks (each ACKed to its sender) */
         mon_text_put(f, 31, "ticks   %lld refused", (long long)m->st.ticks_refused);
         mon_text_put(f, 0, ", the last: %s", m->st.tick_refusal);
         mon_text_nl(f);

@@ -37,11 +37,20 @@ static void tick_seq(wgd *d, int64_t seq)
     s->tick_seen = 1;
 }
 
+/* Who sent a tick, as far as it is known: what its refusal is addressed
+ * to (client "" and seq -1 when the bytes do not say). */
+typedef struct sender {
+    char client[WIRE_MAX_CLIENT + 1];
+    int64_t seq, utime;
+} sender;
+
 /* A tick not taken: it changes nothing but this count and why (STATUS
- * ticks_refused, tick_refusal: the driver's one answer) and a log line,
- * limited per call site. */
-static void refuse(wgd *d, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void refuse(wgd *d, const char *fmt, ...)
+ * ticks_refused, tick_refusal), a log line (limited per call site) and its
+ * one answer: an ACK with op "tick", code rc and the same text, addressed
+ * to the tick's client, seq and utime as a command's is. */
+static void refuse(wgd *d, const sender *s, int rc, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static void refuse(wgd *d, const sender *s, int rc, const char *fmt, ...)
 {
     char text[WGD_TICK_WHY], safe[4 * WGD_TICK_WHY];
     va_list ap, aq;
@@ -53,6 +62,12 @@ static void refuse(wgd *d, const char *fmt, ...)
     va_end(ap);
     snprintf(d->stat.tick_why, sizeof d->stat.tick_why, "%s", log_escape(text, safe, sizeof safe));
     d->stat.ticks_refused++;
+    wormgear_ack_t a = {.client = (char *)s->client, .cmd_seq = s->seq, .cmd_utime = s->utime,
+                        .op = (char *)"tick", .accepted = 0, .status = rc,
+                        .code = (char *)wg_status_name(rc), .message = d->stat.tick_why,
+                        .tau = d->sim.tau, .t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau),
+                        .steps = (int64_t)d->sim.steps};
+    lcmio_pub_ack(&d->io, &a);
 }
 
 /* External lockstep tick: owe nsteps, run by the loop in bounded chunks
@@ -69,30 +84,36 @@ static void on_tick(const lcm_recv_buf_t *rb, const char *channel, void *user)
     wormgear_tick_t t;
     char why[WGD_TICK_WHY] = "rejected by the decoder";
     int32_t mac_len;
+    sender s;
     if (wire_tick_check(rb->data, rb->data_size, &mac_len, why, sizeof why) ||
         wormgear_tick_t_decode(rb->data, 0, (int)rb->data_size, &t) < 0) {
-        refuse(d, "undecodable TICK message (%u bytes) ignored: %s", rb->data_size, why);
+        wire_tick_header(rb->data, rb->data_size, s.client, sizeof s.client, &s.seq, &s.utime);
+        refuse(d, &s, WG_EDECODE, "undecodable TICK message (%u bytes) ignored: %s",
+               rb->data_size, why);
         return;
     }
+    s.seq = t.seq, s.utime = t.utime;
+    snprintf(s.client, sizeof s.client, "%s", t.client); /* at most WIRE_MAX_CLIENT: walked */
     int rc = auth_check(&d->auth, AUTH_TICK, rb->data, rb->data_size, mac_len, t.client, t.seq,
                         t.utime, lcmio_now_us(), why, sizeof why);
     wormgear_tick_t_decode_cleanup(&t); /* t.client freed; the numbers stay */
     if (rc) {
-        refuse(d, "TICK (seq %" PRId64 ", %" PRId64 " steps) refused: %s", t.seq, t.nsteps, why);
+        refuse(d, &s, WG_EAUTH, "TICK (seq %" PRId64 ", %" PRId64 " steps) refused: %s", t.seq,
+               t.nsteps, why);
         return;
     }
     tick_seq(d, t.seq);
     if (t.nsteps < 1 || t.nsteps > TICK_NSTEPS_MAX) {
-        refuse(d, "TICK (seq %" PRId64 ", %" PRId64 " steps) refused: a tick owes 1 to %d "
-               "steps", t.seq, t.nsteps, TICK_NSTEPS_MAX);
+        refuse(d, &s, WG_ERANGE, "TICK (seq %" PRId64 ", %" PRId64 " steps) refused: a tick "
+               "owes 1 to %d steps", t.seq, t.nsteps, TICK_NSTEPS_MAX);
         return;
     }
     if (d->conf.mode != MODE_LOCKSTEP || d->run != RUN_RUNNING || d->step.active)
         return;
     if ((double)d->owed.ticks + (double)t.nsteps > TICK_OWED_MAX) {
-        refuse(d, "TICK (seq %" PRId64 ", %" PRId64 " steps) refused: %" PRIu64 " steps from "
-               "earlier ticks still to run, at most %g may be owed", t.seq, t.nsteps,
-               d->owed.ticks, TICK_OWED_MAX);
+        refuse(d, &s, WG_ESTATE, "TICK (seq %" PRId64 ", %" PRId64 " steps) refused: %" PRIu64
+               " steps from earlier ticks still to run, at most %g may be owed", t.seq,
+               t.nsteps, d->owed.ticks, TICK_OWED_MAX);
         return;
     }
     d->owed.ticks += (uint64_t)t.nsteps;

@@ -1,8 +1,9 @@
 /* lockstep.h - TICK, external lockstep (co-simulation, HIL): each tick_t a
  * driver sends owes nsteps more steps, which the loop runs in bounded
- * chunks through cmd_run. Ticks have no answer: a tick not taken
+ * chunks through cmd_run. A tick taken has no answer; a tick not taken
  * (undecodable; with a key, not signed, stale or replayed; too many steps
- * owed) is logged with why and changes nothing. Semantics:
+ * owed) gets one ACK (op "tick"), is counted and told on STATUS and logged
+ * with why, and changes nothing. Semantics:
  * lcmtypes/PROTOCOL.md, "TICK (external lockstep)" and "Signed ticks". */
 #ifndef WGD_LOCKSTEP_H
 #define WGD_LOCKSTEP_H

@@ -53,23 +53,37 @@ int wire_tick_check(const void *buf, size_t len, int32_t *mac_len, char *why, si
                  whylen);
 }
 
-void wire_cmd_header(const void *buf, size_t len, char *client, size_t clen, int64_t *seq,
-                     int64_t *utime)
+/* Both types begin with the fingerprint, utime and seq; the client id's
+ * length is at byte at (cmd_t: right after seq; tick_t: after nsteps). */
+static void header(const void *buf, size_t len, int64_t hash, size_t at, char *client,
+                   size_t clen, int64_t *seq, int64_t *utime)
 {
     const unsigned char *b = buf;
     client[0] = 0;
     *seq = -1;
     *utime = 0;
-    if (len < 24 || (int64_t)msg_be(b, 8) != __wormgear_cmd_t_get_hash())
+    if (len < 24 || (int64_t)msg_be(b, 8) != hash)
         return;
     *utime = (int64_t)msg_be(b + 8, 8);
     *seq = (int64_t)msg_be(b + 16, 8);
-    if (len < 28 || clen == 0)
+    if (len < at + 4 || clen == 0)
         return;
-    int32_t n = (int32_t)(uint32_t)msg_be(b + 24, 4);
-    size_t have = len - 28, want = n > 1 ? (size_t)n - 1 : 0;
+    int32_t n = (int32_t)(uint32_t)msg_be(b + at, 4);
+    size_t have = len - at - 4, want = n > 1 ? (size_t)n - 1 : 0;
     size_t k = want < have ? want : have;
     k = k < clen - 1 ? k : clen - 1;
-    memcpy(client, b + 28, k);
+    memcpy(client, b + at + 4, k);
     client[k] = 0; /* and at the first NUL, as a C string */
+}
+
+void wire_cmd_header(const void *buf, size_t len, char *client, size_t clen, int64_t *seq,
+                     int64_t *utime)
+{
+    header(buf, len, __wormgear_cmd_t_get_hash(), 24, client, clen, seq, utime);
+}
+
+void wire_tick_header(const void *buf, size_t len, char *client, size_t clen, int64_t *seq,
+                      int64_t *utime)
+{
+    header(buf, len, __wormgear_tick_t_get_hash(), 32, client, clen, seq, utime);
 }

@@ -46,4 +46,8 @@ int wire_tick_check(const void *buf, size_t len, int32_t *mac_len, char *why, si
 void wire_cmd_header(const void *buf, size_t len, char *client, size_t clen, int64_t *seq,
                      int64_t *utime);
 
+/* The same for a wormgear.tick_t. */
+void wire_tick_header(const void *buf, size_t len, char *client, size_t clen, int64_t *seq,
+                      int64_t *utime);
+
 #endif

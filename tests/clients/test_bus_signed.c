@@ -148,4 +148,27 @@ static void test_ack_names_the_command(void)
     bus_close(c);
 }
 
-TEST_MAIN(TEST(test_fresh_and_old), TEST(test_played_back_ack), TEST(test_ack_names_the_command))
+/* A refused tick's ACK (op "tick") names the tick by client, seq and
+ * utime; command and tick seqs are counters of their own, so the utime
+ * tells them apart (bus.c's stamp: no two messages of one bus share one),
+ * and the tick's answer is not taken for the command's. */
+static void test_tick_answer_not_the_command(void)
+{
+    bus *c = open_signing();
+    char ch[64];
+    wormgear_cmd_t cmd = bus_cmd("get");
+    ASSERT_TRUE(bus_send(c, &cmd) > 0);
+    c->tick_seq = c->seq - 1; /* the next tick's seq is the command's */
+    ASSERT_TRUE(bus_tick(c, 1) == c->seq);
+    int64_t mine = c->cmd_utime;
+    c->cmd_utime = c->tick_utime; /* a refused tick's answer: the same client and seq */
+    int n = ack(c, cli_wall_us(), 1, "EAUTH");
+    c->cmd_utime = mine;
+    lcm_publish(c->lcm, bus_channel(c, "ACK", ch, sizeof ch), buf, (unsigned)n);
+    ASSERT_EQ_INT(bus_wait_ack(c, 200), -1);
+    ASSERT_TRUE(!c->ack.got && !c->unverified.got);
+    bus_close(c);
+}
+
+TEST_MAIN(TEST(test_fresh_and_old), TEST(test_played_back_ack), TEST(test_ack_names_the_command),
+          TEST(test_tick_answer_not_the_command))

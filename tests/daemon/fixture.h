@@ -36,7 +36,7 @@ typedef struct fx {
     int nack;
     int accepted, rc;
     int64_t cmd_seq, cmd_utime;
-    char client[300], code[32], message[700];
+    char client[300], code[32], message[700], op[40];
     int nparams_msgs;
     char params_reason[32];
     int64_t params_cmd_seq, params_cmd_utime;
@@ -107,6 +107,7 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
     F.ack_tau = m->tau;
     snprintf(F.client, sizeof F.client, "%s", m->client); /* up to 299 bytes */
     snprintf(F.code, sizeof F.code, "%s", m->code);
+    snprintf(F.op, sizeof F.op, "%s", m->op);
     snprintf(F.message, sizeof F.message, "%s", m->message);
 }
 

@@ -149,6 +149,9 @@ static void test_signed_ticks(void)
     ASSERT_EQ_INT(d->owed.ticks, 100);
     ASSERT_EQ_INT(d->stat.ticks_refused, 6);
     ASSERT_EQ_INT(d->stat.tick_gaps, gaps); /* seqs 2 ... 5 skipped: not counted as lost */
+    ASSERT_STR(F.op, "tick"); /* each answered: the last */
+    ASSERT_STR(F.code, "EAUTH");
+    ASSERT_EQ_INT(F.cmd_seq, 1);
     ASSERT_EQ_INT(d->auth.refused, 6);
     report_status(d);
     drain(d);

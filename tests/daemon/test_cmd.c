@@ -322,7 +322,8 @@ static void test_step_pause_resume(void)
 
 static void tick(wgd *d, int64_t seq, int64_t nsteps)
 {
-    wormgear_tick_t t = {.utime = 1, .seq = seq, .nsteps = nsteps, .client = (char *)""};
+    wormgear_tick_t t = {.utime = (int64_t)(1000 + (uint64_t)seq), .seq = seq, .nsteps = nsteps,
+                         .client = (char *)"rig-7"};
     wormgear_tick_t_publish(d->io.lcm, "T_TICK", &t);
     drain(d);
 }
@@ -335,8 +336,10 @@ static void test_ticks(void)
 {
     wgd *d = setup(128);
     static const int64_t seqs[] = {0, INT64_MAX, INT64_MIN, 5, 1000000000005LL, -7, 6, 10};
+    int nack = F.nack;
     for (unsigned i = 0; i < sizeof seqs / sizeof seqs[0]; i++)
         tick(d, seqs[i], 1);
+    ASSERT_EQ_INT(F.nack, nack); /* a tick taken has no answer */
     /* 0 -> MAX: new sender; MAX -> MIN: in order (wraps); MIN -> 5: new; 5 -> 1e12+5:
      * new; -> -7: new (backwards); -7 -> 6: 12 lost; 6 -> 10: 3 lost */
     ASSERT_EQ_INT(d->stat.tick_gaps, 15);
@@ -350,10 +353,19 @@ static void test_ticks(void)
     ASSERT_EQ_INT(done, 1000);
     ASSERT_EQ_INT(d->owed.ticks, 10000008 - 1000);
     ASSERT_EQ_INT(d->stat.ticks_refused, 0);
-    tick(d, 12, 0); /* out of range: refused */
+    nack = F.nack; /* after the get's */
+    tick(d, 12, 0); /* out of range: refused, with one answer naming the tick */
     ASSERT_EQ_INT(d->owed.ticks, 10000008 - 1000);
     ASSERT_EQ_INT(d->stat.ticks_refused, 1);
     ASSERT_STR(d->stat.tick_why, "TICK (seq 12, 0 steps) refused: a tick owes 1 to 10000000 steps");
+    ASSERT_EQ_INT(F.nack, nack + 1);
+    ASSERT_STR(F.op, "tick");
+    ASSERT_STR(F.client, "rig-7");
+    ASSERT_EQ_INT(F.cmd_seq, 12);
+    ASSERT_EQ_INT(F.cmd_utime, 1012);
+    ASSERT_EQ_INT(F.accepted, 0);
+    ASSERT_STR(F.code, "ERANGE");
+    ASSERT_STR(F.message, d->stat.tick_why);
     tick(d, 13, 10000001);
     ASSERT_EQ_INT(d->stat.ticks_refused, 2);
     for (int i = 0; i < 120; i++) /* up to the limit of owed steps */
@@ -362,6 +374,9 @@ static void test_ticks(void)
     ASSERT_EQ_INT(d->stat.ticks_refused, 2 + 21); /* 99 of the 120 fitted */
     ASSERT_CONTAINS(d->stat.tick_why, "TICK (seq 133, 10000000 steps) refused: 999999008 steps "
                     "from earlier ticks still to run, at most 1e+09 may be owed");
+    ASSERT_EQ_INT(F.nack, nack + 23); /* one answer each refused, none for those taken */
+    ASSERT_STR(F.code, "ESTATE");
+    ASSERT_EQ_INT(F.cmd_seq, 133);
     report_status(d);
     drain(d);
     ASSERT_EQ_INT(F.ticks_refused, 23);

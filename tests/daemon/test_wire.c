@@ -222,8 +222,9 @@ static void test_client_echo(void)
 
 /* A TICK carries a client id since ticks are signed: its bytes are walked
  * as a command's are before the generated decoder (which would take any
- * string length) sees them. In the daemon a bad one owes nothing and is
- * counted as dropped. */
+ * string length) sees them. In the daemon a bad one owes nothing, is
+ * counted and told on STATUS, and answered on ACK (op "tick", EDECODE),
+ * addressed to what its bytes still say. */
 static void test_tick_check(void)
 {
     unsigned char buf[1024], bad[1024], mac[32] = {0};
@@ -252,13 +253,27 @@ static void test_tick_check(void)
     ASSERT_CONTAINS(why, "not a wormgear.cmd_t");
     wgd *d = setup(128);
     uint64_t refused = d->stat.ticks_refused;
+    int nack = F.nack;
     lcm_publish(d->io.lcm, "T_TICK", buf, (unsigned)len);
+    drain(d);
+    ASSERT_EQ_INT(F.nack, nack + 1); /* the id too long: its first 256 bytes echoed */
+    ASSERT_STR(F.op, "tick");
+    ASSERT_STR(F.code, "EDECODE");
+    ASSERT_EQ_INT(F.cmd_seq, 3);
+    ASSERT_EQ_INT(F.cmd_utime, 1);
+    ASSERT_EQ_INT((int)strlen(F.client), WIRE_MAX_CLIENT);
+    ASSERT_TRUE(strspn(F.client, "x") == WIRE_MAX_CLIENT);
+    ASSERT_CONTAINS(F.message, "the limit is 256");
     memcpy(bad, buf, (size_t)len);
     lcm_publish(d->io.lcm, "T_TICK", bad, 20);
     drain(d);
     ASSERT_EQ_INT(d->owed.ticks, 0);
     ASSERT_EQ_INT(d->stat.ticks_refused, refused + 2);
     ASSERT_CONTAINS(d->stat.tick_why, "undecodable TICK message (20 bytes) ignored: ");
+    ASSERT_EQ_INT(F.nack, nack + 2); /* nothing left to address it to */
+    ASSERT_EQ_INT(F.cmd_seq, -1);
+    ASSERT_STR(F.client, "");
+    ASSERT_STR(F.code, "EDECODE");
     t.client = "rig";
     len = wormgear_tick_t_encode(buf, 0, sizeof buf, &t);
     lcm_publish(d->io.lcm, "T_TICK", buf, (unsigned)len); /* keyless: a MAC is ignored */

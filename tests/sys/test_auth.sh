@@ -11,9 +11,9 @@
 D=$1 C=$2 L=$3 P=$4 SPOOF=$5 RIG=$6 MON=$7
 code=0
 tmp=$(mktemp -d) || exit 1
-pid= lpid= spid=
+pid= lpid= spid= fpid=
 cleanup() {
-    for p in $pid $lpid $spid; do kill -KILL "$p" 2>/dev/null; done
+    for p in $pid $lpid $spid $fpid; do kill -KILL "$p" 2>/dev/null; done
     rm -rf "$tmp"
 }
 trap cleanup EXIT
@@ -154,7 +154,7 @@ grep -Eq "STATE [1-9][0-9]* \([0-9]+ unverified\)" "$tmp/mon.out" ||
     fail "wgmon: no daemon STATE with the forger's counted unverified: $(grep msgs "$tmp/mon.out")"
 kill $spid; wait $spid 2>/dev/null; spid=
 
-# ---- ticks: in lockstep a TICK owes steps and gets no answer; with a key
+# ---- ticks: in lockstep a TICK owes steps and, taken, gets no answer; with a key
 # only a signed, fresh, new one does (else anyone on the group could drive
 # a rig's lockstep run): an unsigned tick and a signed one played back owe
 # nothing, and the daemon's log says why
@@ -178,16 +178,25 @@ grep -q "TICK (seq 1, 1000 steps) refused: unsigned tick" "$tmp/log" || fail "no
 sleep 0.5
 steps_are $((s0 + 500)) || fail "a signed tick played back ran: step $(steps), want $((s0 + 500))"
 grep -q "TICK (seq 1, 500 steps) refused: replayed or reordered tick" "$tmp/log" || fail "no 'replayed tick' refusal: $(tail -3 "$tmp/log")"
-# a tick's only answer: STATUS counts the refusals and says why the last
+# STATUS counts the refusals and says why the last (each also answered on ACK)
 ticks_told() { "$C" $K status 2>/dev/null | grep -q "^ticks     2 refused; the last: TICK (seq 1, 500 steps) refused: replayed or reordered tick"; }
 wait_until 5 ticks_told || fail "wgctl status does not tell the 2 refused ticks: $("$C" $K status 2>&1 | tail -2)"
 "$C" $K --json status | grep -q '"ticks_refused":2,"tick_refusal":"TICK (seq 1, 500 steps) refused: replayed' ||
     fail "wgctl --json status: $("$C" $K --json status 2>&1)"
-# wgctl tick --wait watches STATUS for what came of its tick: the
-# unsigned one refused (exit 1, the daemon's why), a signed one run (exit 0)
+# wgctl tick --wait waits for what came of its tick: the unsigned one
+# refused (its ACK: exit 1, the daemon's why), a signed one run (STATUS
+# steps: exit 0); its own refusal found among a flood of others' (each
+# STATUS's tick_refusal then someone else's)
 "$C" tick 700 --wait >"$tmp/out" 2>&1 && fail "an unsigned tick --wait said run: $(cat "$tmp/out")"
-grep -q "^wgctl: tick: TICK (seq 1, 700 steps) refused: unsigned tick" "$tmp/out" ||
+grep -q "^wgctl: tick: EAUTH: TICK (seq 1, 700 steps) refused: unsigned tick" "$tmp/out" ||
     fail "unsigned tick --wait: not the daemon's refusal: $(cat "$tmp/out")"
+(for i in $(seq 400); do "$C" tick 1 >/dev/null 2>&1; done) &
+fpid=$!
+sleep 1
+"$C" --json tick 9 --wait >"$tmp/out" 2>&1 && fail "an unsigned tick --wait in a flood said run: $(cat "$tmp/out")"
+grep -q '"result":"refused",.*"code":"EAUTH","message":"TICK (seq 1, 9 steps) refused: unsigned tick' "$tmp/out" ||
+    fail "unsigned tick --wait among others' refused ticks: $(cat "$tmp/out")"
+kill $fpid 2>/dev/null; wait $fpid 2>/dev/null; fpid=
 s1=$(steps)
 "$C" $K tick 300 --wait >"$tmp/out" 2>&1 || fail "a signed tick --wait: $(cat "$tmp/out")"
 grep -q "^TICK seq 1 (signed): 300 steps run (the daemon's step $s1 -> $((s1 + 300)))" "$tmp/out" ||

@@ -94,7 +94,7 @@ has err "ESTATE"
 expect 1 "$C" tick 1000 --wait
 has err "TICK seq 1 did not run: the daemon is running in realtime mode, where a tick lapses"
 expect 0 "$C" tick 1000
-has out "sent TICK seq 1: 1000 steps, unsigned (no answer comes"
+has out "sent TICK seq 1: 1000 steps, unsigned (a tick taken has no answer"
 # a long step while paused: resume is refused while it runs (it said
 # "running from tau" and the step went on), pause cancels it
 expect 0 "$C" pause

@@ -69,7 +69,10 @@ typedef struct fz {
     ackrec win[LOGACK];          /* ACKs since the last mark (the window) */
     int nwin, nwin_total;
     long acks_total;
-    long long st_ticks_lost;     /* ... ticks_lost (gaps in the TICK seq) */
+    long tick_acks;              /* ACKs with op "tick": a refused tick's answer (not in win) */
+    int64_t tick_ack_seq;        /* the last one's cmd_seq, code and client */
+    char tick_ack_code[24], tick_ack_client[64];
+    long long st_ticks_lost;     /* the last STATUS's ticks_lost (gaps in the TICK seq) */
     long long st_rx_dropped;     /* ... rx_dropped and cmds_dropped */
     long long st_cmds_dropped, st_handled; /* handled: accepted + refused */
     long long st_ticks_refused;  /* ... ticks_refused, and why the last */
@@ -246,6 +249,13 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
 {
     (void)rb, (void)ch, (void)u;
     F.acks_total++;
+    if (!strcmp(m->op, "tick")) { /* a tick's, counted apart: commands' seqs are others */
+        F.tick_acks++;
+        F.tick_ack_seq = m->cmd_seq;
+        snprintf(F.tick_ack_code, sizeof F.tick_ack_code, "%s", m->code);
+        snprintf(F.tick_ack_client, sizeof F.tick_ack_client, "%s", m->client);
+        return;
+    }
     F.nwin_total++;
     if (F.nwin == LOGACK)
         return;
@@ -734,6 +744,7 @@ static void ticks(void)
     own("resume", "", 3000);
     pump(300); /* a STATUS before */
     long long refused0 = F.st_ticks_refused, lost0 = F.st_ticks_lost;
+    long acks0 = F.tick_acks;
     static const int64_t seqs[] = {0, INT64_MAX, INT64_MIN, 5, 1000000000005LL, -7, 6};
     int nbad = 0;
     for (unsigned i = 0; i < sizeof seqs / sizeof seqs[0]; i++) {
@@ -751,9 +762,9 @@ static void ticks(void)
         fail("hostile tick seqs: ticks_lost %lld (one gap must count at most a bound)", lost);
     if (F.keyed && lost != lost0)
         fail("unsigned ticks' seqs counted as gaps: ticks_lost %lld, was %lld", lost, lost0);
-    /* ticks no driver may send, each refused and told (a tick has no ACK:
-     * STATUS ticks_refused and tick_refusal are its answer); seqs 7 ... 11
-     * in order, so no gap is counted */
+    /* ticks no driver may send, each refused and told (STATUS ticks_refused
+     * and tick_refusal) and answered (one ACK, op "tick", each); seqs 7 ...
+     * 11 in order, so no gap is counted */
     static const int64_t bad_steps[] = {0, -1, INT64_MIN, INT64_MAX, 10000001};
     unsigned char b[128], cut[128];
     int n = 0;
@@ -779,6 +790,16 @@ static void ticks(void)
     if (!strstr(F.st_tick_refusal, "undecodable TICK message (47 bytes) ignored: ") ||
         !strstr(F.st_tick_refusal, "client"))
         fail("hostile ticks: STATUS tick_refusal does not say why: '%s'", F.st_tick_refusal);
+    long answered = F.tick_acks - acks0;
+    printf("ticks: %ld of %d hostile ticks answered on ACK; the last %s, seq %lld, client "
+           "'%.20s'\n", answered, nbad, F.tick_ack_code, (long long)F.tick_ack_seq,
+           F.tick_ack_client);
+    if (answered != nbad)
+        fail("hostile ticks: %ld ACKs with op tick, want one each refused: %d", answered, nbad);
+    if (strcmp(F.tick_ack_code, "EDECODE") || F.tick_ack_seq != 11 || F.tick_ack_client[0])
+        fail("hostile ticks: the last answer is %s for seq %lld, client '%.20s'; want EDECODE "
+             "for seq 11, client '' (what its bytes still say: the id's length is negative)",
+             F.tick_ack_code, (long long)F.tick_ack_seq, F.tick_ack_client);
     if (F.st_ticks_lost != lost)
         fail("hostile ticks counted as lost ticks: ticks_lost %lld, was %lld", F.st_ticks_lost,
              lost);
@@ -805,6 +826,9 @@ static void ticks(void)
     if (F.st_steps <= steps0)
         fail("the 1e7-step tick%s ran no step (STATUS steps %lld, was %lld)",
              F.keyed ? ", signed," : "", F.st_steps, steps0);
+    if (F.tick_acks != acks0 + answered)
+        fail("the 1e7-step tick%s taken, but answered: %s", F.keyed ? ", signed," : "",
+             F.tick_ack_code);
     own("pause", "", 3000);
     own("mode", "realtime", 3000);
     rebase();

@@ -285,7 +285,7 @@ function updateStatus() {
     ["worm θ1, wheel θ2", S.theta ? S.theta.map((a) => `${(a * 180 / Math.PI).toFixed(2)}°`).join(", ") : "–"],
     ["drops", `daemon not published ${st.msgs_dropped}, ticks lost ${st.ticks_lost ?? "–"}, LCM gaps ${br?.lcm_gaps ?? "–"}, bridge queues ${br?.queue_drops ?? "–"}`],
     ["scope", br ? `${fmt(br.scope_in_hz)} → ${fmt(br.scope_hz)} samples/s` : "–"],
-    // a TICK has no answer: its refusal shows here (lockstep drivers)
+    // ticks the daemon refused (each ACKed to its driver): shown to whoever watches
     ...(st.ticks_refused > 0 ? [["ticks refused", `${st.ticks_refused} — the last: ${st.tick_refusal}`]] : []),
   ] : [["daemon", "no STATUS yet"]];
   // every value is text: a STATUS string (fault, regime, ...) is whatever a
