@@ -273,11 +273,6 @@ void conf_defaults(conf *c)
     for (int i = 0; i < NKEYS; i++)
         if (keys[i].def)
             set_key(c, &keys[i], keys[i].def, why, sizeof why);
-    const char *u = getenv("WORMGEAR_URL"), *pf = getenv("WORMGEAR_PREFIX"); /* as the clients */
-    if (u && *u)
-        set_key(c, key_find("url"), u, why, sizeof why);
-    if (pf)
-        set_key(c, key_find("prefix"), pf, why, sizeof why); /* invalid: default kept */
     const char *sd = getenv("STATE_DIRECTORY"); /* systemd StateDirectory= */
     snprintf(c->state_dir, sizeof c->state_dir, "%s", sd && *sd ? sd : "/var/lib/wormgeard");
     char *colon = strchr(c->state_dir, ':'); /* several directories: the first */
@@ -577,11 +572,33 @@ static int walk(conf *c, int argc, char **argv, int pass, const char **cfg, char
     return help;
 }
 
+/* $WORMGEAR_URL and $WORMGEAR_PREFIX, as the clients take them (above the
+ * defaults, below the file and the options); one the key would refuse is
+ * refused, never dropped for the default: 2 with why naming the variable. */
+static int conf_env(conf *c, char *why, size_t whylen)
+{
+    static const char *const var[][2] = {{"WORMGEAR_URL", "url"}, {"WORMGEAR_PREFIX", "prefix"}};
+    for (int i = 0; i < 2; i++) {
+        const char *v = getenv(var[i][0]);
+        char kwhy[256];
+        if (!v || (!*v && i == 0)) /* an empty URL: unset, as the clients read it */
+            continue;
+        if (set_key(c, key_find(var[i][1]), v, kwhy, sizeof kwhy)) {
+            snprintf(why, whylen, "environment: $%s: %s (fix or unset it)", var[i][0], kwhy);
+            return 2;
+        }
+    }
+    return 0;
+}
+
 int conf_load(conf *c, int argc, char **argv, char *why, size_t whylen)
 {
     const char *cfg = NULL;
     conf_defaults(c);
-    int rc = walk(c, argc, argv, 0, &cfg, why, whylen);
+    int rc = conf_env(c, why, whylen);
+    if (rc)
+        return rc;
+    rc = walk(c, argc, argv, 0, &cfg, why, whylen);
     if (rc == 1) {
         conf_usage(stdout);
         return 1;

@@ -64,7 +64,8 @@ typedef struct conf {
 /* Fill c with the built-in defaults ($STATE_DIRECTORY honoured). */
 void conf_defaults(conf *c);
 
-/* Defaults, then the config file named by -c/--config, then the options.
+/* Defaults, $WORMGEAR_URL and $WORMGEAR_PREFIX (one the key would refuse:
+ * 2), then the config file named by -c/--config, then the options.
  * Returns 0 to run, 1 when --help was printed (exit 0), 2 on a usage or
  * config error with the message in why ("file:line: key: ..."). Does not
  * keep argv; may be called again (SIGHUP reload). */

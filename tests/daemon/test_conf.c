@@ -293,11 +293,40 @@ static int make_path(void)
     close(fd);
     return unlink(cfgpath); /* the name only: each test writes and removes it */
 }
+/* $WORMGEAR_PREFIX and $WORMGEAR_URL, as the clients read them: used
+ * below the options; one the key would refuse is refused naming the
+ * variable (before: the default kept, silently, so the daemon listened on
+ * another prefix than the clients beside it). */
+static void test_environment(void)
+{
+    char why[400], a0[] = "wormgeard", a1[] = "--prefix", a2[] = "OPT_";
+    char *argv[] = {a0, NULL}, *argv2[] = {a0, a1, a2, NULL};
+    conf c;
+    setenv("WORMGEAR_PREFIX", "RIG2_", 1);
+    setenv("WORMGEAR_URL", "memq://", 1);
+    ASSERT_EQ_INT(conf_load(&c, 1, argv, why, sizeof why), 0);
+    ASSERT_STR(c.prefix, "RIG2_");
+    ASSERT_STR(c.url, "memq://");
+    ASSERT_EQ_INT(conf_load(&c, 3, argv2, why, sizeof why), 0);
+    ASSERT_STR(c.prefix, "OPT_");
+    setenv("WORMGEAR_PREFIX", "bad prefix", 1);
+    ASSERT_EQ_INT(conf_load(&c, 1, argv, why, sizeof why), 2);
+    ASSERT_STR(why, "environment: $WORMGEAR_PREFIX: prefix: 'bad prefix' must match "
+               "[A-Za-z0-9_.-]{0,40} (fix or unset it)");
+    setenv("WORMGEAR_PREFIX", "", 1); /* no prefix: allowed */
+    ASSERT_EQ_INT(conf_load(&c, 1, argv, why, sizeof why), 0);
+    ASSERT_STR(c.prefix, "");
+    unsetenv("WORMGEAR_PREFIX");
+    unsetenv("WORMGEAR_URL");
+    ASSERT_EQ_INT(conf_load(&c, 1, argv, why, sizeof why), 0);
+    ASSERT_STR(c.prefix, "WORMGEAR_");
+}
 
 #define main tests_main
 TEST_MAIN(TEST(test_reload_live_and_restart), TEST(test_reload_names_every_restart_key),
           TEST(test_reload_from_file), TEST(test_check_number), TEST(test_file_kinds),
-          TEST(test_nul_bytes), TEST(test_keys_once), TEST(test_long_line))
+          TEST(test_nul_bytes), TEST(test_keys_once), TEST(test_long_line),
+          TEST(test_environment))
 #undef main
 
 int main(int argc, char **argv)

@@ -113,6 +113,19 @@ head -1 "$tmp/pc.csv" | grep -q "^period,tau,omega,x_n" || fail "wgsim --poincar
     fail "wgsweep --out sweep wrote no sweep.csv and sweep.png: $(ls "$tmp/scratch")"
 ls "$tmp/scratch"/view*.png >/dev/null 2>&1 || fail "wgsweep --at 1.33 --out view wrote no PNG"
 
+# ---- wgsim's example: the command and the figures the README gives for it
+awk '/^Example \(`build\/release\/clients\/wgsim / { getline n; print $0 " " n }' README.md >"$tmp/ex"
+ex=$(sed -n 's/^Example (`\([^`]*\)`): .*/\1/p' "$tmp/ex")
+[ "$ex" = "build/release/clients/wgsim --set omega=0.7" ] || fail "wgsim example: '$ex'"
+want=$(sed -n 's/.*single-sided impacts, one per period, x_n between \([0-9.]*\) and \([0-9.]*\) (b = 1)\..*/\1 \2/p' "$tmp/ex")
+(cd "$tmp/scratch" && sh -c "$ex") >"$tmp/ex.out" 2>&1 || fail "$ex: $(cat "$tmp/ex.out")"
+got=$(sed -n 's/^x_n  *min \([0-9.]*\), max \([0-9.]*\) (b = 1)$/\1 \2/p' "$tmp/ex.out" |
+      awk '{ printf "%.3f %.3f", $1, $2 }')
+[ -n "$want" ] && [ "$got" = "$want" ] || fail "wgsim example: x_n $got, the README says '$want'"
+grep -q "^motion  *single_sided (periods: 0 no impact, 200 single-sided" "$tmp/ex.out" &&
+    grep -q "^impacts  *1 per period" "$tmp/ex.out" ||
+    fail "wgsim example: not single-sided, one impact a period: $(grep -E '^(motion|impacts)' "$tmp/ex.out")"
+
 # ---- Install, literally: /usr/local is a tmpfs in a private mount namespace
 readme_block README.md "## Install" >"$tmp/inst"
 cat >"$tmp/want" <<'EOF'
