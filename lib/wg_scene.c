@@ -134,7 +134,8 @@ typedef struct loader {
 
 /* Lines for libinih, counted; and what it does not tell the handler: an
  * indented line after a key is that key's value continued (its multi-line
- * values), unless a [section] line came between. */
+ * values), unless a [section] line came between; an indented "[section]"
+ * there is such a line too, not a header (inih reads it so). */
 static char *reader(char *str, int num, void *stream)
 {
     loader *L = stream;
@@ -142,7 +143,8 @@ static char *reader(char *str, int num, void *stream)
     if (r) {
         L->line++;
         L->indented = *r == ' ' || *r == '\t';
-        if (r[strspn(r, " \t")] == '[')
+        int continues = L->indented && !L->header && L->nset > 0;
+        if (r[strspn(r, " \t")] == '[' && !continues)
             L->header = 1;
     }
     return r;

@@ -176,6 +176,11 @@ static void test_silent_no_more(void)
                  "[params] omega: given twice (first at line 2)");
     expect_error("cont.ini", "[params]\nomega = 1\n  0.5\n", WG_EINVAL, ":3:",
                  "[params] omega: this indented line would continue the value of line 2");
+    /* an indented header after a key is that value's continuation to inih:
+     * said so (before: "[scene] name: given twice", a new user's trial) */
+    expect_error("cont2.ini", "[scene]\nname = x\n  [params]\nomega = 0.5\n", WG_EINVAL, ":3:",
+                 "[scene] name: this indented line would continue the value of line 2; a value "
+                 "is one line (remove the indent)");
     expect_error("empty.ini", "", WG_EINVAL, ": ", "no settings");
     expect_error("nokeys.ini", "; a comment\n[params]\n\n[scene]\n", WG_EINVAL, ": ",
                  "no settings");
