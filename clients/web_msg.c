@@ -163,8 +163,9 @@ static void schema_params(jbuf *b)
     for (int id = 0; id < WG_NPARAM; id++) {
         const wg_param_info *in = wg_param_info_get(id);
         jb_key(&p, in->name);
-        jb_fmt(&p, "{\"type\":\"number\",\"description\":\"%s [%s], range [%g, %g]\"}", in->help,
-               in->unit, in->min, in->max);
+        char range[48];
+        jb_fmt(&p, "{\"type\":\"number\",\"description\":\"%s [%s], range %s\"}", in->help,
+               in->unit, wg_range_shown(in->min, in->max, range, sizeof range));
     }
     jb_raw(&p, "}},\"params\":{\"type\":\"array\",\"items\":{\"type\":\"object\",\"properties\":{"
                "\"name\":{\"type\":\"string\"},\"unit\":{\"type\":\"string\"},"

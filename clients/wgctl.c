@@ -550,21 +550,6 @@ static int do_status(ctl *t)
     return 0;
 }
 
-/* A range's bound in 6 significant digits, rounded inwards (dir +1: up,
- * -1: down) so that the value shown is accepted: phi1's [-2 pi, 2 pi] read
- * [-6.28319, 6.28319] and set phi1=-6.28319 was out of range. */
-static double bound(double v, int dir)
-{
-    char buf[32];
-    snprintf(buf, sizeof buf, "%.6g", v);
-    double r = strtod(buf, NULL);
-    if (r == v || v == 0.0 || !isfinite(v))
-        return r;
-    double p = pow(10.0, 5 - floor(log10(fabs(v))));
-    r = (dir > 0 ? ceil(v * p) : floor(v * p)) / p;
-    return dir > 0 ? (r < v ? nextafter(r, INFINITY) : r) : (r > v ? nextafter(r, -INFINITY) : r);
-}
-
 static int do_params(const ctl *t)
 {
     if (!t->o.json)
@@ -581,7 +566,7 @@ static int do_params(const ctl *t)
         } else {
             char range[48];
             const char *rule = units_param_rule(i);
-            snprintf(range, sizeof range, "[%.10g, %.10g]", bound(r->min, +1), bound(r->max, -1));
+            wg_range_shown(r->min, r->max, range, sizeof range); /* accepted as shown */
             printf("%-5s %-4s %-19s %-9.6g %s%s%s%s\n", r->name, units_shown(r->unit), range,
                    r->def, r->help,
                    r->flags & WG_PF_RAMP ? " (rampable)" : "", *rule ? "; physical: " : "", rule);

@@ -78,13 +78,16 @@ static void usage(FILE *f)
             WG_STEPS_MIN, WG_STEPS_MAX, WG_STEPS_DEFAULT);
     for (int i = 0; i < WG_NPARAM; i++) {
         const wg_param_info *r = wg_param_info_get(i);
-        fprintf(f, "  %-5s %-3s [%g, %g] %g: %s\n", r->name, r->unit, r->min, r->max, r->def,
-                r->help);
+        char range[48];
+        fprintf(f, "  %-5s %-3s %s %g: %s\n", r->name, r->unit,
+                wg_range_shown(r->min, r->max, range, sizeof range), r->def, r->help);
     }
     fprintf(f, "\nScene [physical] keys (unit [min, max]):\n");
     for (int i = 0; i < wg_scene_nphys(); i++) {
         const wg_param_info *r = wg_scene_phys_info(i);
-        fprintf(f, "  %-28s %-7s [%g, %g]: %s\n", r->name, r->unit, r->min, r->max, r->help);
+        char range[48];
+        fprintf(f, "  %-28s %-7s %s: %s\n", r->name, r->unit,
+                wg_range_shown(r->min, r->max, range, sizeof range), r->help);
     }
 }
 

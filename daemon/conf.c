@@ -694,7 +694,9 @@ void conf_usage(FILE *f)
     fprintf(f, "\nScene parameters for --set and [params] (name unit [min, max] default):\n");
     for (int i = 0; i < WG_NPARAM; i++) {
         const wg_param_info *r = wg_param_info_get(i);
-        fprintf(f, "  %-5s %-3s [%g, %g] %g%s: %s\n", r->name, r->unit, r->min, r->max, r->def,
+        char shown[48];
+        fprintf(f, "  %-5s %-3s %s %g%s: %s\n", r->name, r->unit,
+                wg_range_shown(r->min, r->max, shown, sizeof shown), r->def,
                 r->flags & WG_PF_RAMP ? " (rampable)" : "", r->help);
     }
     fprintf(f, "\nExit status: 0 clean stop (SIGTERM/SIGINT), 1 runtime failure, 2 usage or "

@@ -89,6 +89,25 @@ const char *wg_num_format(double v, char *buf, size_t len)
     return buf;
 }
 
+/* v in 6 significant digits, rounded inwards (dir +1: up, -1: down). */
+static double bound_shown(double v, int dir)
+{
+    char buf[32];
+    snprintf(buf, sizeof buf, "%.6g", v);
+    double r = strtod(buf, NULL);
+    if (r == v || v == 0.0 || !isfinite(v))
+        return r;
+    double p = pow(10.0, 5 - floor(log10(fabs(v))));
+    r = (dir > 0 ? ceil(v * p) : floor(v * p)) / p;
+    return dir > 0 ? (r < v ? nextafter(r, INFINITY) : r) : (r > v ? nextafter(r, -INFINITY) : r);
+}
+
+const char *wg_range_shown(double min, double max, char *buf, size_t len)
+{
+    snprintf(buf, len, "[%.10g, %.10g]", bound_shown(min, +1), bound_shown(max, -1));
+    return buf;
+}
+
 /* "[min, max]" of a row, each bound in the text that reads back exactly. */
 static const char *range_text(const wg_param_info *r, char *buf, size_t len)
 {

@@ -71,6 +71,11 @@ int wg_param_assign(wg_params *p, const char *assignment, char *why, size_t whyl
  * "6.283185307179586", "1e+15", "nan". Returns buf. */
 const char *wg_num_format(double v, char *buf, size_t len);
 
+/* "[min, max]" for a person to read and copy: each bound in 6 significant
+ * digits, rounded inwards so the text is accepted ("[-6.28318, 6.28318]"
+ * for +-2 pi, where %g's 6.28319 is out of range). Returns buf. */
+const char *wg_range_shown(double min, double max, char *buf, size_t len);
+
 /* Fill p with the table defaults (the table3 scene). */
 void wg_params_default(wg_params *p);
 

@@ -3,6 +3,8 @@
 #include "wormgear/wg_param.h"
 #include "wormgear/wg_status.h"
 
+#include <stdio.h>
+
 static void test_every_row_is_consistent(void)
 {
     wg_params p;
@@ -67,5 +69,27 @@ static void test_status_names(void)
     ASSERT_TRUE(strlen(wg_status_str(WG_ESTABILITY)) > 5);
 }
 
+/* A range as help texts show it is accepted as shown: each bound, copied
+ * back, is in range (before: %g's "[-6.28319, 6.28319]" for phi1, and
+ * set phi1=6.28319 was refused), and at most 1e-5 (relative) inside. */
+static void test_range_shown_is_accepted(void)
+{
+    for (int i = 0; i < WG_NPARAM; i++) {
+        const wg_param_info *r = wg_param_info_get(i);
+        char buf[64], why[200];
+        double lo, hi;
+        wg_range_shown(r->min, r->max, buf, sizeof buf);
+        ASSERT_EQ_INT(sscanf(buf, "[%lf, %lf]", &lo, &hi), 2);
+        ASSERT_EQ_INT(wg_param_check(i, lo, why, sizeof why), WG_OK);
+        ASSERT_EQ_INT(wg_param_check(i, hi, why, sizeof why), WG_OK);
+        ASSERT_TRUE(lo - r->min <= 1e-5 * (1 + fabs(r->min)));
+        ASSERT_TRUE(r->max - hi <= 1e-5 * (1 + fabs(r->max)));
+    }
+    char buf[64];
+    ASSERT_STR(wg_range_shown(-2 * M_PI, 2 * M_PI, buf, sizeof buf), "[-6.28318, 6.28318]");
+    ASSERT_STR(wg_range_shown(0, 0.95, buf, sizeof buf), "[0, 0.95]");
+}
+
 TEST_MAIN(TEST(test_every_row_is_consistent), TEST(test_direction_cosines_unit),
-          TEST(test_parse_and_assign), TEST(test_status_names))
+          TEST(test_parse_and_assign), TEST(test_status_names),
+          TEST(test_range_shown_is_accepted))
