@@ -463,10 +463,13 @@ static void draw_header(mon *m, mon_text *f, double now)
     mon_text_put(f, 1, "wormgear monitor");
     mon_text_put(f, 0, "  %s* on %s", m->c.prefix, m->c.url);
     mon_text_nl(f);
-    if (!m->have_status) {
+    if (!m->have_status) { /* word by word: the hint wraps, never cut at the edge */
         char hint[512];
-        mon_text_put(f, 33, "waiting for %sSTATUS ... %s", m->c.prefix,
-                     bus_hint(&m->c, hint, sizeof hint));
+        mon_text_put(f, 33, "waiting for %sSTATUS ...", m->c.prefix);
+        bus_hint(&m->c, hint, sizeof hint);
+        char *save = NULL;
+        for (char *w = strtok_r(hint, " ", &save); w; w = strtok_r(NULL, " ", &save))
+            mon_text_put(f, 33, " %s", w);
         mon_text_nl(f);
         return;
     }
@@ -729,6 +732,11 @@ static int run(mon *m)
         pump(m, cli_mono_s() + 0.25, 1);
     finish(m);
     mon_text_free(&f);
+    if (m->o.frames && !m->have_status && !g_quit) { /* exit 1: said on stderr too */
+        char hint[512];
+        fprintf(stderr, "wgmon: no STATUS on %sSTATUS within %g s: %s\n", m->c.prefix,
+                m->o.timeout_s, bus_hint(&m->c, hint, sizeof hint));
+    }
     return m->o.frames && !m->have_status ? 1 : 0;
 }
 

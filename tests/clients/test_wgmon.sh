@@ -51,8 +51,11 @@ has err "COLSxROWS"
 expect 2 "$M" --bogus
 has err "unknown option"
 # ---- no daemon: --once waits --timeout, then exits 1
-expect 1 "$M" --once --timeout 0.5
+expect 1 "$M" --once --timeout 0.5 --size 80x24
 has out "waiting for MONT_STATUS"
+has out "choose another)" # the hint wrapped at 80 columns, not cut at the edge
+awk 'length > 80 { bad = 1 } END { exit bad }' "$tmp/out" || fail "no daemon: a line wider than 80: $(cat "$tmp/out")"
+has err "^wgmon: no STATUS on MONT_STATUS within 0.5 s: is wormgeard running on udpm://"
 
 # ---- a running daemon: one frame
 start
