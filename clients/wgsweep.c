@@ -41,7 +41,7 @@ typedef struct opts {
     int nsets;
     int param;
     double from, to, step;
-    int points, up, down;
+    int points, points_set, up, down;
     int gparam, ngvals;
     double gvals[STUDY_MAX_GROUPS];
     int mparam, mrows;      /* --map NAME=A:B:M */
@@ -69,7 +69,8 @@ static void usage(FILE *f)
         "  --set key=value         override a parameter (repeatable)\n"
         "  --param NAME            parameter swept (default omega; any table parameter)\n"
         "  --from A --to B         sweep range (default: omega 0.1 .. 2.5)\n"
-        "  --points N | --step D   grid: N points, or spacing D (default 241 points)\n"
+        "  --points N | --step D   grid: N points, or spacing D dividing the range (one of\n"
+        "                          the two; default 241 points)\n"
         "  --dir up|down|both      sweep directions (default both)\n"
         "  --values NAME=v1,v2..   one up/down pair per value of another parameter\n"
         "  --map NAME=A:B:M        2-D regime map: M rows of NAME, each an up sweep\n"
@@ -256,7 +257,10 @@ static int parse_range(int c, const char *a, opts *o)
     switch (c) {
     case 'a': bad = cli_num(a, -DBL_MAX, DBL_MAX, &o->from), need = "--from: not a number:"; break;
     case 'b': bad = cli_num(a, -DBL_MAX, DBL_MAX, &o->to), need = "--to: not a number:"; break;
-    case 'n': bad = cli_int(a, 1, 1000000, &o->points), need = "--points: need 1..1e6, got"; break;
+    case 'n':
+        bad = cli_int(a, 1, 1000000, &o->points), need = "--points: need 1..1e6, got";
+        o->points_set = 1;
+        break;
     case 'd': bad = cli_num(a, DBL_TRUE_MIN, DBL_MAX, &o->step), need = "--step: need > 0, got"; break;
     case 'D': return parse_dir(a, o);
     case 'p':
@@ -376,8 +380,26 @@ static int parse_opts(int argc, char **argv, opts *o)
         return cli_usage_error(PROG, "--step %g: more than the range %g (--from %g --to %g); "
                                "need a step up to the range", o->step, fabs(o->to - o->from),
                                o->from, o->to);
-    if (o->step > 0)
-        o->points = (int)floor(fabs(o->to - o->from) / o->step + 1.5e-9) + 1;
+    if (o->at_set || o->table_from)
+        return 0;
+    double range = fabs(o->to - o->from);
+    if (o->step > 0 && o->points_set)
+        return cli_usage_error(PROG, "--points %d and --step %g: give one (N points from --from "
+                               "to --to, or their spacing)", o->points, o->step);
+    if (range == 0 && (o->points > 1 || o->step > 0))
+        return cli_usage_error(PROG, "--from and --to are both %g: no range to sweep (--at %g "
+                               "analyses that one point)", o->from, o->from);
+    if (o->step > 0) {
+        double k = range / o->step, n = floor(k + 0.5);
+        if (fabs(k - n) > 1e-5 * fmax(1.0, k)) { /* not the grid asked for (6 digits: taken) */
+            double lo = floor(k), hi = ceil(k);
+            return cli_usage_error(PROG, "--step %g: the range %g (--from %g --to %g) is %.4g "
+                                   "steps of it, not a whole number; give --step %.6g (%g "
+                                   "points) or %.6g (%g points), or --points N", o->step, range,
+                                   o->from, o->to, k, range / lo, lo + 1, range / hi, hi + 1);
+        }
+        o->points = (int)n + 1;
+    }
     return 0;
 }
 

@@ -91,6 +91,13 @@ refuse "xi_p = -1 out of range \[0, 2\]" --map xi_p=-1:0.1:2
 refuse "M, the rows, need 1..100000" --map xi_p=0.1:0.2:0
 refuse "need 1..1e7" --at 1 --at-periods 99999999
 refuse "^wgsweep: --step 5: more than the range 0.2" --from 1 --to 1.2 --step 5
+# the grid is the one asked for, or refused (before: --step won over --points
+# silently, 0.07 became 0.0706, equal ends ran the same point three times)
+refuse "^wgsweep: --step 0.07: the range 2.4 (--from 0.1 --to 2.5) is 34.29 steps of it, not a whole number; give --step 0.0705882 (35 points) or 0.0685714 (36 points)" --step 0.07
+refuse "^wgsweep: --points 5 and --step 0.1: give one" --points 5 --step 0.1
+refuse "^wgsweep: --from and --to are both 1: no range to sweep (--at 1 analyses" --from 1 --to 1 --points 3
+"$sweep" --from 1 --to 1.2 --step 0.0666667 --dir up --no-png --no-json --quiet --out "$dir/st" >/dev/null 2>&1
+check "--step as a refusal suggests it (6 digits): 4 points, the last 1.2" '[ "$(tail -1 "$dir/st.csv" | cut -d, -f2,3)" = "3,1.2" ]'
 
 # --out names files: a directory, '', '-' or a name leaving the suffixes
 # no room under NAME_MAX are refused first (they wrote runs/.csv, hidden;
