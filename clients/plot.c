@@ -417,6 +417,7 @@ static void bif_legend(cairo_t *cr, double x, double y, const char *shading)
     } items[] = {{WG_REGIME_PERIODIC, 1, "period 1"}, {WG_REGIME_PERIODIC, 2, "period 2"},
                  {WG_REGIME_PERIODIC, 4, "period 4"}, {WG_REGIME_PERIODIC, 8, "period 8-32"},
                  {WG_REGIME_PERIODIC, 3, "other period"},
+                 {WG_REGIME_PERIODIC, 0, "P unresolved"},
                  {WG_REGIME_QUASIPERIODIC, 0, "quasi-periodic"},
                  {WG_REGIME_CHAOTIC, 0, "chaotic"}};
     for (unsigned i = 0; i < sizeof items / sizeof items[0]; i++) {
@@ -425,7 +426,7 @@ static void bif_legend(cairo_t *cr, double x, double y, const char *shading)
         plot_regime_colour(&p, 0, rgb);
         legend_box(cr, x + 118.0 * i, y, rgb, items[i].label);
     }
-    double mx = x + 118.0 * 7 + 20;
+    double mx = x + 118.0 * (sizeof items / sizeof items[0]) + 20;
     sweep_marks(cr, NULL, NULL, 0, 1, mx + 7, y - 4);
     cairo_set_source_rgb(cr, 0, 0, 0);
     text(cr, mx + 19, y, 12, 0.0, "up sweep");
