@@ -292,14 +292,21 @@ static int write_views(FILE *out, const wg_params *p, const double *y, const wg_
             out_files_add(&files, path);
         snprintf(title, sizeof title, "%s, %s = %.15g", ao->scene ? ao->scene : "",
                  plot_text_psym(wg_param_lookup(ao->pname)), ao->value);
-        int n = snprintf(note, sizeof note, "%s (%s), %s", out_label(pt, lab, sizeof lab),
-                         wg_regime_name(pt->regime), wg_motion_name(pt->motion));
+        int n = pt->regime == WG_REGIME_PERIODIC /* "P2 (periodic)"; "chaotic", once */
+                    ? snprintf(note, sizeof note, "%s (periodic), %s", out_label(pt, lab, sizeof lab),
+                               wg_motion_name(pt->motion))
+                    : snprintf(note, sizeof note, "%s, %s", wg_regime_name(pt->regime),
+                               wg_motion_name(pt->motion));
         snprintf(note + n, sizeof note - (size_t)n, isfinite(lle) ? ", λ = %.4f per mesh period"
                  : ", λ not computed", lle);
         if (ao->scene_p)
             plot_text_caption(cap, ao->scene, p, ao->scene_p, -1, -1, o, N, N);
-        fig g = {ao, base, title, note, {ao->format, {ao->scene_p ? cap[0] : NULL, cap[1],
-                 NULL, NULL}}, p->v[WG_P_B], p->v[WG_P_OMEGA], &files};
+        char run[160]; /* the record classifies; the figures are the periods after it */
+        snprintf(run, sizeof run, "class and λ from the periods recorded; then %d periods run "
+                 "for these figures", ao->periods);
+        fig g = {ao, base, title, note, {ao->format, {ao->scene_p ? cap[0] : run,
+                 ao->scene_p ? cap[1] : NULL, ao->scene_p ? run : NULL, NULL}}, p->v[WG_P_B],
+                 p->v[WG_P_OMEGA], &files};
         if (ao->png)
             rc |= write_figs(&g, &w);
         fprintf(out, "files       %s\n", files.n ? files.list : "none written");
