@@ -203,7 +203,9 @@ static int overlaps(const boxes *bx, double x0, double y0, double x1, double y1)
 /* A label near (x, y): the first of a few heights, right of the marker or
  * else left of it, that stays in the frame (one ran over the right axis's
  * numbers) and overlaps no earlier label and no marker; none if all do
- * (the marker stays, the CSV has every value). */
+ * (the marker stays, the CSV has every value). A label moved off its
+ * marker's height gets a thin leader line to it (which label was whose
+ * could not be told where they crowd). */
 static void place_label(cairo_t *cr, const frame *f, boxes *bx, double x, double y,
                         const char *lab)
 {
@@ -221,6 +223,13 @@ static void place_label(cairo_t *cr, const frame *f, boxes *bx, double x, double
             double *b = bx->x[bx->n++];
             b[0] = x0, b[1] = y0, b[2] = x1, b[3] = y1;
             cairo_set_source_rgb(cr, 0.55, 0.0, 0.0);
+            if (k >= 2) { /* from the marker's edge to the label's near end */
+                double ex = side ? x1 + 1 : x0 - 1, ey = ly - 4, d = hypot(ex - x, ey - y);
+                cairo_set_line_width(cr, 0.7);
+                cairo_move_to(cr, x + (ex - x) * 8 / d, y + (ey - y) * 8 / d);
+                cairo_line_to(cr, ex, ey);
+                cairo_stroke(cr);
+            }
             pd_text(cr, x0, ly, 10.5, 0.0, lab);
             return;
         }
@@ -279,10 +288,17 @@ static void legend(cairo_t *cr, const plot_cont *pc, double y)
     cairo_set_source_rgb(cr, 0, 0, 0);
     pd_text(cr, x, y, 12, 0.0, "solid: stable, dashed: unstable");
     x += 205;
-    for (int k = 0; k < WG_NBIF; k++) {
-        marker(cr, k, x + 6 + 92.0 * k, y - 4);
+    for (int k = 0; k < WG_NBIF; k++) { /* "PD doubling": the code the labels use, and what */
+        char lab[40];
+        const char *name = wg_bif_name(k) + (k == WG_BIF_PD ? 7 : 0);
+        snprintf(lab, sizeof lab, "%s %s", code(k), k == WG_BIF_BP ? "branch point" : name);
+        marker(cr, k, x + 6, y - 4);
         cairo_set_source_rgb(cr, 0, 0, 0);
-        pd_text(cr, x + 16 + 92.0 * k, y, 11, 0.0, wg_bif_name(k) + (k == WG_BIF_PD ? 7 : 0));
+        cairo_text_extents_t e;
+        cairo_set_font_size(cr, 11);
+        cairo_text_extents(cr, lab, &e);
+        pd_text(cr, x + 16, y, 11, 0.0, lab);
+        x += 16 + e.x_advance + 14;
     }
 }
 
