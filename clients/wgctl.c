@@ -243,6 +243,9 @@ static int do_set(ctl *t, int n, char **args)
         if (!eq || eq == args[i] || cli_double(eq + 1, &vals[i]))
             return cli_usage_error(PROG, "set: '%s' is not NAME=NUMBER", args[i]);
         *eq = 0;
+        if (wg_param_lookup(args[i]) < 0) /* the table is ours too: no need to ask */
+            return cli_usage_error(PROG, "set: '%s' is not a parameter (wgctl params lists "
+                                   "them)", args[i]);
         names[i] = args[i];
     }
     wormgear_cmd_t c = bus_cmd("set");
@@ -262,6 +265,9 @@ static int do_ramp(ctl *t, int n, char **args)
         return cli_usage_error(PROG, "ramp: --over DURATION is required (e.g. --over 60s)");
     if (cli_double(args[n - 1], &to) || (n == 3 && cli_double(args[1], &from)))
         return cli_usage_error(PROG, "ramp: FROM and TO must be numbers (got '%s')", args[n - 1]);
+    if (wg_param_lookup(args[0]) < 0)
+        return cli_usage_error(PROG, "ramp: '%s' is not a parameter (wgctl params lists them)",
+                               args[0]);
     wormgear_cmd_t c = bus_cmd("ramp");
     c.nparams = 1;
     c.names = &args[0];
@@ -305,20 +311,26 @@ static int do_named(ctl *t, const char *op, int n, char **args)
 static int do_mode(ctl *t, int n, char **args)
 {
     double rate = 0;
-    if (n < 1 || n > 2 || (n == 2 && (cli_double(args[1], &rate) || !(rate > 0))))
-        return cli_usage_error(PROG, "mode: expected realtime|fast|lockstep [RATE > 0]");
+    if (n < 1 || n > 2 || (n == 2 && (cli_double(args[1], &rate) || !(rate > 0))) ||
+        (strcmp(args[0], "realtime") && strcmp(args[0], "fast") && strcmp(args[0], "lockstep")))
+        return cli_usage_error(PROG, "mode: expected realtime|fast|lockstep [RATE > 0]%s%s%s%s%s", n >= 1 ? " (got '" : "",
+                               n >= 1 ? args[0] : "", n == 2 ? " " : "", n == 2 ? args[1] : "",
+                               n >= 1 ? "')" : "");
     wormgear_cmd_t c = bus_cmd("mode");
     c.name = args[0];
     c.rate = rate;
     return send_wait(t, &c);
 }
 
-/* contacts all|mesh|none [N]: the daemon checks the name and range. */
+/* contacts all|mesh|none [N]: the daemon checks N's range. */
 static int do_contacts(ctl *t, int n, char **args)
 {
     int64_t every = 0;
-    if (n < 1 || n > 2 || (n == 2 && cli_int64(args[1], 1, INT64_MAX, &every)))
-        return cli_usage_error(PROG, "contacts: expected all|mesh|none [N >= 1]");
+    if (n < 1 || n > 2 || (n == 2 && cli_int64(args[1], 1, INT64_MAX, &every)) ||
+        (strcmp(args[0], "all") && strcmp(args[0], "mesh") && strcmp(args[0], "none")))
+        return cli_usage_error(PROG, "contacts: expected all|mesh|none [N >= 1]%s%s%s%s%s", n >= 1 ? " (got '" : "",
+                               n >= 1 ? args[0] : "", n == 2 ? " " : "", n == 2 ? args[1] : "",
+                               n >= 1 ? "')" : "");
     wormgear_cmd_t c = bus_cmd("contacts");
     c.name = args[0];
     c.nsteps = every;
