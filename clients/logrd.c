@@ -106,6 +106,11 @@ int logrd_close(logrd *l, const char *path, long events)
         fclose(l->f);
     if (l->bad_at < 0)
         return 0;
+    if (events == 0 && l->skipped == l->size) { /* README.md given for a log, say */
+        fprintf(stderr, "wglog: %s: not an LCM log: no event in its %lld bytes (lcm-logger "
+                "writes one: lcm-logger --lcm-url=URL FILE)\n", path, l->size);
+        return 1;
+    }
     fprintf(stderr, "wglog: %s: damaged: %lld of %lld bytes skipped in %ld stretch%s, the first "
                     "at byte %lld; the %ld whole events around them are read\n", path,
             l->skipped, l->size, l->regions, l->regions == 1 ? "" : "es", l->bad_at, events);

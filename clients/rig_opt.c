@@ -120,7 +120,7 @@ int rig_parse_opts(int argc, char **argv, rig_opts *o)
     if (optind < argc)
         return cli_usage_error(PROG, "argument '%s': wgrig takes options only", argv[optind]);
     if (!o->have_from || !o->have_to)
-        return cli_usage_error(PROG, "%s '': required (the range of the sweep)",
+        return cli_usage_error(PROG, "%s is required (the range of the sweep)",
                                o->have_from ? "--to" : "--from");
     if (o->from == o->to)
         return cli_usage_error(PROG, "--to %g: must differ from --from", o->to);

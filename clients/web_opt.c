@@ -66,10 +66,14 @@ static void usage(const web_opt *d)
     for (size_t i = 0; i < sizeof nums / sizeof nums[0]; i++) {
         const char *p = (const char *)d + nums[i].off;
         double v = nums[i].is_int ? *(const int *)p : *(const double *)p;
-        printf("  --%-17s %s (default %g; [%g, %g])\n", nums[i].name, nums[i].unit, v,
-               nums[i].min, nums[i].max);
+        char opt[40];
+        snprintf(opt, sizeof opt, "%s N", nums[i].name);
+        printf("  --%-17s %s (default %g; [%g, %g])\n", opt, nums[i].unit, v, nums[i].min,
+               nums[i].max);
     }
-    printf("  --help             this text\n");
+    printf("  -h, --help         this text\n\n"
+           "Exit status: 0 stopped by SIGTERM or SIGINT, 1 could not start (the port, the\n"
+           "web root, LCM), 2 usage error.\n");
 }
 
 static int set_num(web_opt *o, const num_opt *n, const char *text)
@@ -140,8 +144,8 @@ int web_opt_parse(web_opt *o, int argc, char **argv)
     defaults(o);
     opterr = 0;
     optind = 1;
-    while ((c = getopt_long(argc, argv, "", lo, NULL)) != -1) {
-        if (c == O_HELP) {
+    while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
+        if (c == O_HELP || c == 'h') { /* -h as every other client takes it */
             web_opt d;
             defaults(&d);
             usage(&d);

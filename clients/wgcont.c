@@ -80,7 +80,8 @@ static void usage(FILE *f)
 
 static int bad(const char *what, const char *arg)
 {
-    fprintf(stderr, "wgcont: %s '%s'\n(try wgcont --help)\n", what, arg);
+    fprintf(stderr, arg ? "wgcont: %s '%s'\n(try wgcont --help)\n" : "wgcont: %s\n(try wgcont "
+            "--help)\n", what, arg);
     return 2;
 }
 
@@ -210,7 +211,7 @@ static int parse_opts(int argc, char **argv, opts *o)
     if (optind < argc)
         return bad("unexpected argument", argv[optind]);
     if (!have_from || !have_to)
-        return bad("--from and --to are required", "");
+        return bad("--from and --to are required (the range to continue over)", NULL);
     if ((rc = check_range(o)))
         return rc;
     return cli_opt_outdir("wgcont", "--out", o->out);

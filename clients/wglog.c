@@ -615,8 +615,8 @@ static int parse(int argc, char **argv, log_run *r)
     if (rc)
         return rc;
     if (argc - optind != 2)
-        return cli_usage_error(PROG, "arguments '%s': expected a command (summary or export) and "
-                                     "a log file", argc > optind ? argv[optind] : "");
+        return cli_usage_error(PROG, "%d argument%s: expected two, a command (summary or export) "
+                               "and a log file", argc - optind, argc - optind == 1 ? "" : "s");
     if (strcmp(argv[optind], "summary") && strcmp(argv[optind], "export"))
         return cli_usage_error(PROG, "command '%s': one of summary, export", argv[optind]);
     r->export_ = !strcmp(argv[optind], "export");

@@ -206,7 +206,7 @@ static FILE *open_out(const char *path)
         return stdout;
     FILE *f = fopen(path, "w");
     if (!f)
-        fprintf(stderr, "wgsim: cannot write '%s'\n", path);
+        fprintf(stderr, "wgsim: cannot write '%s': %s\n", path, strerror(errno));
     return f;
 }
 

@@ -454,6 +454,16 @@ static void test_hostile_messages(void)
     snprintf(cmd, sizeof cmd, "%s summary %s 2>&1", wglog(), dir);
     ASSERT_EQ_INT(run(cmd, out, sizeof out), 1);
     ASSERT_CONTAINS(out, "is a directory, not a regular file");
+    /* a file that is no log at all (a README given by mistake): said so,
+     * not "damaged: N of N bytes skipped" */
+    snprintf(path, sizeof path, "%s/text.md", dir);
+    f = fopen(path, "w");
+    ASSERT_TRUE(f && fputs("# not a log\nsome text\n", f) >= 0);
+    if (f)
+        fclose(f);
+    snprintf(cmd, sizeof cmd, "%s summary %s 2>&1", wglog(), path);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 1);
+    ASSERT_CONTAINS(out, "text.md: not an LCM log: no event in its 22 bytes");
 }
 
 static void test_usage(void)

@@ -32,7 +32,7 @@ for o in --url --prefix --param --from --points --dir --settle --record --extend
     has out "$o"
 done
 expect 2 "$R" --from 0.5
-has err "\-\-to '': required"
+has err "^wgrig: --to is required (the range of the sweep)"
 expect 2 "$R" --from 0.5 --to 20
 has err "omega = 20 out of range \[0.01, 10\]"
 expect 2 "$R" --from 0.5 --to 1 --dir sideways
