@@ -9,6 +9,10 @@
 #include <stdarg.h>
 #include <stdio.h>
 
+/* A period's impacts: bounded so that the period's own still fit an int (a
+ * file with 2^31 - 1 was taken, and the next impact overflowed). */
+enum { IMPACTS_MAX = 1000000000 };
+
 /* Finite and not absurd: one sum catches NaN, Inf and runaway values. */
 int sim_finite_state(const double *y, int n)
 {
@@ -62,14 +66,15 @@ static int period_stats_ok(const wg_period *p, const char *name, char *why, size
     if (p->motion < WG_MOTION_NO_IMPACT || p->motion > WG_MOTION_DOUBLE)
         return sim_refuse(WG_EINVAL, why, whylen, "snapshot %s.motion = %d is not a motion class "
                           "(0 no impact, 1 single-sided, 2 double-sided)", name, p->motion);
-    if (p->impacts < 0)
-        return sim_refuse(WG_EINVAL, why, whylen, "snapshot %s.impacts = %d, must be >= 0", name,
-                          p->impacts);
+    if (p->impacts < 0 || p->impacts > IMPACTS_MAX)
+        return sim_refuse(WG_EINVAL, why, whylen, "snapshot %s.impacts = %d, must be in [0, %d]",
+                          name, p->impacts, IMPACTS_MAX);
     for (int j = 0; j < WG_NBEARING; j++)
-        if (p->bimpacts[j] < 0 || !(p->bvmax[j] >= 0 && p->bvmax[j] < ABSURD))
+        if (p->bimpacts[j] < 0 || p->bimpacts[j] > IMPACTS_MAX ||
+            !(p->bvmax[j] >= 0 && p->bvmax[j] < ABSURD))
             return sim_refuse(WG_EINVAL, why, whylen, "snapshot %s.%s bearing statistics: impacts "
-                              ">= 0 and a finite impact speed >= 0 (|v| < %g)", name,
-                              wg_contact_name(WG_C_X1 + j), ABSURD);
+                              "in [0, %d] and a finite impact speed >= 0 (|v| < %g)", name,
+                              wg_contact_name(WG_C_X1 + j), IMPACTS_MAX, ABSURD);
     if (!(fabs(p->min_xn) < ABSURD && fabs(p->max_xn) < ABSURD && p->min_xn <= p->max_xn))
         return sim_refuse(WG_EINVAL, why, whylen, "snapshot %s.min_xn = %s, %s.max_xn = %s: both "
                           "finite (|x| < %g) with min_xn <= max_xn", name,

@@ -81,6 +81,8 @@ static void m_ramp_unstable(wg_snapshot *w)
 static void m_motion(wg_snapshot *w) { w->cur.motion = 3; }
 static void m_motion_last(wg_snapshot *w) { w->last.motion = -1; }
 static void m_impacts(wg_snapshot *w) { w->cur.impacts = -1; }
+static void m_impacts_max(wg_snapshot *w) { w->cur.impacts = INT32_MAX; }
+static void m_bimpacts_max(wg_snapshot *w) { w->last.bimpacts[2] = INT32_MAX; }
 static void m_minmax(wg_snapshot *w) { w->last.min_xn = w->last.max_xn + 1; }
 static void m_min_nan(wg_snapshot *w) { w->cur.min_xn = NAN; }
 static void m_cur_period(wg_snapshot *w) { w->cur.period = w->period + 1; }
@@ -118,6 +120,10 @@ static const hostile cases[] = {
     {"cur.motion = 3", m_motion, WG_EINVAL, "cur.motion = 3"},
     {"last.motion = -1", m_motion_last, WG_EINVAL, "last.motion = -1"},
     {"cur.impacts = -1", m_impacts, WG_EINVAL, "cur.impacts = -1"},
+    /* the next impact would overflow the count (UBSan: wg_sim_run.c) */
+    {"cur.impacts = 2^31 - 1", m_impacts_max, WG_EINVAL,
+     "cur.impacts = 2147483647, must be in [0, 1000000000]"},
+    {"last.z1 impacts = 2^31 - 1", m_bimpacts_max, WG_EINVAL, "last.z1 bearing statistics"},
     {"last.min_xn > last.max_xn", m_minmax, WG_EINVAL, "last.min_xn"},
     {"cur.min_xn = nan", m_min_nan, WG_EINVAL, "cur.min_xn"},
     {"cur.period != period", m_cur_period, WG_EINVAL, "cur.period"},
