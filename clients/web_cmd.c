@@ -239,6 +239,14 @@ cJSON *web_json_parse(const void *p, size_t len, char *why, size_t whylen)
         snprintf(why, whylen, "a string with a NUL (\\u0000) at byte %ld", at);
         return NULL;
     }
+    for (size_t i = 0; i < len; i++) { /* raw: cJSON took a NUL as a string's end */
+        unsigned char c = (unsigned char)s[i];
+        if (c < 0x20 && c != ' ' && c != '\t' && c != '\n' && c != '\r') {
+            snprintf(why, whylen, "a control byte 0x%02x at byte %zu (JSON escapes them in "
+                     "strings: \\u00%02x)", c, i, c);
+            return NULL;
+        }
+    }
     cJSON *j = cJSON_ParseWithLengthOpts(s, len, &end, 0);
     if (!j) {
         snprintf(why, whylen, "not JSON (at byte %ld of %zu)", end ? (long)(end - s) : 0L, len);

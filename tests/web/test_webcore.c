@@ -362,9 +362,15 @@ static void test_client_publish(void)
         memcpy(fr + 5, bent[i], strlen(bent[i]));
         fox_rx(&F, a, fr, 5 + strlen(bent[i]), 1);
     }
+    /* a raw NUL (not the escape): cJSON took it as the string's end and
+     * set omega (a hostile-input review) */
+    static const char raw[] = "{\"op\":\"set\",\"params\":{\"omega\0zzz\":1.5}}";
+    memcpy(fr + 5, raw, sizeof raw - 1);
+    fox_rx(&F, a, fr, 5 + sizeof raw - 1, 1);
     fr[1] = 9; /* unknown client channel */
     fox_rx(&F, a, fr, 10, 1);
     const char *t = drain(a, NULL);
+    ASSERT_CONTAINS(t, "a control byte 0x00 at byte 28");
     ASSERT_CONTAINS(t, "/cmd: not JSON (at byte");
     ASSERT_CONTAINS(t, "text after the JSON value, at byte 12 of 19");
     ASSERT_CONTAINS(t, "the key 'op' twice in one object");

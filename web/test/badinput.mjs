@@ -42,7 +42,10 @@ async function expectError(name, send, pattern) {
   } catch (e) { check(`${name}: status error`, false, e.message); }
 }
 const scope0 = obs.count("/scope");
-await expectError("garbage text", () => bad.ws.send("\u0001\u0002 garbage {{{"), /not JSON/);
+await expectError("garbage text", () => bad.ws.send("\u0001\u0002 garbage {{{"), /a control byte 0x01 at byte 0/);
+await expectError("garbage text, printable", () => bad.ws.send("garbage {{{"), /not JSON/);
+// a raw NUL inside a string (cJSON ended the string there: the op ran)
+await expectError("a raw NUL in op", () => bad.ws.send('{"op":"getParameters\u0000junk","parameterNames":[],"id":"n"}'), /a control byte 0x00 at byte 20/);
 await expectError("JSON that is not an object", () => bad.ws.send("[1,2,3]"), /JSON object with a string 'op'/);
 await expectError("unknown op", () => bad.ws.send(JSON.stringify({ op: "launchMissiles" })), /unknown op 'launchMissiles'/);
 await expectError("unknown channel id", () => bad.ws.send(JSON.stringify({ op: "subscribe", subscriptions: [{ id: 1, channelId: 4242 }] })), /unknown channel id 4242/);
