@@ -6,6 +6,7 @@
 #include "wormgear/wg_model.h"
 #include "wormgear/wg_sim.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,11 +27,20 @@ const char *bus_default_prefix(void)
     return p ? p : BUS_DEFAULT_PREFIX;
 }
 
+/* Messages lost between last and seq > last, added to *missing, both
+ * saturated: seqs are any sender's int64 (INT64_MIN after INT64_MAX - 1
+ * overflowed the subtraction). */
+static void add_lost(long *missing, int64_t last, int64_t seq)
+{
+    uint64_t d = (uint64_t)seq - (uint64_t)last - 1;
+    *missing = d > (uint64_t)(LONG_MAX - *missing) ? LONG_MAX : *missing + (long)d;
+}
+
 int bus_seq_note(bus_seq *s, int64_t seq)
 {
-    int jump = !s->have ? 0 : seq > s->last + 1 ? 1 : seq <= s->last ? -1 : 0;
+    int jump = !s->have ? 0 : seq <= s->last ? -1 : (uint64_t)seq - (uint64_t)s->last > 1;
     if (jump > 0)
-        s->gaps++, s->missing += seq - s->last - 1;
+        s->gaps++, add_lost(&s->missing, s->last, seq);
     else if (jump < 0)
         s->restarts++;
     s->last = seq, s->have = 1;
@@ -68,7 +78,8 @@ static int find_line(const bus_streams *b, int64_t seq, double off, int64_t send
                 return i;
             continue;
         }
-        if (seq <= s->last_seq || seq - s->last_seq > JUMP_MAX || !clock_agrees(s, off, now_s))
+        if (seq <= s->last_seq || (uint64_t)seq - (uint64_t)s->last_seq > JUMP_MAX ||
+            !clock_agrees(s, off, now_s))
             continue;
         if (best < 0 || s->last_seq > b->s[best].last_seq ||
             (s->last_seq == b->s[best].last_seq && s->id > b->s[best].id))
@@ -113,7 +124,7 @@ static int new_line(bus_streams *b, int64_t seq, double off, int64_t sender, dou
 int bus_streams_note(bus_streams *b, int64_t seq, int64_t utime_us, int64_t sender,
                      double now_s, int64_t now_us, int *line)
 {
-    double off = (double)(utime_us - now_us) * 1e-6;
+    double off = ((double)utime_us - (double)now_us) * 1e-6; /* any int64: no overflow */
     for (int i = 0; i < b->n;)
         if (now_s - b->s[i].seen_s > EXPIRE_S)
             drop_line(b, i);
@@ -127,9 +138,9 @@ int bus_streams_note(bus_streams *b, int64_t seq, int64_t utime_us, int64_t send
     if (seq <= s->last_seq) { /* the same sender id, counting again */
         b->restarts++;
         s->first_seq = seq, rc = BUS_RESTART;
-    } else if (seq > s->last_seq + 1) {
+    } else if ((uint64_t)seq - (uint64_t)s->last_seq > 1) {
         s->gaps++, b->gaps++;
-        s->missing += seq - s->last_seq - 1, b->missing += seq - s->last_seq - 1;
+        add_lost(&s->missing, s->last_seq, seq), add_lost(&b->missing, s->last_seq, seq);
         rc = BUS_GAP;
     }
     if (s->replaced_by) { /* not a restart after all: two senders at once */

@@ -8,6 +8,8 @@
 #include "bus.h"
 #include "cli.h"
 
+#include <limits.h>
+
 /* Feed one message at receive time now_s (the wall clock moves with it). */
 static int note(bus_streams *b, int64_t seq, double utime_s, double now_s, int64_t sender,
                 int *line)
@@ -143,5 +145,28 @@ static void test_text_clean(void)
     ASSERT_STR(cli_text(in, sizeof in, in), "<b>?]0;t?</b>");
 }
 
+/* Any sender's int64 seq and utime: no overflow (UBSan stopped wgmon and
+ * wglog on one such STATUS, a hostile-input review), the counts saturate. */
+static void test_hostile_numbers(void)
+{
+    bus_streams b = {0};
+    int line;
+    ASSERT_EQ_INT(bus_streams_note(&b, 5, INT64_MIN, 0, 0.0, 1700000000000000, &line), BUS_NEW);
+    ASSERT_EQ_INT(bus_streams_note(&b, INT64_MIN, INT64_MAX, 0, 0.1, 1700000000100000, &line),
+                  BUS_NEW);
+    ASSERT_EQ_INT(note(&b, INT64_MIN + 1, 0, 0.2, 0x1111, &line), BUS_NEW);
+    ASSERT_EQ_INT(note(&b, INT64_MAX, 0, 0.3, 0x1111, &line), BUS_GAP); /* 2^64 - 3 lost */
+    ASSERT_EQ_INT(note(&b, INT64_MAX, 0, 0.4, 0x1111, &line), BUS_RESTART);
+    ASSERT_TRUE(b.missing == LONG_MAX);
+    bus_seq s = {0};
+    ASSERT_EQ_INT(bus_seq_note(&s, INT64_MAX - 1), 0);
+    ASSERT_EQ_INT(bus_seq_note(&s, INT64_MAX), 0);
+    ASSERT_EQ_INT(bus_seq_note(&s, INT64_MIN), -1);
+    ASSERT_EQ_INT(bus_seq_note(&s, INT64_MAX), 1);
+    ASSERT_TRUE(s.missing == LONG_MAX);
+    ASSERT_EQ_INT(s.gaps, 1);
+}
+
 TEST_MAIN(TEST(test_in_order_and_gap), TEST(test_restart), TEST(test_replay_into_live),
-          TEST(test_two_live_senders), TEST(test_sender_ids), TEST(test_eviction), TEST(test_text_clean))
+          TEST(test_two_live_senders), TEST(test_sender_ids), TEST(test_eviction), TEST(test_text_clean),
+          TEST(test_hostile_numbers))
