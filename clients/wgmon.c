@@ -472,8 +472,7 @@ static void draw_header(mon *m, mon_text *f, double now)
         char hint[512];
         mon_text_put(f, 33, "waiting for %sSTATUS ...", m->c.prefix);
         bus_hint(&m->c, hint, sizeof hint);
-        char *save = NULL;
-        for (char *w = strtok_r(hint, " ", &save); w; w = strtok_r(NULL, " ", &save))
+        for (char *save = NULL, *w = strtok_r(hint, " ", &save); w; w = strtok_r(NULL, " ", &save))
             mon_text_put(f, 33, " %s", w);
         mon_text_nl(f);
         return;
@@ -737,11 +736,10 @@ static int run(mon *m)
         pump(m, cli_mono_s() + 0.25, 1);
     finish(m);
     mon_text_free(&f);
-    if (m->o.frames && !m->have_status && !g_quit) { /* exit 1: said on stderr too */
-        char hint[512];
+    char hint[512];
+    if (m->o.frames && !m->have_status && !g_quit) /* exit 1: said on stderr too */
         fprintf(stderr, "wgmon: no STATUS on %sSTATUS within %g s: %s\n", m->c.prefix,
                 m->o.timeout_s, bus_hint(&m->c, hint, sizeof hint));
-    }
     return m->o.frames && !m->have_status ? 1 : 0;
 }
 

@@ -681,23 +681,39 @@ int cmd_key_load(wgd *d, char *why, size_t whylen)
     return rc;
 }
 
+int cmd_key_init(wgd *d)
+{
+    int rc = cmd_key_load(d, d->init_why, sizeof d->init_why);
+    if (rc) {
+        cmd_key_fini(d); /* what a failed load left: nothing taken */
+        return rc;
+    }
+    if (d->auth.on) {
+        log_msg(&d->log, LOG_INFO, "signed commands only (key %s)", d->auth.path);
+        wait_until_us(auth_open_us(&d->auth));
+    }
+    return WG_OK;
+}
+
+void cmd_key_fini(wgd *d)
+{
+    lcmio_sign_with(&d->io, NULL);
+    auth_fini(&d->auth);
+}
+
 int cmd_init(wgd *d)
 {
     if (inbox_init(&d->in, INBOX_BYTES)) {
         snprintf(d->init_why, sizeof d->init_why, "out of memory for the command inbox");
         return WG_ENOMEM;
     }
-    int rc = cmd_key_load(d, d->init_why, sizeof d->init_why);
-    if (rc)
-        return rc;
-    if (d->auth.on) {
-        log_msg(&d->log, LOG_INFO, "signed commands only (key %s)", d->auth.path);
-        wait_until_us(auth_open_us(&d->auth));
-    }
     /* room for a burst (PROTOCOL.md: 2,000 commands at once are all
      * answered); what the kernel still drops is counted (rx_dropped) */
-    return lcmio_subscribe(&d->io, CH_CMD, on_cmd, d, CMD_QUEUE, d->init_why,
-                           sizeof d->init_why);
+    int rc = lcmio_subscribe(&d->io, CH_CMD, on_cmd, d, CMD_QUEUE, d->init_why,
+                             sizeof d->init_why);
+    if (rc)
+        inbox_fini(&d->in); /* a module that fails leaves nothing behind */
+    return rc;
 }
 
 void cmd_fini(wgd *d)
@@ -705,6 +721,4 @@ void cmd_fini(wgd *d)
     cmd_step_cancel(d, WG_ESTATE, "cancelled: the daemon is stopping");
     sync_cancel(d, WG_ESTATE, "set at the next section cancelled: the daemon is stopping");
     inbox_fini(&d->in);
-    lcmio_sign_with(&d->io, NULL);
-    auth_fini(&d->auth);
 }

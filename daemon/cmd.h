@@ -15,8 +15,17 @@
 
 struct wgd;
 
-/* Subscribe CMD. WG_OK or WG_EIO with d->init_why. */
+/* The command inbox, and CMD subscribed. WG_OK, or WG_ENOMEM or WG_EIO
+ * with d->init_why and nothing left behind. */
 int cmd_init(struct wgd *d);
+
+/* The key of conf.command_key_file at the start (cmd_key_load), and once
+ * it is in use the wait for its first second (auth_open_us). WG_OK, or
+ * the load's error with d->init_why (a config error: nothing kept). */
+int cmd_key_init(struct wgd *d);
+
+/* Signing off, the key released. */
+void cmd_key_fini(struct wgd *d);
 
 /* Take the key of conf.command_key_file ("" = none) for commands and
  * ticks (auth_load) and sign every message published with the key then in
@@ -24,7 +33,8 @@ int cmd_init(struct wgd *d);
  * auth_load's error with why (the previous key kept, and still signing). */
 int cmd_key_load(struct wgd *d, char *why, size_t whylen);
 
-/* Nothing to release (subscriptions end with the lcm instance). */
+/* Pending step and set answers cancelled, the inbox released
+ * (subscriptions end with the lcm instance). */
 void cmd_fini(struct wgd *d);
 
 /* Handle the commands waiting in the inbox, oldest first, until it is

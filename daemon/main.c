@@ -88,6 +88,7 @@ static int m_snap(wgd *d)
     return 0;
 }
 
+static int m_key(wgd *d) { return cmd_key_init(d) ? 2 : 0; } /* the config's key file */
 static int m_cmd(wgd *d) { return cmd_init(d) ? 1 : 0; }
 static int m_lockstep(wgd *d) { return lockstep_init(d) ? 1 : 0; }
 static int m_loop(wgd *d) { return loop_init(d) ? 1 : 0; }
@@ -108,6 +109,7 @@ static const struct module {
     {"engine", m_engine, engine_fini},
     {"lcm", m_lcm, f_lcm},
     {"stream", m_stream, f_stream},
+    {"key", m_key, cmd_key_fini},
     {"cmd", m_cmd, cmd_fini},
     {"lockstep", m_lockstep, f_none},
     {"loop", m_loop, loop_fini},

@@ -207,6 +207,7 @@ static inline wgd *setup(int steps_per_period)
     ASSERT_EQ_INT(lcmio_init(&d->io, "memq://", "T_", d->init_why, sizeof d->init_why),
                   WG_OK);
     stream_init(&d->st, d->sim.nstate, &d->scene.scale, 1);
+    ASSERT_EQ_INT(cmd_key_init(d), WG_OK); /* as main.c's modules, in order */
     ASSERT_EQ_INT(cmd_init(d), WG_OK);
     ASSERT_EQ_INT(lockstep_init(d), WG_OK);
     pace_configure(&d->pace, &d->conf, d->scene.scale.omega_n_rad_s, log_now_ns(),
@@ -234,6 +235,7 @@ static inline void teardown(wgd *d)
     wormgear_contact_t_unsubscribe(l, F.subs[4]);
     wormgear_status_t_unsubscribe(l, F.subs[5]);
     cmd_fini(d);
+    cmd_key_fini(d);
     lcmio_fini(&d->io);
     engine_fini(d);
     log_fini(&d->log);

@@ -38,6 +38,14 @@ omega_is() {
 replay() { "$P" --lcm-url="$WORMGEAR_URL" "$tmp/cmd.lcmlog" >/dev/null 2>&1; sleep 0.3; }
 
 "$C" keygen "$tmp/key" >/dev/null || { echo "FAIL: keygen"; exit 1; }
+# a key file the daemon cannot take is a config error: exit 2 with why, and
+# nothing left behind (it exited 1, and under ASan leaked the inbox)
+cp "$tmp/key" "$tmp/key644" && chmod 644 "$tmp/key644"
+for k in "$tmp/nokey" /dev/zero "$tmp/key644"; do
+    "$D" --check-config --state-dir "$tmp" --command-key-file "$k" >"$tmp/kc.out" 2>&1; rc=$?
+    [ $rc -eq 2 ] && grep -q "error: key: " "$tmp/kc.out" ||
+        fail "--command-key-file $k: exit $rc, want 2 with 'key: why': $(cat "$tmp/kc.out")"
+done
 start
 # capture one signed set on the command channel, as a listener on the group can
 "$L" --lcm-url="$WORMGEAR_URL" -c AUTH_CMD -q "$tmp/cmd.lcmlog" &
