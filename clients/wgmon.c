@@ -472,7 +472,8 @@ static void draw_header(mon *m, mon_text *f, double now)
         char hint[512];
         mon_text_put(f, 33, "waiting for %sSTATUS ...", m->c.prefix);
         bus_hint(&m->c, hint, sizeof hint);
-        for (char *save = NULL, *w = strtok_r(hint, " ", &save); w; w = strtok_r(NULL, " ", &save))
+        for (char *save = NULL, *w = strtok_r(hint, " ", &save); w;
+             w = strtok_r(NULL, " ", &save))
             mon_text_put(f, 33, " %s", w);
         mon_text_nl(f);
         return;
