@@ -165,11 +165,10 @@ static int opt_one(void *ctx, int c, const char *a)
     switch (c) {
     case 'u': o->url = a; return 0;
     case 'p': /* a usage error (exit 2), as wgctl's */
-        if (!bus_prefix_ok(a))
-            return cli_usage_error(PROG, "--prefix '%.60s': need [A-Za-z0-9_.-], at most %d "
-                                   "characters (the daemon's rule)", a, BUS_PREFIX_MAX);
-        o->prefix = a;
-        return 0;
+        if (bus_prefix_ok(o->prefix = a))
+            return 0;
+        return cli_usage_error(PROG, "--prefix '%.60s': need [A-Za-z0-9_.-], at most %d "
+                               "characters (the daemon's rule)", a, BUS_PREFIX_MAX);
     case 'w': return cli_opt_num(PROG, "--window", a, 0.5, 600, "seconds in [0.5, 600]", &o->window_s);
     case 'r':
         return cli_opt_int(PROG, "--periods", a, 1, 1000, "mesh periods, an integer in [1, 1000]",
