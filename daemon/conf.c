@@ -295,7 +295,10 @@ static int add_set(conf *c, const char *name, const char *value, char *why, size
         snprintf(why, len, "more than %d parameter overrides", CONF_MAX_SETS);
         return 2;
     }
-    snprintf(c->sets[c->nsets++], sizeof c->sets[0], "%s=%s", name, value);
+    char num[32]; /* the value as read, in its shortest exact text: a long spelling of it
+                   * (160 digits of 0.1) was cut at 127 characters to another value */
+    snprintf(c->sets[c->nsets++], sizeof c->sets[0], "%s=%s", name,
+             wg_num_format(v, num, sizeof num));
     return 0;
 }
 

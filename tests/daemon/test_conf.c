@@ -256,7 +256,7 @@ static void test_reload_from_file(void)
     ASSERT_EQ_INT(run.mode, MODE_FAST);
     ASSERT_NEAR(run.rate, 1, 0); /* no longer in the file: the default */
     ASSERT_STR(run.path, cfgpath);
-    ASSERT_STR(run.sets[0], "omega=1.0");
+    ASSERT_STR(run.sets[0], "omega=1"); /* the value read, in its shortest text */
     ASSERT_EQ_INT(k.mode, 1);
     unlink(cfgpath);
 }
@@ -322,11 +322,24 @@ static void test_environment(void)
     ASSERT_STR(c.prefix, "WORMGEAR_");
 }
 
+/* A --set value is kept as read, whatever its spelling (one of 160
+ * characters was cut at 127 to another number). */
+static void test_set_long_spelling(void)
+{
+    char why[400], a0[] = "wormgeard", a1[] = "--set", a2[200];
+    snprintf(a2, sizeof a2, "omega=1e-%0150d1", 0); /* 0.1 */
+    char *argv[] = {a0, a1, a2, NULL};
+    conf c;
+    ASSERT_EQ_INT(conf_load(&c, 3, argv, why, sizeof why), 0);
+    ASSERT_EQ_INT(c.nsets, 1);
+    ASSERT_STR(c.sets[0], "omega=0.1");
+}
+
 #define main tests_main
 TEST_MAIN(TEST(test_reload_live_and_restart), TEST(test_reload_names_every_restart_key),
           TEST(test_reload_from_file), TEST(test_check_number), TEST(test_file_kinds),
           TEST(test_nul_bytes), TEST(test_keys_once), TEST(test_long_line),
-          TEST(test_environment))
+          TEST(test_environment), TEST(test_set_long_spelling))
 #undef main
 
 int main(int argc, char **argv)
