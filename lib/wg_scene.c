@@ -136,18 +136,44 @@ typedef struct loader {
  * indented line after a key is that key's value continued (its multi-line
  * values), unless a [section] line came between; an indented "[section]"
  * there is such a line too, not a header (inih reads it so). */
+__attribute__((format(printf, 4, 5))) static int failf(loader *L, int line, int rc,
+                                                       const char *fmt, ...);
+
+/* A NUL byte ends the parse at its line (inih would end the line there and
+ * drop the rest: "omega = 1.2<NUL>garbage" ran, a line after a NUL was
+ * skipped), and so does a line longer than inih's buffer (it read on from
+ * the cut, so a long comment could carry a key, and the error named the
+ * next line), each as the daemon's config reader says it. */
 static char *reader(char *str, int num, void *stream)
 {
     loader *L = stream;
-    char *r = fgets(str, num, L->f);
-    if (r) {
-        L->line++;
-        L->indented = *r == ' ' || *r == '\t';
-        int continues = L->indented && !L->header && L->nset > 0;
-        if (r[strspn(r, " \t")] == '[' && !continues)
-            L->header = 1;
+    int n = 0, c = EOF;
+    if (L->rc != WG_OK)
+        return NULL;
+    while ((c = getc(L->f)) != EOF && c != '\n') {
+        if (c == 0)
+            return failf(L, L->line + 1, WG_EINVAL, "a NUL byte (column %d): a scene file is "
+                         "text", n + 1), NULL;
+        if (n >= num - 2) { /* count the rest, for the message */
+            long chars = n + 1;
+            while ((c = getc(L->f)) != EOF && c != '\n')
+                chars++;
+            return failf(L, L->line + 1, WG_EINVAL, "line too long: %ld characters, the limit "
+                         "is %d", chars, num - 2), NULL;
+        }
+        str[n++] = (char)c;
     }
-    return r;
+    if (n == 0 && c == EOF)
+        return NULL;
+    if (c == '\n')
+        str[n++] = '\n';
+    str[n] = 0;
+    L->line++;
+    L->indented = *str == ' ' || *str == '\t';
+    int continues = L->indented && !L->header && L->nset > 0;
+    if (str[strspn(str, " \t")] == '[' && !continues)
+        L->header = 1;
+    return str;
 }
 
 static int fail(loader *L, int rc, const char *fmt, const char *a, const char *b)
@@ -660,9 +686,12 @@ int wg_scene_is_file(const char *s)
 
 int wg_scene_find(const char *name, char *path, size_t pathlen, char *why, size_t whylen)
 {
-    if (wg_scene_is_file(name)) {
-        snprintf(path, pathlen, "%s", name);
-        return WG_OK;
+    if (wg_scene_is_file(name)) { /* whole, or refused: cut, it named another file */
+        if ((size_t)snprintf(path, pathlen, "%s", name) < pathlen)
+            return WG_OK;
+        snprintf(why, whylen, "scene file path of %zu characters: the limit is %zu",
+                 strlen(name), pathlen - 1);
+        return WG_EINVAL;
     }
     char dirs[2048], data[1024], found[512] = "", other[512] = "";
     const char *env = getenv("WG_SCENE_PATH");
@@ -671,7 +700,8 @@ int wg_scene_find(const char *name, char *path, size_t pathlen, char *why, size_
     for (char *save = NULL, *d = strtok_r(dirs, ":", &save); d; d = strtok_r(NULL, ":", &save)) {
         if (!*d)
             continue;
-        snprintf(path, pathlen, "%s/%s.ini", d, name);
+        if ((size_t)snprintf(path, pathlen, "%s/%s.ini", d, name) >= pathlen)
+            continue; /* cut: another file's name */
         if (regular_path(path) && exists(path))
             return WG_OK;
         if (!other[0] && exists(path)) /* a directory NAME.ini: a later file wins */

@@ -181,6 +181,36 @@ static void test_silent_no_more(void)
     expect_error("cont2.ini", "[scene]\nname = x\n  [params]\nomega = 0.5\n", WG_EINVAL, ":3:",
                  "[scene] name: this indented line would continue the value of line 2; a value "
                  "is one line (remove the indent)");
+    /* a line longer than inih's buffer, and NUL bytes: refused at their
+     * line (a long comment carried a key, omega = 2.5, and a NUL cut a value
+     * or hid a line; a hostile-input review) */
+    char longc[400];
+    snprintf(longc, sizeof longc, "[params]\n; a comment %0187dxomega = 2.5\nxi_p = 0.1\n", 0);
+    expect_error("long.ini", longc, WG_EINVAL, ":2:", "line too long: 211 characters, the "
+                 "limit is 198");
+    static const char nul1[] = "[params]\nomega = 1.2\0garbage\n",
+                      nul2[] = "[params]\n\0omega = 99\n";
+    const char *bins[2] = {nul1, nul2};
+    size_t lens[2] = {sizeof nul1 - 1, sizeof nul2 - 1};
+    for (int i = 0; i < 2; i++) {
+        wg_scene sc;
+        char why[600], path[128];
+        snprintf(path, sizeof path, "%s/nul%d.ini", dir, i);
+        FILE *f = fopen(path, "wb");
+        ASSERT_TRUE(f && fwrite(bins[i], 1, lens[i], f) == lens[i]);
+        if (f)
+            fclose(f);
+        ASSERT_EQ_INT(wg_scene_load(&sc, path, why, sizeof why), WG_EINVAL);
+        ASSERT_CONTAINS(why, i ? ":2: a NUL byte (column 1)" : ":2: a NUL byte (column 12)");
+    }
+    { /* a path longer than the loader keeps: refused (cut, it named another file) */
+        wg_scene sc;
+        char why[600], longp[700];
+        snprintf(longp, sizeof longp, "%s/%0600d.ini", dir, 0);
+        ASSERT_EQ_INT(wg_scene_open(&sc, longp, why, sizeof why), WG_EINVAL);
+        ASSERT_CONTAINS(why, "scene file path of ");
+        ASSERT_CONTAINS(why, "the limit is 511");
+    }
     expect_error("empty.ini", "", WG_EINVAL, ": ", "no settings");
     expect_error("nokeys.ini", "; a comment\n[params]\n\n[scene]\n", WG_EINVAL, ": ",
                  "no settings");
