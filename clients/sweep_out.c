@@ -1,5 +1,6 @@
 /* sweep_out.c - writers of a sweep study (see sweep_out.h). */
 #include "sweep_out.h"
+#include "cli.h"
 #include "plot.h"
 #include "plot_text.h"
 #include "sweep_md.h"
@@ -255,8 +256,9 @@ int out_json(const char *path, const sweep_study *st, char *why, size_t whylen)
     FILE *f = out_open(path, why, whylen);
     if (!f)
         return -1;
-    fprintf(f, "{\"scene\":\"%s\",\"param\":\"%s\",\"group_param\":", st->scene,
-            out_pname(st->param));
+    fputs("{\"scene\":", f);
+    cli_json_str(f, st->scene); /* a loader's rule, escaped here all the same */
+    fprintf(f, ",\"param\":\"%s\",\"group_param\":", out_pname(st->param));
     if (st->gparam >= 0)
         fprintf(f, "\"%s\"", out_pname(st->gparam));
     else

@@ -211,6 +211,18 @@ static void test_silent_no_more(void)
         ASSERT_CONTAINS(why, "scene file path of ");
         ASSERT_CONTAINS(why, "the limit is 511");
     }
+    /* name and description are shown on terminals and written into files:
+     * no control bytes (an escape sequence in a name reached the terminal,
+     * a \x01 broke the SVG and the JSON), and never cut (a review) */
+    expect_error("name1.ini", "[scene]\nname = a\033]0;pwned\007\n", WG_EINVAL, ":2:",
+                 "[scene] name: 1 to 63 printable ASCII characters (a snapshot stores it); a "
+                 "control or non-ASCII byte at column 2");
+    char longn[120];
+    snprintf(longn, sizeof longn, "[scene]\nname = %070d\n", 0);
+    expect_error("name2.ini", longn, WG_EINVAL, ":2:", "; 70 given");
+    expect_error("desc1.ini", "[scene]\ndescription = x\001y\n", WG_EINVAL, ":2:",
+                 "[scene] description: at most 159 bytes, no control characters; a control "
+                 "byte at column 2");
     expect_error("empty.ini", "", WG_EINVAL, ": ", "no settings");
     expect_error("nokeys.ini", "; a comment\n[params]\n\n[scene]\n", WG_EINVAL, ": ",
                  "no settings");
