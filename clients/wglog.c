@@ -55,6 +55,7 @@ typedef struct chan {
     bus_streams seq;          /* senders: gaps, missing (messages lost), restarts */
     char notes[600];          /* the senders after the first, as they appeared */
     FILE *csv;
+    char *file;               /* its CSV's path (export) */
     int ncols;                /* params_t / poincare_t: columns fixed by the first message */
 } chan;
 
@@ -398,13 +399,25 @@ static int type_of(int64_t hash)
     return T_UNKNOWN;
 }
 
-/* The file name of a channel's CSV: DIR/CHANNEL.csv, odd characters as '_'. */
-static FILE *open_csv(const log_run *r, const char *channel, char *path, size_t len)
+/* The file name of a channel's CSV: DIR/CHANNEL.csv, odd characters as '_',
+ * and DIR/CHANNEL~2.csv ... when another channel's already has that name
+ * (A/B and A_B were written into one file, interleaved). */
+static FILE *open_csv(const log_run *r, const chan *self, char *path, size_t len)
 {
     size_t n = (size_t)snprintf(path, len, "%s/", r->out);
-    for (const char *s = channel; *s && n + 5 < len; s++)
+    for (const char *s = self->name; *s && n + 16 < len; s++)
         path[n++] = (*s == '/' || *s == '\\' || (unsigned char)*s < 0x20) ? '_' : *s;
-    snprintf(path + n, len - n, ".csv");
+    for (int k = 1;; k++) {
+        snprintf(path + n, len - n, k == 1 ? ".csv" : "~%d.csv", k);
+        int taken = 0;
+        for (int i = 0; i < r->nch && !taken; i++)
+            taken = &r->ch[i] != self && r->ch[i].file && !strcmp(r->ch[i].file, path);
+        if (!taken)
+            break;
+        if (k == 1 && !r->quiet)
+            fprintf(stderr, "wglog: %s: another channel's CSV has its file name; written to "
+                    "the next free one\n", self->shown);
+    }
     return fopen(path, "w");
 }
 
@@ -458,7 +471,7 @@ static int event(log_run *r, const lcm_eventlog_event_t *ev)
         return -1;
     if (r->export_ && c->msgs == 0 && c->type != T_UNKNOWN) {
         char path[4096];
-        if (!(c->csv = open_csv(r, ev->channel, path, sizeof path))) {
+        if (!(c->csv = open_csv(r, c, path, sizeof path)) || !(c->file = strdup(path))) {
             fprintf(stderr, "wglog: cannot write %s: %s\n", path, strerror(errno));
             return -1;
         }
@@ -649,7 +662,7 @@ int main(int argc, char **argv)
         summary(&r, stdout); /* of what could be read, a damaged log's too */
     rc |= r.damaged;
     for (int i = 0; i < r.nch; i++)
-        free(r.ch[i].name);
+        free(r.ch[i].name), free(r.ch[i].file);
     free(r.ch);
     if (r.has_re)
         regfree(&r.re);

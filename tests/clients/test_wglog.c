@@ -353,6 +353,27 @@ static void test_channel_filter(void)
     ASSERT_TRUE(!strstr(out, "RIG1_STATUS"));
 }
 
+/* Two channels whose names map to one file name (A/B and A_B): each its
+ * own CSV (they were written into one, interleaved), and said. */
+static void test_export_names_collide(void)
+{
+    char path[160], cmd[512], out[4096];
+    snprintf(path, sizeof path, "%s/collide.lcmlog", dir);
+    lcm_eventlog_t *l = lcm_eventlog_create(path, "w");
+    ASSERT_TRUE(l != NULL);
+    for (int k = 0; k < 4; k++) {
+        wormgear_tick_t t = {.utime = 1000 + k, .seq = k, .nsteps = 10 + k, .client = ""};
+        PUT(wormgear_tick_t, l, k % 2 ? "R/TICK" : "R_TICK", 1000000 + 1000 * k, &t);
+    }
+    lcm_eventlog_destroy(l);
+    snprintf(cmd, sizeof cmd, "mkdir -p %s/cx && %s export %s --out %s/cx 2>&1 && "
+             "wc -l <%s/cx/R_TICK.csv && wc -l <'%s/cx/R_TICK~2.csv'", dir, wglog(), path, dir,
+             dir, dir);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 0);
+    ASSERT_CONTAINS(out, "R/TICK: another channel's CSV has its file name");
+    ASSERT_CONTAINS(out, "\n3\n3\n"); /* a header and 2 rows each */
+}
+
 /* A big-endian int32 at p (the log's lengths). */
 static int32_t get32(const unsigned char *p)
 {
@@ -499,6 +520,7 @@ static void test_all(void)
     test_physical();
     test_channel_filter();
     test_hostile_messages();
+    test_export_names_collide();
     test_usage();
     test_cleanup();
 }
