@@ -74,6 +74,8 @@ async function withOrigin(origin) {
 }
 check("a page of another origin is refused", !(await withOrigin("http://evil.example")));
 check("a page of another port is refused", !(await withOrigin(`http://127.0.0.1:${port + 1}`)));
+// an Origin too long to copy was taken as none, and let in (a review)
+check("an origin of 400 characters is refused", !(await withOrigin("http://evil.example/" + "a".repeat(380))));
 check("the bridge's own page may connect", await withOrigin(`http://127.0.0.1:${port}`));
 check("localhost is its own page too", await withOrigin(`http://localhost:${port}`));
 check("observer kept receiving during the abuse", obs.count("/scope") > scope0 + 20, `${obs.count("/scope") - scope0} scope messages`);
