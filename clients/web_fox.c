@@ -143,6 +143,11 @@ void fox_status(fox *f, int ci, int level, const char *fmt, ...)
 {
     char msg[1024];
     va_list ap;
+    if (f->rx_in && ci == f->rx_ci && f->rx_said++ >= FOX_RX_SAID_MAX) {
+        f->rx_unsaid++; /* one message with 1,100 bad entries: as many statuses filled */
+        f->cl[ci].errors += level == 2; /* the control queue, and the client was dropped */
+        return;
+    }
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);

@@ -26,6 +26,7 @@
 
 #define FOX_MAX_CLIENTS 64
 #define FOX_MAX_CCHAN 16
+#define FOX_RX_SAID_MAX 8 /* statuses one client message may get; the rest in one line */
 #define FOX_MAX_PENDING 64
 #define FOX_MAX_PARAMS 64
 
@@ -87,6 +88,8 @@ typedef struct fox {
     char session[32];
     char name[160], prefix[64], url[256]; /* copies of the conf strings */
     double now_s;        /* wall time of the last fox_tick */
+    int rx_in, rx_ci;    /* in fox_rx, for client rx_ci: */
+    int rx_said, rx_unsaid; /* its statuses so far, and those held back */
     jbuf tmp;
 } fox;
 

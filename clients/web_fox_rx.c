@@ -319,10 +319,24 @@ static void rx_publish(fox *f, int ci, const unsigned char *p, size_t len)
     cJSON_Delete(j);
 }
 
+static void rx_frame(fox *f, int ci, const unsigned char *p, size_t len, int binary);
+
+/* One client message, answered with at most FOX_RX_SAID_MAX statuses and a
+ * line counting the rest. */
 void fox_rx(fox *f, int ci, const unsigned char *p, size_t len, int binary)
 {
     if (ci < 0 || ci >= FOX_MAX_CLIENTS || !f->cl[ci].used)
         return;
+    f->rx_in = 1, f->rx_ci = ci, f->rx_said = f->rx_unsaid = 0;
+    rx_frame(f, ci, p, len, binary);
+    f->rx_in = 0;
+    if (f->rx_unsaid)
+        fox_status(f, ci, 2, "... and %d more refusals of that message, not shown (at most %d "
+                   "statuses a message)", f->rx_unsaid, FOX_RX_SAID_MAX);
+}
+
+static void rx_frame(fox *f, int ci, const unsigned char *p, size_t len, int binary)
+{
     if (!binary) {
         rx_text(f, ci, p, len);
     } else if (len >= 1 && p[0] == 0x01 && f->conf.allow_commands) {

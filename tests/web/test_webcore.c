@@ -292,6 +292,35 @@ static wormgear_params_t *params_msg(double omega)
     return &m;
 }
 
+/* One message with 1,100 bad entries gets 8 statuses and a line counting
+ * the rest, and the client stays (each entry's status filled the control
+ * queue, and the client was dropped without a word: a review). */
+static void test_many_refusals_one_message(void)
+{
+    setup(1);
+    int a = fox_open(&F, (void *)1);
+    drain(a, NULL);
+    static char big[40000];
+    size_t n = (size_t)snprintf(big, sizeof big, "{\"op\":\"subscribe\",\"subscriptions\":[");
+    for (int i = 0; i < 1100; i++)
+        n += (size_t)snprintf(big + n, sizeof big - n, "%s{\"id\":%d,\"channelId\":999}",
+                              i ? "," : "", i);
+    snprintf(big + n, sizeof big - n, "]}");
+    rx(a, big);
+    const char *t = drain(a, NULL);
+    int lines = 0;
+    for (const char *q = t; (q = strchr(q, '\n')); q++)
+        lines++;
+    ASSERT_EQ_INT(lines, 9);
+    ASSERT_CONTAINS(t, "subscribe: unknown channel id 999");
+    ASSERT_CONTAINS(t, "... and 1092 more refusals of that message, not shown (at most 8 "
+                    "statuses a message)");
+    ASSERT_TRUE(F.cl[a].used && F.kicked == 0);
+    rx(a, "{\"op\":\"getParameters\",\"parameterNames\":[],\"id\":\"g\"}");
+    ASSERT_TRUE(strstr(drain(a, NULL), "parameterValues") != NULL); /* still served */
+    teardown();
+}
+
 static void test_parameters(void)
 {
     setup(1);
@@ -380,7 +409,8 @@ static void test_client_publish(void)
     teardown();
 }
 
-TEST_MAIN(TEST(test_jbuf), TEST(test_queue_drops_oldest), TEST(test_thin_scope_stride),
+TEST_MAIN(TEST(test_jbuf), TEST(test_many_refusals_one_message), TEST(test_queue_drops_oldest),
+          TEST(test_thin_scope_stride),
           TEST(test_thin_rate_cap), TEST(test_cmd_json), TEST(test_open_info_advertise),
           TEST(test_bad_inputs), TEST(test_subscribe_publish_drop), TEST(test_parameters),
           TEST(test_client_publish))
