@@ -192,12 +192,24 @@ static int row(char *line, const int *col, cont_row *r)
     r->value = strtod(fld[1], &end);
     if (r->kind < 0 || *end || !isfinite(r->value))
         return -1;
-    r->period = atoi(fld[col[0]]);
-    r->contact = contact_lookup(fld[col[2]]);
+    /* every field as wgcont writes it: a period 1..WG_SHOOT_NMAX; a grazing's
+     * contact, side (+c, -c) and extreme (min, max), '-' for the others; a
+     * bracket >= 0 (GARBAGE,zz,nowhere and a period of -99999999999 were
+     * tabled: atoi and strcmp took anything) */
+    long period = strtol(fld[col[0]], &end, 10);
+    if (*end || end == fld[col[0]] || period < 1 || period > WG_SHOOT_NMAX)
+        return -1;
+    r->period = (int)period;
+    int graze = r->kind == WG_BIF_GRAZING;
+    r->contact = graze ? contact_lookup(fld[col[2]]) : -1;
     r->side = strcmp(fld[col[3]], "-c") == 0 ? -1 : 1;
     r->extreme = strcmp(fld[col[4]], "max") == 0 ? 1 : -1;
-    r->bracket = strtod(fld[col[5]], NULL);
-    return 0;
+    if (graze ? r->contact < 0 || (strcmp(fld[col[3]], "+c") && strcmp(fld[col[3]], "-c")) ||
+                    (strcmp(fld[col[4]], "min") && strcmp(fld[col[4]], "max"))
+              : strcmp(fld[col[2]], "-") || strcmp(fld[col[3]], "-") || strcmp(fld[col[4]], "-"))
+        return -1;
+    r->bracket = strtod(fld[col[5]], &end);
+    return *end || end == fld[col[5]] || !(r->bracket >= 0 && isfinite(r->bracket)) ? -1 : 0;
 }
 
 int cont_read_bifs(const char *path, cont_bifs *b, char *why, size_t whylen)

@@ -79,6 +79,13 @@ static int parse_point(char **f, int n, wg_point *pt, int *dir)
         if (fint(f[19], &pt->check_period) || pt->check_regime < 0 || pt->check_motion < 0)
             return -1;
     }
+    /* what a run can write: a period up to WG_PERIOD_MAX (0: none), N in
+     * the stepper's range, min_xn <= max_xn (P-7 and N = -3 were tabled) */
+    if (pt->period < 0 || pt->period > WG_PERIOD_MAX || pt->converged < 0 || pt->converged > 1 ||
+        pt->steps < WG_STEPS_MIN || pt->steps > WG_STEPS_MAX || pt->min_xn > pt->max_xn ||
+        !(pt->impacts >= 0 || isnan(pt->impacts)) ||
+        (pt->checked && (pt->check_period < 0 || pt->check_period > WG_PERIOD_MAX)))
+        return -1;
     return pt->regime < 0 || pt->motion < 0 ? -1 : 0;
 }
 

@@ -96,6 +96,16 @@ head -c $(($(wc -c <"$dir/pd-bifurcations.csv") - 40)) "$dir/pd-bifurcations.csv
 "$sweep" --table-from "$dir/sw.csv" --exact "$dir/cut.csv" --out "$dir/swc" >/dev/null 2>"$dir/swc.err"; r11=$?
 check "wgsweep --exact with a torn bifurcations file: exit 2, the line cut short said" \
   '[ $r11 -eq 2 ] && grep -q "cut.csv:[0-9]*: the line is cut short" "$dir/swc.err"'
+# a row that is not what wgcont writes is refused (a kind's fields, a period
+# of -99999999999, a bracket NOTANUMBER were tabled as 'grazing P-1215752191')
+{ head -1 "$dir/pd-bifurcations.csv"; echo "period_doubling,1.17$(printf ',0%.0s' $(seq 2 19)),GARBAGE,zz,nowhere,weird,sideways,NOTANUMBER"; } >"$dir/bad.csv"
+{ head -2 "$dir/pd-bifurcations.csv" | tail -1 | awk -F, -v OFS=, '{ $21 = -99999999999 } 1'; } >"$dir/bad2row.csv"
+{ head -1 "$dir/pd-bifurcations.csv"; cat "$dir/bad2row.csv"; } >"$dir/bad2.csv"
+for b in bad bad2; do
+  "$sweep" --table-from "$dir/sw.csv" --exact "$dir/$b.csv" --out "$dir/sw$b" >/dev/null 2>"$dir/sw$b.err"; rb=$?
+  check "wgsweep --exact with a row wgcont does not write ($b): exit 2, the line said" \
+    '[ $rb -eq 2 ] && grep -q "$b.csv:2: not a bifurcation row" "$dir/sw$b.err"'
+done
 mkfifo "$dir/bifs.fifo"
 timeout 20 "$sweep" --table-from "$dir/sw.csv" --exact "$dir/bifs.fifo" --out "$dir/swf" >/dev/null 2>"$dir/swf.err"; r12=$?
 check "wgsweep --exact with a FIFO: exit 2 at once (the open blocked), 'is a FIFO'" \

@@ -180,9 +180,12 @@ head -c 700 "$dir/v.csv" >"$dir/t2.csv"
 head -1 "$dir/v.csv" >"$dir/t3.csv"
 sed 's/periodic/periodik/' "$dir/v.csv" >"$dir/t4.csv"
 { head -2 "$dir/v.csv"; echo "up,1,1.2"; } >"$dir/t5.csv"
+awk -F, -v OFS=, 'NR == 2 { $5 = -7 } 1' "$dir/v.csv" >"$dir/t6.csv"   # a period no run writes
+awk -F, -v OFS=, 'NR == 2 { $15 = -3 } 1' "$dir/v.csv" >"$dir/t7.csv"  # N = -3
 i=0
 for want in ":1: not a wgsweep points CSV header" ":3: the line is cut short" ": no points after the header" \
-            ":2: a field is not what wgsweep writes there" ":3: 3 fields, the header has"; do
+            ":2: a field is not what wgsweep writes there" ":3: 3 fields, the header has" \
+            ":2: a field is not what wgsweep writes there" ":2: a field is not what wgsweep writes there"; do
   i=$((i + 1))
   "$sweep" --table-from "$dir/t$i.csv" --out "$dir/tt$i" >/dev/null 2>"$dir/tt.err"; rc=$?
   check "--table-from a damaged file ($i): exit 1, '$want'" \
