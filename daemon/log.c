@@ -126,10 +126,10 @@ void log_configure(log_ctx *l, int verbose, int prefix)
 
 static void flush_slot(log_ctx *l, log_slot *s)
 {
-    if (s->suppressed) {
-        char text[160];
-        snprintf(text, sizeof text, "%u similar messages suppressed (rate limit)",
-                 s->suppressed);
+    if (s->suppressed) { /* which kind: "9 similar messages suppressed" said nothing */
+        char text[200];
+        snprintf(text, sizeof text, "%u similar messages suppressed (rate limit), like: %s%s",
+                 s->suppressed, s->like, strlen(s->like) == sizeof s->like - 1 ? "..." : "");
         emit(l, s->prio, text);
     }
     s->suppressed = 0;
@@ -160,11 +160,12 @@ static log_slot *slot_of(log_ctx *l, const char *fmt)
     return old;
 }
 
-/* 1: the call site fmt is over its burst in this window (counted). */
-static int limited(log_ctx *l, int prio, const char *fmt)
+/* 1: the call site fmt is over its burst in this window (counted); its
+ * slot in *slot. */
+static int limited(log_ctx *l, int prio, const char *fmt, log_slot **slot)
 {
     int64_t now = log_now_ns();
-    log_slot *s = slot_of(l, fmt);
+    log_slot *s = *slot = slot_of(l, fmt);
     if (now - s->window_ns >= l->window_ns) {
         flush_slot(l, s);
         s->window_ns = now;
@@ -179,18 +180,22 @@ static int limited(log_ctx *l, int prio, const char *fmt)
     return 0;
 }
 
-static void vemit(const log_ctx *l, int prio, const char *fmt, va_list ap)
+static void vemit(const log_ctx *l, int prio, const char *fmt, va_list ap, log_slot *s)
 {
     char text[1024], safe[4 * sizeof text];
     vsnprintf(text, sizeof text, fmt, ap);
-    emit(l, prio, log_escape(text, safe, sizeof safe));
+    const char *line = log_escape(text, safe, sizeof safe);
+    if (s) /* what its suppressed ones are like */
+        snprintf(s->like, sizeof s->like, "%s", line);
+    emit(l, prio, line);
 }
 
 void log_vmsg(log_ctx *l, int prio, const char *fmt, va_list ap)
 {
-    if (prio > l->max_prio || limited(l, prio, fmt))
+    log_slot *s;
+    if (prio > l->max_prio || limited(l, prio, fmt, &s))
         return;
-    vemit(l, prio, fmt, ap);
+    vemit(l, prio, fmt, ap, s);
 }
 
 void log_msg(log_ctx *l, int prio, const char *fmt, ...)
@@ -210,10 +215,11 @@ void log_change(log_ctx *l, int prio, const char *what, const char *fmt, ...)
         h = (h ^ *p) * 16777619u;
     int repeat = l->changes && h == l->last_change;
     l->last_change = h, l->changes = 1;
-    if (repeat && limited(l, prio, fmt))
+    log_slot *s = NULL;
+    if (repeat && limited(l, prio, fmt, &s))
         return;
     va_list ap;
     va_start(ap, fmt);
-    vemit(l, prio, fmt, ap);
+    vemit(l, prio, fmt, ap, s);
     va_end(ap);
 }

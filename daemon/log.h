@@ -30,6 +30,7 @@ typedef struct log_slot {
     unsigned count;       /* messages in the window */
     unsigned suppressed;  /* of which not printed */
     int prio;
+    char like[64];        /* the start of the last line printed from it */
 } log_slot;
 
 typedef struct wg_writer wg_writer; /* the writer thread (wormgear/wg_writer.h) */
