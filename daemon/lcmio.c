@@ -50,6 +50,12 @@ int lcmio_subscribe(lcmio *io, int ch, lcm_msg_handler_t fn, void *user, int que
     return WG_OK;
 }
 
+int lcmio_sent(const lcmio *io, int ch, int64_t seq, int64_t utime)
+{
+    return seq >= 0 && seq < io->seq[ch] && io->seq[ch] - seq <= LCMIO_SENT &&
+           io->sent_utime[ch][(uint64_t)seq % LCMIO_SENT] == utime;
+}
+
 void lcmio_fini(lcmio *io)
 {
     if (io->lcm)
@@ -147,6 +153,7 @@ static int sign(lcmio *io, int n)
         unsigned char mac[WG_MAC_BYTES] = {0};                                         \
         m->utime = lcmio_now_us();                                                     \
         m->seq = io->seq[CH]++;                                                        \
+        io->sent_utime[CH][(uint64_t)m->seq % LCMIO_SENT] = m->utime;                  \
         m->mac_len = io->key ? WG_MAC_BYTES : 0, m->mac = mac;                         \
         int n = wormgear_##T##_t_encode(io->buf, 0, LCMIO_BUF, m);                     \
         m->mac_len = 0, m->mac = NULL;                                                 \

@@ -24,13 +24,15 @@
 
 enum lcmio_channel { CH_CMD, CH_ACK, CH_PARAMS, CH_STATE, CH_POINCARE, CH_CONTACT, CH_STATUS,
                      CH_TICK, CH_SCOPE, CH_COUNT };
-enum { LCMIO_BUF = 61440,          /* every message stays below 60 KB */
+enum { LCMIO_SENT = 8,              /* the last messages of a channel lcmio_sent knows */
+       LCMIO_BUF = 61440,          /* every message stays below 60 KB */
        LCMIO_RECV_BUF = 4194304 };  /* udpm receive buffer asked for (recv_buf_size) */
 
 typedef struct lcmio {
     lcm_t *lcm;
     char ch[CH_COUNT][112];  /* prefix + name */
     int64_t seq[CH_COUNT];   /* next seq per outgoing channel */
+    int64_t sent_utime[CH_COUNT][LCMIO_SENT]; /* utime of seq s at [s % LCMIO_SENT] */
     uint64_t published, dropped;
     const unsigned char *key; /* lcmio_sign_with: the caller's, or NULL */
     unsigned char buf[LCMIO_BUF];
@@ -56,6 +58,11 @@ int lcmio_waiting(const lcmio *io);
  * for queue messages LCM may hold for it. WG_OK, or WG_EIO with why. */
 int lcmio_subscribe(lcmio *io, int ch, lcm_msg_handler_t fn, void *user, int queue, char *why,
                     size_t whylen);
+
+/* 1 if this process published seq with utime on ch among its last
+ * LCMIO_SENT messages there: a message on our own channel is our own
+ * echo, else another sender's (a second daemon with our URL and prefix). */
+int lcmio_sent(const lcmio *io, int ch, int64_t seq, int64_t utime);
 
 /* Handle every message already waiting, at most max; returns the count. */
 int lcmio_drain(lcmio *io, int max);

@@ -4,6 +4,9 @@
 #include "sdn.h"
 #include "wgd.h"
 
+#include "lcmtypes/wormgear_status_t.h"
+#include "msg_check.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -56,10 +59,33 @@ static void interval_start(wgd *d, int64_t now)
     stream_stats_reset(&d->st);
 }
 
+/* A STATUS on our own channel that we did not send: another daemon with
+ * this URL and prefix (both answer every command), or a sender posing as
+ * one. Only its header is read (fingerprint, utime, seq); counted and
+ * logged, at most 5 times per 10 s. */
+static void on_status_echo(const lcm_recv_buf_t *rb, const char *channel, void *user)
+{
+    wgd *d = user;
+    const unsigned char *b = rb->data;
+    if (rb->data_size < 24 || (int64_t)msg_be(b, 8) != __wormgear_status_t_get_hash())
+        return;
+    int64_t utime = (int64_t)msg_be(b + 8, 8), seq = (int64_t)msg_be(b + 16, 8);
+    if (lcmio_sent(&d->io, CH_STATUS, seq, utime))
+        return;
+    d->stat.status_foreign++;
+    log_msg(&d->log, LOG_WARNING, "another sender publishes STATUS on %s (seq %lld): a second "
+            "wormgeard with this URL and prefix? Both would answer every command; give each "
+            "daemon its own --prefix (or URL)", channel, (long long)seq);
+}
+
 void report_init(wgd *d)
 {
     int64_t now = log_now_ns();
     memset(&d->stat, 0, sizeof d->stat);
+    char why[160];
+    if (lcmio_subscribe(&d->io, CH_STATUS, on_status_echo, d, 64, why, sizeof why))
+        log_msg(&d->log, LOG_WARNING, "%s: a second daemon on this prefix will not be noticed",
+                why);
     interval_start(d, now);
     d->stat.next_status_ns = now + (int64_t)(SEC_NS / d->conf.status_hz);
     d->stat.next_params_ns = now + SEC_NS;

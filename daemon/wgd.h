@@ -70,6 +70,7 @@ typedef struct stats {
     int64_t next_status_ns, next_params_ns, next_fg_ns, next_flush_ns, next_scope_ns;
     uint64_t cmds_accepted, cmds_refused;
     uint64_t tick_gaps;        /* TICKs lost: the gaps in their seq */
+    uint64_t status_foreign;   /* STATUS messages on our channel not ours (report.c) */
     uint64_t ticks_refused;    /* TICKs not taken (lockstep.c) */
     char tick_why[WGD_TICK_WHY]; /* why the last was not taken, escaped ("" none yet) */
     uint64_t tick_seq_next;    /* expected TICK seq (wraps; valid once tick_seen) */

@@ -229,5 +229,32 @@ static void test_status_bearing_impacts(void)
     teardown(d);
 }
 
-TEST_MAIN(TEST(test_state_angles), TEST(test_status_bearing_impacts), TEST(test_contacts_setting), TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set),
-          TEST(test_line_matches_status))
+/* A STATUS on our channel that we did not send is another daemon with our
+ * URL and prefix (both answer every command; a new user ran tools/run.sh
+ * twice and nothing said so): counted and logged. Our own echo is not. */
+static void test_second_daemon_noticed(void)
+{
+    wgd *d = setup(128);
+    for (int i = 0; i < 3; i++)
+        report_status(d);
+    drain(d);
+    ASSERT_EQ_INT(d->stat.status_foreign, 0); /* our own three came back */
+    double z[6] = {0};
+    wormgear_status_t m = {.utime = 1700000000000000, .seq = 1, .scene = "table3",
+                           .mode = "realtime", .run = "running", .health = "ok", .fault = "",
+                           .tick_refusal = "", .motion = "", .nbearing = 6,
+                           .bearing_impacts_per_period = z, .bearing_impact_vmax = z,
+                           .regime = ""};
+    wormgear_status_t_publish(d->io.lcm, "T_STATUS", &m); /* our seq 1, another utime */
+    drain(d);
+    ASSERT_EQ_INT(d->stat.status_foreign, 1);
+    unsigned char junk[16] = {1, 2, 3};
+    lcm_publish(d->io.lcm, "T_STATUS", junk, sizeof junk); /* not a status_t: ignored */
+    drain(d);
+    ASSERT_EQ_INT(d->stat.status_foreign, 1);
+    teardown(d);
+}
+
+TEST_MAIN(TEST(test_state_angles), TEST(test_status_bearing_impacts), TEST(test_contacts_setting),
+          TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set),
+          TEST(test_line_matches_status), TEST(test_second_daemon_noticed))
