@@ -140,8 +140,11 @@ static int run(wgd *d)
 {
     int i, rc = 0;
     for (i = 0; i < NMOD && !rc; i++)
-        if ((rc = modules[i].init(d)))
-            log_msg(&d->log, LOG_ERR, "%s: %s", modules[i].name, d->init_why);
+        if ((rc = modules[i].init(d))) /* a config error: from which file, if one */
+            log_msg(&d->log, LOG_ERR, "%s: %s%s%s%s", modules[i].name, d->init_why,
+                    rc == 2 && d->conf.path[0] ? " (configuration: " : "",
+                    rc == 2 && d->conf.path[0] ? d->conf.path : "",
+                    rc == 2 && d->conf.path[0] ? " and the options)" : "");
     if (rc) {
         finish(d, i - 1);
         return rc;

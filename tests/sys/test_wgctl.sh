@@ -52,6 +52,11 @@ has err "config file /dev/zero is a character device, not a regular file"
 printf '[wormgeard]\nrate = 2\nrate = 3\n' >"$tmp/dup.conf"
 expect 2 "$D" -c "$tmp/dup.conf" --check-config
 has err "dup.conf:3: rate: set again (first set at line 2)"
+# a combination the engine refuses names the file it came from (a new user
+# looked for the line: "engine: 16 steps per mesh period is below ...")
+printf '[wormgeard]\nsteps_per_period = 16\n[params]\nomega = 0.1\n' >"$tmp/n16.conf"
+expect 2 "$D" -c "$tmp/n16.conf" --check-config
+has err "engine: 16 steps per mesh period is below the RK4 stability limit at omega = 0.1: need N >= 107 .* (configuration: $tmp/n16.conf and the options)"
 # the state directory is checked at start, not at the first save
 expect 2 "$D" --check-config --state-dir "$tmp/none/sub"
 has err "state dir $tmp/none/sub does not exist, and cannot be made in $tmp/none"
