@@ -37,12 +37,16 @@ int log_start(log_ctx *l)
 
 /* ---- lines ------------------------------------------------------------------ */
 
-int64_t log_now_ns(void)
+static int64_t clock_ns(clockid_t id)
 {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(id, &ts);
     return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
 }
+
+int64_t log_now_ns(void) { return clock_ns(CLOCK_MONOTONIC); }
+
+int64_t log_cpu_ns(void) { return clock_ns(CLOCK_THREAD_CPUTIME_ID); }
 
 const char *log_escape(const char *s, char *out, size_t n)
 {

@@ -68,8 +68,12 @@ int log_stdout(log_ctx *l, const char *line);
 void log_fini(log_ctx *l);
 
 /* CLOCK_MONOTONIC in nanoseconds: the daemon's one clock (the rate limit
- * here, pacing, step costs, STATUS intervals). */
+ * here, pacing, STATUS intervals). */
 int64_t log_now_ns(void);
+
+/* CPU time of the calling thread (the loop's), ns: what a step costs, not
+ * counting the time the thread was not scheduled. */
+int64_t log_cpu_ns(void);
 
 /* s with every control byte (newline, tab, escape, DEL ...) written as
  * \xNN into out (n bytes, 4x the input suffices), so text from the bus can

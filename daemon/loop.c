@@ -36,14 +36,6 @@ static int arm_timer(wgd *d)
     return timerfd_settime(d->tfd, TFD_TIMER_ABSTIME, &its, NULL);
 }
 
-/* CPU time of this (the loop's) thread, ns. */
-static int64_t thread_cpu_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
-}
-
 /* Steps a chunk (a slice) of work may run, from the measured cost of a
  * step. */
 static uint64_t chunk(const wgd *d, int64_t ns)
@@ -123,7 +115,7 @@ static void work_chunk(wgd *d)
 static pace_load interval(wgd *d, int64_t now)
 {
     stats *s = &d->stat;
-    int64_t cpu = thread_cpu_ns();
+    int64_t cpu = log_cpu_ns();
     pace_load l = {.gap_ns = s->tick_ns ? now - s->tick_ns : 0,
                    .cpu_ns = s->tick_ns ? cpu - s->tick_cpu_ns : 0,
                    .busiest_ns = s->busiest_ns, .steps = d->sim.steps - s->tick_steps,
