@@ -209,11 +209,14 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
 {
     (void)ch;
     bus *c = u;
-    if (m->cmd_seq != c->seq || m->cmd_utime != c->cmd_utime || strcmp(m->client, c->client))
+    int tick = c->tick_seq && m->cmd_seq == c->tick_seq && m->cmd_utime == c->tick_utime &&
+               !strcmp(m->op, "tick"); /* the refusal of our last tick */
+    if ((!tick && (m->cmd_seq != c->seq || m->cmd_utime != c->cmd_utime)) ||
+        strcmp(m->client, c->client))
         return; /* someone else's, or an answer to an earlier process's command (same id
                  * and seq: a reused pid), played back */
     long old = c->old_n;
-    bus_ack *a = bus_signed(c, BUS_ACK, rb) ? &c->ack : &c->unverified;
+    bus_ack *a = !bus_signed(c, BUS_ACK, rb) ? &c->unverified : tick ? &c->tick_ack : &c->ack;
     a->got = 1;
     a->old = c->old_n != old;
     a->accepted = m->accepted;
@@ -369,7 +372,7 @@ int64_t bus_tick(bus *c, int64_t nsteps)
                          .mac = mac};
     if (seal_publish(c, "TICK", buf, wormgear_tick_t_encode(buf, 0, sizeof buf, &t)))
         return -1;
-    c->tick_utime = t.utime;
+    c->tick_utime = t.utime, c->tick_ack.got = 0;
     return c->tick_seq = t.seq;
 }
 

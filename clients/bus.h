@@ -49,6 +49,7 @@ typedef struct bus {
                                  messages sent share a utime, so a tick's ACK never answers
                                  a command */
     bus_ack ack;              /* the ACK of the last command, once it came */
+    bus_ack tick_ack;         /* the ACK refusing the last tick, if one came (op "tick") */
     bus_ack unverified;       /* signing: the last answer to our command that the key did not
                                  verify (not taken: unsigned, another key, made up) */
     long unverified_n;        /* signing: messages not verified (bus_signed) */
@@ -175,9 +176,10 @@ wormgear_cmd_t bus_cmd(const char *op);
 int64_t bus_send(bus *c, wormgear_cmd_t *cmd);
 
 /* Publish one TICK owing nsteps (lockstep: a tick taken has no answer, a
- * refused one an ACK with op "tick"), stamped (utime, seq = ++c->tick_seq,
- * client) and signed as bus_send signs a command. Returns the seq, or -1
- * if encoding or publishing failed. */
+ * refused one an ACK with op "tick", taken into c->tick_ack as bus_wait
+ * handles messages), stamped (utime, seq = ++c->tick_seq, client) and
+ * signed as bus_send signs a command. Returns the seq, or -1 if encoding
+ * or publishing failed. */
 int64_t bus_tick(bus *c, int64_t nsteps);
 
 /* Handle LCM messages until done(ctx) is true or timeout_ms passes.

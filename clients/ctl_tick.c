@@ -5,7 +5,6 @@
 #include "bus_msg.h"
 #include "cli.h"
 
-#include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_status_t.h"
 
 #include <inttypes.h>
@@ -14,17 +13,15 @@
 
 enum { RAN = 1, REFUSED, LAPSED };
 
-/* What the STATUS messages taken so far said (the last one), and the
- * tick's refusal if one came. */
+/* What the STATUS messages taken so far said (the last one); the tick's
+ * refusal, if one came, is the bus's (c->tick_ack). */
 typedef struct watch {
     bus *c;
     int n;                       /* STATUS messages taken */
     int64_t steps;               /* steps of the last */
     char mode[16], run[16];
     int n0;                      /* n when the tick was sent */
-    int64_t steps0, want, seq;   /* seq: the tick's (0: not sent yet) */
-    int refused;                 /* its ACK came: refused, with why */
-    char code[32], why[768];
+    int64_t steps0, want;
 } watch;
 
 static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_status_t *m,
@@ -42,34 +39,17 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
 
 BUS_RAW_HANDLER(on_status_raw, wormgear_status_t, BUS_STATUS, on_status)
 
-/* A refused tick's one answer: an ACK with op "tick" naming this tick by
- * client, seq and utime (with a key, the daemon's only); a tick taken has
- * none, so a flood of others' refusals hides nothing. */
-static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_t *m, void *u)
-{
-    (void)ch;
-    watch *w = u;
-    if (!w->seq || m->cmd_seq != w->seq || m->cmd_utime != w->c->tick_utime ||
-        strcmp(m->op, "tick") || strcmp(m->client, w->c->client) ||
-        !bus_signed(w->c, BUS_ACK, rb))
-        return;
-    w->refused = 1;
-    cli_text(w->code, sizeof w->code, m->code);
-    cli_text(w->why, sizeof w->why, m->message);
-}
-
-BUS_RAW_HANDLER(on_ack_raw, wormgear_ack_t, BUS_ACK, on_ack)
-
 static int have_status(void *u) { return ((watch *)u)->n > 0; }
 
-/* What came of the tick: refused (its ACK); lapsed (not lockstep, or
+/* What came of the tick: refused (its ACK, naming it by client, seq and
+ * utime: a flood of others' refusals hides nothing); lapsed (not lockstep, or
  * paused: said by the second STATUS since, as the first may have left
  * before the tick arrived; realtime's steps are the pace's, not the
  * tick's); ran (in lockstep, the step count grew by nsteps); or 0: not
  * yet. */
 static int outcome(const watch *w)
 {
-    if (w->refused)
+    if (w->c->tick_ack.got)
         return REFUSED;
     if (w->n == w->n0)
         return 0;
@@ -83,16 +63,14 @@ static int decided(void *u) { return outcome(u) != 0; }
 int ctl_tick(bus *c, int64_t nsteps, int wait, double timeout_s, int json)
 {
     watch w = {.c = c, .want = nsteps};
-    lcm_subscription_t *sub = NULL, *asub = NULL;
+    lcm_subscription_t *sub = NULL;
     char hint[512];
     int ms = (int)(timeout_s * 1000);
     if (wait) {
         sub = bus_subscribe(c, "STATUS", on_status_raw, &w, 0);
-        asub = bus_subscribe(c, "ACK", on_ack_raw, &w, 0);
         bus_wait(c, ms, have_status, &w);
         if (!w.n) {
             lcm_unsubscribe(c->lcm, sub);
-            lcm_unsubscribe(c->lcm, asub);
             fprintf(stderr, "wgctl: tick: not sent: no STATUS on %sSTATUS within %g s to "
                     "measure it against: %s\n", c->prefix, timeout_s,
                     bus_hint(c, hint, sizeof hint));
@@ -100,10 +78,10 @@ int ctl_tick(bus *c, int64_t nsteps, int wait, double timeout_s, int json)
         }
         w.n0 = w.n, w.steps0 = w.steps;
     }
-    int64_t seq = w.seq = bus_tick(c, nsteps);
+    int64_t seq = bus_tick(c, nsteps);
     if (seq < 0) {
         if (sub)
-            lcm_unsubscribe(c->lcm, sub), lcm_unsubscribe(c->lcm, asub);
+            lcm_unsubscribe(c->lcm, sub);
         fprintf(stderr, "wgctl: tick: could not publish on %sTICK\n", c->prefix);
         return 1;
     }
@@ -121,22 +99,22 @@ int ctl_tick(bus *c, int64_t nsteps, int wait, double timeout_s, int json)
     }
     bus_wait(c, ms, decided, &w);
     lcm_unsubscribe(c->lcm, sub);
-    lcm_unsubscribe(c->lcm, asub);
     int out = outcome(&w);
+    const bus_ack *a = &c->tick_ack;
     static const char *const name[] = {"unknown", "ran", "refused", "lapsed"};
     if (json) {
         printf("{\"sent\":true,\"op\":\"tick\",\"seq\":%" PRId64 ",\"nsteps\":%" PRId64
                ",\"signed\":%s,\"result\":\"%s\",\"steps\":%" PRId64 ",\"code\":",
                seq, nsteps, c->signing ? "true" : "false", name[out], w.steps);
-        cli_json_str(stdout, out == REFUSED ? w.code : "");
+        cli_json_str(stdout, out == REFUSED ? a->code : "");
         printf(",\"message\":");
-        cli_json_str(stdout, out == REFUSED ? w.why : "");
+        cli_json_str(stdout, out == REFUSED ? a->message : "");
         printf("}\n");
     } else if (out == RAN) {
         printf("TICK seq %" PRId64 " (%s): %" PRId64 " steps run (the daemon's step %" PRId64
                " -> %" PRId64 ")\n", seq, sg, nsteps, w.steps0, w.steps);
     } else if (out == REFUSED) {
-        fprintf(stderr, "wgctl: tick: %s: %s\n", w.code, w.why);
+        fprintf(stderr, "wgctl: tick: %s: %s\n", a->code, a->message);
     } else if (out == LAPSED) {
         fprintf(stderr, "wgctl: tick: TICK seq %" PRId64 " did not run: the daemon is %s in "
                 "%s mode, where a tick lapses (ticks run in lockstep mode while running: "

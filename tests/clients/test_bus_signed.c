@@ -22,17 +22,22 @@ static unsigned char buf[4096];
 
 /* An ACK to c's last command (its client, seq and utime echoed), sent at
  * utime, signed with KEY (or not). */
-static int ack(const bus *c, int64_t utime, int sign, const char *code)
+static int ack_op(const bus *c, int64_t utime, int sign, const char *code, const char *op)
 {
     unsigned char mac[WG_MAC_BYTES] = {0};
     wormgear_ack_t m = {.utime = utime, .client = (char *)c->client, .cmd_seq = c->seq,
                         .cmd_utime = c->cmd_utime,
-                        .op = "set", .accepted = !strcmp(code, "OK"), .code = (char *)code,
+                        .op = (char *)op, .accepted = !strcmp(code, "OK"), .code = (char *)code,
                         .message = "done", .mac_len = WG_MAC_BYTES, .mac = mac};
     int n = wormgear_ack_t_encode(buf, 0, sizeof buf, &m);
     if (sign)
         wg_mac_seal(KEY, buf, (size_t)n);
     return n;
+}
+
+static int ack(const bus *c, int64_t utime, int sign, const char *code)
+{
+    return ack_op(c, utime, sign, code, "set");
 }
 
 static int status(int64_t utime)
@@ -151,7 +156,8 @@ static void test_ack_names_the_command(void)
 /* A refused tick's ACK (op "tick") names the tick by client, seq and
  * utime; command and tick seqs are counters of their own, so the utime
  * tells them apart (bus.c's stamp: no two messages of one bus share one),
- * and the tick's answer is not taken for the command's. */
+ * and the tick's answer is not taken for the command's: it goes to
+ * c->tick_ack, and only with op "tick". */
 static void test_tick_answer_not_the_command(void)
 {
     bus *c = open_signing();
@@ -162,11 +168,18 @@ static void test_tick_answer_not_the_command(void)
     ASSERT_TRUE(bus_tick(c, 1) == c->seq);
     int64_t mine = c->cmd_utime;
     c->cmd_utime = c->tick_utime; /* a refused tick's answer: the same client and seq */
+    static unsigned char tick_ack[4096];
+    int nt = ack_op(c, cli_wall_us(), 1, "EAUTH", "tick");
+    memcpy(tick_ack, buf, (size_t)nt);
     int n = ack(c, cli_wall_us(), 1, "EAUTH");
     c->cmd_utime = mine;
     lcm_publish(c->lcm, bus_channel(c, "ACK", ch, sizeof ch), buf, (unsigned)n);
     ASSERT_EQ_INT(bus_wait_ack(c, 200), -1);
-    ASSERT_TRUE(!c->ack.got && !c->unverified.got);
+    ASSERT_TRUE(!c->ack.got && !c->unverified.got && !c->tick_ack.got); /* op "set" */
+    lcm_publish(c->lcm, ch, tick_ack, (unsigned)nt);
+    ASSERT_EQ_INT(bus_wait_ack(c, 200), -1); /* the command's still unanswered ... */
+    ASSERT_TRUE(!c->ack.got && c->tick_ack.got); /* ... the tick's refused */
+    ASSERT_STR(c->tick_ack.code, "EAUTH");
     bus_close(c);
 }
 
