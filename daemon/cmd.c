@@ -43,33 +43,38 @@ static const char *echo(const char *s, char *out, size_t n)
     return out;
 }
 
+void cmd_answer(wgd *d, const char *client, int64_t seq, int64_t utime, const char *op, int rc,
+                const char *msg)
+{
+    wormgear_ack_t a = {.client = (char *)client, .cmd_seq = seq, .cmd_utime = utime,
+                        .op = (char *)op, .accepted = rc == WG_OK, .status = rc,
+                        .code = (char *)wg_status_name(rc), .message = (char *)msg,
+                        .tau = d->sim.tau, .t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau),
+                        .steps = (int64_t)d->sim.steps};
+    lcmio_pub_ack(&d->io, &a);
+}
+
 static void ack(wgd *d, const char *client, int64_t seq, int64_t utime, const char *op, int rc,
                 const char *msg)
 {
-    char cl[WIRE_MAX_CLIENT + 1], o[33];
-    wormgear_ack_t a = {.client = (char *)echo(client, cl, sizeof cl), .cmd_seq = seq,
-                        .cmd_utime = utime,
-                        .op = (char *)echo(op, o, sizeof o), .accepted = rc == WG_OK,
-                        .status = rc, .code = (char *)wg_status_name(rc),
-                        .message = (char *)msg, .tau = d->sim.tau,
-                        .t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau),
-                        .steps = (int64_t)d->sim.steps};
-    lcmio_pub_ack(&d->io, &a);
+    char cl_buf[WIRE_MAX_CLIENT + 1], op_buf[33];
+    const char *cl = echo(client, cl_buf, sizeof cl_buf), *o = echo(op, op_buf, sizeof op_buf);
+    cmd_answer(d, cl, seq, utime, o, rc, msg);
     if (rc == WG_OK) {
         d->stat.cmds_accepted++;
         if (strcmp(op, "get") && strcmp(op, "step")) { /* a state change: never lost */
             char what[ACK_TEXT + 40];
-            snprintf(what, sizeof what, "%s: %s", a.op, msg);
-            log_change(&d->log, LOG_INFO, what, "%s from %s (seq %" PRId64 "): %s", a.op,
-                       a.client, seq, msg);
+            snprintf(what, sizeof what, "%s: %s", o, msg);
+            log_change(&d->log, LOG_INFO, what, "%s from %s (seq %" PRId64 "): %s", o,
+                       cl, seq, msg);
         } else {
-            log_msg(&d->log, LOG_DEBUG, "%s from %s (seq %" PRId64 "): %s", a.op, a.client,
+            log_msg(&d->log, LOG_DEBUG, "%s from %s (seq %" PRId64 "): %s", o, cl,
                     seq, msg);
         }
     } else {
         d->stat.cmds_refused++;
         log_msg(&d->log, LOG_WARNING, "refused %s from %s (seq %" PRId64 "): %s: %s",
-                *a.op ? a.op : "?", *a.client ? a.client : "?", seq, a.code, msg);
+                *o ? o : "?", *cl ? cl : "?", seq, wg_status_name(rc), msg);
     }
 }
 

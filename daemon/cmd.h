@@ -27,6 +27,13 @@ int cmd_key_init(struct wgd *d);
 /* Signing off, the key released. */
 void cmd_key_fini(struct wgd *d);
 
+/* Publish the one answer to a message on ACK: its client, seq and utime
+ * echoed (client at most WIRE_MAX_CLIENT bytes, op 32), accepted when rc
+ * is WG_OK, code and msg, the simulation's time and step count now. No
+ * count or log line (the caller's: a command's or a tick's). */
+void cmd_answer(struct wgd *d, const char *client, int64_t seq, int64_t utime, const char *op,
+                int rc, const char *msg);
+
 /* Take the key of conf.command_key_file ("" = none) for commands and
  * ticks (auth_load) and sign every message published with the key then in
  * use (lcmio_sign_with): at the start and at each reload. WG_OK, or

@@ -62,12 +62,7 @@ static void refuse(wgd *d, const sender *s, int rc, const char *fmt, ...)
     va_end(ap);
     snprintf(d->stat.tick_why, sizeof d->stat.tick_why, "%s", log_escape(text, safe, sizeof safe));
     d->stat.ticks_refused++;
-    wormgear_ack_t a = {.client = (char *)s->client, .cmd_seq = s->seq, .cmd_utime = s->utime,
-                        .op = (char *)"tick", .accepted = 0, .status = rc,
-                        .code = (char *)wg_status_name(rc), .message = d->stat.tick_why,
-                        .tau = d->sim.tau, .t_s = wg_scale_seconds(&d->scene.scale, d->sim.tau),
-                        .steps = (int64_t)d->sim.steps};
-    lcmio_pub_ack(&d->io, &a);
+    cmd_answer(d, s->client, s->seq, s->utime, "tick", rc, d->stat.tick_why);
 }
 
 /* External lockstep tick: owe nsteps, run by the loop in bounded chunks

@@ -3,9 +3,7 @@
 
 #include "sdn.h"
 #include "wgd.h"
-
-#include "lcmtypes/wormgear_status_t.h"
-#include "msg_check.h"
+#include "wire.h"
 
 #include <errno.h>
 #include <math.h>
@@ -66,11 +64,9 @@ static void interval_start(wgd *d, int64_t now)
 static void on_status_echo(const lcm_recv_buf_t *rb, const char *channel, void *user)
 {
     wgd *d = user;
-    const unsigned char *b = rb->data;
-    if (rb->data_size < 24 || (int64_t)msg_be(b, 8) != __wormgear_status_t_get_hash())
-        return;
-    int64_t utime = (int64_t)msg_be(b + 8, 8), seq = (int64_t)msg_be(b + 16, 8);
-    if (lcmio_sent(&d->io, CH_STATUS, seq, utime))
+    int64_t seq, utime;
+    if (!wire_status_header(rb->data, rb->data_size, &seq, &utime) ||
+        lcmio_sent(&d->io, CH_STATUS, seq, utime))
         return;
     d->stat.status_foreign++;
     log_msg(&d->log, LOG_WARNING, "another sender publishes STATUS on %s (seq %lld): a second "

@@ -4,6 +4,7 @@
 #include "wire.h"
 
 #include "lcmtypes/wormgear_cmd_t.h"
+#include "lcmtypes/wormgear_status_t.h"
 #include "lcmtypes/wormgear_tick_t.h"
 #include "msg_check.h"
 #include "wormgear/wg_status.h"
@@ -53,27 +54,29 @@ int wire_tick_check(const void *buf, size_t len, int32_t *mac_len, char *why, si
                  whylen);
 }
 
-/* Both types begin with the fingerprint, utime and seq; the client id's
- * length is at byte at (cmd_t: right after seq; tick_t: after nsteps). */
-static void header(const void *buf, size_t len, int64_t hash, size_t at, char *client,
-                   size_t clen, int64_t *seq, int64_t *utime)
+/* Every type begins with the fingerprint, utime and seq; the client id's
+ * length is at byte at (cmd_t: right after seq; tick_t: after nsteps; 0:
+ * none read). 1 when the fingerprint is hash's, else 0. */
+static int header(const void *buf, size_t len, int64_t hash, size_t at, char *client,
+                  size_t clen, int64_t *seq, int64_t *utime)
 {
     const unsigned char *b = buf;
     client[0] = 0;
     *seq = -1;
     *utime = 0;
     if (len < 24 || (int64_t)msg_be(b, 8) != hash)
-        return;
+        return 0;
     *utime = (int64_t)msg_be(b + 8, 8);
     *seq = (int64_t)msg_be(b + 16, 8);
     if (len < at + 4 || clen == 0)
-        return;
+        return 1;
     int32_t n = (int32_t)(uint32_t)msg_be(b + at, 4);
     size_t have = len - at - 4, want = n > 1 ? (size_t)n - 1 : 0;
     size_t k = want < have ? want : have;
     k = k < clen - 1 ? k : clen - 1;
     memcpy(client, b + at + 4, k);
     client[k] = 0; /* and at the first NUL, as a C string */
+    return 1;
 }
 
 void wire_cmd_header(const void *buf, size_t len, char *client, size_t clen, int64_t *seq,
@@ -86,4 +89,10 @@ void wire_tick_header(const void *buf, size_t len, char *client, size_t clen, in
                       int64_t *utime)
 {
     header(buf, len, __wormgear_tick_t_get_hash(), 32, client, clen, seq, utime);
+}
+
+int wire_status_header(const void *buf, size_t len, int64_t *seq, int64_t *utime)
+{
+    char none[1];
+    return header(buf, len, __wormgear_status_t_get_hash(), 0, none, 0, seq, utime);
 }

@@ -50,4 +50,8 @@ void wire_cmd_header(const void *buf, size_t len, char *client, size_t clen, int
 void wire_tick_header(const void *buf, size_t len, char *client, size_t clen, int64_t *seq,
                       int64_t *utime);
 
+/* A wormgear.status_t's seq and utime: 1, or 0 (and -1, 0) if the bytes do
+ * not begin as one. */
+int wire_status_header(const void *buf, size_t len, int64_t *seq, int64_t *utime);
+
 #endif
