@@ -101,12 +101,13 @@ static int filter(srv *s, struct lws *wsi)
         lws_return_http_status(wsi, 426, "WebSocket version 13 (RFC 6455) only");
         return -1;
     }
-    if (lws_hdr_total_length(wsi, WSI_TOKEN_ORIGIN) <= 0) /* no Origin: not a browser */
+    int olen = lws_hdr_total_length(wsi, WSI_TOKEN_ORIGIN);
+    if (olen <= 0) /* no Origin: not a browser */
         return 0;
     if (lws_hdr_copy(wsi, o, sizeof o, WSI_TOKEN_ORIGIN) > 0 && origin_ok(s, o))
         return 0; /* one too long to copy is refused (it was taken as none) */
-    if (lws_hdr_total_length(wsi, WSI_TOKEN_ORIGIN) >= (int)sizeof o)
-        snprintf(o, sizeof o, "(%d characters)", lws_hdr_total_length(wsi, WSI_TOKEN_ORIGIN));
+    if (olen >= (int)sizeof o)
+        snprintf(o, sizeof o, "(%d characters)", olen);
     if (s->bad_origin++ < 5)
         fprintf(stderr, "wgweb: refused a WebSocket from the web page origin '%.100s' (not this "
                         "bridge's own; --allow-origin to allow it)\n", o);

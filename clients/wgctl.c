@@ -308,14 +308,28 @@ static int do_named(ctl *t, const char *op, int n, char **args)
     return send_wait(t, &c);
 }
 
+/* s is a, b or c (a name the daemon takes: checked before sending). */
+static int one_of(const char *s, const char *a, const char *b, const char *c)
+{
+    return !strcmp(s, a) || !strcmp(s, b) || !strcmp(s, c);
+}
+
+/* A usage error saying what was expected and what was given: the first
+ * argument, and the second of two ("mode: expected ... (got 'turbo')"). */
+static int expected(const char *what, int n, char **args)
+{
+    if (n < 1)
+        return cli_usage_error(PROG, "%s", what);
+    return cli_usage_error(PROG, "%s (got '%s%s%s')", what, args[0], n == 2 ? " " : "",
+                           n == 2 ? args[1] : "");
+}
+
 static int do_mode(ctl *t, int n, char **args)
 {
     double rate = 0;
     if (n < 1 || n > 2 || (n == 2 && (cli_double(args[1], &rate) || !(rate > 0))) ||
-        (strcmp(args[0], "realtime") && strcmp(args[0], "fast") && strcmp(args[0], "lockstep")))
-        return cli_usage_error(PROG, "mode: expected realtime|fast|lockstep [RATE > 0]%s%s%s%s%s", n >= 1 ? " (got '" : "",
-                               n >= 1 ? args[0] : "", n == 2 ? " " : "", n == 2 ? args[1] : "",
-                               n >= 1 ? "')" : "");
+        !one_of(args[0], "realtime", "fast", "lockstep"))
+        return expected("mode: expected realtime|fast|lockstep [RATE > 0]", n, args);
     wormgear_cmd_t c = bus_cmd("mode");
     c.name = args[0];
     c.rate = rate;
@@ -327,10 +341,8 @@ static int do_contacts(ctl *t, int n, char **args)
 {
     int64_t every = 0;
     if (n < 1 || n > 2 || (n == 2 && cli_int64(args[1], 1, INT64_MAX, &every)) ||
-        (strcmp(args[0], "all") && strcmp(args[0], "mesh") && strcmp(args[0], "none")))
-        return cli_usage_error(PROG, "contacts: expected all|mesh|none [N >= 1]%s%s%s%s%s", n >= 1 ? " (got '" : "",
-                               n >= 1 ? args[0] : "", n == 2 ? " " : "", n == 2 ? args[1] : "",
-                               n >= 1 ? "')" : "");
+        !one_of(args[0], "all", "mesh", "none"))
+        return expected("contacts: expected all|mesh|none [N >= 1]", n, args);
     wormgear_cmd_t c = bus_cmd("contacts");
     c.name = args[0];
     c.nsteps = every;

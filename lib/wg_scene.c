@@ -231,22 +231,20 @@ static int number(loader *L, const wg_param_info *row, const char *value, double
 static int on_scene(loader *L, const char *name, const char *value)
 {
     wg_scene *sc = L->sc;
-    size_t n = strlen(value), bad = 0;
     int is_name = strcmp(name, "name") == 0;
     if (is_name || strcmp(name, "description") == 0) { /* shown on terminals, in files */
+        const char *rule = is_name ? "1 to 63 printable ASCII characters (a snapshot stores it)"
+                                   : "at most 159 bytes, no control characters";
+        size_t n = strlen(value), bad = 0, cap = is_name ? sizeof sc->name
+                                                         : sizeof sc->description;
         while (bad < n && (unsigned char)value[bad] >= 0x20 && value[bad] != 0x7f &&
                (!is_name || (unsigned char)value[bad] < 0x7f))
             bad++;
-        size_t cap = is_name ? sizeof sc->name : sizeof sc->description;
-        if (bad < n || n >= cap || (is_name && n == 0)) { /* it was cut, or printed as is */
-            char msg[200];
-            snprintf(msg, sizeof msg, "[scene] %s: %s; %s", name, is_name ? "1 to 63 printable "
-                     "ASCII characters (a snapshot stores it)" : "at most 159 bytes, no control "
-                     "characters", bad >= n ? "" : is_name ? "a control or non-ASCII byte at "
-                     "column" : "a control byte at column");
-            return bad < n ? failf(L, L->line, WG_EINVAL, "%s %zu", msg, bad + 1)
-                           : failf(L, L->line, WG_EINVAL, "%s%zu given", msg, n);
-        }
+        if (bad < n) /* it was printed as it came */
+            return failf(L, L->line, WG_EINVAL, "[scene] %s: %s; a %s byte at column %zu", name,
+                         rule, is_name ? "control or non-ASCII" : "control", bad + 1);
+        if (n >= cap || (is_name && n == 0)) /* it was cut */
+            return failf(L, L->line, WG_EINVAL, "[scene] %s: %s; %zu given", name, rule, n);
         snprintf(is_name ? sc->name : sc->description, cap, "%s", value);
     } else if (strcmp(name, "model") == 0) {
         int m = wg_model_lookup(value);
