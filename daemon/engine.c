@@ -49,10 +49,9 @@ uint64_t engine_run(wgd *d, uint64_t n, int *events)
     wg_sink sink = stream_sink(d);
     uint64_t done = 0;
     int ramping = d->sim.ramp.active;
-    int64_t t0 = log_cpu_ns(); /* CPU: a chunk preempted on a busy machine read as a dear
-                                * step, and the overrun warning said the rate was too high */
+    int64_t t0 = log_now_ns();
     int rc = wg_sim_run(&d->sim, n, &sink, &done);
-    double c = (double)(log_cpu_ns() - t0) / (double)(done ? done : 1);
+    double c = (double)(log_now_ns() - t0) / (double)(done ? done : 1);
     if (done >= 16) /* smoothed cost per step (drives fast-mode chunks) */
         d->stat.ns_per_step = d->stat.ns_per_step > 0 ? 0.8 * d->stat.ns_per_step + 0.2 * c : c;
     if (ramping && !d->sim.ramp.active)

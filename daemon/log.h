@@ -68,11 +68,13 @@ int log_stdout(log_ctx *l, const char *line);
 void log_fini(log_ctx *l);
 
 /* CLOCK_MONOTONIC in nanoseconds: the daemon's one clock (the rate limit
- * here, pacing, STATUS intervals). */
+ * here, pacing, step costs, STATUS intervals). */
 int64_t log_now_ns(void);
 
-/* CPU time of the calling thread (the loop's), ns: what a step costs, not
- * counting the time the thread was not scheduled. */
+/* CPU time of the calling thread (the loop's), ns: what the loop used of a
+ * tick's interval, not counting the time it was not scheduled. A system
+ * call here (1.6 us on this VM, against 32 ns for log_now_ns): once a
+ * tick, never per chunk of steps. */
 int64_t log_cpu_ns(void);
 
 /* s with every control byte (newline, tab, escape, DEL ...) written as

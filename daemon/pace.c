@@ -89,8 +89,14 @@ pace_due pace_steps_due(pace *p, int64_t now_ns, double tau, double h)
 static void overrun_cause(const pace *p, const pace_load *l, char *buf, size_t len)
 {
     double gap = (double)l->gap_ns, cpu = (double)l->cpu_ns;
-    double need = l->ns_per_step > 0 && l->h > 0 ? p->cfg.tau_per_ns / l->h * l->ns_per_step : 0;
-    double stepping = (double)l->steps * l->ns_per_step; /* of cpu, ns */
+    /* a step's cost: the smoothed wall-clock figure, or the interval's CPU
+     * time a step when lower (a chunk preempted on a busy machine reads as
+     * a dear step: "rate 1 is more than the model can run here" was said
+     * of a daemon using 14 % of a core) */
+    double per = l->ns_per_step > 0 && l->steps > 0 && cpu > 0
+                     ? fmin(l->ns_per_step, cpu / (double)l->steps) : l->ns_per_step;
+    double need = per > 0 && l->h > 0 ? p->cfg.tau_per_ns / l->h * per : 0;
+    double stepping = (double)l->steps * per; /* of cpu, ns */
     if (l->gap_ns <= 0)
         snprintf(buf, len, "%s", "");
     else if (cpu < 0.5 * gap)
@@ -100,7 +106,7 @@ static void overrun_cause(const pace *p, const pace_load *l, char *buf, size_t l
     else if (need >= 0.9)
         snprintf(buf, len, ": rate %g is more than the model can run here (it needs %.3g "
                  "steps/s, %.0f ns a step: %.0f %% of a core; lower the rate, or use mode fast)",
-                 l->rate, p->cfg.tau_per_ns / l->h * 1e9, l->ns_per_step, 100 * need);
+                 l->rate, p->cfg.tau_per_ns / l->h * 1e9, per, 100 * need);
     else if (stepping >= 0.5 * cpu)
         snprintf(buf, len, ": the loop catching up a backlog (rate %g needs %.0f %% of a core: "
                  "an earlier stall left it, not the rate)", l->rate, 100 * need);

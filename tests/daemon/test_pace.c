@@ -207,6 +207,12 @@ static void test_overrun_text(void)
                     .ns_per_step = 100, .h = 0.5, .rate = 1};
     pace_overrun_text(&p, &l, t, sizeof t);
     ASSERT_CONTAINS(t, ": the loop catching up a backlog (rate 1 needs 0 % of a core");
+    /* a chunk preempted made the smoothed cost of a step 1e7 ns: the
+     * interval's CPU time a step (1 ms / 9000) is what the rate needs */
+    l.ns_per_step = 1e7;
+    pace_overrun_text(&p, &l, t, sizeof t);
+    ASSERT_CONTAINS(t, ": the loop catching up a backlog (rate 1 needs 0 % of a core");
+    l.ns_per_step = 100;
     /* busy with something else */
     l.steps = 10;
     pace_overrun_text(&p, &l, t, sizeof t);
