@@ -915,6 +915,53 @@ static void special_files(void)
 }
 
 /* defect 9: nothing the attacker wrote became a line of its own in the log. */
+/* The daemon reads the header of every STATUS on its own channel (one it
+ * did not send is a second daemon): forged ones of every shape — random
+ * bytes, headers cut short, well-formed with absurd seq and utime — are
+ * noticed (its warning, rate-limited), change nothing, and it answers on.
+ * Our own STATUS handler decodes what is well formed only (a wrong
+ * fingerprint or a cut header ends the generated decoder first). */
+static void forged_statuses(void)
+{
+    static const int64_t odd[] = {INT64_MIN, INT64_MAX, -1, 0, 1};
+    unsigned char b[512];
+    double z[6] = {0};
+    for (int i = 0; i < 300; i++) {
+        size_t n;
+        if (i % 3 == 0) { /* random bytes: another fingerprint */
+            n = (size_t)rndi(64);
+            for (size_t k = 0; k < n; k++)
+                b[k] = (unsigned char)rnd();
+            b[0] ^= 0x5a; /* never the status_t fingerprint */
+        } else {
+            wormgear_status_t m = {.utime = i % 2 ? odd[rndi(5)] : (int64_t)rnd(),
+                                   .seq = i % 2 ? (int64_t)rnd() : odd[rndi(5)], .scene = "x",
+                                   .mode = "lockstep", .run = "running", .health = "ok",
+                                   .fault = "", .tick_refusal = "", .motion = "",
+                                   .nbearing = 6, .bearing_impacts_per_period = z,
+                                   .bearing_impact_vmax = z, .regime = ""};
+            int e = wormgear_status_t_encode(b, 0, sizeof b, &m);
+            n = e < 0 ? 0 : i % 3 == 1 ? (size_t)e : (size_t)rndi(24); /* whole, or cut */
+        }
+        publish("STATUS", b, n);
+    }
+    pump(300);
+    mark();
+    if (own("get", "", 3000) != 0)
+        fail("after 300 forged STATUS messages the daemon did not answer a get");
+    FILE *f = fopen(F.log, "r");
+    char line[4096];
+    int warned = 0;
+    while (f && fgets(line, sizeof line, f))
+        warned += strstr(line, "another sender publishes STATUS on FZ_STATUS") != NULL;
+    if (f)
+        fclose(f);
+    printf("forged STATUS: 300 sent, the daemon answered on and warned %d times\n", warned);
+    if (warned < 1 || warned > 10)
+        fail("forged STATUS messages: %d warnings in the daemon's log (want 1 to 10: noticed, "
+             "rate-limited)", warned);
+}
+
 static void log_not_forged(void)
 {
     FILE *f = fopen(F.log, "r");
@@ -1065,6 +1112,7 @@ int main(int argc, char **argv)
         random_cmds(n);
         burst(2000, 60);
         ticks();
+        forged_statuses();
         log_not_forged();
     } else if (!strcmp(argv[2], "snapshots")) {
         snapshots();
