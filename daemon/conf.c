@@ -50,8 +50,8 @@ static const key keys[] = {
     {"steps_per_period", RESTART, K_INT, S(steps_per_period), WG_STEPS_MIN, WG_STEPS_MAX, NULL,
      "128", "RK4 steps per mesh period N"},
     {"stepper", RESTART, K_STEPPER, S(stepper), 0, 0, NULL, "default",
-     "rk4, or rk4-event (split at dead-zone crossings); default: rk4-event, the printed "
-     "model rk4"},
+     "rk4, or rk4-event (split at dead-zone crossings); the model's own: rk4-event, the "
+     "printed model rk4"},
     {"scope_hz", LIVE, K_DBL, S(scope_hz), 0, 100, NULL, "50",
      "SCOPE samples (scalars, for lcm-spy) per wall second, 0 = none"},
     {"contacts", APPLY(CONF_APPLY_CONTACTS), K_ENUM, S(contacts), 0, 0, contacts_names, "all",
@@ -674,6 +674,16 @@ static void key_range(const key *k, char *buf, size_t len)
     }
 }
 
+/* A key's default as the help shows it: the stepper's "default" would read
+ * "default default", so it says what that value means. */
+static const char *key_default(const key *k)
+{
+    if (!k->def)
+        return "(see text)";
+    return k->type == K_STEPPER && !strcmp(k->def, "default") ? "\"default\" (the model's own)"
+                                                              : k->def;
+}
+
 void conf_usage(FILE *f)
 {
     fprintf(f, "usage: wormgeard [options]\n"
@@ -692,7 +702,7 @@ void conf_usage(FILE *f)
             *p = *p == '_' ? '-' : *p;
         key_range(&keys[i], range, sizeof range);
         fprintf(f, "  --%-20s %s\n  %-22s   default %s%s%s\n", opt, keys[i].help, "",
-                keys[i].def ? keys[i].def : "(see text)", *range ? "; " : "", range);
+                key_default(&keys[i]), *range ? "; " : "", range);
     }
     fprintf(f, "\nScene parameters for --set and [params] (name unit [min, max] default):\n");
     for (int i = 0; i < WG_NPARAM; i++) {

@@ -45,6 +45,9 @@ expect 2 "$D" --accept-commands maybe --check-config
 has err "accept_commands: 'maybe' must be yes or no"   # it said "unexpected argument 'maybe'"
 expect 0 "$D" --help
 has out "--state-rate-hz"
+# the stepper's default is the value "default": said as such, not "default default"
+has out 'default "default" (the model.s own); default, rk4, rk4-event'
+! grep -q 'default default' "$tmp/out" || fail "--help: 'default default'"
 # a config file is read only when it is a regular file (/dev/zero was read
 # forever), of at most 1 MiB, text, each key once
 expect 2 timeout 10 "$D" --check-config -c /dev/zero
