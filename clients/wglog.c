@@ -11,7 +11,8 @@
  * shortest form that reads back exactly (0.08, not 0.080000000000000002):
  * the CSV holds exactly what was published. --units physical converts the
  * samples with the scale of the log's PARAMS (s, Hz, um, m/s, N).
- * Exit 0, 1 unreadable log or unwritable output, 2 usage error. */
+ * Exit 0, 1 unreadable log, unwritable output or no channel matching --channel,
+ * 2 usage error. */
 #include "bus.h"
 #include "bus_msg.h"
 #include "cli.h"
@@ -71,6 +72,8 @@ typedef struct log_run {
     long events;
     int64_t t0, t1;
     int damaged;              /* the log stopped being readable before its end: exit 1 */
+    char others[64][96];      /* the first channels --channel left out, as text */
+    int nothers, more;        /* how many; more: others past those */
 } log_run;
 
 /* ---- CSV helpers ------------------------------------------------------------- */
@@ -462,10 +465,27 @@ static void note_seq(chan *c, const lcm_eventlog_event_t *ev)
                  bus_stream_replayed(l) ? " (a replay)" : "");
 }
 
+/* A channel --channel left out, kept (the first 64) to name when nothing
+ * matched. */
+static void note_other(log_run *r, const char *name)
+{
+    char shown[96];
+    cli_text(shown, sizeof shown, name);
+    for (int i = 0; i < r->nothers; i++)
+        if (!strcmp(r->others[i], shown))
+            return;
+    if (r->nothers < 64)
+        memcpy(r->others[r->nothers++], shown, sizeof shown);
+    else
+        r->more = 1;
+}
+
 static int event(log_run *r, const lcm_eventlog_event_t *ev)
 {
-    if (r->has_re && regexec(&r->re, ev->channel, 0, NULL, 0) != 0)
+    if (r->has_re && regexec(&r->re, ev->channel, 0, NULL, 0) != 0) {
+        note_other(r, ev->channel);
         return 0;
+    }
     chan *c = find_chan(r, ev);
     if (!c || !c->name)
         return -1;
@@ -596,7 +616,8 @@ static void usage(FILE *f)
             "  -s, --summary         export: also print the summary\n"
             "  -q, --quiet           no notes about skipped channels\n"
             "  -h, --help            this text\n\n"
-            "Exit status: 0 ok, 1 unreadable log or unwritable output, 2 usage error.\n");
+            "Exit status: 0 ok, 1 unreadable log, unwritable output or no channel matching\n"
+            "--channel, 2 usage error.\n");
 }
 
 #define PROG "wglog"
@@ -645,6 +666,24 @@ static int parse(int argc, char **argv, log_run *r)
     return 0;
 }
 
+/* --channel matched none of the log's channels: say which there are, exit 1. */
+static int no_match(const log_run *r)
+{
+    if (!r->nothers) {
+        fprintf(stderr, "wglog: %s has no events, so no channel matches --channel '%s'\n",
+                r->path, r->pattern);
+        return 1;
+    }
+    fprintf(stderr, "wglog: no channel of %s matches --channel '%s' (a regex matching the "
+            "whole name); its channels include", r->path, r->pattern);
+    for (int i = 0; i < r->nothers && i < 8; i++)
+        fprintf(stderr, "%s %s", i ? "," : "", r->others[i]);
+    if (r->nothers > 8 || r->more)
+        fprintf(stderr, " and %s%d more", r->more ? "over " : "", r->nothers - 8);
+    fprintf(stderr, "\n");
+    return 1;
+}
+
 int main(int argc, char **argv)
 {
     log_run r = {.out = "."};
@@ -658,6 +697,8 @@ int main(int argc, char **argv)
     if (!rc)
         rc = read_log(&r);
     rc |= close_all(&r);
+    if (!rc && r.has_re && r.nch == 0)
+        rc = no_match(&r);
     if (!rc && (!r.export_ || r.also_summary))
         summary(&r, stdout); /* of what could be read, a damaged log's too */
     rc |= r.damaged;

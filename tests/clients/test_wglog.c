@@ -351,6 +351,21 @@ static void test_channel_filter(void)
     ASSERT_EQ_INT(run(cmd, out, sizeof out), 0);
     ASSERT_CONTAINS(out, "2 channels");
     ASSERT_TRUE(!strstr(out, "RIG1_STATUS"));
+    /* a pattern matching no channel: said, with the channels there are, exit 1
+     * (it printed "0 channels" and exited 0) */
+    snprintf(cmd, sizeof cmd, "%s summary %s --channel NOPE 2>&1", wglog(), logpath);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 1);
+    fputs(out, stdout);
+    ASSERT_CONTAINS(out, "no channel of ");
+    ASSERT_CONTAINS(out, "matches --channel 'NOPE' (a regex matching the whole name); its "
+                         "channels include RIG1_STATE, ");
+    ASSERT_TRUE(!strstr(out, "0 channels"));
+    /* each channel named once, however many events it has */
+    ASSERT_TRUE(strstr(strstr(out, "RIG1_STATE,") + 1, "RIG1_STATE,") == NULL);
+    snprintf(cmd, sizeof cmd, "%s export %s --channel 'RIG1_STAT' --out %s/none 2>&1", wglog(),
+             logpath, dir);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 1);
+    ASSERT_CONTAINS(out, "matches --channel 'RIG1_STAT'");
 }
 
 /* Two channels whose names map to one file name (A/B and A_B): each its
