@@ -340,7 +340,7 @@ static int setup(opts *o, wg_scene *sc, wg_sim *sim)
     int rc;
     if ((rc = wg_scene_open(sc, o->scene, why, sizeof why))) {
         fprintf(stderr, "wgsim: %s\n", why);
-        return rc == WG_EIO && !strchr(o->scene, '/') ? 2 : 1;
+        return 2; /* a --scene that cannot be run, by name or path: as wgsweep and wgcont */
     }
     if (wg_scene_apply_sets(sc, o->sets, o->nsets, why, sizeof why))
         return cli_usage_error(PROG, "--set %s", why);

@@ -92,20 +92,22 @@ expect_exit 2 "--poincare, --events and --trace all write to '-'" \
 expect_exit 2 "--events and --trace both write to '-'" --events - --trace - --periods 2
 expect_exit 2 "scene 'nosuch' not found" --scene nosuch
 printf '[params]\nomega = 1\nxi_p = 7\n' >"$tmp/bad.ini"
-expect_exit 1 "bad.ini:3: xi_p: value 7 out of range \[0, 2\]" --scene "$tmp/bad.ini"
+# a scene file that cannot be run is a --scene to correct: exit 2, as
+# wgsweep, wgcont and wormgeard (it was 1 by path, 2 by name)
+expect_exit 2 "bad.ini:3: xi_p: value 7 out of range \[0, 2\]" --scene "$tmp/bad.ini"
 # a scene file that cannot be opened: the reason is said
-expect_exit 1 "cannot open scene file .*no-dir/good: No such file or directory" \
+expect_exit 2 "cannot open scene file .*no-dir/good: No such file or directory" \
     --scene "$tmp/no-dir/good"
 # a directory is not a scene (it ran the defaults under its name, exit 0),
 # by path or by name, and the scenes listed leave it out
 mkdir -p "$tmp/sp/x.ini"
-expect_exit 1 "scene file .*sp/x.ini is a directory, not a regular file" \
+expect_exit 2 "scene file .*sp/x.ini is a directory, not a regular file" \
     --scene "$tmp/sp/x.ini"
 WG_SCENE_PATH="$tmp/sp" expect_exit 2 "sp/x.ini is a directory, not a regular file" --scene x
 WG_SCENE_PATH="$tmp/sp" expect_exit 2 "scenes there: lowfreq, realistic" --scene nosuch
 # a key given twice: refused where it was (the later value won, silently)
 printf '[params]\nomega = 1\nomega = 0.5\n' >"$tmp/dup.ini"
-expect_exit 1 "dup.ini:3: \[params\] omega: given twice (first at line 2)" --scene "$tmp/dup.ini"
+expect_exit 2 "dup.ini:3: \[params\] omega: given twice (first at line 2)" --scene "$tmp/dup.ini"
 expect_exit 0 "motion" --model printed --periods 5 --transient 0
 
 # Stops.
