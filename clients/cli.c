@@ -268,3 +268,29 @@ void cli_json_str(FILE *f, const char *s)
     }
     fputc('"', f);
 }
+
+int cli_read_line(FILE *fp, char *line, size_t len, const char *path, int lineno, char *why,
+                  size_t whylen)
+{
+    size_t n = 0;
+    int c = EOF, nul = 0;
+    while (n + 1 < len && (c = getc(fp)) != EOF) {
+        nul |= c == 0;
+        line[n++] = (char)c;
+        if (c == '\n')
+            break;
+    }
+    line[n] = 0;
+    if (n == 0 && c == EOF)
+        return 0;
+    if (nul)
+        snprintf(why, whylen, "%s:%d: a NUL byte: not a text file", path, lineno);
+    else if (c != '\n' && n + 1 == len)
+        snprintf(why, whylen, "%s:%d: longer than %zu characters", path, lineno, len - 2);
+    else if (c != '\n')
+        snprintf(why, whylen, "%s:%d: the line is cut short (no end of line): a file still "
+                 "being written, or truncated", path, lineno);
+    else
+        return 1;
+    return -1;
+}

@@ -69,6 +69,14 @@ char *cli_join_args(int argc, char **argv);
  * number is not range-checked: the caller says what is allowed. */
 int cli_duration(const char *s, double *v, const char **unit);
 
+/* Line lineno of a text file the user names (path), whole, into line:
+ * 1, 0 at the end of the file, or -1 with why set to "path:lineno: " and
+ * what is wrong: a NUL byte (not a text file), longer than len - 2
+ * characters, or cut short (no end of line: a file still being written,
+ * or truncated). Reads at most len - 1 bytes of a line. */
+int cli_read_line(FILE *fp, char *line, size_t len, const char *path, int lineno, char *why,
+                  size_t whylen);
+
 /* The monotonic clock: seconds, and nanoseconds. */
 double cli_mono_s(void);
 int64_t cli_mono_ns(void);

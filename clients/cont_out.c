@@ -1,5 +1,6 @@
 /* cont_out.c - the files of a continuation run (see cont_out.h). */
 #include "cont_out.h"
+#include "cli.h"
 #include "wormgear/wg_file.h"
 #include "wormgear/wg_scene.h"
 
@@ -220,16 +221,16 @@ int cont_read_bifs(const char *path, cont_bifs *b, char *why, size_t whylen)
         return -1;
     char line[4096];
     int col[6], cap = 0, rc = 0, lno = 1;
-    if (!fgets(line, sizeof line, f) || !strchr(line, '\n') || header(line, b, col)) {
+    int got = cli_read_line(f, line, sizeof line, path, 1, why, whylen);
+    if (got < 0) {
+        rc = -1; /* why says it */
+    } else if (!got || header(line, b, col)) {
         snprintf(why, whylen, "%s: not a bifurcations CSV of wgcont (header type,PARAM,...)",
                  path);
         rc = -1;
     }
-    while (!rc && fgets(line, sizeof line, f)) {
-        lno++;
-        if (!strchr(line, '\n')) { /* "period_doubling,1.19" of 1.1976546 read as 1.19 */
-            snprintf(why, whylen, "%s:%d: the line is cut short (no end of line): a file still "
-                     "being written, or truncated", path, lno);
+    while (!rc && (got = cli_read_line(f, line, sizeof line, path, ++lno, why, whylen))) {
+        if (got < 0) { /* "period_doubling,1.19" of 1.1976546 read as 1.19 */
             rc = -1;
             break;
         }

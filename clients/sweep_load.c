@@ -3,6 +3,7 @@
  * (wgsweep --table-from). Poincare values are not in that file: the loaded
  * points have nsec = 0. */
 #include "sweep_load.h"
+#include "cli.h"
 #include "wormgear/wg_file.h"
 
 #include <errno.h>
@@ -168,15 +169,6 @@ static int parse_header(char *line, sweep_study *st, int *nf)
     return (off && st->gparam < 0) || st->param < 0 ? -1 : off;
 }
 
-/* A whole line into line (1), EOF (0), or -1: cut short (no end of line:
- * a file still being written, or truncated) or longer than len. */
-static int read_line(FILE *fp, char *line, size_t len)
-{
-    if (!fgets(line, (int)len, fp))
-        return 0;
-    return strchr(line, '\n') ? 1 : -1;
-}
-
 /* The file is verified as it is read: a header naming out_points_csv's
  * columns, rows of as many fields, each field the table uses a number or
  * a name it knows, every line whole, at least one row. A torn or foreign
@@ -189,19 +181,20 @@ int load_points_csv(const char *path, sweep_study *st, char *why, size_t whylen)
     if (!fp)
         return -1;
     int nf = 0, lineno = 1, rc = 0, rows = 0;
-    int off = read_line(fp, line, sizeof line) == 1 ? parse_header(line, st, &nf) : -1;
-    if (off < 0) {
+    int got = cli_read_line(fp, line, sizeof line, path, 1, why, whylen);
+    int off = got == 1 ? parse_header(line, st, &nf) : -1;
+    if (got < 0) {
+        rc = -1; /* why says it */
+    } else if (off < 0) {
         snprintf(why, whylen, "%s:1: not a wgsweep points CSV header ([group,]dir,index,PARAM,"
                  "regime,period,... as wgsweep writes PREFIX.csv)", path);
         rc = -1;
     }
-    for (int got; !rc && (got = read_line(fp, line, sizeof line)) != 0; rows++) {
+    while (!rc && (got = cli_read_line(fp, line, sizeof line, path, ++lineno, why, whylen))) {
         char *f[64];
         wg_point pt;
-        lineno++;
+        rows++;
         if (got < 0) {
-            snprintf(why, whylen, "%s:%d: the line is cut short (no end of line): a file still "
-                     "being written, or truncated", path, lineno);
             rc = -1;
             break;
         }

@@ -96,6 +96,11 @@ head -c $(($(wc -c <"$dir/pd-bifurcations.csv") - 40)) "$dir/pd-bifurcations.csv
 "$sweep" --table-from "$dir/sw.csv" --exact "$dir/cut.csv" --out "$dir/swc" >/dev/null 2>"$dir/swc.err"; r11=$?
 check "wgsweep --exact with a torn bifurcations file: exit 2, the line cut short said" \
   '[ $r11 -eq 2 ] && grep -q "cut.csv:[0-9]*: the line is cut short" "$dir/swc.err"'
+# a NUL byte in a row is said as such (it read as "the line is cut short")
+{ head -1 "$dir/pd-bifurcations.csv"; printf 'period_doubling,1.19\0007\n'; } >"$dir/nul.csv"
+"$sweep" --table-from "$dir/sw.csv" --exact "$dir/nul.csv" --out "$dir/swn" >/dev/null 2>"$dir/swn.err"; r12=$?
+check "wgsweep --exact with a NUL in a bifurcations row: exit 2, 'nul.csv:2: a NUL byte'" \
+  '[ $r12 -eq 2 ] && grep -q "nul.csv:2: a NUL byte: not a text file" "$dir/swn.err"'
 # a row that is not what wgcont writes is refused (a kind's fields, a period
 # of -99999999999, a bracket NOTANUMBER were tabled as 'grazing P-1215752191')
 { head -1 "$dir/pd-bifurcations.csv"; echo "period_doubling,1.17$(printf ',0%.0s' $(seq 2 19)),GARBAGE,zz,nowhere,weird,sideways,NOTANUMBER"; } >"$dir/bad.csv"

@@ -172,7 +172,7 @@ check "--table-from a sweep without --values: one table, the sweep's doublings" 
 check "--param b: no grazing in the table (min x_n stays under the swept b), the figure written" \
   '! grep -q "^| grazing" "$dir/pb.md" && grep -q "^| transition" "$dir/pb.md" && [ -s "$dir/pb.png" ]'
 
-# a points file read back is verified first: a torn header, a torn row, a
+# a points file read back is verified first: a torn header (said as such), a torn row, a
 # header alone, a foreign regime name and a row of too few fields are each
 # refused with the line at fault (a torn header once gave an empty table)
 head -c 150 "$dir/v.csv" >"$dir/t1.csv"
@@ -182,10 +182,17 @@ sed 's/periodic/periodik/' "$dir/v.csv" >"$dir/t4.csv"
 { head -2 "$dir/v.csv"; echo "up,1,1.2"; } >"$dir/t5.csv"
 awk -F, -v OFS=, 'NR == 2 { $5 = -7 } 1' "$dir/v.csv" >"$dir/t6.csv"   # a period no run writes
 awk -F, -v OFS=, 'NR == 2 { $15 = -3 } 1' "$dir/v.csv" >"$dir/t7.csv"  # N = -3
+# a NUL inside a row (it was reported as "the line is cut short"), a row of
+# 5,000 characters (the same)
+{ head -2 "$dir/v.csv"; printf 'up,1,\0001.2\n'; sed -n '4,$p' "$dir/v.csv"; } >"$dir/t8.csv"
+{ head -2 "$dir/v.csv"; head -c 5000 /dev/zero | tr '\0' 7; echo; } >"$dir/t9.csv"
+printf 'dir,index,omega\nup,0,1\n' >"$dir/t10.csv"   # a whole header, not wgsweep's
 i=0
-for want in ":1: not a wgsweep points CSV header" ":3: the line is cut short" ": no points after the header" \
+for want in ":1: the line is cut short" ":3: the line is cut short" ": no points after the header" \
             ":2: a field is not what wgsweep writes there" ":3: 3 fields, the header has" \
-            ":2: a field is not what wgsweep writes there" ":2: a field is not what wgsweep writes there"; do
+            ":2: a field is not what wgsweep writes there" ":2: a field is not what wgsweep writes there" \
+            ":3: a NUL byte: not a text file" ":3: longer than 4094 characters" \
+            ":1: not a wgsweep points CSV header"; do
   i=$((i + 1))
   "$sweep" --table-from "$dir/t$i.csv" --out "$dir/tt$i" >/dev/null 2>"$dir/tt.err"; rc=$?
   check "--table-from a damaged file ($i): exit 1, '$want'" \
