@@ -132,14 +132,31 @@ typedef struct loader {
     int y0_line[2][WG_NSTATE_MAX];
 } loader;
 
+/* The first error of a load, at a line given (0: none, "file: ..."). */
+__attribute__((format(printf, 4, 5))) static int failf(loader *L, int line, int rc,
+                                                       const char *fmt, ...)
+{
+    if (L->rc == WG_OK) {
+        char msg[400];
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(msg, sizeof msg, fmt, ap);
+        va_end(ap);
+        if (line)
+            snprintf(L->why, L->whylen, "%s:%d: %s", L->path, line, msg);
+        else
+            snprintf(L->why, L->whylen, "%s: %s", L->path, msg);
+        L->rc = rc;
+    }
+    return 0;
+}
+
 /* Lines for libinih, counted; and what it does not tell the handler: an
  * indented line after a key is that key's value continued (its multi-line
  * values), unless a [section] line came between; an indented "[section]"
- * there is such a line too, not a header (inih reads it so). */
-__attribute__((format(printf, 4, 5))) static int failf(loader *L, int line, int rc,
-                                                       const char *fmt, ...);
-
-/* A NUL byte ends the parse at its line (inih would end the line there and
+ * there is such a line too, not a header (inih reads it so).
+ *
+ * A NUL byte ends the parse at its line (inih would end the line there and
  * drop the rest: "omega = 1.2<NUL>garbage" ran, a line after a NUL was
  * skipped), and so does a line longer than inih's buffer (it read on from
  * the cut, so a long comment could carry a key, and the error named the
@@ -176,36 +193,6 @@ static char *reader(char *str, int num, void *stream)
     return str;
 }
 
-static int fail(loader *L, int rc, const char *fmt, const char *a, const char *b)
-{
-    if (L->rc == WG_OK) {
-        char msg[400];
-        snprintf(msg, sizeof msg, fmt, a, b);
-        snprintf(L->why, L->whylen, "%s:%d: %s", L->path, L->line, msg);
-        L->rc = rc;
-    }
-    return 0;
-}
-
-/* fail() with any format, at a line given (0: none, "file: ..."). */
-__attribute__((format(printf, 4, 5))) static int failf(loader *L, int line, int rc,
-                                                       const char *fmt, ...)
-{
-    if (L->rc == WG_OK) {
-        char msg[400];
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(msg, sizeof msg, fmt, ap);
-        va_end(ap);
-        if (line)
-            snprintf(L->why, L->whylen, "%s:%d: %s", L->path, line, msg);
-        else
-            snprintf(L->why, L->whylen, "%s: %s", L->path, msg);
-        L->rc = rc;
-    }
-    return 0;
-}
-
 static int number(loader *L, const wg_param_info *row, const char *value, double *out)
 {
     char *end;
@@ -216,13 +203,13 @@ static int number(loader *L, const wg_param_info *row, const char *value, double
         char rng[80];
         snprintf(rng, sizeof rng, "[%g, %g]%s%s", row->min, row->max,
                  strcmp(row->unit, "1") ? " " : "", strcmp(row->unit, "1") ? row->unit : "");
-        return fail(L, WG_EINVAL, "%s: not a number (allowed %s)", row->name, rng);
+        return failf(L, L->line, WG_EINVAL, "%s: not a number (allowed %s)", row->name, rng);
     }
     if (x < row->min || x > row->max) {
         char msg[120];
         snprintf(msg, sizeof msg, "%.17g out of range [%g, %g]%s%s", x, row->min, row->max,
                  strcmp(row->unit, "1") ? " " : "", strcmp(row->unit, "1") ? row->unit : "");
-        return fail(L, WG_ERANGE, "%s: value %s", row->name, msg);
+        return failf(L, L->line, WG_ERANGE, "%s: value %s", row->name, msg);
     }
     *out = x;
     return 1;
@@ -249,11 +236,12 @@ static int on_scene(loader *L, const char *name, const char *value)
     } else if (strcmp(name, "model") == 0) {
         int m = wg_model_lookup(value);
         if (m < 0)
-            return fail(L, WG_EINVAL, "model: '%s' is not one of [consistent, printed]%s", value, "");
+            return failf(L, L->line, WG_EINVAL, "model: '%s' is not one of [consistent, "
+                         "printed]", value);
         sc->model = m;
     } else
-        return fail(L, WG_EUNKNOWN, "[scene] %s: unknown key (allowed: name, description, model)%s",
-                    name, "");
+        return failf(L, L->line, WG_EUNKNOWN, "[scene] %s: unknown key (allowed: name, "
+                     "description, model)", name);
     return 1;
 }
 
@@ -266,7 +254,8 @@ static int on_initial(loader *L, const char *name, const char *value)
         else if (strcmp(value, "given") == 0)
             L->state_given = 1;
         else
-            return fail(L, WG_EINVAL, "state: '%s' is not one of [equilibrium, given]%s", value, "");
+            return failf(L, L->line, WG_EINVAL, "state: '%s' is not one of [equilibrium, "
+                         "given]", value);
         return 1;
     }
     int found = 0;
@@ -281,7 +270,8 @@ static int on_initial(loader *L, const char *name, const char *value)
             }
     if (found)
         return 1;
-    return fail(L, WG_EUNKNOWN, "[initial] %s: unknown key (state, x1..z2, s or th1 th2, dx1..ds)%s", name, "");
+    return failf(L, L->line, WG_EUNKNOWN, "[initial] %s: unknown key (state, x1..z2, s or th1 "
+                 "th2, dx1..ds)", name);
 }
 
 /* Refuse a key given before in its section (the later value won, silently),
@@ -323,7 +313,7 @@ static int on_key(loader *L, const char *section, const char *name, const char *
     if (strcmp(section, "params") == 0) {
         int id = wg_param_lookup(name);
         if (id < 0)
-            return fail(L, WG_EUNKNOWN, "[params] %s: unknown parameter%s", name, "");
+            return failf(L, L->line, WG_EUNKNOWN, "[params] %s: unknown parameter", name);
         if (!number(L, wg_param_info_get(id), value, &L->par[id]))
             return 0;
         L->par_line[id] = L->line;
@@ -345,8 +335,8 @@ static int on_key(loader *L, const char *section, const char *name, const char *
                     *dst[i] = x;
                     return 1;
                 }
-            return fail(L, WG_EUNKNOWN, "[scale] %s: unknown key%s", name,
-                        " (omega_n_rad_s, length_m, mesh_stiffness_N_m)");
+            return failf(L, L->line, WG_EUNKNOWN, "[scale] %s: unknown key (omega_n_rad_s, "
+                         "length_m, mesh_stiffness_N_m)", name);
         }
         for (int i = 0; i < NPHYS; i++)
             if (strcmp(name, phys[i].name) == 0) {
@@ -356,11 +346,11 @@ static int on_key(loader *L, const char *section, const char *name, const char *
                 L->nphys++;
                 return 1;
             }
-        return fail(L, WG_EUNKNOWN, "[physical] %s: unknown key%s", name,
-                    " (see wgsim --help for the list)");
+        return failf(L, L->line, WG_EUNKNOWN, "[physical] %s: unknown key (see wgsim --help "
+                     "for the list)", name);
     }
-    return fail(L, WG_EUNKNOWN, "[%s]: unknown section%s", section,
-                " (allowed: scene, params, physical, scale, initial)");
+    return failf(L, L->line, WG_EUNKNOWN, "[%s]: unknown section (allowed: scene, params, "
+                 "physical, scale, initial)", section);
 }
 
 static int handler(void *user, const char *section, const char *name, const char *value)
