@@ -203,13 +203,25 @@ static void dashed(cairo_t *cr, double x0, double y0, double x1, double y1)
     cairo_set_source_rgb(cr, 0, 0, 0);
 }
 
-/* Dashed horizontal guide at data y, labelled at the right. */
+/* Dashed horizontal guide at data y, labelled at the right on a pale box:
+ * a curve running along the guide (min x_n just over +b) would cross the
+ * label and make it unreadable, and still shows through the box. */
 static void hguide(cairo_t *cr, const frame *f, double y, const char *label)
 {
     if (y < f->ymin || y > f->ymax)
         return;
     dashed(cr, f->x0, py(f, y), f->x0 + f->w, py(f, y));
-    text(cr, f->x0 + f->w - 5, py(f, y) - 4, 12, 1.0, label);
+    cairo_text_extents_t e;
+    cairo_select_font_face(cr, PD_FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, 12);
+    cairo_text_extents(cr, label, &e);
+    double right = f->x0 + f->w - 5, base = py(f, y) - 4;
+    cairo_set_source_rgba(cr, 1, 1, 1, 0.8);
+    cairo_rectangle(cr, right - e.x_advance - 2, base + e.y_bearing - 1, e.x_advance + 4,
+                    e.height + 2);
+    cairo_fill(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, right, base, 12, 1.0, label);
 }
 
 /* Dashed vertical guide at data x, labelled above. */
@@ -296,7 +308,18 @@ static void bif_range(const plot_bif *pb, double *lo, double *hi, double *xlo, d
     if (!(*xhi > *xlo)) { /* one value (or none): a window about it, 5 % a side */
         double x = isfinite(*xlo) ? *xlo : 1.0, d = x != 0.0 ? 0.05 * fabs(x) : 0.5;
         *xlo = x - d, *xhi = x + d;
+        return;
     }
+    /* half a grid step beyond the first and last points, so their marks and
+     * their regime cells are whole inside the frame (they were cut in half at
+     * its edges); at most 2.5 % of the range */
+    double step = INFINITY;
+    for (int s = 0; s < 2; s++)
+        if (ns[s] > 1)
+            step = fmin(step, fabs(sets[s][1].value - sets[s][0].value));
+    double pad = fmin(0.5 * step, 0.025 * (*xhi - *xlo));
+    if (pad > 0) /* not for a first step of 0 or none */
+        *xlo -= pad, *xhi += pad;
 }
 
 /* Shade cells of the points' regimes between y0 and y0 + h (pixels). */
