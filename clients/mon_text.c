@@ -1,6 +1,7 @@
 /* mon_text.c - wgmon's frame text (see mon_text.h). */
 #include "mon_text.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -98,4 +99,18 @@ void mon_text_free(mon_text *f)
     free(f->buf);
     f->buf = NULL;
     f->len = f->cap = 0;
+}
+
+const char *mon_text_age(double s, char *buf, size_t len)
+{
+    s = fabs(s);
+    if (s < 120)
+        snprintf(buf, len, "%.1f s", s);
+    else if (s < 7200)
+        snprintf(buf, len, "%.1f min", s / 60);
+    else if (s < 172800)
+        snprintf(buf, len, "%.1f h", s / 3600);
+    else
+        snprintf(buf, len, "%.1f d", s / 86400);
+    return buf;
 }

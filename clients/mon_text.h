@@ -37,6 +37,10 @@ void mon_text_nl(mon_text *f);
 /* Visible columns of a UTF-8 string. */
 int mon_text_width(const char *s);
 
+/* A span of seconds as a reader takes it: "3.2 s", "4.1 min", "3.2 h",
+ * "2.1 d" (its magnitude), into buf; returns buf. */
+const char *mon_text_age(double s, char *buf, size_t len);
+
 void mon_text_free(mon_text *f);
 
 #endif

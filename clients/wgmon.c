@@ -98,6 +98,7 @@ typedef struct mon {
     wg_tracker trk;               /* last consecutive sections: the local period */
     long contacts[WG_NCONTACT][WG_NEVKIND]; /* CONTACT events in the session */
     int rows, cols, frozen;
+    int tight;                    /* under 30 rows: the details that leave the plots room go */
     mon_term term;                /* raw keys, the alternate screen */
     wg_writer *out;               /* the frames' writer: a stalled terminal never stops the loop */
     int stalled;                  /* at the end, the terminal still took nothing */
@@ -406,21 +407,6 @@ static void clear_data(mon *m)
 
 static int health_colour(const char *h) { return !strcmp(h, "ok") ? 32 : !strcmp(h, "lagging") ? 33 : 31; }
 
-/* A span of seconds as a reader takes it: "3.2 s", "4.1 min", "3.2 h", "2.1 d". */
-static const char *age_text(double s, char *buf, size_t len)
-{
-    s = fabs(s);
-    if (s < 120)
-        snprintf(buf, len, "%.1f s", s);
-    else if (s < 7200)
-        snprintf(buf, len, "%.1f min", s / 60);
-    else if (s < 172800)
-        snprintf(buf, len, "%.1f h", s / 3600);
-    else
-        snprintf(buf, len, "%.1f d", s / 86400);
-    return buf;
-}
-
 /* The senders on STATUS, when there is more than the live one: the shown
  * one a replay, or others beside it. */
 static void draw_senders(mon *m, mon_text *f)
@@ -431,7 +417,7 @@ static void draw_senders(mon *m, mon_text *f)
         return;
     if (fabs(m->follow_off) > BUS_REPLAY_S) {
         mon_text_put(f, 35, "source  REPLAY: sent %s %s (a log played back, or a clock that far "
-                     "off)", age_text(m->follow_off, age, sizeof age),
+                     "off)", mon_text_age(m->follow_off, age, sizeof age),
                      m->follow_off < 0 ? "ago" : "ahead");
         mon_text_nl(f);
     }
@@ -455,7 +441,7 @@ static void draw_senders(mon *m, mon_text *f)
                          "mixed in", (long long)l->first_seq);
         else
             mon_text_put(f, 33, " seq %lld.. sent %s %s%s: not shown", (long long)l->first_seq,
-                         age_text(l->offset_s, age, sizeof age), l->offset_s < 0 ? "ago" : "ahead",
+                         mon_text_age(l->offset_s, age, sizeof age), l->offset_s < 0 ? "ago" : "ahead",
                          bus_stream_replayed(l) ? " (a replay)" : "");
     }
     mon_text_nl(f);
@@ -501,7 +487,8 @@ static void draw_header(mon *m, mon_text *f, double now)
     mon_text_nl(f);
     mon_text_put(f, 0, "pace    rtf %.4f  lag %.3f ms  ", s->rtf, s->lag_s * 1e3);
     mon_text_put(f, s->overruns ? 33 : 0, "overruns %lld", (long long)s->overruns);
-    mon_text_put(f, 0, "  loop %.1f/%.1f us", s->loop_mean_us, s->loop_max_us);
+    if (!m->tight)
+        mon_text_put(f, 0, "  loop %.1f/%.1f us", s->loop_mean_us, s->loop_max_us);
     mon_text_put(f, 0, "  %.0f steps/s  cpu %.1f%%", s->steps_per_s, s->cpu * 100);
     mon_text_nl(f);
 }
@@ -540,7 +527,7 @@ static void draw_motion(mon *m, mon_text *f, double now)
     if (n)
         mon_text_put(f, 0, "  last %g s: %s, %.3g impacts/period", m->o.window_s,
                      wg_motion_name(worst), (double)imp / n);
-    if (n)
+    if (n && !m->tight)
         mon_text_put(f, 0, " (periods none/single/double %ld/%ld/%ld)", mot[0], mot[1], mot[2]);
     mon_text_nl(f);
     double resid = 0;
@@ -552,7 +539,7 @@ static void draw_motion(mon *m, mon_text *f, double now)
         mon_text_put(f, 35, "aperiodic (no period <= %d)", WG_PERIOD_MAX);
     else
         mon_text_put(f, 0, "(collecting %d/16 sections)", m->trk.n);
-    if (per >= 0)
+    if (per >= 0 && !m->tight)
         mon_text_put(f, 0, " over %d sections, resid %.2g, tol %.2g", m->trk.n, resid, m->o.tol);
     mon_text_nl(f);
 }
@@ -575,9 +562,11 @@ static void draw_msgs(mon *m, mon_text *f)
     mon_text_put(f, drop ? 33 : 0, "  dropped %ld", drop);
     if (ign)
         mon_text_put(f, 33, "  not shown %ld (other senders)", ign);
-    mon_text_put(f, 0, "  not published %lld", (long long)m->st.dropped);
+    if (m->st.dropped || !m->tight)
+        mon_text_put(f, m->st.dropped ? 33 : 0, "  not published %lld", (long long)m->st.dropped);
     mon_text_put(f, 0, "  cmds %lld/%lld refused", (long long)m->st.acc, (long long)m->st.ref);
-    mon_text_put(f, 0, "  mesh impacts %ld",
+    if (!m->tight)
+        mon_text_put(f, 0, "  mesh impacts %ld",
                  m->contacts[WG_C_MESH][WG_EV_DRIVE_IMPACT] + m->contacts[WG_C_MESH][WG_EV_BACK_IMPACT]);
     mon_text_nl(f);
     if (m->st.ticks_refused) { /* refused ticks (each ACKed to its sender) */
@@ -596,6 +585,7 @@ static void render(mon *m, mon_text *f, int clear)
 {
     double now = cli_mono_s();
     mon_text_begin(f, m->cols, m->o.plain);
+    m->tight = m->rows < 30;
     if (!f->plain)
         mon_text_raw(f, clear ? "\033[2J\033[H" : "\033[H", clear ? 7 : 3);
     draw_header(m, f, now);

@@ -103,6 +103,12 @@ done
 has p2-150x45 "^     ms 0  *0.164  *0.328  *0.492  *0.657"
 has p2-200x50 "^x_n, STROBOSCOPIC, over 4 mesh periods (T = 0.164 ms)"
 has p2-80x40 "^0.33 samples/period: the last 2 s folded on the window by phase from psi = 0"
+# a classic 80x24 terminal: the text drops its details (loop times, the
+# periods' counts, the tracker's residual) so the trace keeps 5+ rows (it had 3)
+trace_rows=$(awk '/STROBOSCOPIC/ { t = NR + 1; next } t && NR > t && /[+]---/ { print NR - 1 - t; exit }' "$tmp/p2-80x24")
+[ "${trace_rows:-0}" -ge 5 ] || fail "80x24: the trace has ${trace_rows:-no} rows: $(cat "$tmp/p2-80x24")"
+grep -q 'none/single/double' "$tmp/p2-80x24" && fail "80x24: the periods' counts still shown"
+has p2-80x40 "none/single/double"                        # shown where there is room
 echo "--- the period-2 frame at 80x40:"; cat "$tmp/p2-80x40"
 "$C" mode realtime 0.01 >/dev/null
 
