@@ -652,18 +652,18 @@ int plot_regime_map(const char *path, const plot_map *pm, char *why, size_t whyl
 
 /* ---- x-y plots -------------------------------------------------------------- */
 
-static void xy_data(cairo_t *cr, const frame *f, const plot_xy *p)
+/* Points [i0, i1) of p as a line (dots 0) or a cloud; marks 1: a dot at
+ * each point, 2: a ring. */
+static void xy_series(cairo_t *cr, const frame *f, const plot_xy *p, int i0, int i1,
+                      const double rgb[3], int marks)
 {
-    cairo_save(cr);
-    cairo_rectangle(cr, f->x0, f->y0, f->w, f->h);
-    cairo_clip(cr);
-    set_rgb(cr, C_UP, p->dots ? 0.8 : 0.9);
-    cairo_set_line_width(cr, 1.0);
-    for (int i = 0; i < p->n; i++) {
+    set_rgb(cr, rgb, p->dots ? 0.8 : 0.9);
+    cairo_set_line_width(cr, marks ? 1.5 : 1.0);
+    for (int i = i0; i < i1; i++) {
         if (p->dots) {
             cairo_new_sub_path(cr);
             cairo_arc(cr, px(f, p->x[i]), py(f, p->y[i]), p->n < 100 ? 3.5 : 2.0, 0, 2 * M_PI);
-        } else if (i == 0) {
+        } else if (i == i0) {
             cairo_move_to(cr, px(f, p->x[i]), py(f, p->y[i]));
         } else {
             cairo_line_to(cr, px(f, p->x[i]), py(f, p->y[i]));
@@ -673,7 +673,48 @@ static void xy_data(cairo_t *cr, const frame *f, const plot_xy *p)
         cairo_fill(cr);
     else
         cairo_stroke(cr);
+    for (int i = i0; marks && i < i1; i++) {
+        cairo_new_sub_path(cr);
+        cairo_arc(cr, px(f, p->x[i]), py(f, p->y[i]), marks == 1 ? 2.5 : 4.5, 0, 2 * M_PI);
+    }
+    if (marks == 1)
+        cairo_fill(cr);
+    else if (marks == 2)
+        cairo_stroke(cr);
+}
+
+static void xy_data(cairo_t *cr, const frame *f, const plot_xy *p)
+{
+    cairo_save(cr);
+    cairo_rectangle(cr, f->x0, f->y0, f->w, f->h);
+    cairo_clip(cr);
+    if (p->split > 0 && p->split <= p->n) { /* the down sweep under the up one */
+        xy_series(cr, f, p, p->split, p->n, C_DOWN, 2);
+        xy_series(cr, f, p, 0, p->split, C_UP, 1);
+    } else {
+        xy_series(cr, f, p, 0, p->n, C_UP, 0);
+    }
     cairo_restore(cr);
+}
+
+/* The legend of a split plot: one row from x, its text's baseline at y. */
+static void xy_legend(cairo_t *cr, double x, double y)
+{
+    static const char *const name[2] = {"up sweep", "down sweep"};
+    for (int k = 0; k < 2; k++, x += 150) {
+        set_rgb(cr, k ? C_DOWN : C_UP, 0.9);
+        cairo_set_line_width(cr, 1.5);
+        cairo_move_to(cr, x, y - 4), cairo_line_to(cr, x + 32, y - 4);
+        cairo_stroke(cr);
+        cairo_new_sub_path(cr);
+        cairo_arc(cr, x + 16, y - 4, k ? 4.5 : 2.5, 0, 2 * M_PI);
+        if (k)
+            cairo_stroke(cr);
+        else
+            cairo_fill(cr);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        text(cr, x + 40, y, 12, 0.0, name[k]);
+    }
 }
 
 int plot_xy_write(const char *path, const plot_xy *p, char *why, size_t whylen)
@@ -692,7 +733,11 @@ int plot_xy_write(const char *path, const plot_xy *p, char *why, size_t whylen)
     pd_min_span(&xlo, &xhi);
     pd_min_span(&ylo, &yhi);
     double mx = 0.05 * (xhi - xlo), my = 0.05 * (yhi - ylo);
-    double y = pd_page_head(cr, 1000, p->title, &p->pg), top = y + (p->x2.k > 0 ? 62 : 24);
+    double y = pd_page_head(cr, 1000, p->title, &p->pg);
+    int split = p->split > 0 && p->split <= p->n;
+    if (split) /* a legend row above the frame, where it hides no data */
+        xy_legend(cr, 105, y + 16), y += 22;
+    double top = y + (p->x2.k > 0 ? 62 : 24);
     frame f = {105, top, p->y2.k > 0 ? 785 : 845, 790 - top, xlo - mx, xhi + mx, ylo - my,
                yhi + my};
     xy_data(cr, &f, p);

@@ -70,6 +70,8 @@ typedef struct plot_xy {
     plot_scale2 x2, y2;      /* top (e.g. mesh periods of a time axis) and right */
     const char *note;        /* a line in the plot's top left corner (NULL: none) */
     plot_page pg;
+    int split;               /* > 0: [0, split) an up sweep, the rest a down sweep: two
+                                lines with markers (dots, rings) and a legend */
 } plot_xy;
 
 /* Write a bifurcation diagram (1400 x 1080) to path: Poincare x_n of the

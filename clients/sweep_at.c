@@ -190,10 +190,13 @@ static int write_figs(const fig *g, const views *w)
     plot_scale2 vms = {ok ? units_m_s_per_v(us) : 0, "x_n'  (m/s)", 0};
     snprintf(t, sizeof t, "%s: phase portrait, the last %d mesh periods", g->title,
              g->ao->trace_periods);
-    plot_xy ph = {t, PLOT_XN_LABEL, vlab, w->x, w->v, w->nt, 0, g->b, 1, xum, vms, g->note, g->pg};
+    plot_xy ph = {.title = t, .xlabel = PLOT_XN_LABEL, .ylabel = vlab, .x = w->x, .y = w->v,
+                  .n = w->nt, .b = g->b, .b_on_x = 1, .x2 = xum, .y2 = vms, .note = g->note,
+                  .pg = g->pg};
     rc |= fig_write(g, "phase", &ph);
     snprintf(t, sizeof t, "%s: Poincaré map at ψ = 0, %d periods", g->title, w->ns);
-    plot_xy pm = {t, PLOT_XN_LABEL, vlab, w->sx, w->sy, w->ns, 1, g->b, 1, xum, vms, g->note, g->pg};
+    plot_xy pm = ph;
+    pm.x = w->sx, pm.y = w->sy, pm.n = w->ns, pm.dots = 1;
     rc |= fig_write(g, "poincare", &pm);
     plot_xy tr = {0};
     rc |= trace_fig(g, w, &tr, t);

@@ -487,7 +487,7 @@ static int write_impacts(rig *r, const sweep_study *st, wg_chain *ch[2], window 
         return -1;
     fprintf(f, "dir,index,%s,impacts_per_period,contact_impacts_per_period,periods,motion,regime,"
                "period\n", r->o.param);
-    int n = 0, npts = (ch[0] ? ch[0]->ndone : 0) + (ch[1] ? ch[1]->ndone : 0);
+    int n = 0, nup = 0, npts = (ch[0] ? ch[0]->ndone : 0) + (ch[1] ? ch[1]->ndone : 0);
     double *x = calloc((size_t)npts + 1, sizeof *x), *y = calloc((size_t)npts + 1, sizeof *y);
     for (int d = 0; d < 2; d++)
         for (int i = 0; ch[d] && i < ch[d]->ndone; i++) {
@@ -504,7 +504,7 @@ static int write_impacts(rig *r, const sweep_study *st, wg_chain *ch[2], window 
                     p->impacts, cs, w->n, wg_motion_name(p->motion), wg_regime_name(p->regime),
                     p->period);
             if (x && y && w->n)
-                x[n] = p->value, y[n++] = p->impacts;
+                x[n] = p->value, y[n++] = p->impacts, nup += d == 0;
         }
     int rc = out_close(f, path, why, whylen);
     char title[160], xl[96], x2l[96], cap[2][400] = {"", ""};
@@ -514,9 +514,10 @@ static int write_impacts(rig *r, const sweep_study *st, wg_chain *ch[2], window 
     plot_text_caption(cap, r->scene, p, &r->scene_p, r->pid, -1, &r->so, r->steps, r->steps);
     plot_xy px = {.title = title, .xlabel = plot_text_plabel(r->pid, xl, sizeof xl),
                   .ylabel = "mesh impacts per period  (-)", .x = x, .y = y, .n = n,
+                  .split = nup > 0 && nup < n ? nup : 0,
                   .x2 = plot_text_pscale(r->pid, p, &r->us, x2l, sizeof x2l),
                   .pg = {NULL, {cap[0], cap[1], "counted from POINCARE over each point's "
-                                "recorded periods; the line runs up, then back down", NULL}}};
+                                "recorded periods; up sweep: dots, down sweep: rings", NULL}}};
     snprintf(path, sizeof path, "%s-impacts.png", r->o.out);
     if (!rc && n > 0)
         rc = plot_xy_write(path, &px, why, whylen);

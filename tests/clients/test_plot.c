@@ -163,7 +163,7 @@ static void test_poincare_of_period_one(void)
             v[i] = -0.000819954217852 + (same ? 0.0 : (i % 5) * 1e-19);
         }
         plot_xy p = {"test: Poincaré map", "x_n  (b_c)", "x_n'  (b_c ω_n)", x, v, NS, 1, 1.0,
-                     1, {0, NULL, 0}, {0, NULL, 0}, "P1", {"png", {NULL, NULL, NULL, NULL}}};
+                     1, {0, NULL, 0}, {0, NULL, 0}, "P1", {"png", {NULL, NULL, NULL, NULL}}, 0};
         ASSERT_EQ_INT(plot_xy_write(path, &p, why, sizeof why), 0);
         cairo_surface_t *s = cairo_image_surface_create_from_png(path);
         ASSERT_EQ_INT(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
@@ -203,7 +203,7 @@ static void test_ylabel_clear_of_ticks(void)
     for (int t = 0; t < 2; t++) {
         snprintf(path[t], sizeof path[t], "%s/yl%d.png", dir, t);
         plot_xy p = {"test: Poincaré map", "x_n  (b_c)", t ? "x_n'  (b_c ω_n)" : "", x, v, NS,
-                     1, 1.0, 1, {0, NULL, 0}, {0, NULL, 0}, NULL, {"png", {NULL, NULL, NULL, NULL}}};
+                     1, 1.0, 1, {0, NULL, 0}, {0, NULL, 0}, NULL, {"png", {NULL, NULL, NULL, NULL}}, 0};
         ASSERT_EQ_INT(plot_xy_write(path[t], &p, why, sizeof why), 0);
         s[t] = cairo_image_surface_create_from_png(path[t]);
         ASSERT_EQ_INT(cairo_surface_status(s[t]), CAIRO_STATUS_SUCCESS);
@@ -307,6 +307,56 @@ static void test_ticks(void)
     ASSERT_EQ_INT(pd_ticks(0.0, INFINITY, 0.1, t, lab), 0);
 }
 
-TEST_MAIN(TEST(test_ticks), TEST(test_repeated_sections_drawn_once), TEST(test_near_sections_both_drawn),
+/* Red-orange pixels (the down sweep's colour: R high, B low) and blue ones
+ * (the up sweep's) of a figure. */
+static void count_colours(cairo_surface_t *s, long *red, long *blue)
+{
+    int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
+    int st = cairo_image_surface_get_stride(s);
+    const unsigned char *d = cairo_image_surface_get_data(s);
+    *red = *blue = 0;
+    for (int y = 0; d && y < h; y++)
+        for (int x = 0; x < w; x++) {
+            const unsigned char *q = d + y * st + 4 * x; /* B G R A */
+            *red += q[2] > 170 && q[0] < 90 && q[1] < 120;
+            *blue += q[0] > 150 && q[2] < 120;
+        }
+}
+
+/* wgrig's impacts figure: an up and a down sweep told apart (one line ran
+ * up and back down in one colour, no markers): split draws the down sweep
+ * in its own colour, with rings, and a legend; without split, one colour. */
+static void test_split_sweeps(void)
+{
+    enum { N = 20 };
+    double x[N], y[N];
+    char path[128], why[256];
+    setup();
+    for (int i = 0; i < N / 2; i++) {
+        x[i] = 0.5 + 0.1 * i, y[i] = i >= 5 ? 1.0 : 0.0;                       /* up */
+        x[N / 2 + i] = 1.4 - 0.1 * i, y[N / 2 + i] = 1.4 - 0.1 * i >= 0.8 ? 1.0 : 0.0; /* down */
+    }
+    long red[2], blue[2];
+    for (int split = 0; split < 2; split++) {
+        snprintf(path, sizeof path, "%s/split%d.png", dir, split);
+        plot_xy p = {.title = "test: impacts", .xlabel = "omega", .ylabel = "impacts", .x = x,
+                     .y = y, .n = N, .pg = {"png", {NULL, NULL, NULL, NULL}},
+                     .split = split ? N / 2 : 0};
+        ASSERT_EQ_INT(plot_xy_write(path, &p, why, sizeof why), 0);
+        cairo_surface_t *s = cairo_image_surface_create_from_png(path);
+        ASSERT_EQ_INT(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
+        count_colours(s, &red[split], &blue[split]);
+        cairo_surface_destroy(s);
+        unlink(path);
+    }
+    rmdir(dir);
+    printf("down-sweep pixels: %ld unsplit, %ld split; up-sweep pixels %ld, %ld\n", red[0], red[1],
+           blue[0], blue[1]);
+    ASSERT_EQ_INT(red[0], 0);
+    ASSERT_TRUE(red[1] > 500); /* its line, 10 rings and the legend's */
+    ASSERT_TRUE(blue[1] > 300);
+}
+
+TEST_MAIN(TEST(test_ticks), TEST(test_split_sweeps), TEST(test_repeated_sections_drawn_once), TEST(test_near_sections_both_drawn),
           TEST(test_each_point_its_own_spots), TEST(test_poincare_of_period_one),
           TEST(test_ylabel_clear_of_ticks), TEST(test_single_point))
