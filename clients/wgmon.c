@@ -441,8 +441,8 @@ static void draw_senders(mon *m, mon_text *f)
                          "mixed in", (long long)l->first_seq);
         else
             mon_text_put(f, 33, " seq %lld.. sent %s %s%s: not shown", (long long)l->first_seq,
-                         mon_text_age(l->offset_s, age, sizeof age), l->offset_s < 0 ? "ago" : "ahead",
-                         bus_stream_replayed(l) ? " (a replay)" : "");
+                         mon_text_age(l->offset_s, age, sizeof age),
+                         l->offset_s < 0 ? "ago" : "ahead", bus_stream_replayed(l) ? " (a replay)" : "");
     }
     mon_text_nl(f);
 }

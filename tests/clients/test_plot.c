@@ -203,7 +203,8 @@ static void test_ylabel_clear_of_ticks(void)
     for (int t = 0; t < 2; t++) {
         snprintf(path[t], sizeof path[t], "%s/yl%d.png", dir, t);
         plot_xy p = {"test: Poincaré map", "x_n  (b_c)", t ? "x_n'  (b_c ω_n)" : "", x, v, NS,
-                     1, 1.0, 1, {0, NULL, 0}, {0, NULL, 0}, NULL, {"png", {NULL, NULL, NULL, NULL}}, 0};
+                     1, 1.0, 1, {0, NULL, 0}, {0, NULL, 0}, NULL,
+                     {"png", {NULL, NULL, NULL, NULL}}, 0};
         ASSERT_EQ_INT(plot_xy_write(path[t], &p, why, sizeof why), 0);
         s[t] = cairo_image_surface_create_from_png(path[t]);
         ASSERT_EQ_INT(cairo_surface_status(s[t]), CAIRO_STATUS_SUCCESS);
@@ -357,6 +358,7 @@ static void test_split_sweeps(void)
     ASSERT_TRUE(blue[1] > 300);
 }
 
-TEST_MAIN(TEST(test_ticks), TEST(test_split_sweeps), TEST(test_repeated_sections_drawn_once), TEST(test_near_sections_both_drawn),
+TEST_MAIN(TEST(test_ticks), TEST(test_split_sweeps), TEST(test_repeated_sections_drawn_once),
+          TEST(test_near_sections_both_drawn),
           TEST(test_each_point_its_own_spots), TEST(test_poincare_of_period_one),
           TEST(test_ylabel_clear_of_ticks), TEST(test_single_point))
