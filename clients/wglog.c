@@ -461,7 +461,7 @@ static void note_seq(chan *c, const lcm_eventlog_event_t *ev)
     if ((rc == BUS_NEW && c->seq.ids > 1) || rc == BUS_RESTART)
         snprintf(c->notes + n, sizeof c->notes - n, "%s%s from seq %lld at %.3f s, its clock "
                  "%+.3f s from the log's%s", n ? "; " : "", rc == BUS_NEW ? "a sender" : "a restart",
-                 (long long)seq, (ev->timestamp - c->t0) * 1e-6, l->offset_s,
+                 (long long)seq, ((double)ev->timestamp - (double)c->t0) * 1e-6, l->offset_s,
                  bus_stream_replayed(l) ? " (a replay)" : "");
 }
 
@@ -563,14 +563,16 @@ static int by_name(const void *a, const void *b)
 
 static void summary(log_run *r, FILE *f)
 {
-    double span = (r->t1 - r->t0) * 1e-6;
+    double span = ((double)r->t1 - (double)r->t0) * 1e-6; /* any int64 stamps: no overflow */
     fprintf(f, "log %s: %ld events, %.3f s, %d channels\n", r->path, r->events, span, r->nch);
-    qsort(r->ch, (size_t)r->nch, sizeof *r->ch, by_name);
+    if (r->nch > 1) /* qsort of no array (NULL) is undefined */
+        qsort(r->ch, (size_t)r->nch, sizeof *r->ch, by_name);
     fprintf(f, "%-24s %-11s %8s %9s %11s %9s %5s %8s %8s %6s %7s\n", "channel", "type", "msgs",
             "samples", "bytes", "rate_hz", "gaps", "missing", "restarts", "bad", "senders");
     for (int i = 0; i < r->nch; i++) {
         const chan *c = &r->ch[i];
-        double s = (c->t1 - c->t0) * 1e-6, rate = c->msgs > 1 && s > 0 ? (c->msgs - 1) / s : 0;
+        double s = ((double)c->t1 - (double)c->t0) * 1e-6;
+        double rate = c->msgs > 1 && s > 0 ? (c->msgs - 1) / s : 0;
         fprintf(f, "%-24s %-11s %8ld %9ld %11lld %9.2f %5ld %8ld %8ld %6ld %7ld\n", c->shown,
                 c->type == T_UNKNOWN ? "unknown" : types[c->type].name, c->msgs, c->samples, c->bytes,
                 rate, c->seq.gaps, c->seq.missing, c->seq.restarts, c->bad, c->seq.senders);

@@ -520,6 +520,43 @@ static void test_usage(void)
     ASSERT_CONTAINS(out, "(default .)");
 }
 
+/* Logs a reader may be handed: empty (qsort was called on no array: UB),
+ * and stamped INT64_MIN then INT64_MAX (the spans overflowed: UB), on an
+ * untyped channel and on STATE from two senders (the note of the second
+ * sender's start time). Summarised, exit 0; the ASan/UBSan build stops on
+ * any undefined behaviour. */
+static void test_extreme_logs(void)
+{
+    char path[160], cmd[512], out[4096];
+    snprintf(path, sizeof path, "%s/empty.lcmlog", dir);
+    FILE *f = fopen(path, "w");
+    ASSERT_TRUE(f != NULL);
+    fclose(f);
+    snprintf(cmd, sizeof cmd, "%s summary %s 2>&1", wglog(), path);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 0);
+    ASSERT_CONTAINS(out, "0 events, 0.000 s, 0 channels");
+    snprintf(path, sizeof path, "%s/stamps.lcmlog", dir);
+    lcm_eventlog_t *l = lcm_eventlog_create(path, "w");
+    ASSERT_TRUE(l != NULL);
+    put(l, "X", INT64_MIN, "12345678", 8);
+    put(l, "X", INT64_MAX, "12345678", 8);
+    double v[3] = {1, 2, 3};
+    for (int k = 0; k < 2; k++) {
+        wormgear_state_t m = {.utime = k ? INT64_MAX : INT64_MIN, .seq = k ? 0 : 5, .n = 1,
+                              .decimation = 1, .tau = v, .t_s = v, .omega = v, .xn = v,
+                              .dxn = v, .force = v, .fb_x1 = v, .fb_y1 = v, .fb_z1 = v,
+                              .fb_x2 = v, .fb_y2 = v, .fb_z2 = v, .theta1 = v, .theta2 = v};
+        PUT(wormgear_state_t, l, "RIG9_STATE", k ? INT64_MAX : INT64_MIN, &m);
+    }
+    lcm_eventlog_destroy(l);
+    snprintf(cmd, sizeof cmd, "%s summary %s 2>&1", wglog(), path);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 0);
+    fputs(out, stdout);
+    ASSERT_CONTAINS(out, "4 events");
+    ASSERT_CONTAINS(out, "2 channels");
+    ASSERT_TRUE(strstr(out, "runtime error") == NULL);
+}
+
 static void test_cleanup(void)
 {
     char cmd[256];
@@ -537,6 +574,7 @@ static void test_all(void)
     test_hostile_messages();
     test_export_names_collide();
     test_usage();
+    test_extreme_logs();
     test_cleanup();
 }
 
