@@ -49,8 +49,10 @@ uint64_t engine_run(wgd *d, uint64_t n, int *events)
     wg_sink sink = stream_sink(d);
     uint64_t done = 0;
     int ramping = d->sim.ramp.active;
+    double tau0 = d->sim.tau;
     int64_t t0 = log_now_ns();
     int rc = wg_sim_run(&d->sim, n, &sink, &done);
+    d->stat.tau += d->sim.tau - tau0, d->stat.steps += done; /* the STATUS interval's run */
     double c = (double)(log_now_ns() - t0) / (double)(done ? done : 1);
     if (done >= 16) /* smoothed cost per step (drives fast-mode chunks) */
         d->stat.ns_per_step = d->stat.ns_per_step > 0 ? 0.8 * d->stat.ns_per_step + 0.2 * c : c;

@@ -49,8 +49,8 @@ static void interval_start(wgd *d, int64_t now)
 {
     stats *s = &d->stat;
     s->t_ns = now;
-    s->tau = d->sim.tau;
-    s->steps = d->sim.steps;
+    s->tau = 0;
+    s->steps = 0;
     s->cpu_s = cpu_seconds();
     s->loop_sum_ns = s->loop_max_ns = 0;
     s->loops = 0;
@@ -126,8 +126,8 @@ static void compute(wgd *d, int64_t now)
     double wall = (double)(now - s->t_ns) * 1e-9;
     if (wall <= 0)
         return;
-    s->rtf = wg_scale_seconds(&d->scene.scale, d->sim.tau - s->tau) / wall;
-    s->steps_per_s = (double)(d->sim.steps - s->steps) / wall;
+    s->rtf = wg_scale_seconds(&d->scene.scale, s->tau) / wall;
+    s->steps_per_s = (double)s->steps / wall;
     s->cpu_share = (cpu_seconds() - s->cpu_s) / wall;
     s->loop_mean_us = s->loops ? s->loop_sum_ns / (double)s->loops * 1e-3 : 0.0;
     s->loop_max_us = s->loop_max_ns * 1e-3;

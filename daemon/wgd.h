@@ -57,8 +57,9 @@ typedef struct change {
 /* Accumulators and derived figures for STATUS (report.c). */
 typedef struct stats {
     int64_t t_ns;              /* start of the current STATUS interval */
-    double tau;                /* simulated time then */
-    uint64_t steps;            /* sim steps then */
+    double tau;                /* simulated time run since then (engine_run: a reset or a
+                                  restore jumps the state, not this) */
+    uint64_t steps;            /* sim steps run since then */
     double cpu_s;              /* process CPU time then */
     double loop_sum_ns, loop_max_ns;
     uint64_t loops;

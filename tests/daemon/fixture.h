@@ -50,7 +50,7 @@ typedef struct fx {
     int64_t pc_last_period;
     int pc_gaps;
     char health[16], regime[24], motion[24];
-    double impacts_per_period;
+    double impacts_per_period, rtf, steps_per_s;
     int nbearing;
     double bearing_ipp[WG_NBEARING], bearing_vmax[WG_NBEARING];
     double ack_tau;
@@ -182,6 +182,7 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const wormgear_s
     snprintf(F.regime, sizeof F.regime, "%s", m->regime);
     snprintf(F.motion, sizeof F.motion, "%s", m->motion);
     F.impacts_per_period = m->impacts_per_period;
+    F.rtf = m->rtf, F.steps_per_s = m->steps_per_s;
     F.nbearing = m->nbearing;
     for (int j = 0; j < m->nbearing && j < WG_NBEARING; j++)
         F.bearing_ipp[j] = m->bearing_impacts_per_period[j],

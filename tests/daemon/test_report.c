@@ -102,6 +102,32 @@ static void test_status_after_set(void)
     teardown(d);
 }
 
+/* The rates of a STATUS interval count the steps run in it, not the
+ * difference of the state's counters: after a reset (steps and tau back to
+ * 0) or a restore to an earlier state, STATUS said rtf -8.1 and 3.7e19
+ * steps/s (an unsigned difference wrapped). */
+static void test_rates_across_reset(void)
+{
+    wgd *d = setup(128);
+    run(d, 128 * 50);
+    d->stat.next_status_ns = 0; /* a STATUS is due: published, and the interval starts */
+    report_tick(d, log_now_ns());
+    drain(d);
+    run(d, 128 * 20);
+    wormgear_cmd_t c = {.op = "reset"};
+    ASSERT_EQ_INT(send(d, &c), WG_OK);
+    run(d, 128 * 5);
+    int64_t t0 = log_now_ns();
+    report_status(d);
+    drain(d);
+    double wall_max = (double)(log_now_ns() - t0) * 1e-9 + 60.0;
+    printf("after a reset: rtf %g, %g steps/s\n", F.rtf, F.steps_per_s);
+    ASSERT_TRUE(F.rtf > 0 && F.steps_per_s > 0);
+    /* 25 periods' steps run in the interval, which lasted under a minute */
+    ASSERT_TRUE(F.steps_per_s >= 128 * 25 / wall_max && F.steps_per_s < 1e10);
+    teardown(d);
+}
+
 /* The foreground line tells the same motion, regime and impacts per period
  * as STATUS, whichever period of a period-2 orbit (one impacting, one
  * free) came last. */
@@ -257,4 +283,5 @@ static void test_second_daemon_noticed(void)
 
 TEST_MAIN(TEST(test_state_angles), TEST(test_status_bearing_impacts), TEST(test_contacts_setting),
           TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set),
-          TEST(test_line_matches_status), TEST(test_second_daemon_noticed))
+          TEST(test_rates_across_reset), TEST(test_line_matches_status),
+          TEST(test_second_daemon_noticed))
