@@ -11,6 +11,7 @@
 #include "wormgear/wg_status.h"
 
 #include <errno.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
 #include <string.h>
@@ -344,6 +345,12 @@ int loop_init(wgd *d)
     start_signal(d, &d->sig_int, SIGINT);
     start_signal(d, &d->sig_term, SIGTERM);
     start_signal(d, &d->sig_hup, SIGHUP);
+    /* main blocked them until now: libev's handlers take them from here,
+     * one that came during the start first (pending until this line) */
+    sigset_t taken;
+    sigemptyset(&taken);
+    sigaddset(&taken, SIGINT), sigaddset(&taken, SIGTERM), sigaddset(&taken, SIGHUP);
+    pthread_sigmask(SIG_UNBLOCK, &taken, NULL);
     /* A closed stdout or stderr (`wormgeard -F | head`) killed the daemon
      * with no clean shutdown; ignored, a write fails with EPIPE instead,
      * which the log and the foreground line take in their stride. */
