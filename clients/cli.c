@@ -294,3 +294,16 @@ int cli_read_line(FILE *fp, char *line, size_t len, const char *path, int lineno
         return 1;
     return -1;
 }
+
+int cli_stdout_close(const char *prog, int rc)
+{
+    errno = 0;
+    int bad = fflush(stdout) != 0;
+    int err = errno;
+    bad |= ferror(stdout) != 0;
+    if (!bad || rc) /* a failure already said (wgsim --poincare - said its own) */
+        return rc;
+    fprintf(stderr, "%s: writing the standard output failed: %s: it is incomplete\n", prog,
+            err ? strerror(err) : "a write error");
+    return 1;
+}

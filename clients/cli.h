@@ -77,6 +77,12 @@ int cli_duration(const char *s, double *v, const char **unit);
 int cli_read_line(FILE *fp, char *line, size_t len, const char *path, int lineno, char *why,
                   size_t whylen);
 
+/* At the end of a program: standard output flushed and checked. rc, or 1
+ * after "prog: writing the standard output failed: reason" when rc was 0
+ * and a write or the flush failed (a full disk, /dev/full: the output is
+ * incomplete; a failing rc was reported already). */
+int cli_stdout_close(const char *prog, int rc);
+
 /* The monotonic clock: seconds, and nanoseconds. */
 double cli_mono_s(void);
 int64_t cli_mono_ns(void);

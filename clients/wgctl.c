@@ -703,5 +703,5 @@ int main(int argc, char **argv)
 {
     static ctl t;
     int rc = run(&t, argc, argv);
-    return rc == CLI_EUSAGE ? json_end(argc, argv, rc, "EUSAGE") : rc;
+    return cli_stdout_close(PROG, rc == CLI_EUSAGE ? json_end(argc, argv, rc, "EUSAGE") : rc);
 }

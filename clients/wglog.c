@@ -709,5 +709,5 @@ int main(int argc, char **argv)
     free(r.ch);
     if (r.has_re)
         regfree(&r.re);
-    return rc;
+    return cli_stdout_close(PROG, rc);
 }

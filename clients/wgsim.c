@@ -476,5 +476,5 @@ int main(int argc, char **argv)
     if (stopped)
         say_stopped(&r, &sim);
     wg_sim_fini(&sim);
-    return stopped ? 130 : rc ? 1 : 0;
+    return cli_stdout_close(PROG, stopped ? 130 : rc ? 1 : 0);
 }

@@ -555,6 +555,10 @@ static void test_extreme_logs(void)
     ASSERT_CONTAINS(out, "4 events");
     ASSERT_CONTAINS(out, "2 channels");
     ASSERT_TRUE(strstr(out, "runtime error") == NULL);
+    /* a summary its standard output does not take: said, exit 1 (it was 0) */
+    snprintf(cmd, sizeof cmd, "%s summary %s 2>&1 >/dev/full", wglog(), path);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 1);
+    ASSERT_CONTAINS(out, "wglog: writing the standard output failed: No space left on device");
 }
 
 static void test_cleanup(void)

@@ -190,6 +190,21 @@ expect_exit 2 "^wgsim: --poincare and --events both write $tmp/same.csv: give ea
 # with the file cut short
 if [ -w /dev/full ]; then
     expect_exit 1 "^wgsim: writing /dev/full failed.*the file is incomplete" --periods 200 --poincare /dev/full
+    # the summary on a standard output that takes nothing: said once, exit 1
+    # (it exited 0); the CSV on it (--poincare -): its own one message
+    "$WGSIM" --periods 10 >/dev/full 2>"$tmp/err"; rc=$?
+    if [ $rc -eq 1 ] && [ "$(grep -c . "$tmp/err")" -eq 1 ] &&
+        grep -q "^wgsim: writing the standard output failed: No space left on device" "$tmp/err"; then
+        echo "ok   wgsim --periods 10 >/dev/full -> 1, one message"
+    else
+        echo "FAIL wgsim --periods 10 >/dev/full: exit $rc: $(cat "$tmp/err")"; fail=1
+    fi
+    "$WGSIM" --periods 10 --poincare - >/dev/full 2>"$tmp/err"; rc=$?
+    if [ $rc -eq 1 ] && [ "$(grep -c . "$tmp/err")" -eq 1 ]; then
+        echo "ok   wgsim --poincare - >/dev/full -> 1, one message"
+    else
+        echo "FAIL wgsim --poincare - >/dev/full: exit $rc: $(cat "$tmp/err")"; fail=1
+    fi
 fi
 
 exit $fail

@@ -227,6 +227,10 @@ printf '[wormgeard]\nstatus_hz = 4\nstate_dir = %s/state\n' "$tmp" >"$tmp/run.co
 sleep 1.2
 [ "$(grep -c 'realtime x0.05 running' "$tmp/fg")" -ge 1 ] || fail "no foreground status line: $(cat "$tmp/fg")"
 grep -q "impacts/period" "$tmp/fg" || fail "foreground line without impacts/period: $(tail -1 "$tmp/fg")"
+# an answer its standard output does not take: said, exit 1 (it was 0)
+"$C" params >/dev/full 2>"$tmp/err"; rc=$?
+[ $rc -eq 1 ] || fail "wgctl params >/dev/full: exit $rc, want 1"
+has err "^wgctl: writing the standard output failed: .*it is incomplete"
 
 kill -TERM "$pid"
 wait "$pid"
