@@ -38,7 +38,12 @@ int wg_key_load(const char *path, unsigned char key[WG_KEY_BYTES], char *why, si
     close(fd);
     text[n > 0 ? n : 0] = 0;
     size_t len = strcspn(text, "\r\n"), got = 0;
-    if (len != 2 * WG_KEY_BYTES || (size_t)n > len + 2 ||
+    /* the digits, then at most one line end ("\n" or "\r\n"); nothing else */
+    const char *end = text + len;
+    size_t tail = n > 0 ? (size_t)n - len : 0;
+    int ended = tail == 0 || (tail == 1 && end[0] == '\n') ||
+                (tail == 2 && end[0] == '\r' && end[1] == '\n');
+    if (len != 2 * WG_KEY_BYTES || !ended ||
         sodium_hex2bin(key, WG_KEY_BYTES, text, len, NULL, &got, NULL) != 0 ||
         got != WG_KEY_BYTES) {
         sodium_memzero(text, sizeof text);

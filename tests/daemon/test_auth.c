@@ -93,6 +93,22 @@ static void test_signed_commands(void)
     ASSERT_EQ_INT(auth_load(&d->auth, "", lcmio_now_us(), why, sizeof why), WG_OK);
     send_set(d, NULL, 17, 0, 1.15);
     ASSERT_STR(F.code, "OK");
+    /* the 64 digits, then one line end or none: "\nX", "\0\n", "\r\r" after them
+     * were taken (two stray bytes passed) */
+    static const struct { const char *tail; int len, ok; } ends[] = {
+        {"", 0, 1}, {"\n", 1, 1}, {"\r\n", 2, 1}, {"\nX", 2, 0}, {"\0\n", 2, 0},
+        {"\r\r", 2, 0}, {"\n\n", 2, 0}, {" ", 1, 0}, {"\r", 1, 0}};
+    for (size_t i = 0; i < sizeof ends / sizeof ends[0]; i++) {
+        FILE *f = fopen(path, "w");
+        for (int k = 0; k < 32; k++)
+            fprintf(f, "%02x", 0x40 + k);
+        fwrite(ends[i].tail, 1, (size_t)ends[i].len, f);
+        fclose(f);
+        int rc = auth_load(&d->auth, path, lcmio_now_us(), why, sizeof why);
+        if ((rc == WG_OK) != ends[i].ok)
+            TEST_FAIL_("key file ending %zu: rc %d, want %s", i, rc,
+                       ends[i].ok ? "taken" : "refused");
+    }
     unlink(path);
     teardown(d);
 }
