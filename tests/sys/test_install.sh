@@ -28,6 +28,15 @@ grep -q "^ExecStart=$tmp/p/sbin/wormgeard --config $tmp/p/etc/wormgear/wormgeard
 grep -q "^ConfigurationDirectory=" "$unit" && fail "ConfigurationDirectory= names /etc for a config in $tmp/p/etc"
 grep -q "Documentation=file:$tmp/p/share/doc/wormgear/daemon.md" "$unit" || fail "unit Documentation="
 if grep -nE '@WG_|(^|[= ])/(usr|etc)/' "$unit"; then fail "unit names paths outside the prefix"; fi
+# the example configuration names every key --help lists (it said it did
+# and lacked six: scope_hz, contacts, bearing_every, state_decimation,
+# foreground, verbose)
+conf=$tmp/p/etc/wormgear/wormgeard.conf
+keys=$("$tmp/p/sbin/wormgeard" --help | sed -n 's/^  --\([a-z][a-z-]*\) .*/\1/p' | tr - _)
+[ "$(echo "$keys" | wc -w)" -ge 25 ] || fail "--help lists only: $keys"
+for k in $keys; do
+    grep -q "^;\{0,1\}$k = " "$conf" || fail "the example $conf lacks the key $k"
+done
 if command -v systemd-analyze >/dev/null 2>&1; then
     (cd "$tmp" && systemd-analyze verify "$unit") || fail "systemd-analyze verify $unit"
 fi
