@@ -131,8 +131,13 @@ static void compute(wgd *d, int64_t now)
     s->cpu_share = (cpu_seconds() - s->cpu_s) / wall;
     s->loop_mean_us = s->loops ? s->loop_sum_ns / (double)s->loops * 1e-3 : 0.0;
     s->loop_max_us = s->loop_max_ns * 1e-3;
-    s->impacts_per_period =
-        d->st.sections ? (double)d->st.impacts / (double)d->st.sections : 0.0;
+    /* over the periods the motion and the regime describe (the tracker's,
+     * since the last change): the interval's count said 0 beside a
+     * single_sided motion whose impacts had left the interval */
+    const wg_tracker *t = &d->st.trk;
+    s->impacts_per_period = t->n ? (double)t->impacts / t->n
+                            : d->st.sections ? (double)d->st.impacts / (double)d->st.sections
+                                             : 0.0;
     for (int j = 0; j < WG_NBEARING; j++) {
         s->bearing_ipp[j] = d->st.sections ? (double)d->st.bimp[j] / (double)d->st.sections : 0.0;
         s->bearing_vmax[j] = d->st.bvmax[j];

@@ -128,6 +128,33 @@ static void test_rates_across_reset(void)
     teardown(d);
 }
 
+/* STATUS's motion and impacts per period describe the same periods: from
+ * the start at omega = 1 the first periods impact and the orbit settles
+ * impact-free; an interval that began after the last impact said "0
+ * impacts/period" beside the tracker's "single_sided". Checked at every
+ * STATUS of the first 300 periods, a STATUS every 10. */
+static void test_motion_matches_impacts(void)
+{
+    wgd *d = setup(128);
+    int impacting = 0, quiet = 0;
+    for (int k = 0; k < 30; k++) {
+        d->stat.next_status_ns = 0;
+        report_tick(d, log_now_ns()); /* a STATUS, and a new interval */
+        drain(d);
+        if (k > 0) {
+            int none = !strcmp(F.motion, "no_impact");
+            impacting += !none, quiet += none;
+            if (none != (F.impacts_per_period == 0))
+                TEST_FAIL_("period %d: motion %s with %g impacts/period", 10 * k, F.motion,
+                           F.impacts_per_period);
+        }
+        run(d, 128 * 10);
+    }
+    printf("STATUS: %d impacting, %d quiet\n", impacting, quiet);
+    ASSERT_TRUE(impacting > 0 && quiet > 0); /* both seen: the start impacts, then settles */
+    teardown(d);
+}
+
 /* The foreground line tells the same motion, regime and impacts per period
  * as STATUS, whichever period of a period-2 orbit (one impacting, one
  * free) came last. */
@@ -283,5 +310,6 @@ static void test_second_daemon_noticed(void)
 
 TEST_MAIN(TEST(test_state_angles), TEST(test_status_bearing_impacts), TEST(test_contacts_setting),
           TEST(test_stream_seq), TEST(test_status_regime), TEST(test_status_after_set),
-          TEST(test_rates_across_reset), TEST(test_line_matches_status),
+          TEST(test_rates_across_reset), TEST(test_motion_matches_impacts),
+          TEST(test_line_matches_status),
           TEST(test_second_daemon_noticed))
