@@ -73,6 +73,7 @@ typedef struct rig {
     rig_imp imp;              /* mesh impacts from CONTACT */
     double t0;
     int done, total, restoring; /* restoring: finish()'s commands, sent even after a stop */
+    int sent;                 /* a set or ramp of the swept parameter went out: restore it */
     wg_writer *out;           /* stderr during the sweep: a terminal that takes nothing stops
                                  no sweep (say) */
 } rig;
@@ -363,6 +364,7 @@ static void progress(rig *r, const char *dir, const wg_point *pt)
 static int run_point(rig *r, double v, wg_point *pt, window *win)
 {
     char why[256] = "";
+    r->sent = 1;
     int rc = set_value(r, v, 1);
     memset(pt, 0, sizeof *pt);
     pt->value = v, pt->lle = NAN, pt->min_xn = pt->max_xn = NAN;
@@ -419,6 +421,7 @@ static int ramp_record(rig *r, double a, double b)
     c.nparams = 1, c.names = names, c.values = &b, c.has_from = 1, c.from = a;
     c.duration = r->o.ramp, c.unit = (char *)r->o.unit;
     double dur_tau = strcmp(r->o.unit, "tau") ? r->o.ramp * r->omega_n : r->o.ramp;
+    r->sent = 1;
     if (command(r, &c, "ramp"))
         return -1;
     r->col = (collector){.ramp = 1, .after_period = -1, .min_tau = r->c.ack.tau,
@@ -646,7 +649,9 @@ static void finish(rig *r)
                 NL);
     if (r->o.fast && r->have_status)
         set_mode(r, r->orig_mode, r->orig_rate);
-    if (!r->o.keep && r->have_params && r->o.ramp <= 0 && r->done)
+    /* after a ramp too (it left the ramp's end value; a ramp still running when stopped is
+     * cancelled by the set); after a point stopped before its end too */
+    if (!r->o.keep && r->have_params && r->sent)
         set_value(r, r->orig, 0); /* now: at a section it would wait on a paused daemon */
     bus_wait(&r->c, 300, NULL, NULL); /* CONTACT batches still on their way */
 }
