@@ -626,7 +626,7 @@ static int setup(rig *r)
     if (rig_rec_init(&r->rec, r->nstate, cap) ||
         !(r->rval = malloc(sizeof(double) * (size_t)r->rec.cap)))
         return fprintf(stderr, "wgrig: out of memory\n"), 1;
-    snprintf(path, sizeof path, "%s-sections.csv", r->o.out);
+    snprintf(path, sizeof path, "%s-sections.csv.part", r->o.out); /* renamed: sections_end */
     if (!(r->secf = fopen(path, "w")))
         return fprintf(stderr, "wgrig: cannot write %s\n", path), 1;
     fprintf(r->secf, "dir,index,%s,phase,period,tau,omega,x_n,dx_n,min_xn,max_xn,motion,impacts\n",
@@ -673,6 +673,33 @@ static void make_chains(rig *r, wg_chain chains[2], wg_chain *ch[2], window *win
     }
 }
 
+/* Close the sections file: PREFIX-sections.csv when keep (its error in why, -1), else
+ * removed (an earlier run's file stays). */
+static int sections_end(rig *r, int keep, char *why, size_t whylen)
+{
+    char part[1024], path[1024];
+    snprintf(part, sizeof part, "%s-sections.csv.part", r->o.out);
+    snprintf(path, sizeof path, "%s-sections.csv", r->o.out);
+    int rc = out_close(r->secf, part, why, whylen);
+    r->secf = NULL;
+    if (!keep || rc)
+        return remove(part), rc;
+    if (rename(part, path))
+        return snprintf(why, whylen, "cannot rename %s-sections.csv.part: %m", r->o.out), -1;
+    return 0;
+}
+
+/* Points with recorded periods (not refused, not stopped before their record, not an
+ * empty bin). */
+static int measured(wg_chain *ch[2], window *win[2])
+{
+    int n = 0;
+    for (int d = 0; d < 2; d++)
+        for (int i = 0; ch[d] && i < ch[d]->ndone; i++)
+            n += win[d][i].n > 0;
+    return n;
+}
+
 /* The sweep is over, the daemon put back, the outputs written: the last
  * lines (the summary) are waited for as long as stderr takes (Ctrl-Q), or
  * until a second Ctrl-C or SIGTERM ends wgrig (the first stopped the
@@ -706,20 +733,32 @@ static int sweep(rig *r, wg_chain chains[2], window *win[2], const char *cmdline
     if (!r->o.quiet)
         say(r, "%s", isatty(STDERR_FILENO) ? "\n" : "");
     finish(r);
-    int rc = write_outputs(r, ch, win, failed || g_stop, cmdline);
+    /* nothing measured: nothing written, so an earlier run's outputs stay */
+    int any = measured(ch, win) > 0, rc = 0;
+    char why[512];
+    if (!any) {
+        sections_end(r, 0, why, sizeof why);
+        say(r, "wgrig: no point measured: no outputs written (%s.* left as they were)\n",
+            r->o.out);
+    } else if ((rc = sections_end(r, 1, why, sizeof why))) {
+        say(r, "wgrig: %s\n", why);
+    } else {
+        rc = write_outputs(r, ch, win, failed || g_stop, cmdline);
+    }
     say(r, "wgrig: %d/%d points, %ld skipped (refused), %ld refusals, %ld ACK timeouts, "
                     "%ld POINCARE and %ld CONTACT messages dropped, %ld recordings re-waited; "
-                    "%.1f s; outputs %s.*\n", r->done, r->total, r->skipped, r->refusals,
+                    "%.1f s; outputs %s%s\n", r->done, r->total, r->skipped, r->refusals,
             r->timeouts, r->pc_seq.missing, r->ct_seq.missing, r->col.breaks,
-            cli_mono_s() - r->t0, r->o.out);
+            cli_mono_s() - r->t0, any ? r->o.out : "none", any ? ".*" : "");
     out_end(r);
-    return g_stop ? 130 : failed || (r->skipped && r->skipped == r->done) ? 1 : rc;
+    return g_stop ? 130 : failed || !any ? 1 : rc ? 1 : 0;
 }
 
 static void teardown(rig *r, wg_chain chains[2], window *win[2])
 {
-    if (r->secf)
-        fclose(r->secf);
+    char why[512];
+    if (r->secf) /* setup failed after opening it */
+        sections_end(r, 0, why, sizeof why);
     bus_close(&r->c);
     rig_rec_fini(&r->rec);
     free(r->rval);

@@ -7,7 +7,8 @@
 # up have coexisting orbits or long transients, and land on either); the outputs exist; the
 # CONTACT impacts equal the POINCARE statistics; a ramp (beside a hostile
 # sender whose PARAMS the rig ignores) and the value put back after it, also
-# when stopped mid-ramp; refusals; usage.
+# when stopped mid-ramp; refusals (every point refused: no outputs written,
+# an earlier run's stay); usage.
 # Run through netns.sh (host-local URL only).
 D=$1 R=$2 S=$3 C=$4 SPOOF=$5
 code=0
@@ -180,9 +181,19 @@ kill -TERM $pid; wait $pid; pid=
 "$D" --accept-commands=no --rate 0.01 --state-dir "$tmp" >"$tmp/d2.out" 2>&1 &
 pid=$!
 sleep 0.5
+# every point refused, so none measured: nothing written, an earlier run's
+# outputs under the same prefix stay as they were (they were overwritten
+# with rows of "none,0,0,no_impact,0,nan", a .md with settings and wall time)
+for f in "$tmp"/live.* "$tmp"/live-*; do cp "$f" "$tmp/ref${f#"$tmp"/live}"; done
+(cd "$tmp" && cksum ref.* ref-* >refsum)
 expect 1 "$R" --from 0.5 --to 0.6 --points 2 --dir up --retries 1 --out "$tmp/ref"
 has err "refused (ESTATE)"
 has err "2 skipped (refused)"
 has err ", 3 refusals,"   # one a point and the restore: commands off is not "not now", not retried
+has err "no point measured: no outputs written"
+has err "; outputs none$"
+(cd "$tmp" && cksum ref.* ref-* | cmp -s - refsum) ||
+    fail "refused run: the earlier ref.* changed: $(cd "$tmp" && cksum ref.* ref-* | diff - refsum)"
+[ -e "$tmp/ref-sections.csv.part" ] && fail "refused run: ref-sections.csv.part left behind"
 kill -TERM $pid; wait $pid; pid=
 exit $code
