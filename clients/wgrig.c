@@ -514,13 +514,16 @@ static int write_impacts(rig *r, const sweep_study *st, wg_chain *ch[2], window 
     snprintf(title, sizeof title, "%s: mesh impacts per period vs %s (rig: up, then back down)%s",
              r->scene, plot_text_psym(r->pid), st->partial ? " (partial)" : "");
     const wg_params *p = ch[0] ? &ch[0]->base : ch[1] ? &ch[1]->base : &r->base;
-    plot_text_caption(cap, r->scene, p, &r->scene_p, r->pid, -1, &r->so, r->steps, r->steps);
+    plot_text_caption_run(cap, r->scene, p, &r->scene_p, r->pid, -1, &r->so, r->steps,
+                          r->steps, st->run);
     plot_xy px = {.title = title, .xlabel = plot_text_plabel(r->pid, xl, sizeof xl),
                   .ylabel = "mesh impacts per period  (-)", .x = x, .y = y, .n = n,
                   .split = nup > 0 && nup < n ? nup : 0,
                   .x2 = plot_text_pscale(r->pid, p, &r->us, x2l, sizeof x2l),
-                  .pg = {NULL, {cap[0], cap[1], "counted from POINCARE over each point's "
-                                "recorded periods; up sweep: dots, down sweep: rings", NULL}}};
+                  .pg = {NULL, {cap[0], cap[1], st->run ? "counted from POINCARE over each "
+                                "bin's sections; up sweep: dots, down sweep: rings" : "counted "
+                                "from POINCARE over each point's recorded periods; up sweep: "
+                                "dots, down sweep: rings", NULL}}};
     snprintf(path, sizeof path, "%s-impacts.png", r->o.out);
     if (!rc && n > 0)
         rc = plot_xy_write(path, &px, why, whylen);
@@ -530,11 +533,14 @@ static int write_impacts(rig *r, const sweep_study *st, wg_chain *ch[2], window 
 
 static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, const char *cmdline)
 {
-    char why[512] = "", path[1024];
+    char why[512] = "", path[1024], run[320];
     sweep_study st = {.scene = r->scene, .command = cmdline, .param = r->pid, .gparam = -1,
                       .ngroups = 1, .b = r->base.v[WG_P_B], .o = &r->so, .partial = partial,
                       .wall_s = cli_mono_s() - r->t0, .threads = 1, .pair = 1, .ranks = 1,
                       .scene_p = &r->scene_p, .us = r->us};
+    if (r->o.ramp > 0) /* no per-point transient and record: the captions and .md say so */
+        st.run = rig_ramp_text(&r->o, r->pid, r->base.v[WG_P_OMEGA], r->omega_n, run,
+                               sizeof run);
     st.g[0] = (sweep_group){0, ch[0], ch[1]};
     int rc = 0;
     snprintf(path, sizeof path, "%s.csv", r->o.out);

@@ -147,6 +147,12 @@ awk -F, '$1 == "up" && $3 == 0.5 && $7 == "no_impact" { ok = 1 } END { exit !ok 
     fail "ramp: omega 0.5 not no_impact: $(cat "$tmp/ramp.csv")"
 awk -F, '$1 == "up" && $3 == 0.9 && $7 == "single_sided" { ok = 1 } END { exit !ok }' "$tmp/ramp.csv" ||
     fail "ramp: omega 0.9 not single_sided: $(cat "$tmp/ramp.csv")"
+# what the ramp did, in the .md (and the figures' captions: clients.test_plot),
+# not a transient and record per point that it never ran
+grep -q "ramp ω 0.5 → 1 and back over 0.5 s simulated each way (≈ [0-9]* mesh periods), \
+every section binned onto 6 values" "$tmp/ramp.md" || fail "ramp.md: $(sed -n 5p "$tmp/ramp.md")"
+grep -q "transient" "$tmp/ramp.md" &&
+    fail "ramp.md claims a transient: $(grep transient "$tmp/ramp.md")"
 
 # the value put back after a ramp (no --keep), from 0.8, neither end: the
 # ramps left it at their end (0.5 after both ways, 1.0 after one up). The
