@@ -45,6 +45,13 @@ void plot_text_caption(char cap[2][400], const char *scene, const wg_params *p,
                        const wg_params *scene_p, int swept, int swept2, const wg_sweep_opts *o,
                        int nmin, int nmax)
 {
+    plot_text_caption_run(cap, scene, p, scene_p, swept, swept2, o, nmin, nmax, NULL);
+}
+
+void plot_text_caption_run(char cap[2][400], const char *scene, const wg_params *p,
+                           const wg_params *scene_p, int swept, int swept2,
+                           const wg_sweep_opts *o, int nmin, int nmax, const char *run)
+{
     char xi[48], n[64], ext[96] = "", early[64] = "";
     if (swept == WG_P_XI_P || swept2 == WG_P_XI_P)
         snprintf(xi, sizeof xi, "ξ_p swept");
@@ -61,8 +68,11 @@ void plot_text_caption(char cap[2][400], const char *scene, const wg_params *p,
                  o->transient);
     if (o->settle > 0)
         snprintf(early, sizeof early, " or fewer, ending once settled over %d", o->settle);
-    snprintf(cap[0], 400, "scene %s, %s, %s, transient %d periods%s%s, %d periods recorded",
-             scene, xi, n, o->transient, early, ext, o->record);
+    if (run)
+        snprintf(cap[0], 400, "scene %s, %s, %s, %s", scene, xi, n, run);
+    else
+        snprintf(cap[0], 400, "scene %s, %s, %s, transient %d periods%s%s, %d periods recorded",
+                 scene, xi, n, o->transient, early, ext, o->record);
     int len = snprintf(cap[1], 400, "set away from the scene:"), shown = 0;
     for (int id = 0; id < WG_NPARAM && len < 330; id++)
         if (id != swept && id != swept2 && id != WG_P_XI_P && p->v[id] != scene_p->v[id])

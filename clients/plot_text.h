@@ -42,6 +42,14 @@ void plot_text_caption(char cap[2][400], const char *scene, const wg_params *p,
                        const wg_params *scene_p, int swept, int swept2, const wg_sweep_opts *o,
                        int nmin, int nmax);
 
+/* As plot_text_caption, with run in place of the transient and recorded
+ * periods when not NULL: what a run did that has no per-point settle and
+ * record (wgrig --ramp: "ramp ω 0.5 → 1 and back over 2 s simulated each
+ * way (≈ 11000 mesh periods), every section binned onto 25 values"). */
+void plot_text_caption_run(char cap[2][400], const char *scene, const wg_params *p,
+                           const wg_params *scene_p, int swept, int swept2,
+                           const wg_sweep_opts *o, int nmin, int nmax, const char *run);
+
 /* The scale of a scene as units.h takes it. */
 units_scale plot_text_scale(double omega_n_rad_s, double length_m, double stiffness_N_m);
 

@@ -3,6 +3,7 @@
 
 #include "bus.h"
 #include "cli.h"
+#include "plot_text.h"
 
 #include <getopt.h>
 #include <math.h>
@@ -47,6 +48,22 @@ static void usage(FILE *f)
 }
 
 #define PROG "wgrig"
+
+const char *rig_ramp_text(const rig_opts *o, int pid, double omega, double omega_n_rad_s,
+                          char *buf, size_t len)
+{
+    double a = fmin(o->from, o->to), b = fmax(o->from, o->to), k = 1, om = omega;
+    int tau = !strcmp(o->unit, "tau"), both = o->up && o->down;
+    if (!tau)
+        k = omega_n_rad_s;
+    if (pid == WG_P_OMEGA)
+        om = (a + b) / 2; /* a linear ramp of ω: its mean ω */
+    snprintf(buf, len, "ramp %s %g → %g%s over %g %s%s (≈ %.0f mesh periods), every section "
+             "binned onto %d values", plot_text_psym(pid), o->up ? a : b,
+             o->up ? b : a, both ? " and back" : "", o->ramp, tau ? "τ" : "s simulated",
+             both ? " each way" : "", o->ramp * k * om / (2 * M_PI), o->bins);
+    return buf;
+}
 
 /* --ramp: a duration > 0 (cli_duration). */
 static int opt_ramp(rig_opts *o, const char *a)

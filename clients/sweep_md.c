@@ -293,6 +293,12 @@ static void provenance(FILE *f, const sweep_study *st)
                 st->source);
         return;
     }
+    if (st->run) {
+        fprintf(f, "Model %s, stepper %s, N = %d steps per mesh period, %s. Wall time %.1f s.\n\n",
+                wg_model_name(o->model), wg_stepper_name(o->stepper), o->steps, st->run,
+                st->wall_s);
+        return;
+    }
     char early[80] = "";
     if (o->settle > 0)
         snprintf(early, sizeof early, " (ending once settled over %d periods)", o->settle);

@@ -333,8 +333,8 @@ static int out_png_group(const char *prefix, const sweep_study *st, int k, char 
     int nlo, nhi;
     steps_range(g, &nlo, &nhi);
     if (c && st->scene_p)
-        plot_text_caption(cap, st->scene, &c->base, st->scene_p, st->param, -1, st->o, nlo,
-                          nhi);
+        plot_text_caption_run(cap, st->scene, &c->base, st->scene_p, st->param, -1, st->o, nlo,
+                              nhi, st->run);
     plot_bif pb = {title, plot_text_plabel(st->param, xl, sizeof xl), g->up ? g->up->pts : NULL,
                    g->down ? g->down->pts : NULL, g->up ? g->up->ndone : 0,
                    g->down ? g->down->ndone : 0, out_group_b(st, g), NULL, 0,

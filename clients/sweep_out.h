@@ -39,6 +39,9 @@ typedef struct sweep_study {
                                 (NULL: no "set away" line) */
     units_scale us;          /* the scene's scale: the figures' Hz and µm */
     const char *format;      /* figures: "png" (NULL too), "svg" or "pdf" */
+    const char *run;         /* what the run did, for the captions and the .md, where it
+                                had no per-point transient and record (wgrig --ramp);
+                                NULL: o's transient and record */
 } sweep_study;
 
 /* Points of every chain, one row each (CSV). */

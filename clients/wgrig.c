@@ -73,6 +73,7 @@ typedef struct rig {
     rig_imp imp;              /* mesh impacts from CONTACT */
     double t0;
     int done, total, restoring; /* restoring: finish()'s commands, sent even after a stop */
+    int sent;                 /* a set or ramp of the swept parameter went out: restore it */
     wg_writer *out;           /* stderr during the sweep: a terminal that takes nothing stops
                                  no sweep (say) */
 } rig;
@@ -363,6 +364,7 @@ static void progress(rig *r, const char *dir, const wg_point *pt)
 static int run_point(rig *r, double v, wg_point *pt, window *win)
 {
     char why[256] = "";
+    r->sent = 1;
     int rc = set_value(r, v, 1);
     memset(pt, 0, sizeof *pt);
     pt->value = v, pt->lle = NAN, pt->min_xn = pt->max_xn = NAN;
@@ -419,6 +421,7 @@ static int ramp_record(rig *r, double a, double b)
     c.nparams = 1, c.names = names, c.values = &b, c.has_from = 1, c.from = a;
     c.duration = r->o.ramp, c.unit = (char *)r->o.unit;
     double dur_tau = strcmp(r->o.unit, "tau") ? r->o.ramp * r->omega_n : r->o.ramp;
+    r->sent = 1;
     if (command(r, &c, "ramp"))
         return -1;
     r->col = (collector){.ramp = 1, .after_period = -1, .min_tau = r->c.ack.tau,
@@ -511,13 +514,16 @@ static int write_impacts(rig *r, const sweep_study *st, wg_chain *ch[2], window 
     snprintf(title, sizeof title, "%s: mesh impacts per period vs %s (rig: up, then back down)%s",
              r->scene, plot_text_psym(r->pid), st->partial ? " (partial)" : "");
     const wg_params *p = ch[0] ? &ch[0]->base : ch[1] ? &ch[1]->base : &r->base;
-    plot_text_caption(cap, r->scene, p, &r->scene_p, r->pid, -1, &r->so, r->steps, r->steps);
+    plot_text_caption_run(cap, r->scene, p, &r->scene_p, r->pid, -1, &r->so, r->steps,
+                          r->steps, st->run);
     plot_xy px = {.title = title, .xlabel = plot_text_plabel(r->pid, xl, sizeof xl),
                   .ylabel = "mesh impacts per period  (-)", .x = x, .y = y, .n = n,
                   .split = nup > 0 && nup < n ? nup : 0,
                   .x2 = plot_text_pscale(r->pid, p, &r->us, x2l, sizeof x2l),
-                  .pg = {NULL, {cap[0], cap[1], "counted from POINCARE over each point's "
-                                "recorded periods; up sweep: dots, down sweep: rings", NULL}}};
+                  .pg = {NULL, {cap[0], cap[1], st->run ? "counted from POINCARE over each "
+                                "bin's sections; up sweep: dots, down sweep: rings" : "counted "
+                                "from POINCARE over each point's recorded periods; up sweep: "
+                                "dots, down sweep: rings", NULL}}};
     snprintf(path, sizeof path, "%s-impacts.png", r->o.out);
     if (!rc && n > 0)
         rc = plot_xy_write(path, &px, why, whylen);
@@ -527,11 +533,14 @@ static int write_impacts(rig *r, const sweep_study *st, wg_chain *ch[2], window 
 
 static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, const char *cmdline)
 {
-    char why[512] = "", path[1024];
+    char why[512] = "", path[1024], run[320];
     sweep_study st = {.scene = r->scene, .command = cmdline, .param = r->pid, .gparam = -1,
                       .ngroups = 1, .b = r->base.v[WG_P_B], .o = &r->so, .partial = partial,
                       .wall_s = cli_mono_s() - r->t0, .threads = 1, .pair = 1, .ranks = 1,
                       .scene_p = &r->scene_p, .us = r->us};
+    if (r->o.ramp > 0) /* no per-point transient and record: the captions and .md say so */
+        st.run = rig_ramp_text(&r->o, r->pid, r->base.v[WG_P_OMEGA], r->omega_n, run,
+                               sizeof run);
     st.g[0] = (sweep_group){0, ch[0], ch[1]};
     int rc = 0;
     snprintf(path, sizeof path, "%s.csv", r->o.out);
@@ -623,7 +632,7 @@ static int setup(rig *r)
     if (rig_rec_init(&r->rec, r->nstate, cap) ||
         !(r->rval = malloc(sizeof(double) * (size_t)r->rec.cap)))
         return fprintf(stderr, "wgrig: out of memory\n"), 1;
-    snprintf(path, sizeof path, "%s-sections.csv", r->o.out);
+    snprintf(path, sizeof path, "%s-sections.csv.part", r->o.out); /* renamed: sections_end */
     if (!(r->secf = fopen(path, "w")))
         return fprintf(stderr, "wgrig: cannot write %s\n", path), 1;
     fprintf(r->secf, "dir,index,%s,phase,period,tau,omega,x_n,dx_n,min_xn,max_xn,motion,impacts\n",
@@ -646,7 +655,9 @@ static void finish(rig *r)
                 NL);
     if (r->o.fast && r->have_status)
         set_mode(r, r->orig_mode, r->orig_rate);
-    if (!r->o.keep && r->have_params && r->o.ramp <= 0 && r->done)
+    /* after a ramp too (it left the ramp's end value; a ramp still running when stopped is
+     * cancelled by the set); after a point stopped before its end too */
+    if (!r->o.keep && r->have_params && r->sent)
         set_value(r, r->orig, 0); /* now: at a section it would wait on a paused daemon */
     bus_wait(&r->c, 300, NULL, NULL); /* CONTACT batches still on their way */
 }
@@ -666,6 +677,33 @@ static void make_chains(rig *r, wg_chain chains[2], wg_chain *ch[2], window *win
         ch[d] = &chains[d];
         r->total += npts;
     }
+}
+
+/* Close the sections file: PREFIX-sections.csv when keep (its error in why, -1), else
+ * removed (an earlier run's file stays). */
+static int sections_end(rig *r, int keep, char *why, size_t whylen)
+{
+    char part[1024], path[1024];
+    snprintf(part, sizeof part, "%s-sections.csv.part", r->o.out);
+    snprintf(path, sizeof path, "%s-sections.csv", r->o.out);
+    int rc = out_close(r->secf, part, why, whylen);
+    r->secf = NULL;
+    if (!keep || rc)
+        return remove(part), rc;
+    if (rename(part, path))
+        return snprintf(why, whylen, "cannot rename %s-sections.csv.part: %m", r->o.out), -1;
+    return 0;
+}
+
+/* Points with recorded periods (not refused, not stopped before their record, not an
+ * empty bin). */
+static int measured(wg_chain *ch[2], window *win[2])
+{
+    int n = 0;
+    for (int d = 0; d < 2; d++)
+        for (int i = 0; ch[d] && i < ch[d]->ndone; i++)
+            n += win[d][i].n > 0;
+    return n;
 }
 
 /* The sweep is over, the daemon put back, the outputs written: the last
@@ -701,20 +739,32 @@ static int sweep(rig *r, wg_chain chains[2], window *win[2], const char *cmdline
     if (!r->o.quiet)
         say(r, "%s", isatty(STDERR_FILENO) ? "\n" : "");
     finish(r);
-    int rc = write_outputs(r, ch, win, failed || g_stop, cmdline);
+    /* nothing measured: nothing written, so an earlier run's outputs stay */
+    int any = measured(ch, win) > 0, rc = 0;
+    char why[512];
+    if (!any) {
+        sections_end(r, 0, why, sizeof why);
+        say(r, "wgrig: no point measured: no outputs written (%s.* left as they were)\n",
+            r->o.out);
+    } else if ((rc = sections_end(r, 1, why, sizeof why))) {
+        say(r, "wgrig: %s\n", why);
+    } else {
+        rc = write_outputs(r, ch, win, failed || g_stop, cmdline);
+    }
     say(r, "wgrig: %d/%d points, %ld skipped (refused), %ld refusals, %ld ACK timeouts, "
                     "%ld POINCARE and %ld CONTACT messages dropped, %ld recordings re-waited; "
-                    "%.1f s; outputs %s.*\n", r->done, r->total, r->skipped, r->refusals,
+                    "%.1f s; outputs %s%s\n", r->done, r->total, r->skipped, r->refusals,
             r->timeouts, r->pc_seq.missing, r->ct_seq.missing, r->col.breaks,
-            cli_mono_s() - r->t0, r->o.out);
+            cli_mono_s() - r->t0, any ? r->o.out : "none", any ? ".*" : "");
     out_end(r);
-    return g_stop ? 130 : failed || (r->skipped && r->skipped == r->done) ? 1 : rc;
+    return g_stop ? 130 : failed || !any ? 1 : rc ? 1 : 0;
 }
 
 static void teardown(rig *r, wg_chain chains[2], window *win[2])
 {
-    if (r->secf)
-        fclose(r->secf);
+    char why[512];
+    if (r->secf) /* setup failed after opening it */
+        sections_end(r, 0, why, sizeof why);
     bus_close(&r->c);
     rig_rec_fini(&r->rec);
     free(r->rval);

@@ -7,6 +7,13 @@
 #   channels with our types and counts messages; the wgspy launcher starts
 #   and runs without a Java exception. Exit 77 (skip) without Xvfb.
 #   Run through netns.sh (host-local URL only).
+# test_java.sh launcher WGSPY [JAR]
+#   wgspy from the build tree, with or without a JDK (JAR: the build's type
+#   jar, when it built one): a --jar or WORMGEAR_JAR that is not there is
+#   named; with no display it says so in one line before starting Java (it
+#   died in a HeadlessException's stack trace); with JAR and lcm.jar,
+#   --print-cp finds the build's jar by itself (it looked only where an
+#   installed copy finds one, and said "not found").
 mode=$1; shift
 code=0
 tmp=$(mktemp -d) || exit 1
@@ -15,6 +22,42 @@ cleanup() { for p in $pids; do kill -KILL "$p" 2>/dev/null; done; rm -rf "$tmp";
 trap cleanup EXIT
 fail() { echo "FAIL: $*"; code=1; }
 . "$(dirname "$0")/../wait.sh" # wait_until
+
+if [ "$mode" = launcher ]; then
+    SPY=$1 JAR=${2:-}
+    unset WORMGEAR_JAR
+    "$SPY" --jar /nonexist.jar --print-cp >"$tmp/out" 2>"$tmp/err"; rc=$?
+    [ $rc -eq 1 ] && grep -q "^wgspy: --jar /nonexist.jar: no such file$" "$tmp/err" ||
+        fail "--jar /nonexist.jar: exit $rc: $(cat "$tmp/err")"
+    WORMGEAR_JAR=/nonexist2.jar "$SPY" --print-cp >"$tmp/out" 2>"$tmp/err"; rc=$?
+    [ $rc -eq 1 ] && grep -q "^wgspy: WORMGEAR_JAR=/nonexist2.jar: no such file$" "$tmp/err" ||
+        fail "WORMGEAR_JAR=/nonexist2.jar: exit $rc: $(cat "$tmp/err")"
+    # no display: one line, and Java never started (a stand-in that says if it was)
+    : >"$tmp/fake.jar"
+    printf '#!/bin/sh\necho "Exception in thread main java.awt.HeadlessException" >&2\nexit 1\n' \
+        >"$tmp/java"
+    chmod +x "$tmp/java"
+    env -u DISPLAY -u WAYLAND_DISPLAY JAVA="$tmp/java" "$SPY" --jar "$tmp/fake.jar" \
+        >"$tmp/out" 2>"$tmp/err"; rc=$?
+    [ $rc -eq 1 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] &&
+        grep -q "^wgspy: lcm-spy needs a display" "$tmp/err" ||
+        fail "no display: exit $rc, want 1 and one line: $(cat "$tmp/err")"
+    grep -q Exception "$tmp/err" && fail "no display: Java was started: $(cat "$tmp/err")"
+    env -u DISPLAY -u WAYLAND_DISPLAY "$SPY" --jar "$tmp/fake.jar" --print-cp >"$tmp/out" \
+        2>"$tmp/err" && grep -q "needs a display" "$tmp/err" &&
+        fail "--print-cp asked for a display: $(cat "$tmp/err")"
+    if [ -n "$JAR" ] && [ -f "$JAR" ] && { [ -f /usr/share/java/lcm.jar ] ||
+                                          [ -f /usr/local/share/java/lcm.jar ]; }; then
+        "$SPY" --print-cp >"$tmp/out" 2>"$tmp/err" ||
+            fail "build tree, no --jar: exit $?: $(cat "$tmp/err")"
+        grep -q ":$JAR\(:\|$\)" "$tmp/out" ||
+            fail "build tree, no --jar: not the build's $JAR: $(cat "$tmp/out" "$tmp/err")"
+        echo "build tree: --print-cp $(cat "$tmp/out")"
+    else
+        echo "no type jar in this build (or no lcm.jar): the build tree's own jar not checked"
+    fi
+    exit $code
+fi
 
 if [ "$mode" = decode ]; then
     ENC=$1 JAR=$2 LCMJAR=$3 JAVAC=$4 JAVA=$5 SRC=$6

@@ -6,12 +6,14 @@
  * both drawn, as is a spot at another point's height; and an x-y figure of
  * data with no spread (a period-1 orbit's Poincare map) ends and shows
  * its dot; axis ticks end and their labels tell them apart, and the y
- * axis title keeps clear of long tick labels. The figures
+ * axis title keeps clear of long tick labels; a ramp run's caption says what
+ * the ramp did, not a transient and record it never ran (the SVG's <desc>). The figures
  * are read back as pixels with cairo. */
 #include "test.h"
 
 #include "plot.h"
 #include "plot_draw.h"
+#include "sweep_out.h"
 
 #include <cairo.h>
 #include <unistd.h>
@@ -358,7 +360,58 @@ static void test_split_sweeps(void)
     ASSERT_TRUE(blue[1] > 300);
 }
 
-TEST_MAIN(TEST(test_ticks), TEST(test_split_sweeps), TEST(test_repeated_sections_drawn_once),
+/* The text of file path (at most len - 1 bytes) into buf. */
+static void slurp(const char *path, char *buf, size_t len)
+{
+    FILE *f = fopen(path, "r");
+    ASSERT_TRUE(f != NULL);
+    size_t n = fread(buf, 1, len - 1, f);
+    buf[n] = 0;
+    fclose(f);
+}
+
+/* A run with no per-point settle and record (wgrig --ramp) says what it
+ * did in the diagram's caption (sweep_study.run): it said "transient 300
+ * periods (+ up to 3 x 300 while no period is found), 128 periods
+ * recorded", the options' defaults, which a ramp never used. */
+static void test_run_caption(void)
+{
+    static char svg[1 << 20];
+    wg_point up[NPTS], down[NPTS];
+    char prefix[128], path[160], why[256];
+    setup();
+    make_points(up, down, 0);
+    wg_sweep_opts o;
+    wg_sweep_opts_default(&o);
+    wg_chain ch = {.param = WG_P_OMEGA, .v0 = 1.0, .v1 = 1.4, .npts = NPTS, .dir = 1,
+                   .param2 = -1, .pts = up, .ndone = NPTS};
+    wg_params_default(&ch.base);
+    const char *run = "ramp ω 1 → 1.4 over 2 s simulated (≈ 12000 mesh periods), every "
+                      "section binned onto 21 values";
+    snprintf(prefix, sizeof prefix, "%s/run", dir);
+    snprintf(path, sizeof path, "%s.svg", prefix);
+    for (int k = 0; k < 2; k++) {
+        sweep_study st = {.scene = "test", .param = WG_P_OMEGA, .gparam = -1, .ngroups = 1,
+                          .b = 1, .o = &o, .scene_p = &ch.base, .format = "svg",
+                          .run = k ? run : NULL};
+        st.g[0] = (sweep_group){0, &ch, NULL};
+        ASSERT_EQ_INT(out_pngs(prefix, &st, NULL, why, sizeof why), 0);
+        slurp(path, svg, sizeof svg);
+        unlink(path);
+        if (k) {
+            ASSERT_TRUE(strstr(svg, "steps per mesh period, ramp ω 1 → 1.4 over 2 s simulated")
+                        != NULL);
+            ASSERT_TRUE(strstr(svg, "every section binned onto 21 values") != NULL);
+            ASSERT_TRUE(strstr(svg, "transient") == NULL && strstr(svg, "recorded") == NULL);
+        } else {
+            ASSERT_TRUE(strstr(svg, "transient 300 periods") != NULL);
+        }
+    }
+    rmdir(dir);
+}
+
+TEST_MAIN(TEST(test_ticks), TEST(test_split_sweeps), TEST(test_run_caption),
+          TEST(test_repeated_sections_drawn_once),
           TEST(test_near_sections_both_drawn),
           TEST(test_each_point_its_own_spots), TEST(test_poincare_of_period_one),
           TEST(test_ylabel_clear_of_ticks), TEST(test_single_point))

@@ -6,7 +6,9 @@
 # the phase at which the daemon applies the step: 0.7, 0.9, 1.1, 1.3 and 1.5
 # up have coexisting orbits or long transients, and land on either); the outputs exist; the
 # CONTACT impacts equal the POINCARE statistics; a ramp (beside a hostile
-# sender whose PARAMS the rig ignores); refusals; usage.
+# sender whose PARAMS the rig ignores) and the value put back after it, also
+# when stopped mid-ramp; refusals (every point refused: no outputs written,
+# an earlier run's stay); usage.
 # Run through netns.sh (host-local URL only).
 D=$1 R=$2 S=$3 C=$4 SPOOF=$5
 code=0
@@ -145,6 +147,39 @@ awk -F, '$1 == "up" && $3 == 0.5 && $7 == "no_impact" { ok = 1 } END { exit !ok 
     fail "ramp: omega 0.5 not no_impact: $(cat "$tmp/ramp.csv")"
 awk -F, '$1 == "up" && $3 == 0.9 && $7 == "single_sided" { ok = 1 } END { exit !ok }' "$tmp/ramp.csv" ||
     fail "ramp: omega 0.9 not single_sided: $(cat "$tmp/ramp.csv")"
+# what the ramp did, in the .md (and the figures' captions: clients.test_plot),
+# not a transient and record per point that it never ran
+grep -q "ramp ω 0.5 → 1 and back over 0.5 s simulated each way (≈ [0-9]* mesh periods), \
+every section binned onto 6 values" "$tmp/ramp.md" || fail "ramp.md: $(sed -n 5p "$tmp/ramp.md")"
+grep -q "transient" "$tmp/ramp.md" &&
+    fail "ramp.md claims a transient: $(grep transient "$tmp/ramp.md")"
+
+# the value put back after a ramp (no --keep), from 0.8, neither end: the
+# ramps left it at their end (0.5 after both ways, 1.0 after one up). The
+# mode first: the spoofer's STATUS (rate 1) is what the unsigned rig
+# restored above (it cannot tell the daemon's STATUS from a forged one)
+"$C" mode realtime 0.01 >/dev/null
+"$C" set omega=0.8 >/dev/null
+expect 0 "$R" --from 0.5 --to 1.0 --ramp 0.5s --bins 6 --fast --out "$tmp/ramp2"
+expect 0 "$C" status
+has out "mode realtime (rate 0.01)"
+has out "^omega     0\.8$"
+expect 0 "$R" --from 0.5 --to 1.0 --ramp 0.5s --bins 6 --dir up --fast --out "$tmp/ramp2"
+expect 0 "$C" status
+has out "^omega     0\.8$"
+# a long ramp stopped while it runs: exit 130, the ramp cancelled by the
+# restore, omega and the mode put back
+ramping() { "$C" status 2>/dev/null | grep -q "^ramp "; }
+"$R" --from 0.5 --to 1.0 --ramp 60s --bins 6 --dir up --fast --out "$tmp/rstop" \
+    2>"$tmp/rstop.err" &
+rpid=$!
+wait_until 30 ramping || fail "long ramp: the daemon never ramped: $(tail -3 "$tmp/rstop.err")"
+stop $rpid TERM; rc=$exit_status
+[ "$rc" = 130 ] || fail "SIGTERM mid-ramp: exit $rc, want 130: $(tail -3 "$tmp/rstop.err")"
+expect 0 "$C" status
+has out "mode realtime (rate 0.01)"
+has out "^omega     0\.8$"
+grep -q "^ramp " "$tmp/out" && fail "SIGTERM mid-ramp: the ramp still runs: $(cat "$tmp/out")"
 
 kill -TERM $pid; wait $pid; pid=
 
@@ -152,9 +187,19 @@ kill -TERM $pid; wait $pid; pid=
 "$D" --accept-commands=no --rate 0.01 --state-dir "$tmp" >"$tmp/d2.out" 2>&1 &
 pid=$!
 sleep 0.5
+# every point refused, so none measured: nothing written, an earlier run's
+# outputs under the same prefix stay as they were (they were overwritten
+# with rows of "none,0,0,no_impact,0,nan", a .md with settings and wall time)
+for f in "$tmp"/live.* "$tmp"/live-*; do cp "$f" "$tmp/ref${f#"$tmp"/live}"; done
+(cd "$tmp" && cksum ref.* ref-* >refsum)
 expect 1 "$R" --from 0.5 --to 0.6 --points 2 --dir up --retries 1 --out "$tmp/ref"
 has err "refused (ESTATE)"
 has err "2 skipped (refused)"
 has err ", 3 refusals,"   # one a point and the restore: commands off is not "not now", not retried
+has err "no point measured: no outputs written"
+has err "; outputs none$"
+(cd "$tmp" && cksum ref.* ref-* | cmp -s - refsum) ||
+    fail "refused run: the earlier ref.* changed: $(cd "$tmp" && cksum ref.* ref-* | diff - refsum)"
+[ -e "$tmp/ref-sections.csv.part" ] && fail "refused run: ref-sections.csv.part left behind"
 kill -TERM $pid; wait $pid; pid=
 exit $code
