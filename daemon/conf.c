@@ -638,16 +638,19 @@ static void join(const char *const *names, int n, char *buf, size_t len)
                  i == 0 ? "" : i == n - 1 ? " and " : ", ", names[i]);
 }
 
-void conf_reload(conf *run, const conf *next, const conf_apply_fn *hooks, void *ctx,
-                 char *kept, size_t keptlen)
+void conf_reload(conf *run, conf *loaded, const conf *next, const conf_apply_fn *hooks,
+                 void *ctx, char *kept, size_t keptlen, char *held, size_t heldlen)
 {
-    const char *names[NKEYS + 1];
-    int n = 0;
+    const char *names[NKEYS + 1], *mine[NKEYS];
+    int n = 0, m = 0;
     conf was = *run;
     for (int i = 0; i < NKEYS; i++) {
         const key *k = &keys[i];
-        if (!key_differs(k, &was, next))
+        if (!key_differs(k, loaded, next)) {
+            if (key_differs(k, &was, loaded)) /* a command's value: the file did not move */
+                mine[m++] = k->name;
             continue;
+        }
         if (k->flags & CONF_RESTART) {
             names[n++] = k->name;
             continue;
@@ -656,10 +659,12 @@ void conf_reload(conf *run, const conf *next, const conf_apply_fn *hooks, void *
         if (k->apply != CONF_APPLY_NONE && hooks[k->apply])
             hooks[k->apply](ctx, &was);
     }
-    if (sets_differ(&was, next))
+    if (sets_differ(loaded, next))
         names[n++] = "[params]";
     snprintf(run->path, sizeof run->path, "%s", next->path);
     join(names, n, kept, keptlen);
+    join(mine, m, held, heldlen);
+    *loaded = *next;
 }
 
 static void key_range(const key *k, char *buf, size_t len)

@@ -87,13 +87,17 @@ int conf_set(conf *c, const char *key, const char *value, char *why, size_t whyl
  * running configuration before the reload (the new values are in place). */
 typedef void (*conf_apply_fn)(void *ctx, const conf *was);
 
-/* Reload: one loop over the key table. Each live key whose value in next
- * differs is copied into run, then its hook (hooks[slot], may be NULL) is
+/* Reload: one loop over the key table, comparing next with loaded (what
+ * the last load said: file and options). Each live key whose value there
+ * changed is copied into run, then its hook (hooks[slot], may be NULL) is
  * called; restart-only keys and the [params] overrides keep their running
- * values, and the names of those that differ go to kept ("scene, url and
- * [params]"; "" if none). The config file path follows next. */
-void conf_reload(conf *run, const conf *next, const conf_apply_fn *hooks, void *ctx,
-                 char *kept, size_t keptlen);
+ * values, and the names of those that changed go to kept ("scene, url and
+ * [params]"; "" if none). A live key the load left alone keeps its running
+ * value, a command's (mode, rate, contacts) included: those differing from
+ * the load are named in held ("mode and rate"; ""). loaded becomes next; the
+ * config file path follows next. */
+void conf_reload(conf *run, conf *loaded, const conf *next, const conf_apply_fn *hooks,
+                 void *ctx, char *kept, size_t keptlen, char *held, size_t heldlen);
 
 /* Check number x for key name against the table (its range; an integer for
  * integer keys), as conf_set checks text: 0, or 2 with why naming the key,

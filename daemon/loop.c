@@ -287,7 +287,7 @@ static const conf_apply_fn hooks[CONF_NAPPLY] = {
 static void reload(wgd *d)
 {
     conf c;
-    char why[640], kept[200];
+    char why[640], kept[200], held[200];
     int state;
     d->reload = 0;
     sdn_reloading(&d->sd);
@@ -297,7 +297,11 @@ static void reload(wgd *d)
         log_msg(&d->log, LOG_ERR, "reload: %s; keeping the running configuration", why);
     } else {
         int same_key = !strcmp(c.command_key_file, d->conf.command_key_file);
-        conf_reload(&d->conf, &c, hooks, d, kept, sizeof kept);
+        conf_reload(&d->conf, &d->conf_loaded, &c, hooks, d, kept, sizeof kept, held,
+                    sizeof held);
+        if (held[0])
+            log_msg(&d->log, LOG_NOTICE, "reload: %s kept as set by command (the configuration "
+                    "did not change %s)", held, strchr(held, ' ') ? "them" : "it");
         if (same_key && d->conf.command_key_file[0])
             reread_key(d);
         if (kept[0])

@@ -149,6 +149,7 @@ static int run(wgd *d)
         finish(d, i - 1);
         return rc;
     }
+    d->conf_loaded = d->conf; /* what a reload compares its load with */
     if (d->conf.check_only) {
         printf("configuration ok: scene %s, N = %d, mode %s, rate %g, url %s, prefix %s, "
                "state dir %s%s%s\n", d->scene.name, d->sim.cfg.steps_per_period,

@@ -101,6 +101,8 @@ typedef struct wgd {
     int argc;
     char **argv;
     conf conf;
+    conf conf_loaded;            /* as the last load said (file, options): a reload applies
+                                    what changed since, a command's mode or rate stays */
     log_ctx log;
     /* simulation (engine.c) */
     wg_scene scene;

@@ -49,8 +49,8 @@ static const conf_apply_fn hooks[CONF_NAPPLY] = {
  * [params] overrides keep their running values and are named. */
 static void test_reload_live_and_restart(void)
 {
-    conf run, next;
-    char kept[200];
+    conf run, next, loaded;
+    char kept[200], held[200];
     conf_defaults(&run);
     run.mode = MODE_LOCKSTEP;
     calls k = {.run = &run};
@@ -61,7 +61,8 @@ static void test_reload_live_and_restart(void)
     next.steps_per_period = 256;
     next.nsets = 1;
     snprintf(next.sets[0], sizeof next.sets[0], "omega=1.1");
-    conf_reload(&run, &next, hooks, &k, kept, sizeof kept);
+    loaded = run;
+    conf_reload(&run, &loaded, &next, hooks, &k, kept, sizeof kept, held, sizeof held);
     ASSERT_EQ_INT(run.mode, MODE_FAST);
     ASSERT_NEAR(run.rate, 0.25, 0);
     ASSERT_EQ_INT(run.tick_us, 2000);
@@ -79,7 +80,8 @@ static void test_reload_live_and_restart(void)
     /* nothing changed: no hook, nothing named */
     k = (calls){.run = &run};
     next = run;
-    conf_reload(&run, &next, hooks, &k, kept, sizeof kept);
+    loaded = run;
+    conf_reload(&run, &loaded, &next, hooks, &k, kept, sizeof kept, held, sizeof held);
     ASSERT_STR(kept, "");
     ASSERT_EQ_INT(k.mode + k.tick + k.verbose, 0);
     /* a changed [params] value (same count) is named too */
@@ -87,7 +89,8 @@ static void test_reload_live_and_restart(void)
     next.nsets = 1;
     run.nsets = 1;
     snprintf(run.sets[0], sizeof run.sets[0], "omega=1.1");
-    conf_reload(&run, &next, hooks, &k, kept, sizeof kept);
+    loaded = run;
+    conf_reload(&run, &loaded, &next, hooks, &k, kept, sizeof kept, held, sizeof held);
     ASSERT_STR(kept, "[params]");
     ASSERT_STR(run.sets[0], "omega=1.1");
 }
@@ -96,8 +99,8 @@ static void test_reload_live_and_restart(void)
  * order (as the reload warning always listed them). */
 static void test_reload_names_every_restart_key(void)
 {
-    conf run, next;
-    char kept[200];
+    conf run, next, loaded;
+    char kept[200], held[200];
     conf_defaults(&run);
     next = run;
     snprintf(next.scene, sizeof next.scene, "lowfreq");
@@ -106,11 +109,46 @@ static void test_reload_names_every_restart_key(void)
     next.steps_per_period = 64, next.stepper = WG_STEPPER_RK4, next.mlock = 1, next.nsets = 1;
     snprintf(next.sets[0], sizeof next.sets[0], "omega=1.1");
     calls k = {.run = &run};
-    conf_reload(&run, &next, hooks, &k, kept, sizeof kept);
+    loaded = run;
+    conf_reload(&run, &loaded, &next, hooks, &k, kept, sizeof kept, held, sizeof held);
     ASSERT_STR(kept, "scene, url, prefix, steps_per_period, stepper, mlock and [params]");
     ASSERT_EQ_INT(k.mode + k.tick + k.verbose, 0);
     ASSERT_STR(run.url, "udpm://239.255.76.67:7667?ttl=0");
     ASSERT_STR(run.prefix, "WORMGEAR_");
+}
+
+/* A reload applies what the configuration changed since the last load; a
+ * value a command set (mode fast, contacts mesh) stays where the file left
+ * that key alone, and is named (a SIGHUP with the file untouched put the
+ * daemon back to realtime 1 and said nothing). */
+static void test_reload_keeps_commands(void)
+{
+    conf run, next, loaded;
+    char kept[200], held[200];
+    conf_defaults(&run);
+    loaded = run;
+    run.mode = MODE_FAST, run.rate = 0.01, run.contacts = 1; /* by commands */
+    calls k = {.run = &run};
+    next = loaded; /* the file as it was */
+    conf_reload(&run, &loaded, &next, hooks, &k, kept, sizeof kept, held, sizeof held);
+    ASSERT_EQ_INT(run.mode, MODE_FAST);
+    ASSERT_NEAR(run.rate, 0.01, 0);
+    ASSERT_EQ_INT(run.contacts, 1);
+    ASSERT_STR(held, "mode, rate and contacts");
+    ASSERT_STR(kept, "");
+    ASSERT_EQ_INT(k.mode, 0);
+    /* the file changes the rate: that is applied, the mode stays the command's */
+    next.rate = 0.5;
+    conf_reload(&run, &loaded, &next, hooks, &k, kept, sizeof kept, held, sizeof held);
+    ASSERT_EQ_INT(run.mode, MODE_FAST);
+    ASSERT_NEAR(run.rate, 0.5, 0);
+    ASSERT_STR(held, "mode and contacts");
+    /* and then the mode: applied, its hook run */
+    next.mode = MODE_LOCKSTEP;
+    conf_reload(&run, &loaded, &next, hooks, &k, kept, sizeof kept, held, sizeof held);
+    ASSERT_EQ_INT(run.mode, MODE_LOCKSTEP);
+    ASSERT_EQ_INT(k.mode, 1);
+    ASSERT_STR(held, "contacts");
 }
 
 static void write_conf(const char *text)
@@ -242,16 +280,17 @@ static void test_long_line(void)
 /* The SIGHUP path: load the file again, reload into the running one. */
 static void test_reload_from_file(void)
 {
-    char a0[] = "wormgeard", a1[] = "-c", a2[sizeof cfgpath], why[400], kept[200];
+    char a0[] = "wormgeard", a1[] = "-c", a2[sizeof cfgpath], why[400], kept[200], held[200];
     memcpy(a2, cfgpath, sizeof cfgpath);
     char *argv[] = {a0, a1, a2, NULL};
-    conf run, next;
+    conf run, next, loaded;
     write_conf("[wormgeard]\nmode = lockstep\nrate = 0.5\n[params]\nomega = 1.0\n");
     ASSERT_EQ_INT(conf_load(&run, 3, argv, why, sizeof why), 0);
     write_conf("[wormgeard]\nmode = fast\nscene = lowfreq\n[params]\nomega = 1.1\n");
     ASSERT_EQ_INT(conf_load(&next, 3, argv, why, sizeof why), 0);
     calls k = {.run = &run};
-    conf_reload(&run, &next, hooks, &k, kept, sizeof kept);
+    loaded = run;
+    conf_reload(&run, &loaded, &next, hooks, &k, kept, sizeof kept, held, sizeof held);
     ASSERT_STR(kept, "scene and [params]");
     ASSERT_EQ_INT(run.mode, MODE_FAST);
     ASSERT_NEAR(run.rate, 1, 0); /* no longer in the file: the default */
@@ -337,7 +376,7 @@ static void test_set_long_spelling(void)
 
 #define main tests_main
 TEST_MAIN(TEST(test_reload_live_and_restart), TEST(test_reload_names_every_restart_key),
-          TEST(test_reload_from_file), TEST(test_check_number), TEST(test_file_kinds),
+          TEST(test_reload_keeps_commands), TEST(test_reload_from_file), TEST(test_check_number), TEST(test_file_kinds),
           TEST(test_nul_bytes), TEST(test_keys_once), TEST(test_long_line),
           TEST(test_environment), TEST(test_set_long_spelling))
 #undef main

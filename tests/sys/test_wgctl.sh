@@ -196,6 +196,15 @@ has err "^wgctl: contacts: expected all|mesh|none \[N >= 1\] (got 'some')"
 expect 2 "$C" contacts
 expect 2 "$C" contacts all 0
 expect 0 "$C" contacts all 1
+# a reload with the file untouched keeps what commands set (it put the
+# daemon back to the file's realtime x0.05 and said nothing), and says so
+expect 0 "$C" mode fast
+kill -HUP "$pid"
+wait_until 10 grep -q 'reload: mode kept as set by command (the configuration did not change it)' "$tmp/log" ||
+    fail "reload: no 'mode kept' line: $(grep reload "$tmp/log")"
+expect 0 "$C" status
+has out "mode fast (rate 0.05), running"
+expect 0 "$C" mode realtime 0.05
 # a new ramp says what it replaced
 expect 0 "$C" ramp omega 1.3 --over 100s
 expect 0 "$C" ramp omega 1.1 --over 100s
