@@ -535,13 +535,44 @@ static int apply_option(conf *c, int opt, const char *arg, char *why, size_t len
     }
 }
 
+/* An option's key, or --set's parameter, given once on the command line
+ * (it overrides the file's): the second of "--rate 1 --rate 3" or "--set
+ * omega=1.2 --set omega=1.3" was taken silently. 0, or 2 with why. */
+static int given_once(int opt, const char *arg, char *seen, char sets[][64], int *nsets, char *why,
+                size_t len)
+{
+    if (opt >= OPT_KEY0 && opt < OPT_KEY0 + NKEYS) {
+        if (seen[opt - OPT_KEY0]++) {
+            char o[40];
+            snprintf(o, sizeof o, "%s", keys[opt - OPT_KEY0].name);
+            for (char *p = o; *p; p++)
+                *p = *p == '_' ? '-' : *p;
+            snprintf(why, len, "--%s given twice (each option once)", o);
+            return 2;
+        }
+        return 0;
+    }
+    if (opt != OPT_SET || !arg || !strchr(arg, '='))
+        return 0; /* a --set without '=' is refused by its own check */
+    int n = (int)(strchr(arg, '=') - arg);
+    for (int i = 0; i < *nsets; i++)
+        if ((int)strlen(sets[i]) == n && !strncmp(sets[i], arg, (size_t)n)) {
+            snprintf(why, len, "--set %.*s given twice (each parameter once)", n, arg);
+            return 2;
+        }
+    if (*nsets < CONF_MAX_SETS && n < 64)
+        snprintf(sets[(*nsets)++], 64, "%.*s", n, arg);
+    return 0;
+}
+
 /* Walk the options; pass 0 only finds --config and --help. */
 static int walk(conf *c, int argc, char **argv, int pass, const char **cfg, char *why,
                 size_t len)
 {
     optset s;
     build_options(&s);
-    int opt, help = 0;
+    int opt, help = 0, nsets = 0, configs = 0;
+    char seen[NKEYS] = {0}, sets[CONF_MAX_SETS][64]; /* given once each, as in a file */
     optind = 0; /* GNU: full re-initialisation (conf_load may run again) */
     opterr = 0;
     while ((opt = getopt_long(argc, argv, ":c:hFv", s.o, NULL)) != -1) {
@@ -562,11 +593,17 @@ static int walk(conf *c, int argc, char **argv, int pass, const char **cfg, char
             optarg = argv[optind++];
         if (pass == 0) {
             help |= opt == OPT_HELP;
+            if (opt == OPT_CONFIG && configs++) {
+                snprintf(why, len, "-c/--config given twice (one config file)");
+                return 2;
+            }
             if (opt == OPT_CONFIG)
                 *cfg = optarg;
-        } else if (apply_option(c, opt, optarg, why, len)) {
-            return 2;
+            continue;
         }
+        if (given_once(opt, optarg, seen, sets, &nsets, why, len) ||
+            apply_option(c, opt, optarg, why, len))
+            return 2;
     }
     if (optind < argc) {
         snprintf(why, len, "unexpected argument '%s'", argv[optind]);

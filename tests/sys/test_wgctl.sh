@@ -36,6 +36,15 @@ expect 0 "$D" -c "$tmp/ok.conf" --mode lockstep --check-config
 has out "mode lockstep, rate 0.5"
 expect 2 "$D" --mode warp --check-config
 has err "mode: 'warp' is not one of realtime, fast, lockstep"
+# an option or a --set parameter given twice: refused as in a file (the
+# second was taken silently), different parameters fine
+expect 2 "$D" --set omega=1.2 --set omega=1.3 --check-config
+has err "^wormgeard: --set omega given twice (each parameter once)"
+expect 2 "$D" --steps-per-period 256 --steps-per-period 128 --check-config
+has err "^wormgeard: --steps-per-period given twice (each option once)"
+expect 0 "$D" --set omega=1.2 --set xi_p=0.1 --check-config
+expect 2 "$D" -c "$tmp/ok.conf" --config "$tmp/ok.conf" --check-config
+has err "config given twice"
 expect 2 "$D" --bogus
 has err "unknown option '--bogus'"
 [ "$(grep -o -- '--help' "$tmp/err" | wc -l)" -eq 1 ] || fail "--bogus: not exactly one hint: $(cat "$tmp/err")"
