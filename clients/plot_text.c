@@ -19,7 +19,7 @@ const char *plot_text_plabel(int id, char *buf, size_t len)
     else if (id == WG_P_XI_P)
         snprintf(buf, len, "ξ_p = mesh damping ratio  (-)");
     else if (r)
-        snprintf(buf, len, "%s  (%s)", r->name, units_shown(r->unit));
+        snprintf(buf, len, "%s  (%s)", r->name, wg_unit_shown(r->unit));
     else
         snprintf(buf, len, "?");
     return buf;

@@ -52,11 +52,6 @@ int units_scale_ok(const units_scale *s)
            s->length_m > 0 && isfinite(s->mesh_stiffness_N_m) && s->mesh_stiffness_N_m > 0;
 }
 
-const char *units_shown(const char *table_unit)
-{
-    return !table_unit || !*table_unit || strcmp(table_unit, "1") == 0 ? "-" : table_unit;
-}
-
 const char *units_param_rule(int id)
 {
     return id >= 0 && id < WG_NPARAM && rules[id].words ? rules[id].words : "";

@@ -20,9 +20,6 @@ typedef struct units_scale {
 /* 1 when every factor of s is finite and > 0 (a scale to convert with). */
 int units_scale_ok(const units_scale *s);
 
-/* The table's unit as a reader should see it: "-" for a dimensionless
- * parameter (the table's "1"), else the unit itself ("rad"). */
-const char *units_shown(const char *table_unit);
 
 /* The physical equivalent of parameter id at the values p (bearing rows
  * need the mass ratios mu1, mu2 of p): 0 with *v and *unit ("Hz", "µm",

@@ -454,7 +454,7 @@ static void print_params(const ctl *t, const wormgear_params_t *p)
         const char *u;
         if (!wanted(t, p->name[i]))
             continue;
-        const char *shown = units_shown(p->unit[i]);
+        const char *shown = wg_unit_shown(p->unit[i]);
         printf("  %-5s = %-19s", p->name[i], wg_num_format(p->value[i], num, sizeof num));
         if (!units_param(wg_param_lookup(p->name[i]), &v, &sc, &x, &u))
             printf(" %-3s  %.6g %s\n", shown, x, u);
@@ -591,7 +591,7 @@ static int do_params(const ctl *t)
             char range[48];
             const char *rule = units_param_rule(i);
             wg_range_shown(r->min, r->max, range, sizeof range); /* accepted as shown */
-            printf("%-5s %-4s %-19s %-9.6g %s%s%s%s\n", r->name, units_shown(r->unit), range,
+            printf("%-5s %-4s %-19s %-9.6g %s%s%s%s\n", r->name, wg_unit_shown(r->unit), range,
                    r->def, r->help,
                    r->flags & WG_PF_RAMP ? " (rampable)" : "", *rule ? "; physical: " : "", rule);
         }

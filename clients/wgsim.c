@@ -79,7 +79,7 @@ static void usage(FILE *f)
     for (int i = 0; i < WG_NPARAM; i++) {
         const wg_param_info *r = wg_param_info_get(i);
         char range[48];
-        fprintf(f, "  %-5s %-3s %s %g: %s\n", r->name, r->unit,
+        fprintf(f, "  %-5s %-3s %s %g: %s\n", r->name, wg_unit_shown(r->unit),
                 wg_range_shown(r->min, r->max, range, sizeof range), r->def, r->help);
     }
     fprintf(f, "\nScene [physical] keys (unit [min, max]):\n");

@@ -750,7 +750,7 @@ void conf_usage(FILE *f)
     for (int i = 0; i < WG_NPARAM; i++) {
         const wg_param_info *r = wg_param_info_get(i);
         char shown[48];
-        fprintf(f, "  %-5s %-3s %s %g%s: %s\n", r->name, r->unit,
+        fprintf(f, "  %-5s %-3s %s %g%s: %s\n", r->name, wg_unit_shown(r->unit),
                 wg_range_shown(r->min, r->max, shown, sizeof shown), r->def,
                 r->flags & WG_PF_RAMP ? " (rampable)" : "", r->help);
     }

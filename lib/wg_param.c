@@ -204,3 +204,8 @@ int wg_params_check(const wg_params *p, char *why, size_t whylen)
     }
     return WG_OK;
 }
+
+const char *wg_unit_shown(const char *table_unit)
+{
+    return !table_unit || !*table_unit || strcmp(table_unit, "1") == 0 ? "-" : table_unit;
+}

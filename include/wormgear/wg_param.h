@@ -76,6 +76,11 @@ const char *wg_num_format(double v, char *buf, size_t len);
  * for +-2 pi, where %g's 6.28319 is out of range). Returns buf. */
 const char *wg_range_shown(double min, double max, char *buf, size_t len);
 
+/* The table's unit as a reader should see it: "-" for a dimensionless
+ * parameter (the table's "1"), else the unit itself ("rad"). Every help
+ * text and table shows this. */
+const char *wg_unit_shown(const char *table_unit);
+
 /* Fill p with the table defaults (the table3 scene). */
 void wg_params_default(wg_params *p);
 

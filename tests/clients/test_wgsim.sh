@@ -179,6 +179,8 @@ check "... every trace row whole, 128 for each of the $p periods" drained
 printf '[initial]\nstate = given\n' >"$tmp/given.ini"
 for k in x1 y1 z1 x2 y2 z2 s dx1 dy1 dz1 dx2 dy2 dz2 ds; do echo "$k = 0.01" >>"$tmp/given.ini"; done
 expect_exit 0 "motion" --scene "$tmp/given.ini" --periods 2 --transient 0
+# a dimensionless parameter's unit reads "-" in the help, as in wgctl params
+expect_exit 0 "^  xi_p  -   \[0, 2\] 0.08: mesh damping ratio" --help
 # the printed form has no RK4 limit: not claimed as "N >= 1"
 expect_exit 0 "no RK4 limit checked (the printed form grows by design)" --model printed --periods 2
 expect_exit 0 "RK4 limit N >= 11;" --periods 2

@@ -57,6 +57,8 @@ has out "--state-rate-hz"
 # the stepper's default is the value "default": said as such, not "default default"
 has out 'default "default" (the model.s own); default, rk4, rk4-event'
 ! grep -q 'default default' "$tmp/out" || fail "--help: 'default default'"
+# a dimensionless parameter's unit reads "-", as in wgctl params (it read "1")
+has out '^  xi_p  -   \[0, 2\] 0.08'
 # a config file is read only when it is a regular file (/dev/zero was read
 # forever), of at most 1 MiB, text, each key once
 expect 2 timeout 10 "$D" --check-config -c /dev/zero
