@@ -256,8 +256,10 @@ function drawScope() {
   const periods = idx.length > 1 ? (s.step[idx[idx.length - 1]] - s.step[idx[0]]) / N : 0;
   $("cap-phase").textContent = `last ${idx.length} scope samples, over ${periods.toFixed(periods < 10 ? 2 : 0)} mesh periods`;
   const spacing = idx.length > 1 ? periods / (idx.length - 1) : 0;
-  $("cap-xn").textContent = captionXn + (spacing > 0.5 ? `; samples ${spacing.toFixed(1)} mesh periods apart: ` +
-    "a stroboscopic (aliased) view, not the waveform (run the daemon slower, e.g. --rate 0.01, to see it)" : "");
+  // the aliasing note joins the PARAMS caption with "; " only when there is one
+  const alias = spacing > 0.5 ? `samples ${spacing.toFixed(1)} mesh periods apart: ` +
+    "a stroboscopic (aliased) view, not the waveform (run the daemon slower, e.g. --rate 0.01, to see it)" : "";
+  $("cap-xn").textContent = [captionXn, alias].filter((t) => t).join("; ");
   plots.phase.setLabels(`x_n [${units.unit("x_n")}]`, `x_n′ [${units.unit("dx_n")}]`, fx, fv);
 }
 

@@ -31,6 +31,14 @@ try {
   page.on("pageerror", (e) => errors.push(String(e)));
   page.on("console", (m) => m.type() === "error" && errors.push(m.text()));
   await page.goto(url);
+  // every text the x_n caption takes, from the first (it began "; samples …"
+  // while no PARAMS had come)
+  await page.evaluate(() => {
+    const el = document.querySelector("#cap-xn");
+    window.capTexts = [el.textContent];
+    new MutationObserver(() => window.capTexts.push(el.textContent))
+      .observe(el, { childList: true, characterData: true, subtree: true });
+  });
   const samples = (id) => page.$eval(id, (el) => +el.dataset.samples);
   await page.waitForFunction(() => window.wgTest?.params && window.wgTest.scope > 50 && window.wgTest.poincare > 20,
     null, { timeout: 15000 });
@@ -75,6 +83,10 @@ try {
   await page.screenshot({ path: shot, fullPage: true });
   console.log(`ok screenshot ${shot}`);
 
+  const caps = await page.evaluate(() => window.capTexts);
+  assert.ok(caps.length > 1 && caps.every((t) => !/^\s*;/.test(t)),
+    `the x_n caption never starts with "; ": ${JSON.stringify(caps.filter((t) => /^\s*;/.test(t)).slice(0, 2))}`);
+  console.log(`ok x_n caption: ${caps.length} texts, none starting with "; "`);
   if (process.env.WG_SPOOF) await spoofed(page);
   assert.deepEqual(errors, [], "no page errors");
 } catch (e) {
