@@ -92,6 +92,9 @@ stop "$runpid" INT; rc=$exit_status
 runpid=
 [ "$rc" = 0 ] || fail "tools/run.sh after Ctrl-C: exit $rc"
 grep -q "realtime x1 running ok" "$tmp/run.out" || fail "no status line from run.sh: $(tail -2 "$tmp/run.out")"
+# what run.sh does is said (a first build took minutes with no word)
+grep -q "^run: building build/release" "$tmp/run.err" && grep -q "^run: starting wormgeard" "$tmp/run.err" ||
+    fail "run.sh did not say it builds and starts: $(head -3 "$tmp/run.err")"
 
 # ---- the offline commands that follow (the section's second block), in a
 # scratch directory (they write files) that sees the build as build/
