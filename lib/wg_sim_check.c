@@ -24,6 +24,8 @@ int sim_finite_state(const double *y, int n)
 
 #define TAU_MAX 1e15     /* tau of a snapshot: ~1000 years of table3's physical time */
 #define TAU_C_REL 1e-12  /* |tau_c| <= TAU_C_REL (1 + tau): Kahan's term is ulps of tau */
+#define STEPS_MAX 1000000000000000000ULL /* 1e18 steps: 30 years at 1e9 a second; the
+                                            counters then never wrap (UINT64_MAX did) */
 
 int sim_refuse(int rc, char *why, size_t whylen, const char *fmt, ...)
 {
@@ -53,6 +55,9 @@ static int restore_time(const wg_snapshot *w, char *why, size_t whylen)
                           "%g (1 + tau) = %s (Kahan's compensation term)",
                           wg_num_format(w->tau_c, a, sizeof a), TAU_C_REL,
                           wg_num_format(cmax, b, sizeof b));
+    if (w->steps > STEPS_MAX)
+        return sim_refuse(WG_EINVAL, why, whylen, "snapshot steps = %llu out of range [0, %llu]",
+                          (unsigned long long)w->steps, STEPS_MAX);
     if (w->period > w->steps)
         return sim_refuse(WG_EINVAL, why, whylen, "snapshot period = %llu exceeds steps = %llu "
                           "(each period takes steps)", (unsigned long long)w->period,

@@ -86,6 +86,7 @@ static void m_bimpacts_max(wg_snapshot *w) { w->last.bimpacts[2] = INT32_MAX; }
 static void m_minmax(wg_snapshot *w) { w->last.min_xn = w->last.max_xn + 1; }
 static void m_min_nan(wg_snapshot *w) { w->cur.min_xn = NAN; }
 static void m_cur_period(wg_snapshot *w) { w->cur.period = w->period + 1; }
+static void m_steps_max(wg_snapshot *w) { w->steps = w->period = w->cur.period = UINT64_MAX; }
 
 static const hostile cases[] = {
     {"another model", m_model, WG_ESTATE, "model printed"},
@@ -126,6 +127,9 @@ static const hostile cases[] = {
     {"last.z1 impacts = 2^31 - 1", m_bimpacts_max, WG_EINVAL, "last.z1 bearing statistics"},
     {"last.min_xn > last.max_xn", m_minmax, WG_EINVAL, "last.min_xn"},
     {"cur.min_xn = nan", m_min_nan, WG_EINVAL, "cur.min_xn"},
+    /* the counters wrapped to 0 at the next step */
+    {"steps = period = 2^64 - 1", m_steps_max, WG_EINVAL,
+     "steps = 18446744073709551615 out of range [0, 1000000000000000000]"},
     {"cur.period != period", m_cur_period, WG_EINVAL, "cur.period"},
 };
 
