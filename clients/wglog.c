@@ -407,8 +407,11 @@ static int type_of(int64_t hash)
  * (A/B and A_B were written into one file, interleaved). */
 static FILE *open_csv(const log_run *r, const chan *self, char *path, size_t len)
 {
-    size_t n = (size_t)snprintf(path, len, "%s/", r->out);
-    for (const char *s = self->name; *s && n + 16 < len; s++)
+    size_t n = (size_t)snprintf(path, len, "%s/", r->out), n0 = n;
+    /* at most 200 bytes of the name: a file name has 255 (a longer channel name
+     * stopped the whole export with "File name too long"); those alike in
+     * their first 200 bytes go to ~2, ~3 ... */
+    for (const char *s = self->name; *s && n + 16 < len && n - n0 < 200; s++)
         path[n++] = (*s == '/' || *s == '\\' || (unsigned char)*s < 0x20) ? '_' : *s;
     for (int k = 1;; k++) {
         snprintf(path + n, len - n, k == 1 ? ".csv" : "~%d.csv", k);
@@ -587,9 +590,17 @@ static int close_all(log_run *r)
     int rc = 0;
     for (int i = 0; i < r->nch; i++) {
         chan *c = &r->ch[i];
-        if (c->csv && (ferror(c->csv) | fclose(c->csv))) {
-            fprintf(stderr, "wglog: error writing the CSV of %s\n", c->shown);
-            rc = 1;
+        if (c->csv) {
+            errno = 0;
+            int bad = ferror(c->csv), err = errno;
+            if (fclose(c->csv))
+                bad = 1, err = errno;
+            if (bad) { /* its name and why: "error writing the CSV of X" said neither */
+                fprintf(stderr, "wglog: writing %s (channel %s) failed: %s: the file is "
+                        "incomplete\n", c->file ? c->file : "?", c->shown,
+                        err ? strerror(err) : "a write error");
+                rc = 1;
+            }
         }
         c->csv = NULL;
         if (r->export_ && c->type == T_UNKNOWN && !r->quiet)

@@ -372,7 +372,7 @@ static void test_channel_filter(void)
  * own CSV (they were written into one, interleaved), and said. */
 static void test_export_names_collide(void)
 {
-    char path[160], cmd[512], out[4096];
+    char path[160], cmd[1024], out[4096];
     snprintf(path, sizeof path, "%s/collide.lcmlog", dir);
     lcm_eventlog_t *l = lcm_eventlog_create(path, "w");
     ASSERT_TRUE(l != NULL);
@@ -387,6 +387,26 @@ static void test_export_names_collide(void)
     ASSERT_EQ_INT(run(cmd, out, sizeof out), 0);
     ASSERT_CONTAINS(out, "R/TICK: another channel's CSV has its file name");
     ASSERT_CONTAINS(out, "\n3\n3\n"); /* a header and 2 rows each */
+    /* channel names of 300 bytes, alike in their first 200: each CSV's name
+     * cut to 200 bytes, the second ~2 (the export stopped: File name too long) */
+    char longa[301], longb[301];
+    memset(longa, 'A', 300), memset(longb, 'A', 300);
+    longa[300] = longb[300] = 0, longb[299] = 'B';
+    l = lcm_eventlog_create(path, "w");
+    ASSERT_TRUE(l != NULL);
+    for (int k = 0; k < 4; k++) {
+        wormgear_tick_t t = {.utime = 1000 + k, .seq = k, .nsteps = 10 + k, .client = ""};
+        PUT(wormgear_tick_t, l, k % 2 ? longb : longa, 1000000 + 1000 * k, &t);
+    }
+    lcm_eventlog_destroy(l);
+    char name[201];
+    memset(name, 'A', 200), name[200] = 0;
+    snprintf(cmd, sizeof cmd, "mkdir -p %s/cl && %s export %s --out %s/cl 2>&1 && "
+             "wc -l <%s/cl/%s.csv && wc -l <'%s/cl/%s~2.csv'", dir, wglog(), path, dir, dir,
+             name, dir, name);
+    char big[8192];
+    ASSERT_EQ_INT(run(cmd, big, sizeof big), 0);
+    ASSERT_CONTAINS(big, "\n3\n3\n");
 }
 
 /* A big-endian int32 at p (the log's lengths). */
