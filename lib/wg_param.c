@@ -154,9 +154,14 @@ int wg_param_parse(int id, const char *text, double *v, char *why, size_t whylen
                      range_text(r, range, sizeof range));
         return WG_EINVAL;
     }
+    int erange = errno == ERANGE;
     int rc = wg_param_check(id, x, why, whylen);
     if (rc == WG_OK)
         *v = x;
+    else if (erange && why && whylen) { /* "omega = 0 out of range" for 1e-400: say what was typed */
+        size_t n = strlen(why);
+        snprintf(why + n, whylen - n, " (typed '%s', which a double holds as %g)", text, x);
+    }
     return rc;
 }
 

@@ -76,6 +76,8 @@ expect_exit 2 "unknown option" --frobnicate
 expect_exit 2 "allowed values are default, rk4, rk4-event" --stepper euler
 expect_exit 2 "allowed values are consistent, printed" --model fancy
 expect_exit 2 "omega = 99 out of range \[0.01, 10\]" --set omega=99
+# a value a double cannot hold: the text typed is quoted beside what it became
+expect_exit 2 "omega = 0 out of range \[0.01, 10\] (typed '1e-400', which a double holds as 0)" --set omega=1e-400
 expect_exit 2 "unknown parameter 'nope'" --set nope=1
 expect_exit 2 "z2 = 37.5 must be a whole number in \[4, 1000\]" --set z2=37.5
 expect_exit 2 "must be an integer in \[8, 65536\]" --steps-per-period 4
