@@ -84,9 +84,12 @@ static void usage(FILE *f)
         "  --record R              periods recorded for the period test (64..4096, default 128)\n"
         "  --extend E              extra transients while no period is found (default 3)\n"
         "  --lle-periods L         twin-trajectory periods for aperiodic points (default 300)\n"
-        "  --lle-tol X             |LLE| per period below X: quasi-periodic (default 0.01)\n"
-        "  --tol-factor F          period tolerance = max(floor, F x one-period error) (10)\n"
-        "  --tol-floor X           (default 1e-9)\n"
+        "  --lle-tol X             |LLE| per period below X: quasi-periodic (default 0.01;\n"
+        "                          %g to %g)\n"
+        "  --tol-factor F          period tolerance = max(floor, F x one-period error)\n"
+        "                          (default 10; %g to %g)\n"
+        "  --tol-floor X           (default 1e-9; %g to %g: states in b_c, the upper end\n"
+        "                          the tolerance of a slowly converging point)\n"
         "  --steps-per-period N    RK4 steps per mesh period (default 256; raised to 1.25x\n"
         "                          the RK4 stability limit where needed)\n"
         "  --stepper default|rk4|rk4-event (default: rk4-event; the printed\n"
@@ -127,7 +130,9 @@ static void usage(FILE *f)
         "  -h, --help              this text\n\n"
         "Ctrl-C stops a sweep after the current points and writes what is done (exit\n"
         "130); a second Ctrl-C, or one during --at, ends it at once.\n"
-        "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted.\n");
+        "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted.\n",
+        WG_LLE_TOL_MIN, WG_LLE_TOL_MAX, WG_TOL_FACTOR_MIN, WG_TOL_FACTOR_MAX, WG_TOL_MIN,
+        WG_TOL_FLOOR_MAX);
 }
 
 #define PROG "wgsweep"
@@ -221,13 +226,10 @@ static int parse_numeric(int c, const char *a, opts *o)
     case 'R': bad = cli_int(a, 64, 4096, &s->record), need = "--record: need 64..4096, got"; break;
     case 'E': bad = cli_int(a, 0, 1000, &s->extend), need = "--extend: need 0..1000, got"; break;
     case 'L': bad = cli_int(a, 1, 100000000, &s->lle_periods), need = "--lle-periods: need 1..1e8, got"; break;
-    case 'l': bad = cli_num(a, DBL_TRUE_MIN, DBL_MAX, &s->lle_tol), need = "--lle-tol: need > 0, got"; break;
-    case 'F':
-        bad = cli_num(a, DBL_TRUE_MIN, DBL_MAX, &s->tol_factor), need = "--tol-factor: need > 0, got";
-        break;
-    case 'f':
-        bad = cli_num(a, DBL_TRUE_MIN, DBL_MAX, &s->tol_floor), need = "--tol-floor: need > 0, got";
-        break;
+    /* the tolerances' ranges: wg_sweep_opts_check, once all are read */
+    case 'l': bad = cli_double(a, &s->lle_tol), need = "--lle-tol: not a number:"; break;
+    case 'F': bad = cli_double(a, &s->tol_factor), need = "--tol-factor: not a number:"; break;
+    case 'f': bad = cli_double(a, &s->tol_floor), need = "--tol-floor: not a number:"; break;
     case 'N':
         bad = cli_int(a, WG_STEPS_MIN, WG_STEPS_MAX, &s->steps);
         need = "--steps-per-period: need 8..65536, got";
@@ -373,6 +375,13 @@ static int parse_opts(int argc, char **argv, opts *o)
         return cli_usage_error(PROG, "unexpected argument '%s'", argv[optind]);
     if (o->at_state && !o->at_set)
         return cli_usage_error(PROG, "--at-state needs --at V (the point to analyse)");
+    const char *field = "";
+    char why[160], opt[16];
+    if (wg_sweep_opts_check(&o->so, &field, why, sizeof why)) { /* tol_floor: --tol-floor */
+        for (int i = snprintf(opt, sizeof opt, "--%s", field); i > 2; i--)
+            opt[i] = opt[i] == '_' ? '-' : opt[i];
+        return cli_usage_error(PROG, "%s: %s", opt, why);
+    }
     if ((rc = check_combination(o)))
         return rc;
     if (o->step > 0 && o->step > fabs(o->to - o->from) * (1 + 1e-12) && o->to != o->from &&

@@ -70,10 +70,14 @@ check "--out in a missing directory: exit 2 before the continuation, the reason 
 # exit 1: "start omega = 1 must lie in [1, 1] (from != to)", "ds_min"); the
 # conditions are the library's (wg_cont_check), the option names wgcont's
 for a in "--from 1 --to 1|--from and --to: need a range" "--from 0.5 --to 0.6 --start 2|--start: need a value in \[0.5, 0.6\] (the range), got 2" \
-         "--from 0.5 --to 0.6 --max-step 1e-9|--max-step: need at least 1e-07 (the smallest step the continuation halves to), got 1e-09" "--from 0.5 --to 11|--to: omega = 11 out of range"; do
+         "--from 0.5 --to 0.6 --max-step 1e-9|--max-step: need at least 1e-07 (the smallest step the continuation halves to), got 1e-09" "--from 0.5 --to 11|--to: omega = 11 out of range" \
+         "--from 1 --to 1.05 --tol 1e300|--tol: need a residual (states in b_c) in \[1e-13, 1e-06\], got 1e+300" \
+         "--from 1 --to 1.05 --tol 1e-300|--tol: need a residual (states in b_c) in \[1e-13, 1e-06\], got 1e-300" \
+         "--from 1 --to 1.05 --loc-tol 1e300|--loc-tol: need a bracket (parameter units) in \[1e-13, 1e-05\], got 1e+300"; do
   "$cont" ${a%%|*} --out "$dir/rg" >/dev/null 2>"$dir/rg.err"; rc=$?
-  check "refused: ${a%%|*}" '[ $rc -eq 2 ] && [ "$(grep -c "^wgcont:" "$dir/rg.err")" -eq 1 ] && grep -q "^wgcont: ${a#*|}" "$dir/rg.err"'
+  check "refused: ${a%%|*}" '[ $rc -eq 2 ] && [ "$(grep -c "^wgcont:" "$dir/rg.err")" -eq 1 ] && grep -q "^wgcont: ${a#*|}" "$dir/rg.err" && ! ls "$dir"/rg* 2>/dev/null | grep -v rg.err'
 done
+check "--help gives the tolerances' ranges" '"$cont" --help | grep -q "(default 1e-10; 1e-13 to 1e-06"'
 "$cont" --from 0.5 --to 0.6 --out "$dir/" >/dev/null 2>"$dir/os.err"; r10=$?
 check "--out ending in /: exit 2, a file name prefix asked for" \
   '[ $r10 -eq 2 ] && grep -q "^wgcont: --out .*need a file name prefix" "$dir/os.err" && ! [ -e "$dir/.png" ]'

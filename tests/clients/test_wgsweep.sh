@@ -91,6 +91,15 @@ refuse "xi_p = -1 out of range \[0, 2\]" --map xi_p=-1:0.1:2
 refuse "M, the rows, need 1..100000" --map xi_p=0.1:0.2:0
 refuse "need 1..1e7" --at 1 --at-periods 99999999
 refuse "^wgsweep: --step 5: more than the range 0.2" --from 1 --to 1.2 --step 5
+# tolerances in their ranges (the library's, wg_sweep_opts_check): a floor
+# or factor of 1e300 made the period-2 points of 1.0-1.4 period 1, exit 0
+refuse "^wgsweep: --tol-floor: need a period tolerance floor (states in b_c) in \[1e-13, 0.0001\], got 1e+300" --from 1 --to 1.4 --points 5 --dir up --tol-floor 1e300
+refuse "^wgsweep: --tol-floor: .*\[1e-13, 0.0001\], got 1e-300" --from 1 --to 1.4 --points 5 --tol-floor 1e-300
+refuse "^wgsweep: --tol-factor: need a factor on the one-period error in \[1, 1000\], got 1e+300" --from 1 --to 1.4 --points 5 --tol-factor 1e300
+refuse "^wgsweep: --lle-tol: need an |LLE| threshold per mesh period in \[0.0001, 0.1\], got 1e+300" --lle-tol 1e300
+refuse "^wgsweep: --tol-floor: .*got nan" --at 1.2 --tol-floor nan
+check "--help gives the tolerances' ranges" \
+  '"$sweep" --help | grep -q "(default 1e-9; 1e-13 to 0.0001: states in b_c" && "$sweep" --help | grep -q "(default 10; 1 to 1000)"'
 # the grid is the one asked for, or refused (before: --step won over --points
 # silently, 0.07 became 0.0706, equal ends ran the same point three times)
 refuse "^wgsweep: --step 0.07: the range 2.4 (--from 0.1 --to 2.5) is 34.29 steps of it, not a whole number; give --step 0.0705882 (35 points) or 0.0685714 (36 points)" --step 0.07
