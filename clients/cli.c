@@ -4,6 +4,7 @@
 
 #include "wormgear/wg_param.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
@@ -103,6 +104,28 @@ int cli_int(const char *s, int lo, int hi, int *v)
 {
     int64_t x;
     if (cli_int64(s, lo, hi, &x))
+        return -1;
+    *v = (int)x;
+    return 0;
+}
+
+int cli_csv_num(const char *s, double *v)
+{
+    const char *p = s + (*s == '-');
+    int word = !strcmp(p, "nan") || !strcmp(p, "inf");
+    if (!word && (!(isdigit((unsigned char)*p) || *p == '.') || strpbrk(p, "xX")))
+        return -1; /* strtod takes " 1", "+1", "0x1p0", "infinity": printf writes none */
+    return cli_double(s, v);
+}
+
+int cli_csv_int(const char *s, int lo, int hi, int *v)
+{
+    const char *p = s + (*s == '-');
+    size_t n = strlen(p);
+    if (n == 0 || n > 10 || strspn(p, "0123456789") != n)
+        return -1;
+    long long x = strtoll(s, NULL, 10);
+    if (x < lo || x > hi)
         return -1;
     *v = (int)x;
     return 0;

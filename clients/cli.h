@@ -41,6 +41,15 @@ int cli_num(const char *s, double lo, double hi, double *v);
 int cli_int(const char *s, int lo, int hi, int *v);
 int cli_int64(const char *s, int64_t lo, int64_t hi, int64_t *v);
 
+/* A field of a CSV one of our tools wrote, as printf writes a number (%d,
+ * %g, %e): an optional '-', then a digit or '.', or nan or inf; the whole
+ * field, no hex, no space or '+' before it. *v may be NaN or infinite (the
+ * caller says what its column holds). 0, or -1. */
+int cli_csv_num(const char *s, double *v);
+
+/* The same for %d: an optional '-' and digits only, in [lo, hi]. */
+int cli_csv_int(const char *s, int lo, int hi, int *v);
+
 /* Option opt's value s by cli_num / cli_int: 0, or CLI_EUSAGE after
  * reporting "prog: opt 's': allowed" (allowed names the range in words). */
 int cli_opt_num(const char *prog, const char *opt, const char *s, double lo, double hi,

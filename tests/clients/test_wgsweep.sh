@@ -196,16 +196,37 @@ awk -F, -v OFS=, 'NR == 2 { $15 = -3 } 1' "$dir/v.csv" >"$dir/t7.csv"  # N = -3
 { head -2 "$dir/v.csv"; printf 'up,1,\0001.2\n'; sed -n '4,$p' "$dir/v.csv"; } >"$dir/t8.csv"
 { head -2 "$dir/v.csv"; head -c 5000 /dev/zero | tr '\0' 7; echo; } >"$dir/t9.csv"
 printf 'dir,index,omega\nup,0,1\n' >"$dir/t10.csv"   # a whole header, not wgsweep's
+# what a points CSV can hold (each was tabled: groups of nan or 1e999, an up
+# grid out of order giving brackets like 1.2000 (1.4000-1.0000), omega =
+# 1e308, garbage in the index or Floquet columns, a down sweep increasing)
+awk -F, -v OFS=, 'NR == 2 { $1 = "nan" } 1' "$dir/s1.csv" >"$dir/t11.csv"
+awk -F, -v OFS=, 'NR == 3 { $1 = "1e999" } 1' "$dir/s1.csv" >"$dir/t12.csv"
+awk -F, -v OFS=, 'NR == 3 { $3 = 1.0 } 1' "$dir/v.csv" >"$dir/t13.csv"
+awk -F, -v OFS=, 'NR == 2 { $3 = "1e308" } 1' "$dir/v.csv" >"$dir/t14.csv"
+awk -F, -v OFS=, 'NR == 2 { $2 = "abc" } 1' "$dir/v.csv" >"$dir/t15.csv"
+awk -F, -v OFS=, 'NR == 2 { $16 = "zzz" } 1' "$dir/v.csv" >"$dir/t16.csv"
+sed 's/^up,/down,/' "$dir/v.csv" >"$dir/t17.csv"
+awk -F, -v OFS=, 'NR == 2 { $5 = "+1" } 1' "$dir/v.csv" >"$dir/t18.csv"
 i=0
 for want in ":1: the line is cut short" ":3: the line is cut short" ": no points after the header" \
-            ":2: a field is not what wgsweep writes there" ":3: 3 fields, the header has" \
-            ":2: a field is not what wgsweep writes there" ":2: a field is not what wgsweep writes there" \
+            ":2: regime 'periodik' is not what wgsweep writes there: need a regime name" \
+            ":3: 3 fields, the header has" \
+            ":2: period '-7' is not what wgsweep writes there: need a whole number 0..32" \
+            ":2: steps_per_period '-3' is not what wgsweep writes there: need a whole number 8..65536" \
             ":3: a NUL byte: not a text file" ":3: longer than 4094 characters" \
-            ":1: not a wgsweep points CSV header"; do
+            ":1: not a wgsweep points CSV header" \
+            ":2: group value 'nan': need a finite value of xi_p in its range (xi_p = nan out of range \\[0, 2\\])" \
+            ":3: group value '1e999': need a finite value of xi_p in its range (xi_p = inf out of range" \
+            ":3: omega 1 after 1.17 in the up sweep: need values strictly increasing, as wgsweep writes them" \
+            ":2: omega '1e308': need a finite value in its range (omega = 1e+308 out of range \\[0.01, 10\\])" \
+            ":2: index 'abc': need 0 (each direction's rows numbered 0, 1, 2, ... in the order" \
+            ":2: floquet1_re 'zzz' is not what wgsweep writes there: need a finite number, or empty" \
+            ":3: omega 1.18 after 1.17 in the down sweep: need values strictly decreasing" \
+            ":2: period '+1' is not what wgsweep writes there"; do
   i=$((i + 1))
   "$sweep" --table-from "$dir/t$i.csv" --out "$dir/tt$i" >/dev/null 2>"$dir/tt.err"; rc=$?
   check "--table-from a damaged file ($i): exit 1, '$want'" \
-    '[ $rc -eq 1 ] && grep -q -- "^wgsweep: $dir/t$i.csv$want" "$dir/tt.err" && ! [ -e "$dir/tt$i.md" ]'
+    '[ $rc -eq 1 ] && grep -q -- "^wgsweep: $dir/t$i.csv$want" "$dir/tt.err" && [ "$(wc -l <"$dir/tt.err")" -eq 1 ] && ! [ -e "$dir/tt$i.md" ]'
 done
 
 # a FIFO or a directory is not a points file: refused at once (a FIFO
