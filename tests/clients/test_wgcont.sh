@@ -115,6 +115,28 @@ for b in bad bad2; do
   check "wgsweep --exact with a row wgcont does not write ($b): exit 2, the line said" \
     '[ $rb -eq 2 ] && grep -q "$b.csv:2: not a bifurcation row" "$dir/sw$b.err"'
 done
+# what wgcont writes, exactly: its header once (a second period column was
+# read, a header with no state taken), the value in the parameter's range
+# (1e308 was tabled), a period as %d writes it (" 1" and "+1" were taken)
+{ sed '1s/$/,period/; 2s/$/,1/' "$dir/pd-bifurcations.csv" | head -2; } >"$dir/dup.csv"
+printf 'type,omega\n' >"$dir/hdr.csv"
+awk -F, -v OFS=, 'NR == 2 { $2 = "1e308" } NR <= 2' "$dir/pd-bifurcations.csv" >"$dir/huge.csv"
+awk -F, -v OFS=, 'NR == 2 { $21 = "+1" } NR <= 2' "$dir/pd-bifurcations.csv" >"$dir/plus.csv"
+awk -F, -v OFS=, 'NR == 2 { $21 = " 1" } NR <= 2' "$dir/pd-bifurcations.csv" >"$dir/space.csv"
+for b in "dup|:1: not a bifurcations CSV header of wgcont" "hdr|:1: not a bifurcations CSV header" \
+         "huge|:2: not a bifurcation row as wgcont writes it (need the parameter's value, finite and in its range)" \
+         "plus|:2: not a bifurcation row as wgcont writes it (need a period 1..32 as %d writes it)" \
+         "space|:2: not a bifurcation row as wgcont writes it (need a period 1..32"; do
+  f=${b%%|*}
+  "$sweep" --table-from "$dir/sw.csv" --exact "$dir/$f.csv" --out "$dir/sx$f" >/dev/null 2>"$dir/sx.err"; rb=$?
+  check "wgsweep --exact $f.csv: exit 2, once, '${b#*|}'" \
+    '[ $rb -eq 2 ] && [ "$(wc -l <"$dir/sx.err")" -eq 1 ] && grep -q -- "^wgsweep: --exact: $dir/$f.csv${b#*|}" "$dir/sx.err" && ! [ -e "$dir/sx$f.md" ]'
+done
+# a header alone is what wgcont writes where it locates nothing: taken
+head -1 "$dir/pd-bifurcations.csv" >"$dir/none.csv"
+"$sweep" --table-from "$dir/sw.csv" --exact "$dir/none.csv" --out "$dir/sxn" >/dev/null 2>&1; rb=$?
+check "wgsweep --exact with wgcont's header alone (nothing located): exit 0, the column empty" \
+  '[ $rb -eq 0 ] && grep "^| period doubling" "$dir/sxn.md" | grep -q "| - |$"'
 mkfifo "$dir/bifs.fifo"
 timeout 20 "$sweep" --table-from "$dir/sw.csv" --exact "$dir/bifs.fifo" --out "$dir/swf" >/dev/null 2>"$dir/swf.err"; r12=$?
 check "wgsweep --exact with a FIFO: exit 2 at once (the open blocked), 'is a FIFO'" \
