@@ -228,7 +228,8 @@ void cli_on_stop_signals_restart(void (*fn)(int)) { on_stop_signals(fn, SA_RESTA
 int cli_vary_param(const char *name)
 {
     int id = wg_param_lookup(name);
-    return id < 0 ? -1 : (wg_param_info_get(id)->flags & WG_PF_BODY) ? -2 : id;
+    unsigned fl = id < 0 ? 0 : wg_param_info_get(id)->flags;
+    return id < 0 ? -1 : (fl & WG_PF_BODY) ? -2 : (fl & WG_PF_TIED) ? -3 : id;
 }
 
 int cli_vary_param_error(const char *prog, const char *opt, const char *name, int code)
@@ -237,6 +238,12 @@ int cli_vary_param_error(const char *prog, const char *opt, const char *name, in
         return cli_usage_error(prog, "%s '%s': body data, used only for the theta1, theta2 "
                                "outputs; it does not change the motion, so there is nothing "
                                "to vary (vary a parameter of the equations)", opt, name);
+    if (code == -3)
+        return cli_usage_error(prog, "%s '%s': a direction cosine of the line of action, tied "
+                               "to the other two by a1^2 + a2^2 + a3^2 = 1, which varying it "
+                               "alone breaks at every point; set a1, a2 and a3 together (--set "
+                               "or the scene) and vary another parameter of the equations",
+                               opt, name);
     return cli_usage_error(prog, "%s '%s': not a parameter (wgsim --help lists them)", opt, name);
 }
 

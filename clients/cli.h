@@ -94,13 +94,14 @@ int64_t cli_mono_ns(void);
 int64_t cli_wall_us(void);
 
 /* The id of the parameter NAME as something a sweep, map, continuation or
- * rig varies: a row of the table that changes the motion. -1 for a name
- * the table lacks, -2 for body data (z1 ... j2: the theta outputs only, the
- * motion would not change). */
+ * rig varies: a row of the table that changes the motion and may change
+ * alone. -1 for a name the table lacks, -2 for body data (z1 ... j2: the
+ * theta outputs only, the motion would not change), -3 for a row tied to
+ * others (a1, a2, a3: a1^2 + a2^2 + a3^2 = 1 breaks at every point). */
 int cli_vary_param(const char *name);
 
-/* cli_usage_error for a bad parameter to vary: "OPT 'NAME': unknown ...
- * (wgctl params lists them)" or "... body data ...". */
+/* cli_usage_error for a bad parameter to vary: "OPT 'NAME': not a
+ * parameter ...", "... body data ..." or "... a direction cosine ...". */
 int cli_vary_param_error(const char *prog, const char *opt, const char *name, int code);
 
 /* Call fn on SIGINT and SIGTERM (no SA_RESTART: a blocking wait returns

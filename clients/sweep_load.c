@@ -294,6 +294,38 @@ int load_points_csv(const char *path, sweep_study *st, char *why, size_t whylen)
     return rc;
 }
 
+int load_exact(const char *const *paths, int n, sweep_study *st, cont_bifs *ex, char *why,
+               size_t whylen)
+{
+    const char *pname = out_pname(st->param);
+    char w[512];
+    if (n && n != st->ngroups) {
+        snprintf(why, whylen, "--exact: %d file(s) for %d group(s): give one per group", n,
+                 st->ngroups);
+        return -1;
+    }
+    for (int k = 0; k < n; k++) {
+        int bad = cont_read_bifs(paths[k], &ex[k], w, sizeof w);
+        if (bad)
+            snprintf(why, whylen, "--exact: %s", w);
+        else if ((bad = strcmp(ex[k].param, pname) != 0))
+            snprintf(why, whylen, "--exact %s: continued in %s, the sweep is in %s", paths[k],
+                     ex[k].param, pname);
+        if (bad) {
+            load_exact_free(ex, k + 1);
+            return -1;
+        }
+        st->exact[k] = &ex[k];
+    }
+    return 0;
+}
+
+void load_exact_free(cont_bifs *ex, int n)
+{
+    for (int k = 0; k < n; k++)
+        cont_bifs_free(&ex[k]);
+}
+
 void load_free(sweep_study *st)
 {
     for (int k = 0; k < st->ngroups; k++) {

@@ -517,6 +517,18 @@ static int write_map(const opts *o, const char *scene, const wg_chain *rows, int
     return rc ? 1 : 0;
 }
 
+/* Points measured over n chains: with none, nothing is written (a sweep
+ * of a1 stopped at its first point wrote a1.csv, .md and .png empty). */
+static int none_measured(const wg_chain *cs, int n)
+{
+    long done = 0;
+    for (int i = 0; cs && i < n; i++)
+        done += cs[i].ndone;
+    if (!done)
+        fprintf(stderr, "wgsweep: no point was measured: nothing written\n");
+    return !done;
+}
+
 /* 2-D map: one up chain per row value. */
 static int do_map(const opts *o, const wg_scene *sc, int rank)
 {
@@ -536,8 +548,9 @@ static int do_map(const opts *o, const wg_scene *sc, int rank)
             if (rows[r].rc)
                 fprintf(stderr, "wgsweep: row %d: %s\n", r, rows[r].why);
         out_files files = {"", 0};
-        rc = write_map(o, sc->name, rows, o->mrows, partial, &files) || rc;
-        if (!o->quiet)
+        int none = none_measured(rows, o->mrows);
+        rc = none || write_map(o, sc->name, rows, o->mrows, partial, &files) || rc;
+        if (!o->quiet && !none)
             fprintf(stderr, "wgsweep: %d rows x %d points in %.1f s; wrote %s\n", o->mrows,
                     o->points, wall, files.list);
     }
@@ -565,35 +578,14 @@ static int study_chains(sweep_study *st, wg_chain *cs, const opts *o, const wg_s
     return rc;
 }
 
-/* Attach --exact files to the study's groups (one per group, in order).
- * 0, or 2 with a message (usage: count or parameter mismatch, bad file). */
-static int load_exact(const opts *o, sweep_study *st, cont_bifs *ex)
+/* Attach --exact files to the study's groups: 0, or 2 (said). */
+static int attach_exact(const opts *o, sweep_study *st, cont_bifs *ex)
 {
-    char why[512];
-    if (o->nexact && o->nexact != st->ngroups) {
-        fprintf(stderr, "wgsweep: --exact: %d file(s) for %d group(s): give one per group\n",
-                o->nexact, st->ngroups);
-        return 2;
-    }
-    for (int k = 0; k < o->nexact; k++) {
-        if (cont_read_bifs(o->exact[k], &ex[k], why, sizeof why)) {
-            fprintf(stderr, "wgsweep: --exact: %s\n", why);
-            return 2;
-        }
-        if (strcmp(ex[k].param, wg_param_info_get(st->param)->name) != 0) {
-            fprintf(stderr, "wgsweep: --exact %s: continued in %s, the sweep is in %s\n",
-                    o->exact[k], ex[k].param, wg_param_info_get(st->param)->name);
-            return 2;
-        }
-        st->exact[k] = &ex[k];
-    }
-    return 0;
-}
-
-static void free_exact(const opts *o, cont_bifs *ex)
-{
-    for (int k = 0; k < o->nexact; k++)
-        cont_bifs_free(&ex[k]);
+    char why[640];
+    if (!load_exact(o->exact, o->nexact, st, ex, why, sizeof why))
+        return 0;
+    fprintf(stderr, "wgsweep: %s\n", why);
+    return 2;
 }
 
 /* 1-D study: up/down chains per group value. */
@@ -606,10 +598,8 @@ static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank
     int n = st.ngroups * (o->up + o->down), rc = 0;
     cont_bifs ex[STUDY_MAX_GROUPS];
     memset(ex, 0, sizeof ex);
-    if ((rc = load_exact(o, &st, ex))) {
-        free_exact(o, ex);
+    if ((rc = attach_exact(o, &st, ex)))
         return rc;
-    }
     wg_chain *cs = calloc((size_t)n, sizeof *cs);
     if (cs)
         rc = study_chains(&st, cs, o, sc);
@@ -625,15 +615,16 @@ static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank
             if (cs[i].rc)
                 fprintf(stderr, "wgsweep: chain %d stopped: %s\n", i, cs[i].why);
         out_files files = {"", 0};
-        rc = write_study(o, &st, &files) || rc;
-        if (!o->quiet)
+        int none = none_measured(cs, n);
+        rc = none || write_study(o, &st, &files) || rc;
+        if (!o->quiet && !none)
             fprintf(stderr, "wgsweep: %d chains x %d points in %.1f s%s; wrote %s\n", n,
                     o->points, st.wall_s, st.partial ? " (interrupted)" : "", files.list);
     }
     for (int i = 0; cs && i < n; i++)
         free(cs[i].pts);
     free(cs);
-    free_exact(o, ex);
+    load_exact_free(ex, o->nexact);
     return st.partial ? 130 : rc ? 1 : 0;
 }
 
@@ -651,13 +642,13 @@ static int do_table(const opts *o, const wg_scene *sc, const char *cmd)
     cont_bifs ex[STUDY_MAX_GROUPS];
     memset(ex, 0, sizeof ex);
     int rc = load_points_csv(o->table_from, &st, why, sizeof why), xrc = 0;
-    if (!rc && (xrc = load_exact(o, &st, ex)) == 0) {
+    if (!rc && (xrc = attach_exact(o, &st, ex)) == 0) {
         snprintf(path, sizeof path, "%s.md", o->out);
         rc = md_write(path, &st, why, sizeof why);
     }
     if (rc)
         fprintf(stderr, "wgsweep: %s\n", why);
-    free_exact(o, ex);
+    load_exact_free(ex, o->nexact);
     load_free(&st);
     return xrc ? xrc : rc ? 1 : 0;
 }

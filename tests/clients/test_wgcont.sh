@@ -63,6 +63,9 @@ check "SIGTERM during the transient: exit 130 at once, the files written with no
 check "usage errors exit 2" '[ $r1 -eq 2 ] && [ $r2 -eq 2 ] && [ $r3 -eq 2 ] && [ $r4 -eq 2 ]'
 check "--param z2 (body data): exit 2, one refusal saying it does not change the motion" \
   '[ $r6 -eq 2 ] && grep -q "^wgcont: --param .z2.: body data, .*does not change the motion" "$dir/z2.err" && [ "$(grep -c "^wgcont:" "$dir/z2.err")" -eq 1 ]'
+"$cont" --from 0.3 --to 0.35 --param a2 --out "$dir/a2" >/dev/null 2>"$dir/a2.err"; r7=$?
+check "--param a2 (a direction cosine): exit 2, one refusal saying why and what to vary, nothing written" \
+  '[ $r7 -eq 2 ] && grep -q "^wgcont: --param .a2.: a direction cosine of the line of action, tied to the other two by a1^2 + a2^2 + a3^2 = 1" "$dir/a2.err" && [ "$(grep -c "^wgcont:" "$dir/a2.err")" -eq 1 ] && ! ls "$dir"/a2-* >/dev/null 2>&1'
 "$cont" --from 0.5 --to 0.6 --out "$dir/none/c" >/dev/null 2>"$dir/od.err"; r8=$?
 check "--out in a missing directory: exit 2 before the continuation, the reason said" \
   '[ $r8 -eq 2 ] && grep -q "^wgcont: --out .$dir/none/c.: cannot write in $dir/none: No such file or directory" "$dir/od.err" && ! grep -q omega "$dir/od.err"'

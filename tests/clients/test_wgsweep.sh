@@ -91,6 +91,11 @@ refuse "xi_p = -1 out of range \[0, 2\]" --map xi_p=-1:0.1:2
 refuse "M, the rows, need 1..100000" --map xi_p=0.1:0.2:0
 refuse "need 1..1e7" --at 1 --at-periods 99999999
 refuse "^wgsweep: --step 5: more than the range 0.2" --from 1 --to 1.2 --step 5
+# a direction cosine cannot vary alone (a1^2 + a2^2 + a3^2 = 1 broke at every
+# point: "chain 0 stopped", exit 1, and a1.csv/.md/.png written with no point)
+refuse "^wgsweep: --param 'a1': a direction cosine of the line of action, tied to the other two by a1^2 + a2^2 + a3^2 = 1" --param a1 --from 0.2 --to 0.3 --points 3
+refuse "^wgsweep: --values 'a2': a direction cosine .*; set a1, a2 and a3 together (--set or the scene) and vary another parameter" --values a2=0.3
+refuse "^wgsweep: --map 'a3': a direction cosine" --map a3=0.8:0.9:2
 # tolerances in their ranges (the library's, wg_sweep_opts_check): a floor
 # or factor of 1e300 made the period-2 points of 1.0-1.4 period 1, exit 0
 refuse "^wgsweep: --tol-floor: need a period tolerance floor (states in b_c) in \[1e-13, 0.0001\], got 1e+300" --from 1 --to 1.4 --points 5 --dir up --tol-floor 1e300
