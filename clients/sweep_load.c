@@ -214,7 +214,8 @@ static sweep_group *row_place(sweep_study *st, char **f, int off, int *dir, doub
     *dir = strcmp(f[off], "down") == 0 ? -1 : 1;
     sweep_group *g = group_of(st, gv);
     if (!g) {
-        snprintf(why, whylen, "too many groups");
+        snprintf(why, whylen, "too many groups: at most %d values of %s (as --values takes)",
+                 STUDY_MAX_GROUPS, out_pname(st->gparam));
         return NULL;
     }
     const wg_chain *c = *dir > 0 ? g->up : g->down;

@@ -212,6 +212,9 @@ awk -F, -v OFS=, 'NR == 2 { $2 = "abc" } 1' "$dir/v.csv" >"$dir/t15.csv"
 awk -F, -v OFS=, 'NR == 2 { $16 = "zzz" } 1' "$dir/v.csv" >"$dir/t16.csv"
 sed 's/^up,/down,/' "$dir/v.csv" >"$dir/t17.csv"
 awk -F, -v OFS=, 'NR == 2 { $5 = "+1" } 1' "$dir/v.csv" >"$dir/t18.csv"
+# 65 groups: one more than --values takes ("too many groups" gave no limit)
+awk -F, -v OFS=, 'NR == 1 { print; next } NR == 2 { for (k = 1; k <= 65; k++) { $1 = k / 100; print } }' \
+  "$dir/s1.csv" >"$dir/t19.csv"
 i=0
 for want in ":1: the line is cut short" ":3: the line is cut short" ": no points after the header" \
             ":2: regime 'periodik' is not what wgsweep writes there: need a regime name" \
@@ -227,7 +230,8 @@ for want in ":1: the line is cut short" ":3: the line is cut short" ": no points
             ":2: index 'abc': need 0 (each direction's rows numbered 0, 1, 2, ... in the order" \
             ":2: floquet1_re 'zzz' is not what wgsweep writes there: need a finite number, or empty" \
             ":3: omega 1.18 after 1.17 in the down sweep: need values strictly decreasing" \
-            ":2: period '+1' is not what wgsweep writes there"; do
+            ":2: period '+1' is not what wgsweep writes there" \
+            ":66: too many groups: at most 64 values of xi_p (as --values takes)"; do
   i=$((i + 1))
   "$sweep" --table-from "$dir/t$i.csv" --out "$dir/tt$i" >/dev/null 2>"$dir/tt.err"; rc=$?
   check "--table-from a damaged file ($i): exit 1, '$want'" \
