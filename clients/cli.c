@@ -4,6 +4,7 @@
 
 #include "wormgear/wg_param.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
@@ -108,6 +109,28 @@ int cli_int(const char *s, int lo, int hi, int *v)
     return 0;
 }
 
+int cli_csv_num(const char *s, double *v)
+{
+    const char *p = s + (*s == '-');
+    int word = !strcmp(p, "nan") || !strcmp(p, "inf");
+    if (!word && (!(isdigit((unsigned char)*p) || *p == '.') || strpbrk(p, "xX")))
+        return -1; /* strtod takes " 1", "+1", "0x1p0", "infinity": printf writes none */
+    return cli_double(s, v);
+}
+
+int cli_csv_int(const char *s, int lo, int hi, int *v)
+{
+    const char *p = s + (*s == '-');
+    size_t n = strlen(p);
+    if (n == 0 || n > 10 || strspn(p, "0123456789") != n)
+        return -1;
+    long long x = strtoll(s, NULL, 10);
+    if (x < lo || x > hi)
+        return -1;
+    *v = (int)x;
+    return 0;
+}
+
 int cli_opt_num(const char *prog, const char *opt, const char *s, double lo, double hi,
                 const char *allowed, double *v)
 {
@@ -205,7 +228,8 @@ void cli_on_stop_signals_restart(void (*fn)(int)) { on_stop_signals(fn, SA_RESTA
 int cli_vary_param(const char *name)
 {
     int id = wg_param_lookup(name);
-    return id < 0 ? -1 : (wg_param_info_get(id)->flags & WG_PF_BODY) ? -2 : id;
+    unsigned fl = id < 0 ? 0 : wg_param_info_get(id)->flags;
+    return id < 0 ? -1 : (fl & WG_PF_BODY) ? -2 : (fl & WG_PF_TIED) ? -3 : id;
 }
 
 int cli_vary_param_error(const char *prog, const char *opt, const char *name, int code)
@@ -214,6 +238,12 @@ int cli_vary_param_error(const char *prog, const char *opt, const char *name, in
         return cli_usage_error(prog, "%s '%s': body data, used only for the theta1, theta2 "
                                "outputs; it does not change the motion, so there is nothing "
                                "to vary (vary a parameter of the equations)", opt, name);
+    if (code == -3)
+        return cli_usage_error(prog, "%s '%s': a direction cosine of the line of action, tied "
+                               "to the other two by a1^2 + a2^2 + a3^2 = 1, which varying it "
+                               "alone breaks at every point; set a1, a2 and a3 together (--set "
+                               "or the scene) and vary another parameter of the equations",
+                               opt, name);
     return cli_usage_error(prog, "%s '%s': not a parameter (wgsim --help lists them)", opt, name);
 }
 

@@ -41,6 +41,15 @@ int cli_num(const char *s, double lo, double hi, double *v);
 int cli_int(const char *s, int lo, int hi, int *v);
 int cli_int64(const char *s, int64_t lo, int64_t hi, int64_t *v);
 
+/* A field of a CSV one of our tools wrote, as printf writes a number (%d,
+ * %g, %e): an optional '-', then a digit or '.', or nan or inf; the whole
+ * field, no hex, no space or '+' before it. *v may be NaN or infinite (the
+ * caller says what its column holds). 0, or -1. */
+int cli_csv_num(const char *s, double *v);
+
+/* The same for %d: an optional '-' and digits only, in [lo, hi]. */
+int cli_csv_int(const char *s, int lo, int hi, int *v);
+
 /* Option opt's value s by cli_num / cli_int: 0, or CLI_EUSAGE after
  * reporting "prog: opt 's': allowed" (allowed names the range in words). */
 int cli_opt_num(const char *prog, const char *opt, const char *s, double lo, double hi,
@@ -91,13 +100,14 @@ int64_t cli_mono_ns(void);
 int64_t cli_wall_us(void);
 
 /* The id of the parameter NAME as something a sweep, map, continuation or
- * rig varies: a row of the table that changes the motion. -1 for a name
- * the table lacks, -2 for body data (z1 ... j2: the theta outputs only, the
- * motion would not change). */
+ * rig varies: a row of the table that changes the motion and may change
+ * alone. -1 for a name the table lacks, -2 for body data (z1 ... j2: the
+ * theta outputs only, the motion would not change), -3 for a row tied to
+ * others (a1, a2, a3: a1^2 + a2^2 + a3^2 = 1 breaks at every point). */
 int cli_vary_param(const char *name);
 
-/* cli_usage_error for a bad parameter to vary: "OPT 'NAME': unknown ...
- * (wgctl params lists them)" or "... body data ...". */
+/* cli_usage_error for a bad parameter to vary: "OPT 'NAME': not a
+ * parameter ...", "... body data ..." or "... a direction cosine ...". */
 int cli_vary_param_error(const char *prog, const char *opt, const char *name, int code);
 
 /* Call fn on SIGINT and SIGTERM (no SA_RESTART: a blocking wait returns

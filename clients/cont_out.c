@@ -101,15 +101,33 @@ int cont_write_branch(const char *path, const cont_result *r, int param, int nst
     return close_w(f, path, why, whylen);
 }
 
+/* The columns after the state, as cont_write_bifs writes them. */
+static const char *const BIF_COLS[] = {"mu_re", "mu_im", "mu_abs", "mu_arg", "period", "branch",
+                                       "contact", "threshold", "extreme", "bracket"};
+enum { NBIF_COLS = sizeof BIF_COLS / sizeof BIF_COLS[0] };
+
+/* The header of a bifurcations CSV (its type,PARAM,state...,bracket line,
+ * no newline) into buf: the writer's, and what the reader asks for. */
+static void bifs_header(char *buf, size_t len, const char *pname, int nstate)
+{
+    int model = nstate == wg_model_nstate(WG_MODEL_PRINTED) ? WG_MODEL_PRINTED
+                                                             : WG_MODEL_CONSISTENT;
+    size_t n = (size_t)snprintf(buf, len, "type,%s", pname);
+    for (int j = 0; j < nstate && j < WG_NSTATE_MAX && n < len; j++)
+        n += (size_t)snprintf(buf + n, len - n, ",%s", wg_state_name(model, j));
+    for (int k = 0; k < NBIF_COLS && n < len; k++)
+        n += (size_t)snprintf(buf + n, len - n, ",%s", BIF_COLS[k]);
+}
+
 int cont_write_bifs(const char *path, const cont_result *r, int param, int nstate, char *why,
                     size_t whylen)
 {
     FILE *f = open_w(path, why, whylen);
     if (!f)
         return -1;
-    fprintf(f, "type,%s", wg_param_info_get(param)->name);
-    state_header(f, nstate);
-    fputs(",mu_re,mu_im,mu_abs,mu_arg,period,branch,contact,threshold,extreme,bracket\n", f);
+    char hdr[1024];
+    bifs_header(hdr, sizeof hdr, wg_param_info_get(param)->name, nstate);
+    fprintf(f, "%s\n", hdr);
     for (int i = 0; i < r->nbif; i++) {
         const wg_bif *b = &r->bif[i];
         int g = b->kind == WG_BIF_GRAZING;
@@ -147,14 +165,6 @@ static int split(char *line, char **fld, int max)
     return n;
 }
 
-static int column(char **fld, int n, const char *name)
-{
-    for (int i = 0; i < n; i++)
-        if (strcmp(fld[i], name) == 0)
-            return i;
-    return -1;
-}
-
 static int contact_lookup(const char *s)
 {
     for (int j = 0; j < WG_NCONTACT; j++)
@@ -165,52 +175,74 @@ static int contact_lookup(const char *s)
 
 enum { NCOL = 64 };
 
-/* Columns of the header: type, the parameter, period, branch, contact,
- * threshold, extreme, bracket. */
-static int header(char *line, cont_bifs *b, int *col)
+/* The header, exactly what cont_write_bifs writes for the continued
+ * parameter it names and the consistent model's state (the only model
+ * wgcont continues); a duplicated or missing column, a foreign parameter
+ * are refused. The state's width into *ns, or -1. */
+static int header(char *line, cont_bifs *b, int *ns)
 {
-    static const char *const names[] = {"period", "branch", "contact", "threshold", "extreme",
-                                        "bracket"};
-    char *fld[NCOL];
-    int n = split(line, fld, NCOL);
-    if (n < 2 || strcmp(fld[0], "type") != 0)
+    char want[1024], *comma = strchr(line, ',');
+    line[strcspn(line, "\r\n")] = 0;
+    if (!comma || strncmp(line, "type,", 5))
         return -1;
-    snprintf(b->param, sizeof b->param, "%s", fld[1]);
-    for (int k = 0; k < 6; k++)
-        if ((col[k] = column(fld, n, names[k])) < 0)
-            return -1;
-    return 0;
+    char *end = strchr(comma + 1, ',');
+    snprintf(b->param, sizeof b->param, "%.*s", end ? (int)(end - comma - 1) : 0, comma + 1);
+    *ns = wg_model_nstate(WG_MODEL_CONSISTENT);
+    bifs_header(want, sizeof want, b->param, *ns);
+    return wg_param_lookup(b->param) >= 0 && strcmp(line, want) == 0 ? 0 : -1;
 }
 
-static int row(char *line, const int *col, cont_row *r)
+/* A number field as printf writes it, finite (and >= 0 if nonneg). */
+static int fin(const char *t, int nonneg, double *v)
 {
-    char *fld[NCOL], *end;
-    int n = split(line, fld, NCOL);
-    for (int k = 0; k < 6; k++)
-        if (col[k] >= n)
+    return cli_csv_num(t, v) || !isfinite(*v) || (nonneg && *v < 0) ? -1 : 0;
+}
+
+/* One row, every field as wgcont writes it: a kind's name; the value in
+ * the parameter's range; the state and the multiplier finite numbers
+ * (its modulus >= 0); a period 1..WG_SHOOT_NMAX and a branch >= 0 as %d
+ * writes them (" 1", "+1" were taken); a grazing's contact, side (+c, -c)
+ * and extreme (min, max), '-' for the others; a bracket >= 0. -1 with
+ * what (the column at fault) otherwise. */
+static int row(char *line, int ns, const cont_bifs *b, cont_row *r, const char **what)
+{
+    char *fld[NCOL];
+    double v;
+    int n = split(line, fld, NCOL), c = 2 + ns, branch;
+    *what = "as many fields as the header";
+    if (n != c + NBIF_COLS)
+        return -1;
+    *what = "a type: fold, period_doubling, torus, grazing or branch_point";
+    if ((r->kind = cont_kind_lookup(fld[0])) < 0)
+        return -1;
+    *what = "the parameter's value, finite and in its range";
+    if (fin(fld[1], 0, &r->value) ||
+        wg_param_check(wg_param_lookup(b->param), r->value, NULL, 0))
+        return -1;
+    for (int j = 2; j < c + 4; j++) {
+        *what = j < c ? "the state: finite numbers"
+                      : "mu_re .. mu_arg: finite numbers, mu_abs >= 0";
+        if (fin(fld[j], j == c + 2, &v))
             return -1;
-    r->kind = cont_kind_lookup(fld[0]);
-    r->value = strtod(fld[1], &end);
-    if (r->kind < 0 || *end || !isfinite(r->value))
+    }
+    *what = "a period 1..32 as %d writes it";
+    if (cli_csv_int(fld[c + 4], 1, WG_SHOOT_NMAX, &r->period))
         return -1;
-    /* every field as wgcont writes it: a period 1..WG_SHOOT_NMAX; a grazing's
-     * contact, side (+c, -c) and extreme (min, max), '-' for the others; a
-     * bracket >= 0 (GARBAGE,zz,nowhere and a period of -99999999999 were
-     * tabled: atoi and strcmp took anything) */
-    long period = strtol(fld[col[0]], &end, 10);
-    if (*end || end == fld[col[0]] || period < 1 || period > WG_SHOOT_NMAX)
+    *what = "a branch number >= 0 as %d writes it";
+    if (cli_csv_int(fld[c + 5], 0, 1000000000, &branch))
         return -1;
-    r->period = (int)period;
     int graze = r->kind == WG_BIF_GRAZING;
-    r->contact = graze ? contact_lookup(fld[col[2]]) : -1;
-    r->side = strcmp(fld[col[3]], "-c") == 0 ? -1 : 1;
-    r->extreme = strcmp(fld[col[4]], "max") == 0 ? 1 : -1;
-    if (graze ? r->contact < 0 || (strcmp(fld[col[3]], "+c") && strcmp(fld[col[3]], "-c")) ||
-                    (strcmp(fld[col[4]], "min") && strcmp(fld[col[4]], "max"))
-              : strcmp(fld[col[2]], "-") || strcmp(fld[col[3]], "-") || strcmp(fld[col[4]], "-"))
+    const char *con = fld[c + 6], *th = fld[c + 7], *ex = fld[c + 8];
+    r->contact = graze ? contact_lookup(con) : -1;
+    r->side = strcmp(th, "-c") == 0 ? -1 : 1;
+    r->extreme = strcmp(ex, "max") == 0 ? 1 : -1;
+    *what = "a grazing's contact, +c or -c, min or max; - - - for the others";
+    if (graze ? r->contact < 0 || (strcmp(th, "+c") && strcmp(th, "-c")) ||
+                    (strcmp(ex, "min") && strcmp(ex, "max"))
+              : strcmp(con, "-") || strcmp(th, "-") || strcmp(ex, "-"))
         return -1;
-    r->bracket = strtod(fld[col[5]], &end);
-    return *end || end == fld[col[5]] || !(r->bracket >= 0 && isfinite(r->bracket)) ? -1 : 0;
+    *what = "a bracket: a finite number >= 0";
+    return fin(fld[c + 9], 1, &r->bracket);
 }
 
 int cont_read_bifs(const char *path, cont_bifs *b, char *why, size_t whylen)
@@ -220,13 +252,15 @@ int cont_read_bifs(const char *path, cont_bifs *b, char *why, size_t whylen)
     if (!f)
         return -1;
     char line[4096];
-    int col[6], cap = 0, rc = 0, lno = 1;
+    const char *what = "";
+    int ns = 0, cap = 0, rc = 0, lno = 1;
     int got = cli_read_line(f, line, sizeof line, path, 1, why, whylen);
     if (got < 0) {
         rc = -1; /* why says it */
-    } else if (!got || header(line, b, col)) {
-        snprintf(why, whylen, "%s: not a bifurcations CSV of wgcont (header type,PARAM,...)",
-                 path);
+    } else if (!got || header(line, b, &ns)) {
+        snprintf(why, whylen, "%s:1: not a bifurcations CSV header of wgcont (type,PARAM, the "
+                 "state's columns, mu_re, ..., bracket, each once, as wgcont writes "
+                 "PREFIX-bifurcations.csv)", path);
         rc = -1;
     }
     while (!rc && (got = cli_read_line(f, line, sizeof line, path, ++lno, why, whylen))) {
@@ -244,10 +278,11 @@ int cont_read_bifs(const char *path, cont_bifs *b, char *why, size_t whylen)
             }
             b->row = q;
         }
-        if (row(line, col, &b->row[b->n]) == 0)
+        if (row(line, ns, b, &b->row[b->n], &what) == 0)
             b->n++;
         else {
-            snprintf(why, whylen, "%s:%d: not a bifurcation row", path, lno);
+            snprintf(why, whylen, "%s:%d: not a bifurcation row as wgcont writes it (need %s)",
+                     path, lno, what);
             rc = -1;
         }
     }

@@ -36,58 +36,84 @@ static int split(char *line, char **f, int max)
     return n;
 }
 
-/* f as a whole number (nan, inf included), or -1. */
-static int fnum(const char *f, double *v)
+/* Column i (of out_point_cols) of a row, text t, into pt: 0, or -1 with
+ * *need saying what wgsweep writes there. */
+static int put(int i, const char *t, wg_point *pt, const char **need)
 {
-    char *end;
-    *v = strtod(f, &end);
-    return end == f || *end ? -1 : 0;
-}
-
-static int fint(const char *f, int *v)
-{
-    double x;
-    if (fnum(f, &x) || !(x == floor(x)) || fabs(x) > 1e9)
-        return -1;
-    *v = (int)x;
-    return 0;
-}
-
-/* One data row (fields after the optional group column) into pt; -1 if a
- * field the table needs is not what out_points_csv writes there. */
-static int parse_point(char **f, int n, wg_point *pt, int *dir)
-{
-    if (n < 15 || (strcmp(f[0], "up") && strcmp(f[0], "down")))
-        return -1;
-    memset(pt, 0, sizeof *pt);
-    *dir = strcmp(f[0], "down") == 0 ? -1 : 1;
-    double *num[9] = {&pt->value, &pt->impacts, &pt->min_xn, &pt->max_xn, &pt->lle,
-                      &pt->err, &pt->tol, &pt->resid, NULL};
-    static const int at[8] = {2, 7, 8, 9, 10, 11, 12, 13};
-    for (int i = 0; num[i]; i++)
-        if (fnum(f[at[i]], num[i]))
-            return -1;
-    if (fint(f[4], &pt->period) || fint(f[5], &pt->converged) || fint(f[14], &pt->steps) ||
-        !isfinite(pt->value))
-        return -1;
-    pt->regime = lookup(wg_regime_name, WG_REGIME_DIVERGED + 1, f[3]);
-    pt->motion = lookup(wg_motion_name, WG_MOTION_DOUBLE + 1, f[6]);
-    pt->value2 = NAN;
-    if (n >= 21 && f[18][0]) { /* the 2N check, when the run had --verify-steps */
-        pt->checked = 1;
-        pt->check_regime = lookup(wg_regime_name, WG_REGIME_DIVERGED + 1, f[18]);
-        pt->check_motion = lookup(wg_motion_name, WG_MOTION_DOUBLE + 1, f[20]);
-        if (fint(f[19], &pt->check_period) || pt->check_regime < 0 || pt->check_motion < 0)
-            return -1;
+    double v = 0.0;
+    int opt = i >= 12 && i < 18, empty = !*t; /* Floquet, 2N check: empty when not run */
+    if (opt && empty)
+        return 0;
+    if (i == 0 || i == 3 || i == 15 || i == 17) {
+        int reg = i == 0 || i == 15;
+        int k = reg ? lookup(wg_regime_name, WG_REGIME_DIVERGED + 1, t)
+                    : lookup(wg_motion_name, WG_MOTION_DOUBLE + 1, t);
+        *need = reg ? "a regime name (periodic, quasiperiodic, chaotic, ...)"
+                    : "a motion class (no_impact, single_sided, double_sided)";
+        *(i == 0 ? &pt->regime : i == 3 ? &pt->motion : i == 15 ? &pt->check_regime
+                                                                 : &pt->check_motion) = k;
+        pt->checked |= i == 15;
+        return k < 0 ? -1 : 0;
     }
-    /* what a run can write: a period up to WG_PERIOD_MAX (0: none), N in
-     * the stepper's range, min_xn <= max_xn (P-7 and N = -3 were tabled) */
-    if (pt->period < 0 || pt->period > WG_PERIOD_MAX || pt->converged < 0 || pt->converged > 1 ||
-        pt->steps < WG_STEPS_MIN || pt->steps > WG_STEPS_MAX || pt->min_xn > pt->max_xn ||
-        !(pt->impacts >= 0 || isnan(pt->impacts)) ||
-        (pt->checked && (pt->check_period < 0 || pt->check_period > WG_PERIOD_MAX)))
+    if (i == 1 || i == 16) {
+        *need = "a whole number 0..32 (0: no period found)";
+        return cli_csv_int(t, 0, WG_PERIOD_MAX, i == 1 ? &pt->period : &pt->check_period);
+    }
+    if (i == 2 || i == 11) {
+        *need = i == 2 ? "0 or 1" : "a whole number 8..65536";
+        return i == 2 ? cli_csv_int(t, 0, 1, &pt->converged)
+                      : cli_csv_int(t, WG_STEPS_MIN, WG_STEPS_MAX, &pt->steps);
+    }
+    int ok = !cli_csv_num(t, &v);
+    if (i == 7) { /* the LLE: nan where it was not run */
+        *need = "a finite number, or nan (not computed)";
+        ok = ok && !isinf(v);
+    } else if (i == 10) { /* the period residual: inf where no lag was tried */
+        *need = "a number >= 0 (inf: none tried)";
+        ok = ok && v >= 0;
+    } else {
+        *need = i == 5 || i == 6 || i == 12 || i == 13 ? "a finite number" : "a finite number >= 0";
+        ok = ok && isfinite(v) && (i == 5 || i == 6 || i == 12 || i == 13 || v >= 0);
+    }
+    if (opt)
+        *need = i == 14 ? "a finite number >= 0, or empty (no Floquet multipliers)"
+                        : "a finite number, or empty (no Floquet multipliers)";
+    double *at[] = {&pt->impacts, &pt->min_xn, &pt->max_xn, &pt->lle, &pt->err, &pt->tol,
+                    &pt->resid};
+    if (i >= 4 && i <= 10)
+        *at[i - 4] = v;
+    else if (i >= 18 && i < 24)
+        pt->bimpacts[i - 18] = v;
+    else if (i >= 24)
+        pt->bvmax[i - 24] = v;
+    return ok ? 0 : -1;
+}
+
+/* The columns after PARAM of one row (ncol of them) into pt; -1 with why
+ * (the column, its text, what wgsweep writes there) if one is not what
+ * out_points_csv writes. */
+static int parse_point(char **f, int ncol, wg_point *pt, char *why, size_t whylen)
+{
+    const char *need = "";
+    memset(pt, 0, sizeof *pt);
+    pt->value2 = NAN;
+    for (int i = 0; i < ncol; i++)
+        if (put(i, f[i], pt, &need)) {
+            snprintf(why, whylen, "%s '%s' is not what wgsweep writes there: need %s",
+                     out_point_cols[i], f[i], need);
+            return -1;
+        }
+    for (int g = 12; g + 3 <= ncol && g <= 15; g += 3) /* Floquet, 2N check: 3 or none */
+        if (!f[g][0] != !f[g + 1][0] || !f[g][0] != !f[g + 2][0]) {
+            snprintf(why, whylen, "%s..%s: all three given or all three empty, as wgsweep "
+                     "writes them", out_point_cols[g], out_point_cols[g + 2]);
+            return -1;
+        }
+    if (!(pt->min_xn <= pt->max_xn)) {
+        snprintf(why, whylen, "min_xn %s over max_xn %s: not what wgsweep writes", f[5], f[6]);
         return -1;
-    return pt->regime < 0 || pt->motion < 0 ? -1 : 0;
+    }
+    return 0;
 }
 
 /* The group of value gval (created on first use); NAN, a file without a
@@ -145,39 +171,86 @@ static void finish_chains(sweep_study *st)
     }
 }
 
-/* The columns after PARAM that the table reads, as out_points_csv names
- * them (later columns may follow). */
-static const char *const COLS[] = {"regime", "period", "converged", "motion",
-                                   "impacts_per_period", "min_xn", "max_xn", "lle_per_period",
-                                   "err", "tol", "resid", "steps_per_period"};
-enum { NCOLS = sizeof COLS / sizeof COLS[0] };
-
-/* Header: [group,]dir,index,PARAM,regime,...: the group column's offset
+/* Header: [group,]dir,index,PARAM, then out_point_cols or its first
+ * NEED_COLS or more (older runs wrote fewer): the group column's offset
  * (0, 1), or -1. *nf: its field count, which every row must have. */
+enum { NEED_COLS = 12 }; /* regime .. steps_per_period: what the table reads */
 static int parse_header(char *line, sweep_study *st, int *nf)
 {
     char *f[64];
     int n = *nf = split(line, f, 64);
     int off = n > 0 && strcmp(f[0], "dir") != 0;
-    if (n < 3 + off + NCOLS || strcmp(f[off], "dir") || strcmp(f[off + 1], "index"))
+    if (n < 3 + off + NEED_COLS || n > 3 + off + OUT_POINT_NCOLS || strcmp(f[off], "dir") ||
+        strcmp(f[off + 1], "index"))
         return -1;
-    for (int i = 0; i < NCOLS; i++)
-        if (strcmp(f[off + 3 + i], COLS[i]))
+    for (int i = 0; i < n - 3 - off; i++)
+        if (strcmp(f[off + 3 + i], out_point_cols[i]))
             return -1;
     st->gparam = off ? wg_param_lookup(f[0]) : -1;
     st->param = wg_param_lookup(f[2 + off]);
     return (off && st->gparam < 0) || st->param < 0 ? -1 : off;
 }
 
+/* The row's group value, direction, index and parameter value, checked
+ * against what wgsweep writes (a finite group value in its parameter's
+ * range; up or down; a direction's rows numbered 0, 1, 2, ... with values
+ * strictly increasing up, decreasing down, in the parameter's range):
+ * its chain's group in *gp, direction in *dir, or NULL with why. */
+static sweep_group *row_place(sweep_study *st, char **f, int off, int *dir, double *v,
+                              char *why, size_t whylen)
+{
+    char w[160];
+    double gv = NAN;
+    if (off && (cli_csv_num(f[0], &gv) ? snprintf(w, sizeof w, "not a number as wgsweep writes one")
+                                       : wg_param_check(st->gparam, gv, w, sizeof w))) {
+        snprintf(why, whylen, "group value '%s': need a finite value of %s in its range (%s)",
+                 f[0], out_pname(st->gparam), w);
+        return NULL;
+    }
+    if (strcmp(f[off], "up") && strcmp(f[off], "down")) {
+        snprintf(why, whylen, "dir '%s': need up or down", f[off]);
+        return NULL;
+    }
+    *dir = strcmp(f[off], "down") == 0 ? -1 : 1;
+    sweep_group *g = group_of(st, gv);
+    if (!g) {
+        snprintf(why, whylen, "too many groups: at most %d values of %s (as --values takes)",
+                 STUDY_MAX_GROUPS, out_pname(st->gparam));
+        return NULL;
+    }
+    const wg_chain *c = *dir > 0 ? g->up : g->down;
+    int k = c ? c->ndone : 0, idx;
+    if (cli_csv_int(f[off + 1], 0, 1000000000, &idx) || idx != k) {
+        snprintf(why, whylen, "index '%s': need %d (each direction's rows numbered 0, 1, 2, "
+                 "... in the order wgsweep writes them)", f[off + 1], k);
+        return NULL;
+    }
+    if (cli_csv_num(f[off + 2], v) ? snprintf(w, sizeof w, "not a number as wgsweep writes one")
+                                   : wg_param_check(st->param, *v, w, sizeof w)) {
+        snprintf(why, whylen, "%s '%s': need a finite value in its range (%s)",
+                 out_pname(st->param), f[off + 2], w);
+        return NULL;
+    }
+    double prev = k ? c->pts[k - 1].value : NAN;
+    if (k && !(*dir > 0 ? *v > prev : *v < prev)) {
+        snprintf(why, whylen, "%s %s after %.10g in the %s sweep: need values strictly %s, as "
+                 "wgsweep writes them", out_pname(st->param), f[off + 2], prev,
+                 *dir > 0 ? "up" : "down", *dir > 0 ? "increasing" : "decreasing");
+        return NULL;
+    }
+    return g;
+}
+
 /* The file is verified as it is read: a header naming out_points_csv's
- * columns, rows of as many fields, each field the table uses a number or
- * a name it knows, every line whole, at least one row. A torn or foreign
- * file is refused with the line at fault (it once gave an empty table and
- * exit 0). */
+ * columns, rows of as many fields, each field what wgsweep writes there
+ * (row_place, parse_point), every line whole, at least one row. A torn or
+ * foreign file is refused with the line at fault (it once gave an empty
+ * table and exit 0; nan groups, a grid out of order, omega = 1e308 and
+ * garbage in the index or Floquet columns gave tables of nonsense). */
 int load_points_csv(const char *path, sweep_study *st, char *why, size_t whylen)
 {
     FILE *fp = wg_file_fopen(path, "points file", 0, -1, NULL, why, whylen);
-    char line[4096];
+    char line[4096], w[320];
     if (!fp)
         return -1;
     int nf = 0, lineno = 1, rc = 0, rows = 0;
@@ -199,20 +272,19 @@ int load_points_csv(const char *path, sweep_study *st, char *why, size_t whylen)
             break;
         }
         int dir, n = split(line, f, 64);
-        double gv = NAN;
-        if (n != nf || (off && fnum(f[0], &gv))) {
-            snprintf(why, whylen, "%s:%d: %d fields, the header has %d", path, lineno, n, nf);
-            rc = -1;
-            break;
+        double v;
+        sweep_group *g = NULL;
+        if (n != nf)
+            snprintf(w, sizeof w, "%d fields, the header has %d", n, nf);
+        else if ((g = row_place(st, f, off, &dir, &v, w, sizeof w)) &&
+                 parse_point(f + off + 3, n - off - 3, &pt, w, sizeof w) == 0) {
+            pt.value = v;
+            if (append(g, dir, &pt) == 0)
+                continue;
+            snprintf(w, sizeof w, "out of memory");
         }
-        sweep_group *g = group_of(st, gv);
-        if (!g || parse_point(f + off, n - off, &pt, &dir) || append(g, dir, &pt)) {
-            snprintf(why, whylen, "%s:%d: %s", path, lineno,
-                     g ? "a field is not what wgsweep writes there (a number, a regime or a "
-                         "motion name)"
-                       : "too many groups");
-            rc = -1;
-        }
+        snprintf(why, whylen, "%s:%d: %s", path, lineno, w);
+        rc = -1;
     }
     if (!rc && !rows) {
         snprintf(why, whylen, "%s: no points after the header", path);
@@ -221,6 +293,38 @@ int load_points_csv(const char *path, sweep_study *st, char *why, size_t whylen)
     fclose(fp);
     finish_chains(st);
     return rc;
+}
+
+int load_exact(const char *const *paths, int n, sweep_study *st, cont_bifs *ex, char *why,
+               size_t whylen)
+{
+    const char *pname = out_pname(st->param);
+    char w[512];
+    if (n && n != st->ngroups) {
+        snprintf(why, whylen, "--exact: %d file(s) for %d group(s): give one per group", n,
+                 st->ngroups);
+        return -1;
+    }
+    for (int k = 0; k < n; k++) {
+        int bad = cont_read_bifs(paths[k], &ex[k], w, sizeof w);
+        if (bad)
+            snprintf(why, whylen, "--exact: %s", w);
+        else if ((bad = strcmp(ex[k].param, pname) != 0))
+            snprintf(why, whylen, "--exact %s: continued in %s, the sweep is in %s", paths[k],
+                     ex[k].param, pname);
+        if (bad) {
+            load_exact_free(ex, k + 1);
+            return -1;
+        }
+        st->exact[k] = &ex[k];
+    }
+    return 0;
+}
+
+void load_exact_free(cont_bifs *ex, int n)
+{
+    for (int k = 0; k < n; k++)
+        cont_bifs_free(&ex[k]);
 }
 
 void load_free(sweep_study *st)

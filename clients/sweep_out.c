@@ -69,6 +69,15 @@ static int group_chains(const sweep_group *g, const wg_chain *c[2], const char *
 
 /* ---- CSV --------------------------------------------------------------- */
 
+const char *const out_point_cols[OUT_POINT_NCOLS] = {
+    "regime", "period", "converged", "motion", "impacts_per_period", "min_xn", "max_xn",
+    "lle_per_period", "err", "tol", "resid", "steps_per_period", "floquet1_re", "floquet1_im",
+    "floquet1_abs", "check2n_regime", "check2n_period", "check2n_motion",
+    "x1_impacts_per_period", "y1_impacts_per_period", "z1_impacts_per_period",
+    "x2_impacts_per_period", "y2_impacts_per_period", "z2_impacts_per_period",
+    "x1_impact_vmax", "y1_impact_vmax", "z1_impact_vmax", "x2_impact_vmax", "y2_impact_vmax",
+    "z2_impact_vmax"};
+
 static void csv_point(FILE *f, const sweep_study *st, const sweep_group *g, const char *dir,
                       int i, const wg_point *p)
 {
@@ -102,14 +111,10 @@ int out_points_csv(const char *path, const sweep_study *st, char *why, size_t wh
         return -1;
     if (st->gparam >= 0)
         fprintf(f, "%s,", out_pname(st->gparam));
-    fprintf(f, "dir,index,%s,regime,period,converged,motion,impacts_per_period,min_xn,max_xn,"
-               "lle_per_period,err,tol,resid,steps_per_period,floquet1_re,floquet1_im,"
-               "floquet1_abs,check2n_regime,check2n_period,check2n_motion,"
-               "x1_impacts_per_period,y1_impacts_per_period,z1_impacts_per_period,"
-               "x2_impacts_per_period,y2_impacts_per_period,z2_impacts_per_period,"
-               "x1_impact_vmax,y1_impact_vmax,z1_impact_vmax,x2_impact_vmax,y2_impact_vmax,"
-               "z2_impact_vmax\n",
-            out_pname(st->param));
+    fprintf(f, "dir,index,%s", out_pname(st->param));
+    for (int i = 0; i < OUT_POINT_NCOLS; i++)
+        fprintf(f, ",%s", out_point_cols[i]);
+    fputc('\n', f);
     for (int k = 0; k < st->ngroups; k++) {
         const wg_chain *c[2];
         const char *dir[2];

@@ -44,6 +44,11 @@ typedef struct sweep_study {
                                 NULL: o's transient and record */
 } sweep_study;
 
+/* The columns of a points CSV after [GROUP,]dir,index,PARAM, in the order
+ * out_points_csv writes them; load_points_csv reads them back. */
+enum { OUT_POINT_NCOLS = 30 };
+extern const char *const out_point_cols[OUT_POINT_NCOLS];
+
 /* Points of every chain, one row each (CSV). */
 int out_points_csv(const char *path, const sweep_study *st, char *why, size_t whylen);
 

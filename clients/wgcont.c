@@ -62,8 +62,11 @@ static void usage(FILE *f)
         "  --max-step D            largest arclength step (default 0.01: parameter units,\n"
         "                          the state by its RMS)\n"
         "  --depth K               period-doubling branch switches (default 1, 0: none)\n"
-        "  --tol X                 Newton residual |P^n(x) - x| (default 1e-10)\n"
-        "  --loc-tol X             location: arclength bracket (default 1e-9)\n"
+        "  --tol X                 Newton residual |P^n(x) - x|, max norm, states in b_c\n"
+        "                          (default 1e-10; %g to %g: under it double precision\n"
+        "                          cannot reach it, over it the orbit is too rough)\n"
+        "  --loc-tol X             location: arclength bracket, parameter units (default\n"
+        "                          1e-9; %g to %g)\n"
         "  --transient T           periods run before the first Newton (default 500)\n"
         "  --monodromy map|flow    derivative used (default map: of the Poincare map itself)\n"
         "  --sweep-points K        background sweep, up and down, K points (default 101;\n"
@@ -75,7 +78,8 @@ static void usage(FILE *f)
         "  -h, --help              this text\n\n"
         "Ctrl-C stops after the current point and writes what is done (exit\n"
         "130); a second Ctrl-C ends wgcont at once.\n"
-        "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted.\n");
+        "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted.\n",
+        WG_TOL_MIN, WG_CONT_TOL_MAX, WG_TOL_MIN, WG_CONT_LOC_TOL_MAX);
 }
 
 static int bad(const char *what, const char *arg)
@@ -113,8 +117,8 @@ static int parse_numbers(int c, const char *a, opts *o)
     case 'N': return inum(a, WG_STEPS_MIN, WG_STEPS_MAX, &co->steps) ? bad("--steps-per-period: need 8..65536, got", a) : 0;
     case 'm': return num(a, &co->ds_max) || !(co->ds_max > 0) ? bad("--max-step: need > 0, got", a) : 0;
     case 'd': return inum(a, 0, 8, &co->depth) ? bad("--depth: need 0..8, got", a) : 0;
-    case 't': return num(a, &co->tol) || !(co->tol > 0) ? bad("--tol: need > 0, got", a) : 0;
-    case 'l': return num(a, &co->loc_tol) || !(co->loc_tol > 0) ? bad("--loc-tol: need > 0, got", a) : 0;
+    case 't': return num(a, &co->tol) ? bad("--tol: not a number:", a) : 0; /* range: check_range */
+    case 'l': return num(a, &co->loc_tol) ? bad("--loc-tol: not a number:", a) : 0;
     case 'T': return inum(a, 0, 100000000, &co->transient) ? bad("--transient: need 0..1e8, got", a) : 0;
     case 'k': return inum(a, 0, 100000, &o->sweep_points) || o->sweep_points == 1 ? bad("--sweep-points: need 0 or 2..1e5, got", a) : 0;
     case 'j': return inum(a, 1, 256, &o->threads) ? bad("--threads: need 1..256, got", a) : 0;

@@ -84,9 +84,12 @@ static void usage(FILE *f)
         "  --record R              periods recorded for the period test (64..4096, default 128)\n"
         "  --extend E              extra transients while no period is found (default 3)\n"
         "  --lle-periods L         twin-trajectory periods for aperiodic points (default 300)\n"
-        "  --lle-tol X             |LLE| per period below X: quasi-periodic (default 0.01)\n"
-        "  --tol-factor F          period tolerance = max(floor, F x one-period error) (10)\n"
-        "  --tol-floor X           (default 1e-9)\n"
+        "  --lle-tol X             |LLE| per period below X: quasi-periodic (default 0.01;\n"
+        "                          %g to %g)\n"
+        "  --tol-factor F          period tolerance = max(floor, F x one-period error)\n"
+        "                          (default 10; %g to %g)\n"
+        "  --tol-floor X           (default 1e-9; %g to %g: states in b_c, the upper end\n"
+        "                          the tolerance of a slowly converging point)\n"
         "  --steps-per-period N    RK4 steps per mesh period (default 256; raised to 1.25x\n"
         "                          the RK4 stability limit where needed)\n"
         "  --stepper default|rk4|rk4-event (default: rk4-event; the printed\n"
@@ -127,7 +130,9 @@ static void usage(FILE *f)
         "  -h, --help              this text\n\n"
         "Ctrl-C stops a sweep after the current points and writes what is done (exit\n"
         "130); a second Ctrl-C, or one during --at, ends it at once.\n"
-        "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted.\n");
+        "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted.\n",
+        WG_LLE_TOL_MIN, WG_LLE_TOL_MAX, WG_TOL_FACTOR_MIN, WG_TOL_FACTOR_MAX, WG_TOL_MIN,
+        WG_TOL_FLOOR_MAX);
 }
 
 #define PROG "wgsweep"
@@ -221,13 +226,10 @@ static int parse_numeric(int c, const char *a, opts *o)
     case 'R': bad = cli_int(a, 64, 4096, &s->record), need = "--record: need 64..4096, got"; break;
     case 'E': bad = cli_int(a, 0, 1000, &s->extend), need = "--extend: need 0..1000, got"; break;
     case 'L': bad = cli_int(a, 1, 100000000, &s->lle_periods), need = "--lle-periods: need 1..1e8, got"; break;
-    case 'l': bad = cli_num(a, DBL_TRUE_MIN, DBL_MAX, &s->lle_tol), need = "--lle-tol: need > 0, got"; break;
-    case 'F':
-        bad = cli_num(a, DBL_TRUE_MIN, DBL_MAX, &s->tol_factor), need = "--tol-factor: need > 0, got";
-        break;
-    case 'f':
-        bad = cli_num(a, DBL_TRUE_MIN, DBL_MAX, &s->tol_floor), need = "--tol-floor: need > 0, got";
-        break;
+    /* the tolerances' ranges: wg_sweep_opts_check, once all are read */
+    case 'l': bad = cli_double(a, &s->lle_tol), need = "--lle-tol: not a number:"; break;
+    case 'F': bad = cli_double(a, &s->tol_factor), need = "--tol-factor: not a number:"; break;
+    case 'f': bad = cli_double(a, &s->tol_floor), need = "--tol-floor: not a number:"; break;
     case 'N':
         bad = cli_int(a, WG_STEPS_MIN, WG_STEPS_MAX, &s->steps);
         need = "--steps-per-period: need 8..65536, got";
@@ -373,6 +375,13 @@ static int parse_opts(int argc, char **argv, opts *o)
         return cli_usage_error(PROG, "unexpected argument '%s'", argv[optind]);
     if (o->at_state && !o->at_set)
         return cli_usage_error(PROG, "--at-state needs --at V (the point to analyse)");
+    const char *field = "";
+    char why[160], opt[16];
+    if (wg_sweep_opts_check(&o->so, &field, why, sizeof why)) { /* tol_floor: --tol-floor */
+        for (int i = snprintf(opt, sizeof opt, "--%s", field); i > 2; i--)
+            opt[i] = opt[i] == '_' ? '-' : opt[i];
+        return cli_usage_error(PROG, "%s: %s", opt, why);
+    }
     if ((rc = check_combination(o)))
         return rc;
     if (o->step > 0 && o->step > fabs(o->to - o->from) * (1 + 1e-12) && o->to != o->from &&
@@ -508,6 +517,18 @@ static int write_map(const opts *o, const char *scene, const wg_chain *rows, int
     return rc ? 1 : 0;
 }
 
+/* Points measured over n chains: with none, nothing is written (a sweep
+ * of a1 stopped at its first point wrote a1.csv, .md and .png empty). */
+static int none_measured(const wg_chain *cs, int n)
+{
+    long done = 0;
+    for (int i = 0; cs && i < n; i++)
+        done += cs[i].ndone;
+    if (!done)
+        fprintf(stderr, "wgsweep: no point was measured: nothing written\n");
+    return !done;
+}
+
 /* 2-D map: one up chain per row value. */
 static int do_map(const opts *o, const wg_scene *sc, int rank)
 {
@@ -527,8 +548,9 @@ static int do_map(const opts *o, const wg_scene *sc, int rank)
             if (rows[r].rc)
                 fprintf(stderr, "wgsweep: row %d: %s\n", r, rows[r].why);
         out_files files = {"", 0};
-        rc = write_map(o, sc->name, rows, o->mrows, partial, &files) || rc;
-        if (!o->quiet)
+        int none = none_measured(rows, o->mrows);
+        rc = none || write_map(o, sc->name, rows, o->mrows, partial, &files) || rc;
+        if (!o->quiet && !none)
             fprintf(stderr, "wgsweep: %d rows x %d points in %.1f s; wrote %s\n", o->mrows,
                     o->points, wall, files.list);
     }
@@ -556,35 +578,14 @@ static int study_chains(sweep_study *st, wg_chain *cs, const opts *o, const wg_s
     return rc;
 }
 
-/* Attach --exact files to the study's groups (one per group, in order).
- * 0, or 2 with a message (usage: count or parameter mismatch, bad file). */
-static int load_exact(const opts *o, sweep_study *st, cont_bifs *ex)
+/* Attach --exact files to the study's groups: 0, or 2 (said). */
+static int attach_exact(const opts *o, sweep_study *st, cont_bifs *ex)
 {
-    char why[512];
-    if (o->nexact && o->nexact != st->ngroups) {
-        fprintf(stderr, "wgsweep: --exact: %d file(s) for %d group(s): give one per group\n",
-                o->nexact, st->ngroups);
-        return 2;
-    }
-    for (int k = 0; k < o->nexact; k++) {
-        if (cont_read_bifs(o->exact[k], &ex[k], why, sizeof why)) {
-            fprintf(stderr, "wgsweep: --exact: %s\n", why);
-            return 2;
-        }
-        if (strcmp(ex[k].param, wg_param_info_get(st->param)->name) != 0) {
-            fprintf(stderr, "wgsweep: --exact %s: continued in %s, the sweep is in %s\n",
-                    o->exact[k], ex[k].param, wg_param_info_get(st->param)->name);
-            return 2;
-        }
-        st->exact[k] = &ex[k];
-    }
-    return 0;
-}
-
-static void free_exact(const opts *o, cont_bifs *ex)
-{
-    for (int k = 0; k < o->nexact; k++)
-        cont_bifs_free(&ex[k]);
+    char why[640];
+    if (!load_exact(o->exact, o->nexact, st, ex, why, sizeof why))
+        return 0;
+    fprintf(stderr, "wgsweep: %s\n", why);
+    return 2;
 }
 
 /* 1-D study: up/down chains per group value. */
@@ -597,10 +598,8 @@ static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank
     int n = st.ngroups * (o->up + o->down), rc = 0;
     cont_bifs ex[STUDY_MAX_GROUPS];
     memset(ex, 0, sizeof ex);
-    if ((rc = load_exact(o, &st, ex))) {
-        free_exact(o, ex);
+    if ((rc = attach_exact(o, &st, ex)))
         return rc;
-    }
     wg_chain *cs = calloc((size_t)n, sizeof *cs);
     if (cs)
         rc = study_chains(&st, cs, o, sc);
@@ -616,15 +615,16 @@ static int do_study(const opts *o, const wg_scene *sc, const char *cmd, int rank
             if (cs[i].rc)
                 fprintf(stderr, "wgsweep: chain %d stopped: %s\n", i, cs[i].why);
         out_files files = {"", 0};
-        rc = write_study(o, &st, &files) || rc;
-        if (!o->quiet)
+        int none = none_measured(cs, n);
+        rc = none || write_study(o, &st, &files) || rc;
+        if (!o->quiet && !none)
             fprintf(stderr, "wgsweep: %d chains x %d points in %.1f s%s; wrote %s\n", n,
                     o->points, st.wall_s, st.partial ? " (interrupted)" : "", files.list);
     }
     for (int i = 0; cs && i < n; i++)
         free(cs[i].pts);
     free(cs);
-    free_exact(o, ex);
+    load_exact_free(ex, o->nexact);
     return st.partial ? 130 : rc ? 1 : 0;
 }
 
@@ -642,13 +642,13 @@ static int do_table(const opts *o, const wg_scene *sc, const char *cmd)
     cont_bifs ex[STUDY_MAX_GROUPS];
     memset(ex, 0, sizeof ex);
     int rc = load_points_csv(o->table_from, &st, why, sizeof why), xrc = 0;
-    if (!rc && (xrc = load_exact(o, &st, ex)) == 0) {
+    if (!rc && (xrc = attach_exact(o, &st, ex)) == 0) {
         snprintf(path, sizeof path, "%s.md", o->out);
         rc = md_write(path, &st, why, sizeof why);
     }
     if (rc)
         fprintf(stderr, "wgsweep: %s\n", why);
-    free_exact(o, ex);
+    load_exact_free(ex, o->nexact);
     load_free(&st);
     return xrc ? xrc : rc ? 1 : 0;
 }

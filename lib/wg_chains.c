@@ -201,6 +201,12 @@ static int chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t 
     crun cr = {c, progress, ctx, d, d ? J : NULL, sl};
     c->ndone = 0;
     c->why[0] = 0;
+    const char *field = "";
+    char msg[128];
+    if ((c->rc = wg_sweep_opts_check(o, &field, msg, sizeof msg)) != WG_OK) {
+        snprintf(c->why, sizeof c->why, "option %s: %s", field, msg);
+        return c->rc;
+    }
     if ((c->rc = sweep_work_init(&w, o, stop, d)) != WG_OK) {
         snprintf(c->why, sizeof c->why, "out of memory for the record buffer");
         return c->rc;

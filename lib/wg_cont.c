@@ -442,9 +442,12 @@ int wg_cont_check(const wg_cont_opts *o, const char **field, char *why, size_t w
     if (!(o->ds0 >= o->ds_min && o->ds0 <= o->ds_max))
         return refuse(field, "ds0", WG_EINVAL, why, whylen, "need a first step in [%g, %g] "
                       "(ds_min, ds_max), got %g", o->ds_min, o->ds_max, o->ds0);
-    if (!(o->tol > 0) || !(o->loc_tol > 0))
-        return refuse(field, o->tol > 0 ? "loc_tol" : "tol", WG_EINVAL, why, whylen,
-                      "need > 0, got %g", o->tol > 0 ? o->loc_tol : o->tol);
+    if (!(o->tol >= WG_TOL_MIN && o->tol <= WG_CONT_TOL_MAX))
+        return refuse(field, "tol", WG_ERANGE, why, whylen, "need a residual (states in b_c) "
+                      "in [%g, %g], got %g", WG_TOL_MIN, WG_CONT_TOL_MAX, o->tol);
+    if (!(o->loc_tol >= WG_TOL_MIN && o->loc_tol <= WG_CONT_LOC_TOL_MAX))
+        return refuse(field, "loc_tol", WG_ERANGE, why, whylen, "need a bracket (parameter "
+                      "units) in [%g, %g], got %g", WG_TOL_MIN, WG_CONT_LOC_TOL_MAX, o->loc_tol);
     if (o->max_points < 2)
         return refuse(field, "max_points", WG_EINVAL, why, whylen, "need at least 2, got %d",
                       o->max_points);

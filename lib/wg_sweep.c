@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define LOOSE_TOL 1e-4 /* period tolerance once the LLE says "converging" */
+#define LOOSE_TOL WG_TOL_FLOOR_MAX /* period tolerance once the LLE says "converging" */
 #define SETTLE_EVERY 16 /* periods between the early-stop tests of a transient */
 
 void wg_sweep_opts_default(wg_sweep_opts *o)
@@ -23,6 +23,28 @@ void wg_sweep_opts_default(wg_sweep_opts *o)
                          .extend = 3, .pair = 8,
                          .lle_periods = 300, .lle_d0 = 1e-7, .lle_tol = 0.01,
                          .tol_factor = 10.0, .tol_floor = 1e-9, .floquet = 0};
+}
+
+int wg_sweep_opts_check(const wg_sweep_opts *o, const char **field, char *why, size_t whylen)
+{
+    static const struct {
+        const char *field, *what;
+        double lo, hi;
+    } r[3] = {{"tol_floor", "a period tolerance floor (states in b_c)", WG_TOL_MIN,
+               WG_TOL_FLOOR_MAX},
+              {"tol_factor", "a factor on the one-period error", WG_TOL_FACTOR_MIN,
+               WG_TOL_FACTOR_MAX},
+              {"lle_tol", "an |LLE| threshold per mesh period", WG_LLE_TOL_MIN, WG_LLE_TOL_MAX}};
+    double v[3] = {o->tol_floor, o->tol_factor, o->lle_tol};
+    for (int i = 0; i < 3; i++)
+        if (!(v[i] >= r[i].lo && v[i] <= r[i].hi)) {
+            snprintf(why, whylen, "need %s in [%g, %g], got %g", r[i].what, r[i].lo, r[i].hi,
+                     v[i]);
+            if (field)
+                *field = r[i].field;
+            return WG_ERANGE;
+        }
+    return WG_OK;
 }
 
 /* Steps per period for p: the requested N, raised to 1.25x the RK4 limit.
@@ -457,7 +479,14 @@ int wg_point_run(const wg_params *p, const wg_sweep_opts *o, double *y, wg_point
                  char *why, size_t whylen)
 {
     work w;
-    int rc = sweep_work_init(&w, o, NULL, NULL);
+    const char *field = "";
+    char msg[160];
+    int rc = wg_sweep_opts_check(o, &field, msg, sizeof msg);
+    if (rc) {
+        snprintf(why, whylen, "option %s: %s", field, msg);
+        return rc;
+    }
+    rc = sweep_work_init(&w, o, NULL, NULL);
     if (rc) {
         snprintf(why, whylen, "out of memory for the record buffer");
         return rc;

@@ -25,6 +25,15 @@
 
 enum wg_bif_kind { WG_BIF_FOLD, WG_BIF_PD, WG_BIF_TORUS, WG_BIF_GRAZING, WG_BIF_BP, WG_NBIF };
 
+/* Ranges of the tolerances (wg_cont_check). The residual is a state's, O(1)
+ * in b_c: at most 1e-6 (an orbit rougher than that misplaces the tests'
+ * zeros: a tolerance of 1e300 took the first guess as the orbit, lost
+ * both tori and put the grazing elsewhere); the bracket is in parameter
+ * units: at most 1e-5, a hundredth of the first step (a coarser location
+ * is no better than a fine sweep's grid). Both at least WG_TOL_MIN. */
+#define WG_CONT_TOL_MAX 1e-6
+#define WG_CONT_LOC_TOL_MAX 1e-5
+
 /* Settings of a run. Steps are pseudo-arclength in the norm
  * sqrt(dparam^2 + |dstate|^2 / dim): parameter units, the state by its RMS. */
 typedef struct wg_cont_opts {
@@ -36,8 +45,10 @@ typedef struct wg_cont_opts {
     int steps;          /* N per mesh period, raised to 1.25x the RK4 limit over the range */
     int transient;      /* periods run from y0 at `start` before the first Newton */
     double ds0, ds_min, ds_max; /* first, smallest and largest step */
-    double tol;         /* Newton: max-norm residual |P^n(x) - x| */
-    double loc_tol;     /* location: arclength bracket (bounds the parameter bracket) */
+    double tol;         /* Newton: max-norm residual |P^n(x) - x|,
+                           WG_TOL_MIN..WG_CONT_TOL_MAX */
+    double loc_tol;     /* location: arclength bracket (bounds the parameter bracket),
+                           WG_TOL_MIN..WG_CONT_LOC_TOL_MAX */
     int max_points;     /* per branch */
     int depth;          /* period-doubling branch switches (0: none) */
     int monodromy;      /* enum wg_monodromy used by Newton and for the multipliers */

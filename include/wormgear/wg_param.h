@@ -30,7 +30,10 @@ enum {
     WG_PF_ANGLE = 1u << 1, /* an angle in radians */
     WG_PF_GEOM = 1u << 2,  /* geometry/mass ratio: changes the linear modes */
     WG_PF_BODY = 1u << 3,  /* body data for derived outputs: no effect on the motion */
-    WG_PF_INT = 1u << 4    /* a whole number (teeth) */
+    WG_PF_INT = 1u << 4,   /* a whole number (teeth) */
+    WG_PF_TIED = 1u << 5   /* tied to other rows by a constraint (the direction cosines:
+                              a1^2 + a2^2 + a3^2 = 1, wg_params_check): changed only
+                              together with them, never swept alone */
 };
 
 typedef struct wg_param_info {

@@ -23,6 +23,14 @@ enum wg_stepper_kind {
 
 enum { WG_STEPS_MIN = 8, WG_STEPS_MAX = 65536, WG_STEPS_DEFAULT = 128 };
 
+/* The smallest tolerance on a difference of states that a run may ask
+ * for: states are O(1) (lengths in b_c), double precision resolves about
+ * 2e-16 of them and a mesh period's RK4 steps round to about 1e-15 (a
+ * converged period-1 orbit's residual is 3e-15), so a tolerance under
+ * 1e-13 is never met, or met by chance. wg_cont_check and
+ * wg_sweep_opts_check refuse one. */
+#define WG_TOL_MIN 1e-13
+
 /* Allowed ramp durations, in tau (a millionth of a unit of time up to
  * 1e15; a shorter ramp is a set, a longer one never ends). */
 #define WG_RAMP_TAU_MIN 1e-6

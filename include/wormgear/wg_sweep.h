@@ -25,6 +25,22 @@ enum { WG_POINT_NSEC = 128 };
  * the study agree chain for chain). */
 enum { WG_SETTLE_WINDOW = 24 };
 
+/* Ranges of the tolerances (wg_sweep_opts_check). The period tolerance
+ * compares Poincare states, O(1) in b_c: its floor at most the loose
+ * tolerance a point takes once its LLE says it converges (1e-4: a
+ * period-2 orbit whose two sections are further apart than that is told
+ * from period 1; a floor of 1e300 made every point period 1), at least
+ * WG_TOL_MIN. The factor on the one-period error at least 1 (points
+ * closer than the integration resolves are the same point) and at most
+ * 1000. The LLE threshold in [1e-4, 0.1] per mesh period: chaos at
+ * 0.1 per period doubles a separation in 7 periods; the estimate over
+ * the default 300 periods is good to about 1e-3. */
+#define WG_TOL_FLOOR_MAX 1e-4
+#define WG_TOL_FACTOR_MIN 1.0
+#define WG_TOL_FACTOR_MAX 1e3
+#define WG_LLE_TOL_MIN 1e-4
+#define WG_LLE_TOL_MAX 0.1
+
 typedef struct wg_sweep_opts {
     int model, stepper;  /* enum wg_model_kind, wg_stepper_kind */
     int steps;           /* N per mesh period; raised to 1.25x the RK4 limit */
@@ -37,9 +53,11 @@ typedef struct wg_sweep_opts {
     int extend;          /* extra transient blocks while no period is found */
     int lle_periods;     /* twin-trajectory periods for aperiodic points */
     double lle_d0;       /* twin separation */
-    double lle_tol;      /* |LLE| per period below this: quasi-periodic */
-    double tol_factor;   /* period tolerance = max(tol_floor, factor * err) */
-    double tol_floor;
+    double lle_tol;      /* |LLE| per period below this: quasi-periodic,
+                            WG_LLE_TOL_MIN..WG_LLE_TOL_MAX */
+    double tol_factor;   /* period tolerance = max(tol_floor, factor * err),
+                            WG_TOL_FACTOR_MIN..WG_TOL_FACTOR_MAX */
+    double tol_floor;    /* WG_TOL_MIN..WG_TOL_FLOOR_MAX */
     int floquet;         /* Floquet multipliers of periodic points (wg_shoot.h:
                             variational monodromy, rk4-event stepper only) */
     int verify;          /* re-analyse each point's attractor with 2N steps */
@@ -101,6 +119,14 @@ typedef void (*wg_progress_fn)(void *ctx, int chain, int ndone);
  * WG_SETTLE_WINDOW is the early-stop window worth asking for), record 128, extend 3, LLE 300 periods d0 1e-7 tol 0.01,
  * tol = max(1e-9, 10 err), no Floquet, pair 8. */
 void wg_sweep_opts_default(wg_sweep_opts *o);
+
+/* WG_OK if the chains and points take o's tolerances (tol_floor,
+ * tol_factor, lle_tol) in the ranges above; else WG_ERANGE with why ("need
+ * 1e-13 to 0.0001 ..., got 1e+300") and *field (if not NULL) the member at
+ * fault, so a program can say it in the words of its own options.
+ * wg_chain_run, wg_chains_run and wg_point_run refuse such o the same way
+ * (the chain's rc and why). */
+int wg_sweep_opts_check(const wg_sweep_opts *o, const char **field, char *why, size_t whylen);
 
 /* Value of point i (in run order) of a chain. */
 double wg_chain_value(const wg_chain *c, int i);

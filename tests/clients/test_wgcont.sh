@@ -63,6 +63,9 @@ check "SIGTERM during the transient: exit 130 at once, the files written with no
 check "usage errors exit 2" '[ $r1 -eq 2 ] && [ $r2 -eq 2 ] && [ $r3 -eq 2 ] && [ $r4 -eq 2 ]'
 check "--param z2 (body data): exit 2, one refusal saying it does not change the motion" \
   '[ $r6 -eq 2 ] && grep -q "^wgcont: --param .z2.: body data, .*does not change the motion" "$dir/z2.err" && [ "$(grep -c "^wgcont:" "$dir/z2.err")" -eq 1 ]'
+"$cont" --from 0.3 --to 0.35 --param a2 --out "$dir/a2" >/dev/null 2>"$dir/a2.err"; r7=$?
+check "--param a2 (a direction cosine): exit 2, one refusal saying why and what to vary, nothing written" \
+  '[ $r7 -eq 2 ] && grep -q "^wgcont: --param .a2.: a direction cosine of the line of action, tied to the other two by a1^2 + a2^2 + a3^2 = 1" "$dir/a2.err" && [ "$(grep -c "^wgcont:" "$dir/a2.err")" -eq 1 ] && ! ls "$dir"/a2-* >/dev/null 2>&1'
 "$cont" --from 0.5 --to 0.6 --out "$dir/none/c" >/dev/null 2>"$dir/od.err"; r8=$?
 check "--out in a missing directory: exit 2 before the continuation, the reason said" \
   '[ $r8 -eq 2 ] && grep -q "^wgcont: --out .$dir/none/c.: cannot write in $dir/none: No such file or directory" "$dir/od.err" && ! grep -q omega "$dir/od.err"'
@@ -70,10 +73,14 @@ check "--out in a missing directory: exit 2 before the continuation, the reason 
 # exit 1: "start omega = 1 must lie in [1, 1] (from != to)", "ds_min"); the
 # conditions are the library's (wg_cont_check), the option names wgcont's
 for a in "--from 1 --to 1|--from and --to: need a range" "--from 0.5 --to 0.6 --start 2|--start: need a value in \[0.5, 0.6\] (the range), got 2" \
-         "--from 0.5 --to 0.6 --max-step 1e-9|--max-step: need at least 1e-07 (the smallest step the continuation halves to), got 1e-09" "--from 0.5 --to 11|--to: omega = 11 out of range"; do
+         "--from 0.5 --to 0.6 --max-step 1e-9|--max-step: need at least 1e-07 (the smallest step the continuation halves to), got 1e-09" "--from 0.5 --to 11|--to: omega = 11 out of range" \
+         "--from 1 --to 1.05 --tol 1e300|--tol: need a residual (states in b_c) in \[1e-13, 1e-06\], got 1e+300" \
+         "--from 1 --to 1.05 --tol 1e-300|--tol: need a residual (states in b_c) in \[1e-13, 1e-06\], got 1e-300" \
+         "--from 1 --to 1.05 --loc-tol 1e300|--loc-tol: need a bracket (parameter units) in \[1e-13, 1e-05\], got 1e+300"; do
   "$cont" ${a%%|*} --out "$dir/rg" >/dev/null 2>"$dir/rg.err"; rc=$?
-  check "refused: ${a%%|*}" '[ $rc -eq 2 ] && [ "$(grep -c "^wgcont:" "$dir/rg.err")" -eq 1 ] && grep -q "^wgcont: ${a#*|}" "$dir/rg.err"'
+  check "refused: ${a%%|*}" '[ $rc -eq 2 ] && [ "$(grep -c "^wgcont:" "$dir/rg.err")" -eq 1 ] && grep -q "^wgcont: ${a#*|}" "$dir/rg.err" && ! ls "$dir"/rg* 2>/dev/null | grep -v rg.err'
 done
+check "--help gives the tolerances' ranges" '"$cont" --help | grep -q "(default 1e-10; 1e-13 to 1e-06"'
 "$cont" --from 0.5 --to 0.6 --out "$dir/" >/dev/null 2>"$dir/os.err"; r10=$?
 check "--out ending in /: exit 2, a file name prefix asked for" \
   '[ $r10 -eq 2 ] && grep -q "^wgcont: --out .*need a file name prefix" "$dir/os.err" && ! [ -e "$dir/.png" ]'
@@ -111,6 +118,28 @@ for b in bad bad2; do
   check "wgsweep --exact with a row wgcont does not write ($b): exit 2, the line said" \
     '[ $rb -eq 2 ] && grep -q "$b.csv:2: not a bifurcation row" "$dir/sw$b.err"'
 done
+# what wgcont writes, exactly: its header once (a second period column was
+# read, a header with no state taken), the value in the parameter's range
+# (1e308 was tabled), a period as %d writes it (" 1" and "+1" were taken)
+{ sed '1s/$/,period/; 2s/$/,1/' "$dir/pd-bifurcations.csv" | head -2; } >"$dir/dup.csv"
+printf 'type,omega\n' >"$dir/hdr.csv"
+awk -F, -v OFS=, 'NR == 2 { $2 = "1e308" } NR <= 2' "$dir/pd-bifurcations.csv" >"$dir/huge.csv"
+awk -F, -v OFS=, 'NR == 2 { $21 = "+1" } NR <= 2' "$dir/pd-bifurcations.csv" >"$dir/plus.csv"
+awk -F, -v OFS=, 'NR == 2 { $21 = " 1" } NR <= 2' "$dir/pd-bifurcations.csv" >"$dir/space.csv"
+for b in "dup|:1: not a bifurcations CSV header of wgcont" "hdr|:1: not a bifurcations CSV header" \
+         "huge|:2: not a bifurcation row as wgcont writes it (need the parameter's value, finite and in its range)" \
+         "plus|:2: not a bifurcation row as wgcont writes it (need a period 1..32 as %d writes it)" \
+         "space|:2: not a bifurcation row as wgcont writes it (need a period 1..32"; do
+  f=${b%%|*}
+  "$sweep" --table-from "$dir/sw.csv" --exact "$dir/$f.csv" --out "$dir/sx$f" >/dev/null 2>"$dir/sx.err"; rb=$?
+  check "wgsweep --exact $f.csv: exit 2, once, '${b#*|}'" \
+    '[ $rb -eq 2 ] && [ "$(wc -l <"$dir/sx.err")" -eq 1 ] && grep -q -- "^wgsweep: --exact: $dir/$f.csv${b#*|}" "$dir/sx.err" && ! [ -e "$dir/sx$f.md" ]'
+done
+# a header alone is what wgcont writes where it locates nothing: taken
+head -1 "$dir/pd-bifurcations.csv" >"$dir/none.csv"
+"$sweep" --table-from "$dir/sw.csv" --exact "$dir/none.csv" --out "$dir/sxn" >/dev/null 2>&1; rb=$?
+check "wgsweep --exact with wgcont's header alone (nothing located): exit 0, the column empty" \
+  '[ $rb -eq 0 ] && grep "^| period doubling" "$dir/sxn.md" | grep -q "| - |$"'
 mkfifo "$dir/bifs.fifo"
 timeout 20 "$sweep" --table-from "$dir/sw.csv" --exact "$dir/bifs.fifo" --out "$dir/swf" >/dev/null 2>"$dir/swf.err"; r12=$?
 check "wgsweep --exact with a FIFO: exit 2 at once (the open blocked), 'is a FIFO'" \

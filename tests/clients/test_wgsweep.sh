@@ -91,6 +91,20 @@ refuse "xi_p = -1 out of range \[0, 2\]" --map xi_p=-1:0.1:2
 refuse "M, the rows, need 1..100000" --map xi_p=0.1:0.2:0
 refuse "need 1..1e7" --at 1 --at-periods 99999999
 refuse "^wgsweep: --step 5: more than the range 0.2" --from 1 --to 1.2 --step 5
+# a direction cosine cannot vary alone (a1^2 + a2^2 + a3^2 = 1 broke at every
+# point: "chain 0 stopped", exit 1, and a1.csv/.md/.png written with no point)
+refuse "^wgsweep: --param 'a1': a direction cosine of the line of action, tied to the other two by a1^2 + a2^2 + a3^2 = 1" --param a1 --from 0.2 --to 0.3 --points 3
+refuse "^wgsweep: --values 'a2': a direction cosine .*; set a1, a2 and a3 together (--set or the scene) and vary another parameter" --values a2=0.3
+refuse "^wgsweep: --map 'a3': a direction cosine" --map a3=0.8:0.9:2
+# tolerances in their ranges (the library's, wg_sweep_opts_check): a floor
+# or factor of 1e300 made the period-2 points of 1.0-1.4 period 1, exit 0
+refuse "^wgsweep: --tol-floor: need a period tolerance floor (states in b_c) in \[1e-13, 0.0001\], got 1e+300" --from 1 --to 1.4 --points 5 --dir up --tol-floor 1e300
+refuse "^wgsweep: --tol-floor: .*\[1e-13, 0.0001\], got 1e-300" --from 1 --to 1.4 --points 5 --tol-floor 1e-300
+refuse "^wgsweep: --tol-factor: need a factor on the one-period error in \[1, 1000\], got 1e+300" --from 1 --to 1.4 --points 5 --tol-factor 1e300
+refuse "^wgsweep: --lle-tol: need an |LLE| threshold per mesh period in \[0.0001, 0.1\], got 1e+300" --lle-tol 1e300
+refuse "^wgsweep: --tol-floor: .*got nan" --at 1.2 --tol-floor nan
+check "--help gives the tolerances' ranges" \
+  '"$sweep" --help | grep -q "(default 1e-9; 1e-13 to 0.0001: states in b_c" && "$sweep" --help | grep -q "(default 10; 1 to 1000)"'
 # the grid is the one asked for, or refused (before: --step won over --points
 # silently, 0.07 became 0.0706, equal ends ran the same point three times)
 refuse "^wgsweep: --step 0.07: the range 2.4 (--from 0.1 --to 2.5) is 34.29 steps of it, not a whole number; give --step 0.0705882 (35 points) or 0.0685714 (36 points)" --step 0.07
@@ -187,16 +201,41 @@ awk -F, -v OFS=, 'NR == 2 { $15 = -3 } 1' "$dir/v.csv" >"$dir/t7.csv"  # N = -3
 { head -2 "$dir/v.csv"; printf 'up,1,\0001.2\n'; sed -n '4,$p' "$dir/v.csv"; } >"$dir/t8.csv"
 { head -2 "$dir/v.csv"; head -c 5000 /dev/zero | tr '\0' 7; echo; } >"$dir/t9.csv"
 printf 'dir,index,omega\nup,0,1\n' >"$dir/t10.csv"   # a whole header, not wgsweep's
+# what a points CSV can hold (each was tabled: groups of nan or 1e999, an up
+# grid out of order giving brackets like 1.2000 (1.4000-1.0000), omega =
+# 1e308, garbage in the index or Floquet columns, a down sweep increasing)
+awk -F, -v OFS=, 'NR == 2 { $1 = "nan" } 1' "$dir/s1.csv" >"$dir/t11.csv"
+awk -F, -v OFS=, 'NR == 3 { $1 = "1e999" } 1' "$dir/s1.csv" >"$dir/t12.csv"
+awk -F, -v OFS=, 'NR == 3 { $3 = 1.0 } 1' "$dir/v.csv" >"$dir/t13.csv"
+awk -F, -v OFS=, 'NR == 2 { $3 = "1e308" } 1' "$dir/v.csv" >"$dir/t14.csv"
+awk -F, -v OFS=, 'NR == 2 { $2 = "abc" } 1' "$dir/v.csv" >"$dir/t15.csv"
+awk -F, -v OFS=, 'NR == 2 { $16 = "zzz" } 1' "$dir/v.csv" >"$dir/t16.csv"
+sed 's/^up,/down,/' "$dir/v.csv" >"$dir/t17.csv"
+awk -F, -v OFS=, 'NR == 2 { $5 = "+1" } 1' "$dir/v.csv" >"$dir/t18.csv"
+# 65 groups: one more than --values takes ("too many groups" gave no limit)
+awk -F, -v OFS=, 'NR == 1 { print; next } NR == 2 { for (k = 1; k <= 65; k++) { $1 = k / 100; print } }' \
+  "$dir/s1.csv" >"$dir/t19.csv"
 i=0
 for want in ":1: the line is cut short" ":3: the line is cut short" ": no points after the header" \
-            ":2: a field is not what wgsweep writes there" ":3: 3 fields, the header has" \
-            ":2: a field is not what wgsweep writes there" ":2: a field is not what wgsweep writes there" \
+            ":2: regime 'periodik' is not what wgsweep writes there: need a regime name" \
+            ":3: 3 fields, the header has" \
+            ":2: period '-7' is not what wgsweep writes there: need a whole number 0..32" \
+            ":2: steps_per_period '-3' is not what wgsweep writes there: need a whole number 8..65536" \
             ":3: a NUL byte: not a text file" ":3: longer than 4094 characters" \
-            ":1: not a wgsweep points CSV header"; do
+            ":1: not a wgsweep points CSV header" \
+            ":2: group value 'nan': need a finite value of xi_p in its range (xi_p = nan out of range \\[0, 2\\])" \
+            ":3: group value '1e999': need a finite value of xi_p in its range (xi_p = inf out of range" \
+            ":3: omega 1 after 1.17 in the up sweep: need values strictly increasing, as wgsweep writes them" \
+            ":2: omega '1e308': need a finite value in its range (omega = 1e+308 out of range \\[0.01, 10\\])" \
+            ":2: index 'abc': need 0 (each direction's rows numbered 0, 1, 2, ... in the order" \
+            ":2: floquet1_re 'zzz' is not what wgsweep writes there: need a finite number, or empty" \
+            ":3: omega 1.18 after 1.17 in the down sweep: need values strictly decreasing" \
+            ":2: period '+1' is not what wgsweep writes there" \
+            ":66: too many groups: at most 64 values of xi_p (as --values takes)"; do
   i=$((i + 1))
   "$sweep" --table-from "$dir/t$i.csv" --out "$dir/tt$i" >/dev/null 2>"$dir/tt.err"; rc=$?
   check "--table-from a damaged file ($i): exit 1, '$want'" \
-    '[ $rc -eq 1 ] && grep -q -- "^wgsweep: $dir/t$i.csv$want" "$dir/tt.err" && ! [ -e "$dir/tt$i.md" ]'
+    '[ $rc -eq 1 ] && grep -q -- "^wgsweep: $dir/t$i.csv$want" "$dir/tt.err" && [ "$(wc -l <"$dir/tt.err")" -eq 1 ] && ! [ -e "$dir/tt$i.md" ]'
 done
 
 # a FIFO or a directory is not a points file: refused at once (a FIFO

@@ -367,6 +367,21 @@ static void test_refused_and_stopped(void)
     ASSERT_STR(field, "ds_max");
     wg_cont_opts_default(&o);
     ASSERT_EQ_INT(wg_cont_check(&o, &field, why, sizeof why), WG_OK);
+    /* tolerances in their ranges (1e300 took the first guess as the orbit;
+     * 1e-300 is never met: "no orbit found"), the ends taken */
+    static const double tols[][2] = {{1e300, 1e-5}, {1e-300, 1e-300}, {1e-6, 1e-14},
+                                     {WG_TOL_MIN, 1e-3}, {0.0, NAN}, {WG_CONT_TOL_MAX, 1e-5}};
+    static const char *const fields[] = {"tol", "tol", "loc_tol", "loc_tol", "tol", ""};
+    for (int i = 0; i < 6; i++) {
+        wg_cont_opts_default(&o);
+        o.tol = tols[i][0], o.loc_tol = tols[i][1];
+        field = "";
+        ASSERT_EQ_INT(wg_cont_check(&o, &field, why, sizeof why), i < 5 ? WG_ERANGE : WG_OK);
+        ASSERT_STR(field, fields[i]);
+    }
+    o.tol = 1e300;
+    ASSERT_EQ_INT(wg_cont_check(&o, &field, why, sizeof why), WG_ERANGE);
+    ASSERT_CONTAINS(why, "need a residual (states in b_c) in [1e-13, 1e-06], got 1e+300");
     wg_cont_opts_default(&o);
     o.model = WG_MODEL_PRINTED;
     ASSERT_EQ_INT(wg_cont_run(&p, y, &o, NULL, NULL, why, sizeof why), WG_EUNSUPPORTED);

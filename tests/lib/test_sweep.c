@@ -356,6 +356,49 @@ static void test_no_chains(void)
     ASSERT_EQ_INT(c.ndone, 0);
 }
 
+/* Tolerances out of their ranges are refused by the check and by every
+ * entry point, before a point runs (a floor of 1e300 made the period-2
+ * points of 1.0-1.4 period 1, exit 0); the ranges' ends are taken. */
+static void test_tolerances_refused(void)
+{
+    wg_params p = table3();
+    wg_sweep_opts o;
+    static wg_point pts[2];
+    char why[256];
+    const char *field = NULL;
+    static const struct {
+        const char *field;
+        double bad[4], ok[2];
+    } cases[3] = {{"tol_floor", {1e300, 1e-3, 1e-300, 0.0}, {WG_TOL_MIN, WG_TOL_FLOOR_MAX}},
+                  {"tol_factor", {1e300, 1001, 0.5, NAN}, {1.0, 1000.0}},
+                  {"lle_tol", {1e300, 0.2, 1e-5, -0.01}, {1e-4, 0.1}}};
+    for (int k = 0; k < 3; k++) {
+        for (int i = 0; i < 6; i++) {
+            wg_sweep_opts_default(&o);
+            double v = i < 4 ? cases[k].bad[i] : cases[k].ok[i - 4];
+            *(k == 0 ? &o.tol_floor : k == 1 ? &o.tol_factor : &o.lle_tol) = v;
+            field = NULL;
+            ASSERT_EQ_INT(wg_sweep_opts_check(&o, &field, why, sizeof why),
+                          i < 4 ? WG_ERANGE : WG_OK);
+            if (i < 4)
+                ASSERT_STR(field, cases[k].field);
+        }
+    }
+    wg_sweep_opts_default(&o);
+    o.tol_floor = 1e300;
+    ASSERT_EQ_INT(wg_sweep_opts_check(&o, &field, why, sizeof why), WG_ERANGE);
+    ASSERT_CONTAINS(why, "need a period tolerance floor (states in b_c) in [1e-13, 0.0001], "
+                         "got 1e+300");
+    wg_chain c = chain(&p, 1.0, 1.1, 2, 1, pts);
+    ASSERT_EQ_INT(wg_chains_run(&c, 1, &o, 1, NULL, NULL, NULL), WG_ERANGE);
+    ASSERT_EQ_INT(c.ndone, 0);
+    ASSERT_CONTAINS(c.why, "option tol_floor: need a period tolerance floor");
+    double y[WG_NSTATE_MAX];
+    wg_equilibrium(WG_MODEL_CONSISTENT, &p, y);
+    ASSERT_EQ_INT(wg_point_run(&p, &o, y, &pts[0], why, sizeof why), WG_ERANGE);
+    ASSERT_CONTAINS(why, "option tol_floor: ");
+}
+
 /* Bearing impacts counted by an independent run from the point's final
  * state (a section of its periodic orbit). */
 typedef struct bcount {
@@ -425,4 +468,5 @@ static void test_bearing_impacts(void)
 
 TEST_MAIN(TEST(test_bearing_impacts), TEST(test_period_doubling_sweep_and_floquet), TEST(test_lle_sign_on_the_model),
           TEST(test_error_estimate_order), TEST(test_threads_identical), TEST(test_pairs_identical),
-          TEST(test_checks_in_flight), TEST(test_stop_flag), TEST(test_no_chains))
+          TEST(test_checks_in_flight), TEST(test_stop_flag), TEST(test_no_chains),
+          TEST(test_tolerances_refused))
