@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "cli.h"
+
 static void cmd_clear(web_cmd *c)
 {
     memset(c, 0, sizeof *c);
@@ -231,10 +233,29 @@ static int bad_object(const cJSON *v, char *why, size_t whylen)
     return 0;
 }
 
+long web_utf8_bad_at(const void *p, size_t len)
+{
+    const unsigned char *s = p;
+    for (size_t i = 0; i < len;) {
+        char seq[5] = {0}; /* cli_utf8_len reads up to 4 bytes: never past len */
+        memcpy(seq, s + i, len - i < 4 ? len - i : 4);
+        int n = s[i] < 0x80 ? 1 : cli_utf8_len(seq);
+        if (n == 0 || (size_t)n > len - i)
+            return (long)i;
+        i += (size_t)n;
+    }
+    return -1;
+}
+
 cJSON *web_json_parse(const void *p, size_t len, char *why, size_t whylen)
 {
     const char *s = p, *end = NULL;
-    long at = nul_escape_at(s, len);
+    long at = web_utf8_bad_at(s, len);
+    if (at >= 0) { /* cJSON took it, and our replies carried U+FFFD */
+        snprintf(why, whylen, "invalid UTF-8 at byte %ld (JSON text must be UTF-8)", at);
+        return NULL;
+    }
+    at = nul_escape_at(s, len);
     if (at >= 0) {
         snprintf(why, whylen, "a string with a NUL (\\u0000) at byte %ld", at);
         return NULL;

@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "web_cmd.h"
+
 /* Per-connection data (zeroed by lws). */
 typedef struct srv_conn {
     struct lws *wsi;
@@ -31,7 +33,25 @@ static int on_established(srv *s, srv_conn *c, struct lws *wsi)
     return 0;
 }
 
-static void on_receive(srv *s, srv_conn *c, struct lws *wsi, const void *in, size_t len)
+/* RFC 6455 5.6, 8.1: a text message that is not UTF-8 fails the
+ * connection with 1007 (it was taken, with U+FFFD in our answers). Checked
+ * on the whole message, so a character split between fragments is fine;
+ * the close frame's reason is the one message the client gets. -1: close. */
+static int text_not_utf8(srv *s, struct lws *wsi, const jbuf *rx)
+{
+    char reason[120];
+    long at = web_utf8_bad_at(jb_text(rx), jb_len(rx));
+    if (at < 0)
+        return 0;
+    s->fox->bad_frames++;
+    int n = snprintf(reason, sizeof reason, "invalid UTF-8 at byte %ld: a text message must be "
+                     "UTF-8 (RFC 6455)", at);
+    lws_close_reason(wsi, LWS_CLOSE_STATUS_INVALID_PAYLOAD, (unsigned char *)reason,
+                     (size_t)n < sizeof reason ? (size_t)n : sizeof reason - 1);
+    return -1;
+}
+
+static int on_receive(srv *s, srv_conn *c, struct lws *wsi, const void *in, size_t len)
 {
     if (lws_is_first_fragment(wsi)) {
         jb_reset(&c->rx);
@@ -47,12 +67,15 @@ static void on_receive(srv *s, srv_conn *c, struct lws *wsi, const void *in, siz
     if (!c->rx_over)
         jb_mem(&c->rx, in, len);
     if (!lws_is_final_fragment(wsi) || lws_remaining_packet_payload(wsi) > 0)
-        return;
+        return 0;
+    int binary = lws_frame_is_binary(wsi);
+    if (!c->rx_over && !c->rx.oom && !binary && text_not_utf8(s, wsi, &c->rx))
+        return -1;
     if (!c->rx_over && !c->rx.oom)
-        fox_rx(s->fox, c->ci, (const unsigned char *)jb_text(&c->rx), jb_len(&c->rx),
-               lws_frame_is_binary(wsi));
+        fox_rx(s->fox, c->ci, (const unsigned char *)jb_text(&c->rx), jb_len(&c->rx), binary);
     jb_reset(&c->rx);
     c->rx_over = 0;
+    return 0;
 }
 
 static int on_writeable(srv *s, srv_conn *c, struct lws *wsi)
@@ -125,9 +148,7 @@ static int cb_fox(struct lws *wsi, enum lws_callback_reasons reason, void *user,
     case LWS_CALLBACK_ESTABLISHED:
         return on_established(s, c, wsi);
     case LWS_CALLBACK_RECEIVE:
-        if (c->open)
-            on_receive(s, c, wsi, in, len);
-        return 0;
+        return c->open ? on_receive(s, c, wsi, in, len) : 0;
     case LWS_CALLBACK_SERVER_WRITEABLE:
         return c->open ? on_writeable(s, c, wsi) : -1;
     case LWS_CALLBACK_CLOSED:

@@ -197,6 +197,36 @@ static void test_cmd_json(void)
     }
 }
 
+/* What a client sends must be UTF-8: cJSON took \xff\xfe in an id, the
+ * set ran and the answer's id was "\ufffd\ufffd" (a review). */
+static void test_utf8(void)
+{
+    static const struct {
+        const char *s;
+        long bad_at;
+    } cases[] = {{"ascii", -1}, {"\xe2\x82\xac \xf0\x9f\x98\x80 \xc2\xa0", -1},
+                 {"a\xff\xfe", 1}, {"\xc0\xaf", 0}, {"xx\xed\xa0\x80", 2},
+                 {"\xf4\x90\x80\x80", 0}, {"ok\xe2\x82", 2}, {"\x80", 0}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
+        ASSERT_EQ_INT(web_utf8_bad_at(cases[i].s, strlen(cases[i].s)), cases[i].bad_at);
+    setup(1);
+    int a = fox_open(&F, (void *)1);
+    drain(a, NULL);
+    rx(a, "{\"op\":\"setParameters\",\"parameters\":[{\"name\":\"xi_p\",\"value\":0.082}],"
+          "\"id\":\"\xff\xfe\"}");
+    ASSERT_CONTAINS(drain(a, NULL), "a text frame refused: invalid UTF-8 at byte 73 (JSON text "
+                    "must be UTF-8)");
+    unsigned char fr[64] = {0x01, 5, 0, 0, 0};
+    const char *body = "{\"op\":\"pause\",\"id\":\"\xc0\xaf\"}";
+    rx(a, "{\"op\":\"advertise\",\"channels\":[{\"id\":5,\"topic\":\"/cmd\","
+          "\"encoding\":\"json\"}]}");
+    memcpy(fr + 5, body, strlen(body));
+    fox_rx(&F, a, fr, 5 + strlen(body), 1);
+    ASSERT_CONTAINS(drain(a, NULL), "/cmd: invalid UTF-8 at byte 20");
+    ASSERT_EQ_INT(K.cmds, 0); /* nothing reached the daemon */
+    teardown();
+}
+
 static void test_open_info_advertise(void)
 {
     setup(0);
@@ -413,4 +443,4 @@ TEST_MAIN(TEST(test_jbuf), TEST(test_many_refusals_one_message), TEST(test_queue
           TEST(test_thin_scope_stride),
           TEST(test_thin_rate_cap), TEST(test_cmd_json), TEST(test_open_info_advertise),
           TEST(test_bad_inputs), TEST(test_subscribe_publish_drop), TEST(test_parameters),
-          TEST(test_client_publish))
+          TEST(test_client_publish), TEST(test_utf8))
