@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "wormgear/wg_sim.h"
 
 static void cmd_clear(web_cmd *c)
 {
@@ -111,6 +112,26 @@ static int ramp_from_json(web_cmd *c, const cJSON *j, char *why, size_t whylen)
     return 0;
 }
 
+/* mode: a rate, when given, in the daemon's range. On the wire rate 0
+ * means "keep the current rate", so an explicit 0 (or -0) was taken as
+ * that and answered OK; leaving it out keeps the rate. */
+static int mode_from_json(web_cmd *c, const cJSON *j, char *why, size_t whylen)
+{
+    if (get_str(j, "mode", c->name, sizeof c->name, 1, why, whylen))
+        return -1;
+    const cJSON *r = cJSON_GetObjectItemCaseSensitive(j, "rate");
+    if (!r)
+        return 0;
+    double v = cJSON_IsNumber(r) ? r->valuedouble : NAN;
+    if (!(v >= WG_RATE_MIN && v <= WG_RATE_MAX)) {
+        snprintf(why, whylen, "mode: 'rate' must be a number in [%g, %g] (the realtime factor, "
+                 "1 = physical; leave it out to keep the current one)", WG_RATE_MIN, WG_RATE_MAX);
+        return -1;
+    }
+    c->cmd.rate = v;
+    return 0;
+}
+
 /* The op-specific fields of ops other than set and ramp. */
 static int other_from_json(web_cmd *c, const cJSON *j, char *why, size_t whylen)
 {
@@ -119,12 +140,8 @@ static int other_from_json(web_cmd *c, const cJSON *j, char *why, size_t whylen)
         return get_str(j, "what", c->name, sizeof c->name, 0, why, whylen);
     if (!strcmp(c->op, "save") || !strcmp(c->op, "restore"))
         return get_str(j, "name", c->name, sizeof c->name, 1, why, whylen);
-    if (!strcmp(c->op, "mode")) {
-        if (get_str(j, "mode", c->name, sizeof c->name, 1, why, whylen) ||
-            get_num(j, "rate", &c->cmd.rate, 0, why, whylen))
-            return -1;
-        return 0;
-    }
+    if (!strcmp(c->op, "mode"))
+        return mode_from_json(c, j, why, whylen);
     if (!strcmp(c->op, "step")) {
         if (get_num(j, "nsteps", &v, 1, why, whylen))
             return -1;

@@ -1,6 +1,8 @@
 /* web_cmd.h - a Foxglove client's JSON command or setParameters request
  * turned into the daemon's cmd_t. Shape only: names, ranges and states are
- * the daemon's to judge (its ACK says why), so nothing is decided twice.
+ * the daemon's to judge (its ACK says why), so nothing is decided twice;
+ * but mode's rate, whose 0 on the wire means "keep", is checked against
+ * WG_RATE_MIN, WG_RATE_MAX (wg_sim.h, the daemon's bounds too).
  *
  * The /cmd topic's messages (clientPublish, encoding json):
  *   {"op":"set","params":{"omega":1.3},"at_section":true}

@@ -10,6 +10,7 @@
 #include "web_json.h"
 #include "web_queue.h"
 #include "web_thin.h"
+#include "wormgear/wg_sim.h"
 
 /* ---- a fake transport and daemon */
 typedef struct fake {
@@ -182,6 +183,34 @@ static void test_cmd_json(void)
     ASSERT_STR(c.cmd.name, "mesh");
     ASSERT_TRUE(c.cmd.nsteps == 4);
     cJSON_Delete(j);
+    /* mode: the rate, when given, in the daemon's range; absent: 0 on the
+     * wire, "keep" (an explicit 0 went out as that, and was answered OK) */
+    j = cJSON_Parse("{\"op\":\"mode\",\"mode\":\"realtime\"}");
+    ASSERT_EQ_INT(web_cmd_from_json(&c, j, why, sizeof why), 0);
+    ASSERT_TRUE(c.cmd.rate == 0);
+    cJSON_Delete(j);
+    static const char *const rates[] = {"0", "-0", "5e-7", "1000.5", "-1", "\"fast\""};
+    for (size_t i = 0; i < sizeof rates / sizeof rates[0]; i++) {
+        char text[80];
+        snprintf(text, sizeof text, "{\"op\":\"mode\",\"mode\":\"realtime\",\"rate\":%s}",
+                 rates[i]);
+        j = cJSON_Parse(text);
+        why[0] = '\0';
+        ASSERT_EQ_INT(web_cmd_from_json(&c, j, why, sizeof why), -1);
+        ASSERT_STR(why, "mode: 'rate' must be a number in [1e-06, 1000] (the realtime factor, "
+                   "1 = physical; leave it out to keep the current one)");
+        cJSON_Delete(j);
+    }
+    static const double ok_rates[] = {WG_RATE_MIN, 1, WG_RATE_MAX};
+    for (size_t i = 0; i < sizeof ok_rates / sizeof ok_rates[0]; i++) {
+        char text[80];
+        snprintf(text, sizeof text, "{\"op\":\"mode\",\"mode\":\"fast\",\"rate\":%.17g}",
+                 ok_rates[i]);
+        j = cJSON_Parse(text);
+        ASSERT_EQ_INT(web_cmd_from_json(&c, j, why, sizeof why), 0);
+        ASSERT_TRUE(c.cmd.rate == ok_rates[i]);
+        cJSON_Delete(j);
+    }
     const char *bad[] = {"[]", "{}", "{\"op\":7}", "{\"op\":\"fly\"}", "{\"op\":\"set\"}",
                          "{\"op\":\"step\",\"nsteps\":1.5}", "{\"op\":\"contacts\"}",
                          "{\"op\":\"contacts\",\"which\":\"all\",\"every\":0.5}",
