@@ -193,7 +193,7 @@ static void fill_info(srv *s, struct lws_context_creation_info *info, struct ev_
     info->port = s->conf.port;
     info->iface = s->conf.iface;
     info->protocols = s->protos;
-    info->mounts = &s->mount;
+    info->mounts = s->conf.web_root ? &s->mount : NULL; /* none: no file served */
     info->options = LWS_SERVER_OPTION_LIBEV |
                     LWS_SERVER_OPTION_HTTP_HEADERS_SECURITY_BEST_PRACTICES_ENFORCE;
     if (!strchr(s->conf.iface, ':'))
@@ -210,7 +210,7 @@ int srv_init(srv *s, struct ev_loop *loop, const srv_conf *conf, fox *f, char *w
     memset(s, 0, sizeof *s);
     s->conf = *conf;
     s->fox = f;
-    snprintf(s->root, sizeof s->root, "%s", conf->web_root);
+    snprintf(s->root, sizeof s->root, "%s", conf->web_root ? conf->web_root : "");
     jb_init_pre(&s->out, LWS_PRE);
     lws_set_log_level(LLL_ERR | LLL_WARN, lws_log);
     fill_info(s, &info, loop);
