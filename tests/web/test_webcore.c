@@ -468,8 +468,51 @@ static void test_client_publish(void)
     teardown();
 }
 
+/* A step is answered when its steps are done: after the timeout the client
+ * was told "no ACK ... is wormgeard running?" and the ACK that came later
+ * was dropped (its slot freed). Now the status names op and id and says it
+ * may still run, and the late ACK is a second, final status for that id. */
+static void test_late_ack(void)
+{
+    setup(1);
+    int a = fox_open(&F, (void *)1);
+    rx(a, "{\"op\":\"advertise\",\"channels\":[{\"id\":5,\"topic\":\"/cmd\","
+          "\"encoding\":\"json\"}]}");
+    drain(a, NULL);
+    unsigned char fr[128] = {0x01, 5, 0, 0, 0};
+    const char *step = "{\"op\":\"step\",\"nsteps\":100000000000,\"id\":\"s1\"}";
+    memcpy(fr + 5, step, strlen(step));
+    fox_rx(&F, a, fr, 5 + strlen(step), 1);
+    int64_t step_seq = K.cmds, step_utime = 1700000000000000 + 1000 * K.cmds;
+    const char *pause = "{\"op\":\"pause\"}";
+    memcpy(fr + 5, pause, strlen(pause));
+    fox_rx(&F, a, fr, 5 + strlen(pause), 1);
+    fox_tick(&F, 5.0);
+    const char *t = drain(a, NULL);
+    ASSERT_CONTAINS(t, "{\"op\":\"status\",\"level\":1,\"message\":\"step (id \\\"s1\\\"): no "
+                    "ACK within 1 s, but the daemon answers it only when done, so it may still be "
+                    "running it (pause cancels a step)");
+    ASSERT_CONTAINS(t, "\"level\":2,\"message\":\"pause (no id): no ACK from the daemon within "
+                    "1 s (is wormgeard running on T_?)\"");
+    fox_tick(&F, 10.0); /* said once */
+    ASSERT_STR(drain(a, NULL), "");
+    wormgear_ack_t ack = {.client = "me", .cmd_seq = step_seq, .cmd_utime = step_utime,
+                          .op = "step", .accepted = 1, .code = "OK",
+                          .message = "100000000000 steps done"};
+    char id[64];
+    ASSERT_EQ_INT(fox_ack_owner(&F, &ack, "me", id, sizeof id), F.cl[a].id);
+    ASSERT_STR(id, "s1"); /* so /ack carries request_id s1 */
+    fox_ack(&F, &ack, "me");
+    ASSERT_CONTAINS(drain(a, NULL), "\"level\":0,\"message\":\"step (id \\\"s1\\\"): the "
+                    "daemon's ACK came after all: OK 100000000000 steps done\"");
+    fox_ack(&F, &ack, "me"); /* final: the slot is free */
+    ASSERT_STR(drain(a, NULL), "");
+    teardown();
+}
+
 TEST_MAIN(TEST(test_jbuf), TEST(test_many_refusals_one_message), TEST(test_queue_drops_oldest),
           TEST(test_thin_scope_stride),
           TEST(test_thin_rate_cap), TEST(test_cmd_json), TEST(test_open_info_advertise),
           TEST(test_bad_inputs), TEST(test_subscribe_publish_drop), TEST(test_parameters),
-          TEST(test_client_publish), TEST(test_utf8))
+          TEST(test_client_publish), TEST(test_utf8),
+          TEST(test_late_ack))
