@@ -234,12 +234,16 @@ static int bad_object(const cJSON *v, char *why, size_t whylen)
             return 1;
     if (!cJSON_IsObject(v))
         return 0;
-    int n = 0;
-    for (const cJSON *a = v->child; a; a = a->next, n++) {
-        if (n == WEB_JSON_MEMBERS_MAX) {
-            snprintf(why, whylen, "an object with more than %d members", WEB_JSON_MEMBERS_MAX);
-            return 1;
-        }
+    long n = 0; /* counted before any key is compared: n*n strcmp cost 0.1 s a frame */
+    for (const cJSON *a = v->child; a; a = a->next)
+        n++;
+    if (n > WEB_JSON_MEMBERS_MAX) {
+        snprintf(why, whylen, "an object with %ld members: at most %d (the most any message "
+                 "has: a set's 'params', %d parameters)", n, WEB_JSON_MEMBERS_MAX,
+                 WEB_CMD_MAX_PARAMS);
+        return 1;
+    }
+    for (const cJSON *a = v->child; a; a = a->next) {
         for (const cJSON *b = a->next; b; b = b->next)
             if (a->string && b->string && !strcmp(a->string, b->string)) {
                 snprintf(why, whylen, "the key '%.40s' twice in one object (each key once)",

@@ -42,7 +42,7 @@ int web_cmd_from_json(web_cmd *c, const cJSON *j, char *why, size_t whylen);
  * where JavaScript takes the last, "omega\u0000x" as omega, and invalid
  * UTF-8 (answered with U+FFFD in its place). The value (cJSON_Delete
  * it), or NULL with why. */
-enum { WEB_JSON_MEMBERS_MAX = 1024 };
+enum { WEB_JSON_MEMBERS_MAX = WEB_CMD_MAX_PARAMS }; /* no message has a larger object */
 cJSON *web_json_parse(const void *p, size_t len, char *why, size_t whylen);
 
 /* The offset of the first byte of p[0, len) that is not part of well-formed

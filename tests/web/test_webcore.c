@@ -510,9 +510,51 @@ static void test_late_ack(void)
     teardown();
 }
 
+/* An object's members are counted before its keys are compared: each of
+ * the first 1024 was compared with all (~1024 n strcmp), so one 64 KiB
+ * frame of 6,663 keys cost 0.08-0.19 s (a review). The limit is what a
+ * message can need (a set's params); a key twice is still refused. */
+static void test_members_limit(void)
+{
+    static char big[70000];
+    char why[200];
+    size_t n = (size_t)snprintf(big, sizeof big, "{");
+    int k = 0;
+    while (n < 65536 - 20)
+        n += (size_t)snprintf(big + n, sizeof big - n, "%s\"k%d\":1", k ? "," : "", k), k++;
+    n += (size_t)snprintf(big + n, sizeof big - n, "}");
+    ASSERT_TRUE(web_json_parse(big, n, why, sizeof why) == NULL);
+    char want[200];
+    snprintf(want, sizeof want, "an object with %d members: at most 64 (the most any message "
+             "has: a set's 'params', 64 parameters)", k);
+    ASSERT_STR(why, want);
+    for (int members = 64; members <= 65; members++) { /* the limit, and one more */
+        n = (size_t)snprintf(big, sizeof big, "{\"op\":\"set\",\"params\":{");
+        for (int i = 0; i < members; i++)
+            n += (size_t)snprintf(big + n, sizeof big - n, "%s\"p%d\":1", i ? "," : "", i);
+        n += (size_t)snprintf(big + n, sizeof big - n, "}}");
+        cJSON *j = web_json_parse(big, n, why, sizeof why);
+        ASSERT_EQ_INT(j != NULL, members == 64);
+        if (j) {
+            web_cmd c;
+            ASSERT_EQ_INT(web_cmd_from_json(&c, j, why, sizeof why), 0); /* a legitimate set */
+            ASSERT_EQ_INT(c.cmd.nparams, 64);
+        } else {
+            ASSERT_CONTAINS(why, "an object with 65 members: at most 64");
+        }
+        cJSON_Delete(j);
+    }
+    n = (size_t)snprintf(big, sizeof big, "{\"op\":\"set\",\"params\":{");
+    for (int i = 0; i < 63; i++)
+        n += (size_t)snprintf(big + n, sizeof big - n, "\"p%d\":1,", i);
+    n += (size_t)snprintf(big + n, sizeof big - n, "\"p7\":2}}"); /* 64 members, p7 twice */
+    ASSERT_TRUE(web_json_parse(big, n, why, sizeof why) == NULL);
+    ASSERT_STR(why, "the key 'p7' twice in one object (each key once)");
+}
+
 TEST_MAIN(TEST(test_jbuf), TEST(test_many_refusals_one_message), TEST(test_queue_drops_oldest),
           TEST(test_thin_scope_stride),
           TEST(test_thin_rate_cap), TEST(test_cmd_json), TEST(test_open_info_advertise),
           TEST(test_bad_inputs), TEST(test_subscribe_publish_drop), TEST(test_parameters),
           TEST(test_client_publish), TEST(test_utf8),
-          TEST(test_late_ack))
+          TEST(test_late_ack), TEST(test_members_limit))
