@@ -13,6 +13,8 @@ typedef struct srv_conn {
     int open;    /* fox_open succeeded */
     int kicked;  /* close at the next writable callback */
     int rx_over; /* the frame being received is over max_frame */
+    int close_len;       /* > 0: close with 1007 and close_why at the next writable */
+    char close_why[120];
     jbuf rx;     /* the frame being received */
 } srv_conn;
 
@@ -35,24 +37,27 @@ static int on_established(srv *s, srv_conn *c, struct lws *wsi)
 
 /* RFC 6455 5.6, 8.1: a text message that is not UTF-8 fails the
  * connection with 1007 (it was taken, with U+FFFD in our answers). Checked
- * on the whole message, so a character split between fragments is fine;
- * the close frame's reason is the one message the client gets. -1: close. */
-static int text_not_utf8(srv *s, struct lws *wsi, const jbuf *rx)
+ * on the whole message, so a character split between fragments is fine.
+ * The close frame's reason is the one message the client gets; it is sent
+ * from the writable callback (returned -1 from here, lws sometimes closed
+ * without a close frame: 1006 at the client, seen under ASan). */
+static int text_not_utf8(srv *s, srv_conn *c, const jbuf *rx)
 {
-    char reason[120];
     long at = web_utf8_bad_at(jb_text(rx), jb_len(rx));
     if (at < 0)
         return 0;
     s->fox->bad_frames++;
-    int n = snprintf(reason, sizeof reason, "invalid UTF-8 at byte %ld: a text message must be "
-                     "UTF-8 (RFC 6455)", at);
-    lws_close_reason(wsi, LWS_CLOSE_STATUS_INVALID_PAYLOAD, (unsigned char *)reason,
-                     (size_t)n < sizeof reason ? (size_t)n : sizeof reason - 1);
-    return -1;
+    int n = snprintf(c->close_why, sizeof c->close_why, "invalid UTF-8 at byte %ld: a text "
+                     "message must be UTF-8 (RFC 6455)", at);
+    c->close_len = n < (int)sizeof c->close_why ? n : (int)sizeof c->close_why - 1;
+    lws_callback_on_writable(c->wsi);
+    return 1;
 }
 
 static int on_receive(srv *s, srv_conn *c, struct lws *wsi, const void *in, size_t len)
 {
+    if (c->close_len) /* failed: nothing more is read */
+        return 0;
     if (lws_is_first_fragment(wsi)) {
         jb_reset(&c->rx);
         c->rx_over = 0;
@@ -69,8 +74,8 @@ static int on_receive(srv *s, srv_conn *c, struct lws *wsi, const void *in, size
     if (!lws_is_final_fragment(wsi) || lws_remaining_packet_payload(wsi) > 0)
         return 0;
     int binary = lws_frame_is_binary(wsi);
-    if (!c->rx_over && !c->rx.oom && !binary && text_not_utf8(s, wsi, &c->rx))
-        return -1;
+    if (!c->rx_over && !c->rx.oom && !binary && text_not_utf8(s, c, &c->rx))
+        return 0;
     if (!c->rx_over && !c->rx.oom)
         fox_rx(s->fox, c->ci, (const unsigned char *)jb_text(&c->rx), jb_len(&c->rx), binary);
     jb_reset(&c->rx);
@@ -81,6 +86,11 @@ static int on_receive(srv *s, srv_conn *c, struct lws *wsi, const void *in, size
 static int on_writeable(srv *s, srv_conn *c, struct lws *wsi)
 {
     int binary;
+    if (c->close_len) {
+        lws_close_reason(wsi, LWS_CLOSE_STATUS_INVALID_PAYLOAD, (unsigned char *)c->close_why,
+                         (size_t)c->close_len);
+        return -1;
+    }
     if (c->kicked)
         return -1;
     for (int n = 0; n < 64 && !lws_send_pipe_choked(wsi); n++) {
