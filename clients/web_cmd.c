@@ -5,6 +5,9 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "cli.h"
+#include "wormgear/wg_sim.h"
+
 static void cmd_clear(web_cmd *c)
 {
     memset(c, 0, sizeof *c);
@@ -109,6 +112,26 @@ static int ramp_from_json(web_cmd *c, const cJSON *j, char *why, size_t whylen)
     return 0;
 }
 
+/* mode: a rate, when given, in the daemon's range. On the wire rate 0
+ * means "keep the current rate", so an explicit 0 (or -0) was taken as
+ * that and answered OK; leaving it out keeps the rate. */
+static int mode_from_json(web_cmd *c, const cJSON *j, char *why, size_t whylen)
+{
+    if (get_str(j, "mode", c->name, sizeof c->name, 1, why, whylen))
+        return -1;
+    const cJSON *r = cJSON_GetObjectItemCaseSensitive(j, "rate");
+    if (!r)
+        return 0;
+    double v = cJSON_IsNumber(r) ? r->valuedouble : NAN;
+    if (!(v >= WG_RATE_MIN && v <= WG_RATE_MAX)) {
+        snprintf(why, whylen, "mode: 'rate' must be a number in [%g, %g] (the realtime factor, "
+                 "1 = physical; leave it out to keep the current one)", WG_RATE_MIN, WG_RATE_MAX);
+        return -1;
+    }
+    c->cmd.rate = v;
+    return 0;
+}
+
 /* The op-specific fields of ops other than set and ramp. */
 static int other_from_json(web_cmd *c, const cJSON *j, char *why, size_t whylen)
 {
@@ -117,12 +140,8 @@ static int other_from_json(web_cmd *c, const cJSON *j, char *why, size_t whylen)
         return get_str(j, "what", c->name, sizeof c->name, 0, why, whylen);
     if (!strcmp(c->op, "save") || !strcmp(c->op, "restore"))
         return get_str(j, "name", c->name, sizeof c->name, 1, why, whylen);
-    if (!strcmp(c->op, "mode")) {
-        if (get_str(j, "mode", c->name, sizeof c->name, 1, why, whylen) ||
-            get_num(j, "rate", &c->cmd.rate, 0, why, whylen))
-            return -1;
-        return 0;
-    }
+    if (!strcmp(c->op, "mode"))
+        return mode_from_json(c, j, why, whylen);
     if (!strcmp(c->op, "step")) {
         if (get_num(j, "nsteps", &v, 1, why, whylen))
             return -1;
@@ -215,12 +234,16 @@ static int bad_object(const cJSON *v, char *why, size_t whylen)
             return 1;
     if (!cJSON_IsObject(v))
         return 0;
-    int n = 0;
-    for (const cJSON *a = v->child; a; a = a->next, n++) {
-        if (n == WEB_JSON_MEMBERS_MAX) {
-            snprintf(why, whylen, "an object with more than %d members", WEB_JSON_MEMBERS_MAX);
-            return 1;
-        }
+    long n = 0; /* counted before any key is compared: n*n strcmp cost 0.1 s a frame */
+    for (const cJSON *a = v->child; a; a = a->next)
+        n++;
+    if (n > WEB_JSON_MEMBERS_MAX) {
+        snprintf(why, whylen, "an object with %ld members: at most %d (the most any message "
+                 "has: a set's 'params', %d parameters)", n, WEB_JSON_MEMBERS_MAX,
+                 WEB_CMD_MAX_PARAMS);
+        return 1;
+    }
+    for (const cJSON *a = v->child; a; a = a->next) {
         for (const cJSON *b = a->next; b; b = b->next)
             if (a->string && b->string && !strcmp(a->string, b->string)) {
                 snprintf(why, whylen, "the key '%.40s' twice in one object (each key once)",
@@ -231,10 +254,29 @@ static int bad_object(const cJSON *v, char *why, size_t whylen)
     return 0;
 }
 
+long web_utf8_bad_at(const void *p, size_t len)
+{
+    const unsigned char *s = p;
+    for (size_t i = 0; i < len;) {
+        char seq[5] = {0}; /* cli_utf8_len reads up to 4 bytes: never past len */
+        memcpy(seq, s + i, len - i < 4 ? len - i : 4);
+        int n = s[i] < 0x80 ? 1 : cli_utf8_len(seq);
+        if (n == 0 || (size_t)n > len - i)
+            return (long)i;
+        i += (size_t)n;
+    }
+    return -1;
+}
+
 cJSON *web_json_parse(const void *p, size_t len, char *why, size_t whylen)
 {
     const char *s = p, *end = NULL;
-    long at = nul_escape_at(s, len);
+    long at = web_utf8_bad_at(s, len);
+    if (at >= 0) { /* cJSON took it, and our replies carried U+FFFD */
+        snprintf(why, whylen, "invalid UTF-8 at byte %ld (JSON text must be UTF-8)", at);
+        return NULL;
+    }
+    at = nul_escape_at(s, len);
     if (at >= 0) {
         snprintf(why, whylen, "a string with a NUL (\\u0000) at byte %ld", at);
         return NULL;

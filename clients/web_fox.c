@@ -365,13 +365,27 @@ static void answer_setparams(fox *f, int ci, const fox_pending *p, int applied)
     memcpy(f->pvalue, kept, sizeof kept);
 }
 
+/* "step (id "s1")" or "step (no id)": what a status about a request names. */
+static const char *label(const fox_pending *p, char *buf, size_t len)
+{
+    if (p->id[0])
+        snprintf(buf, len, "%s (id \"%s\")", p->op, p->id);
+    else
+        snprintf(buf, len, "%s (no id)", p->op);
+    return buf;
+}
+
 void fox_ack(fox *f, const wormgear_ack_t *a, const char *client_id)
 {
+    char what[100];
     fox_pending *p = pending_of(f, a, client_id);
     if (!p)
         return;
     int ci = client_index(f, p->client);
-    if (ci >= 0 && !a->accepted)
+    if (ci >= 0 && p->overdue)
+        fox_status(f, ci, a->accepted ? 0 : 2, "%s: the daemon's ACK came after all: %s %s",
+                   label(p, what, sizeof what), a->code, a->message);
+    else if (ci >= 0 && !a->accepted)
         fox_status(f, ci, 2, "%s refused by the daemon: %s %s", p->setparams ? "setParameters" : a->op,
                    a->code, a->message);
     if (ci >= 0 && p->setparams)
@@ -403,24 +417,32 @@ fox_pending *fox_pending_new(fox *f)
 
 void fox_tick(fox *f, double now_s)
 {
+    char what[100];
     f->now_s = now_s;
     for (int k = 0; k < FOX_MAX_PENDING; k++) {
         fox_pending *p = &f->pend[k];
-        if (!p->used || now_s < p->deadline_s)
+        if (!p->used || p->overdue || now_s < p->deadline_s)
             continue;
         int ci = client_index(f, p->client);
+        label(p, what, sizeof what);
         if (ci >= 0 && p->unverified[0])
-            fox_status(f, ci, 2, "no signed ACK within %g s: an answer came that is not signed "
-                       "with the bridge's key (%s), and was not taken: " WG_KEY_UNSIGNED_WHO,
-                       f->conf.ack_timeout_s, p->unverified);
+            fox_status(f, ci, 2, "%s: no signed ACK within %g s: an answer came that is not "
+                       "signed with the bridge's key (%s), and was not taken: "
+                       WG_KEY_UNSIGNED_WHO, what, f->conf.ack_timeout_s, p->unverified);
+        else if (ci >= 0 && p->late)
+            fox_status(f, ci, 1, "%s: no ACK within %g s, but the daemon answers it only when "
+                       "done, so it may still be running it (pause cancels a step); its ACK, "
+                       "when it comes, follows as a status for this id", what,
+                       f->conf.ack_timeout_s);
         else if (ci >= 0)
-            fox_status(f, ci, 2, "no ACK from the daemon within %g s (is wormgeard running on %s?)",
-                       f->conf.ack_timeout_s, f->conf.prefix);
-        if (ci >= 0) {
-            if (p->setparams)
-                answer_setparams(f, ci, p, 0);
-        }
-        p->used = 0;
+            fox_status(f, ci, 2, "%s: no ACK from the daemon within %g s (is wormgeard running "
+                       "on %s?)", what, f->conf.ack_timeout_s, f->conf.prefix);
+        if (ci >= 0 && p->setparams)
+            answer_setparams(f, ci, p, 0);
+        if (p->late && !p->unverified[0] && ci >= 0)
+            p->overdue = 1; /* kept for its ACK (a slot reused first when all are taken) */
+        else
+            p->used = 0;
     }
 }
 

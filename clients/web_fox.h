@@ -72,6 +72,9 @@ typedef struct fox_pending {
     char name[FOX_MAX_PARAMS][48];
     double value[FOX_MAX_PARAMS];
     char unverified[200]; /* an answer the bridge's key did not verify: "CODE: message" */
+    char op[16];       /* "setParameters" or the /cmd op, for the client's statuses */
+    int late;          /* answered only when done (a step, a set at_section): kept past */
+    int overdue;       /* ... its deadline, so that its ACK still reaches the client */
 } fox_pending;
 
 typedef struct fox {
@@ -154,7 +157,10 @@ void fox_ack(fox *f, const wormgear_ack_t *a, const char *client_id);
  * the timeout says what came instead of asking whether a daemon runs. */
 void fox_ack_unverified(fox *f, const wormgear_ack_t *a, const char *client_id);
 
-/* Wall time now_s: expire commands without ACK. */
+/* Wall time now_s: a command without ACK by its deadline gets a status
+ * naming its op and id; one answered only when done (a step, a set at the
+ * next section) may still be running, so it is kept, and its ACK, when it
+ * comes, is a second and final status for that id. */
 void fox_tick(fox *f, double now_s);
 
 /* Number of connected clients. */

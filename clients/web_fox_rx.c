@@ -224,6 +224,9 @@ static void send_command(fox *f, int ci, web_cmd *wc, const char *id, int setpar
     p->setparams = setparams;
     p->deadline_s = f->now_s + f->conf.ack_timeout_s;
     snprintf(p->id, sizeof p->id, "%s", id ? id : "");
+    snprintf(p->op, sizeof p->op, "%s", setparams ? "setParameters" : wc->op);
+    p->late = !setparams && (!strcmp(wc->op, "step") ||
+                             (!strcmp(wc->op, "set") && wc->cmd.at_section));
     for (int k = 0; setparams && k < wc->cmd.nparams && k < FOX_MAX_PARAMS; k++) {
         snprintf(p->name[k], sizeof p->name[k], "%s", wc->names[k]);
         p->value[k] = wc->values[k];

@@ -4,6 +4,7 @@
  * (rates, heartbeat, bridge status, ACK timeouts) and INT/TERM signals.
  * Start-up order: schemas, LCM, protocol, server, watchers; shutdown in
  * reverse. */
+#include <errno.h>
 #include <ev.h>
 #include <limits.h>
 #include <signal.h>
@@ -273,12 +274,25 @@ static void on_signal(struct ev_loop *loop, ev_signal *s, int revents)
 
 /* ---- start-up and shutdown */
 
+/* The dashboard's directory into w->root: 0 with index.html in it, 1
+ * without (the WebSocket only: no file is served at all), -1 when a root
+ * given with --web-root or $WGWEB_ROOT is not a directory it can read (the
+ * program exits 1, as --help says). */
 static int find_root(wgweb *w)
 {
     const char *r = w->o.web_root ? w->o.web_root : getenv("WGWEB_ROOT");
     char exe[PATH_MAX], probe[PATH_MAX + 16];
+    struct stat st;
     if (r && *r) {
         snprintf(w->root, sizeof w->root, "%s", r);
+        int bad = stat(w->root, &st) != 0 ? errno : !S_ISDIR(st.st_mode) ? ENOTDIR
+                  : access(w->root, R_OK | X_OK) != 0 ? errno : 0;
+        if (bad) {
+            fprintf(stderr, "wgweb: web root '%s': %s (--web-root or $WGWEB_ROOT: a readable "
+                            "directory, the dashboard's index.html in it)\n", w->root,
+                    strerror(bad));
+            return -1;
+        }
     } else {
         ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
         exe[n > 0 ? n : 0] = '\0';
@@ -287,12 +301,12 @@ static int find_root(wgweb *w)
             *slash = '\0';
         snprintf(w->root, sizeof w->root, "%.*s/../share/wormgear/web", PATH_MAX - 32, exe);
     }
-    struct stat st;
     snprintf(probe, sizeof probe, "%s/index.html", w->root);
-    if (stat(probe, &st) != 0) {
+    if (stat(probe, &st) != 0 || !S_ISREG(st.st_mode)) {
         fprintf(stderr, "wgweb: no dashboard in %s (index.html missing): only the Foxglove "
-                        "WebSocket is served (build the tree, or pass --web-root)\n", w->root);
-        return -1;
+                        "WebSocket is served, no files (build the tree, or pass --web-root)\n",
+                w->root);
+        return 1;
     }
     return 0;
 }
@@ -322,8 +336,10 @@ static int start(wgweb *w)
         return fprintf(stderr, "wgweb: %s\n", why), -1;
     if (start_fox(w) != 0)
         return fprintf(stderr, "wgweb: out of memory\n"), -1;
-    find_root(w);
-    srv_conf sc = {.iface = w->o.listen, .port = w->o.port, .web_root = w->root,
+    int root = find_root(w);
+    if (root < 0)
+        return -1;
+    srv_conf sc = {.iface = w->o.listen, .port = w->o.port, .web_root = root ? NULL : w->root,
                    .origins = w->o.origins, .norigins = w->o.norigins,
                    .max_frame = (size_t)w->o.max_frame};
     if (srv_init(&w->srv, w->loop, &sc, &w->fox, why, sizeof why) != 0)

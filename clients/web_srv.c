@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "web_cmd.h"
+
 /* Per-connection data (zeroed by lws). */
 typedef struct srv_conn {
     struct lws *wsi;
@@ -11,6 +13,8 @@ typedef struct srv_conn {
     int open;    /* fox_open succeeded */
     int kicked;  /* close at the next writable callback */
     int rx_over; /* the frame being received is over max_frame */
+    int close_len;       /* > 0: close with 1007 and close_why at the next writable */
+    char close_why[120];
     jbuf rx;     /* the frame being received */
 } srv_conn;
 
@@ -31,8 +35,29 @@ static int on_established(srv *s, srv_conn *c, struct lws *wsi)
     return 0;
 }
 
-static void on_receive(srv *s, srv_conn *c, struct lws *wsi, const void *in, size_t len)
+/* RFC 6455 5.6, 8.1: a text message that is not UTF-8 fails the
+ * connection with 1007 (it was taken, with U+FFFD in our answers). Checked
+ * on the whole message, so a character split between fragments is fine.
+ * The close frame's reason is the one message the client gets; it is sent
+ * from the writable callback (returned -1 from here, lws sometimes closed
+ * without a close frame: 1006 at the client, seen under ASan). */
+static int text_not_utf8(srv *s, srv_conn *c, const jbuf *rx)
 {
+    long at = web_utf8_bad_at(jb_text(rx), jb_len(rx));
+    if (at < 0)
+        return 0;
+    s->fox->bad_frames++;
+    int n = snprintf(c->close_why, sizeof c->close_why, "invalid UTF-8 at byte %ld: a text "
+                     "message must be UTF-8 (RFC 6455)", at);
+    c->close_len = n < (int)sizeof c->close_why ? n : (int)sizeof c->close_why - 1;
+    lws_callback_on_writable(c->wsi);
+    return 1;
+}
+
+static int on_receive(srv *s, srv_conn *c, struct lws *wsi, const void *in, size_t len)
+{
+    if (c->close_len) /* failed: nothing more is read */
+        return 0;
     if (lws_is_first_fragment(wsi)) {
         jb_reset(&c->rx);
         c->rx_over = 0;
@@ -47,17 +72,25 @@ static void on_receive(srv *s, srv_conn *c, struct lws *wsi, const void *in, siz
     if (!c->rx_over)
         jb_mem(&c->rx, in, len);
     if (!lws_is_final_fragment(wsi) || lws_remaining_packet_payload(wsi) > 0)
-        return;
+        return 0;
+    int binary = lws_frame_is_binary(wsi);
+    if (!c->rx_over && !c->rx.oom && !binary && text_not_utf8(s, c, &c->rx))
+        return 0;
     if (!c->rx_over && !c->rx.oom)
-        fox_rx(s->fox, c->ci, (const unsigned char *)jb_text(&c->rx), jb_len(&c->rx),
-               lws_frame_is_binary(wsi));
+        fox_rx(s->fox, c->ci, (const unsigned char *)jb_text(&c->rx), jb_len(&c->rx), binary);
     jb_reset(&c->rx);
     c->rx_over = 0;
+    return 0;
 }
 
 static int on_writeable(srv *s, srv_conn *c, struct lws *wsi)
 {
     int binary;
+    if (c->close_len) {
+        lws_close_reason(wsi, LWS_CLOSE_STATUS_INVALID_PAYLOAD, (unsigned char *)c->close_why,
+                         (size_t)c->close_len);
+        return -1;
+    }
     if (c->kicked)
         return -1;
     for (int n = 0; n < 64 && !lws_send_pipe_choked(wsi); n++) {
@@ -125,9 +158,7 @@ static int cb_fox(struct lws *wsi, enum lws_callback_reasons reason, void *user,
     case LWS_CALLBACK_ESTABLISHED:
         return on_established(s, c, wsi);
     case LWS_CALLBACK_RECEIVE:
-        if (c->open)
-            on_receive(s, c, wsi, in, len);
-        return 0;
+        return c->open ? on_receive(s, c, wsi, in, len) : 0;
     case LWS_CALLBACK_SERVER_WRITEABLE:
         return c->open ? on_writeable(s, c, wsi) : -1;
     case LWS_CALLBACK_CLOSED:
@@ -172,7 +203,7 @@ static void fill_info(srv *s, struct lws_context_creation_info *info, struct ev_
     info->port = s->conf.port;
     info->iface = s->conf.iface;
     info->protocols = s->protos;
-    info->mounts = &s->mount;
+    info->mounts = s->conf.web_root ? &s->mount : NULL; /* none: no file served */
     info->options = LWS_SERVER_OPTION_LIBEV |
                     LWS_SERVER_OPTION_HTTP_HEADERS_SECURITY_BEST_PRACTICES_ENFORCE;
     if (!strchr(s->conf.iface, ':'))
@@ -189,7 +220,7 @@ int srv_init(srv *s, struct ev_loop *loop, const srv_conf *conf, fox *f, char *w
     memset(s, 0, sizeof *s);
     s->conf = *conf;
     s->fox = f;
-    snprintf(s->root, sizeof s->root, "%s", conf->web_root);
+    snprintf(s->root, sizeof s->root, "%s", conf->web_root ? conf->web_root : "");
     jb_init_pre(&s->out, LWS_PRE);
     lws_set_log_level(LLL_ERR | LLL_WARN, lws_log);
     fill_info(s, &info, loop);

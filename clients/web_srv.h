@@ -20,7 +20,7 @@
 typedef struct srv_conf {
     const char *iface;    /* listen address, e.g. "127.0.0.1" */
     int port;             /* TCP port (0: any free one) */
-    const char *web_root; /* directory of the dashboard's files */
+    const char *web_root; /* directory of the dashboard's files (NULL: serve none) */
     size_t max_frame;     /* largest accepted incoming frame, bytes */
     const char *const *origins; /* web origins allowed besides our own (norigins) */
     int norigins;

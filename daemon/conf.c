@@ -45,7 +45,7 @@ static const key keys[] = {
      "channel prefix ($WORMGEAR_PREFIX), [A-Za-z0-9_.-]{0,40}, one per rig"},
     {"mode", APPLY(CONF_APPLY_MODE), K_ENUM, S(mode), 0, 0, mode_names, "realtime",
      "pacing: realtime, fast, lockstep"},
-    {"rate", LIVE, K_DBL, S(rate), 1e-6, 1000, NULL, "1",
+    {"rate", LIVE, K_DBL, S(rate), WG_RATE_MIN, WG_RATE_MAX, NULL, "1",
      "realtime rate factor, 1 = physical real time (omega_n of the scene)"},
     {"steps_per_period", RESTART, K_INT, S(steps_per_period), WG_STEPS_MIN, WG_STEPS_MAX, NULL,
      "128", "RK4 steps per mesh period N"},

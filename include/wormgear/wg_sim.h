@@ -36,6 +36,12 @@ enum { WG_STEPS_MIN = 8, WG_STEPS_MAX = 65536, WG_STEPS_DEFAULT = 128 };
 #define WG_RAMP_TAU_MIN 1e-6
 #define WG_RAMP_TAU_MAX 1e15
 
+/* The realtime rate factor's range (simulated over physical real time; 1
+ * is physical): wormgeard's `rate` and the mode command's, for the daemon
+ * and every client that sends one. */
+#define WG_RATE_MIN 1e-6
+#define WG_RATE_MAX 1000.0
+
 typedef struct wg_sim_config {
     int model;            /* enum wg_model_kind */
     int stepper;          /* enum wg_stepper_kind (WG_STEPPER_DEFAULT: the model's) */

@@ -2,7 +2,9 @@
 # test_cli.sh WGWEB - wgweb's command line: --help lists every option with
 # its default and range, usage errors name the option and exit 2, another
 # --listen address than loopback prints a warning (run through netns.sh:
-# nothing outside this host can reach it), a port in use fails with 1.
+# nothing outside this host can reach it), a port in use fails with 1, and
+# so does a web root that cannot be used; one without index.html serves no
+# file.
 W=$1
 status=0
 tmp=$(mktemp -d) || exit 1
@@ -33,8 +35,29 @@ has err "mesh or all"
 expect 2 "$W" --bogus
 has err "unknown option"
 expect 2 "$W" stray
-# Not loopback: a warning (in a private network namespace, no one else can reach it).
+# The web root: one that cannot be used exits 1 with the reason (it ran on,
+# saying "only the Foxglove WebSocket is served"); a directory without
+# index.html serves no file at all (it served them: GET /secret.txt -> 200).
 export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0"
+expect 1 timeout 5 "$W" --port 0 --web-root "$tmp/nonexistent" # 124: it ran on
+has err "web root '$tmp/nonexistent': No such file or directory (--web-root or \$WGWEB_ROOT: a"
+[ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "more than one message: $(cat "$tmp/err")"
+echo x >"$tmp/plain"
+expect 1 timeout 5 "$W" --port 0 --web-root "$tmp/plain"
+has err "web root '$tmp/plain': Not a directory"
+mkdir "$tmp/root" && echo topsecret >"$tmp/root/secret.txt"
+"$W" --port 0 --web-root "$tmp/root" >"$tmp/out" 2>"$tmp/err" &
+pids=$!
+wait_until 5 grep -q 'http://127.0.0.1:' "$tmp/out"
+has err "no dashboard in $tmp/root (index.html missing): only the Foxglove WebSocket is served"
+port=$(sed -n 's|.*http://127.0.0.1:\([0-9]*\)/.*|\1|p' "$tmp/out")
+for path in /secret.txt /; do
+    code=$(curl -s -o "$tmp/body" -w '%{http_code}' "http://127.0.0.1:$port$path")
+    [ "$code" = 404 ] && ! grep -q topsecret "$tmp/body" || fail "GET $path -> $code, want 404"
+done
+kill -TERM $pids; wait $pids || fail "wgweb exit $? after SIGTERM"
+pids=
+# Not loopback: a warning (in a private network namespace, no one else can reach it).
 "$W" --listen 0.0.0.0 --port 0 --allow-commands >"$tmp/out" 2>"$tmp/err" &
 pids=$!
 wait_until 5 grep -q 'http://0.0.0.0:' "$tmp/out" # until it says where it listens

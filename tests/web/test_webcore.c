@@ -10,6 +10,7 @@
 #include "web_json.h"
 #include "web_queue.h"
 #include "web_thin.h"
+#include "wormgear/wg_sim.h"
 
 /* ---- a fake transport and daemon */
 typedef struct fake {
@@ -182,6 +183,34 @@ static void test_cmd_json(void)
     ASSERT_STR(c.cmd.name, "mesh");
     ASSERT_TRUE(c.cmd.nsteps == 4);
     cJSON_Delete(j);
+    /* mode: the rate, when given, in the daemon's range; absent: 0 on the
+     * wire, "keep" (an explicit 0 went out as that, and was answered OK) */
+    j = cJSON_Parse("{\"op\":\"mode\",\"mode\":\"realtime\"}");
+    ASSERT_EQ_INT(web_cmd_from_json(&c, j, why, sizeof why), 0);
+    ASSERT_TRUE(c.cmd.rate == 0);
+    cJSON_Delete(j);
+    static const char *const rates[] = {"0", "-0", "5e-7", "1000.5", "-1", "\"fast\""};
+    for (size_t i = 0; i < sizeof rates / sizeof rates[0]; i++) {
+        char text[80];
+        snprintf(text, sizeof text, "{\"op\":\"mode\",\"mode\":\"realtime\",\"rate\":%s}",
+                 rates[i]);
+        j = cJSON_Parse(text);
+        why[0] = '\0';
+        ASSERT_EQ_INT(web_cmd_from_json(&c, j, why, sizeof why), -1);
+        ASSERT_STR(why, "mode: 'rate' must be a number in [1e-06, 1000] (the realtime factor, "
+                   "1 = physical; leave it out to keep the current one)");
+        cJSON_Delete(j);
+    }
+    static const double ok_rates[] = {WG_RATE_MIN, 1, WG_RATE_MAX};
+    for (size_t i = 0; i < sizeof ok_rates / sizeof ok_rates[0]; i++) {
+        char text[80];
+        snprintf(text, sizeof text, "{\"op\":\"mode\",\"mode\":\"fast\",\"rate\":%.17g}",
+                 ok_rates[i]);
+        j = cJSON_Parse(text);
+        ASSERT_EQ_INT(web_cmd_from_json(&c, j, why, sizeof why), 0);
+        ASSERT_TRUE(c.cmd.rate == ok_rates[i]);
+        cJSON_Delete(j);
+    }
     const char *bad[] = {"[]", "{}", "{\"op\":7}", "{\"op\":\"fly\"}", "{\"op\":\"set\"}",
                          "{\"op\":\"step\",\"nsteps\":1.5}", "{\"op\":\"contacts\"}",
                          "{\"op\":\"contacts\",\"which\":\"all\",\"every\":0.5}",
@@ -195,6 +224,36 @@ static void test_cmd_json(void)
         ASSERT_TRUE(why[0] != '\0');
         cJSON_Delete(j);
     }
+}
+
+/* What a client sends must be UTF-8: cJSON took \xff\xfe in an id, the
+ * set ran and the answer's id was "\ufffd\ufffd" (a review). */
+static void test_utf8(void)
+{
+    static const struct {
+        const char *s;
+        long bad_at;
+    } cases[] = {{"ascii", -1}, {"\xe2\x82\xac \xf0\x9f\x98\x80 \xc2\xa0", -1},
+                 {"a\xff\xfe", 1}, {"\xc0\xaf", 0}, {"xx\xed\xa0\x80", 2},
+                 {"\xf4\x90\x80\x80", 0}, {"ok\xe2\x82", 2}, {"\x80", 0}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
+        ASSERT_EQ_INT(web_utf8_bad_at(cases[i].s, strlen(cases[i].s)), cases[i].bad_at);
+    setup(1);
+    int a = fox_open(&F, (void *)1);
+    drain(a, NULL);
+    rx(a, "{\"op\":\"setParameters\",\"parameters\":[{\"name\":\"xi_p\",\"value\":0.082}],"
+          "\"id\":\"\xff\xfe\"}");
+    ASSERT_CONTAINS(drain(a, NULL), "a text frame refused: invalid UTF-8 at byte 73 (JSON text "
+                    "must be UTF-8)");
+    unsigned char fr[64] = {0x01, 5, 0, 0, 0};
+    const char *body = "{\"op\":\"pause\",\"id\":\"\xc0\xaf\"}";
+    rx(a, "{\"op\":\"advertise\",\"channels\":[{\"id\":5,\"topic\":\"/cmd\","
+          "\"encoding\":\"json\"}]}");
+    memcpy(fr + 5, body, strlen(body));
+    fox_rx(&F, a, fr, 5 + strlen(body), 1);
+    ASSERT_CONTAINS(drain(a, NULL), "/cmd: invalid UTF-8 at byte 20");
+    ASSERT_EQ_INT(K.cmds, 0); /* nothing reached the daemon */
+    teardown();
 }
 
 static void test_open_info_advertise(void)
@@ -409,8 +468,93 @@ static void test_client_publish(void)
     teardown();
 }
 
+/* A step is answered when its steps are done: after the timeout the client
+ * was told "no ACK ... is wormgeard running?" and the ACK that came later
+ * was dropped (its slot freed). Now the status names op and id and says it
+ * may still run, and the late ACK is a second, final status for that id. */
+static void test_late_ack(void)
+{
+    setup(1);
+    int a = fox_open(&F, (void *)1);
+    rx(a, "{\"op\":\"advertise\",\"channels\":[{\"id\":5,\"topic\":\"/cmd\","
+          "\"encoding\":\"json\"}]}");
+    drain(a, NULL);
+    unsigned char fr[128] = {0x01, 5, 0, 0, 0};
+    const char *step = "{\"op\":\"step\",\"nsteps\":100000000000,\"id\":\"s1\"}";
+    memcpy(fr + 5, step, strlen(step));
+    fox_rx(&F, a, fr, 5 + strlen(step), 1);
+    int64_t step_seq = K.cmds, step_utime = 1700000000000000 + 1000 * K.cmds;
+    const char *pause = "{\"op\":\"pause\"}";
+    memcpy(fr + 5, pause, strlen(pause));
+    fox_rx(&F, a, fr, 5 + strlen(pause), 1);
+    fox_tick(&F, 5.0);
+    const char *t = drain(a, NULL);
+    ASSERT_CONTAINS(t, "{\"op\":\"status\",\"level\":1,\"message\":\"step (id \\\"s1\\\"): no "
+                    "ACK within 1 s, but the daemon answers it only when done, so it may still be "
+                    "running it (pause cancels a step)");
+    ASSERT_CONTAINS(t, "\"level\":2,\"message\":\"pause (no id): no ACK from the daemon within "
+                    "1 s (is wormgeard running on T_?)\"");
+    fox_tick(&F, 10.0); /* said once */
+    ASSERT_STR(drain(a, NULL), "");
+    wormgear_ack_t ack = {.client = "me", .cmd_seq = step_seq, .cmd_utime = step_utime,
+                          .op = "step", .accepted = 1, .code = "OK",
+                          .message = "100000000000 steps done"};
+    char id[64];
+    ASSERT_EQ_INT(fox_ack_owner(&F, &ack, "me", id, sizeof id), F.cl[a].id);
+    ASSERT_STR(id, "s1"); /* so /ack carries request_id s1 */
+    fox_ack(&F, &ack, "me");
+    ASSERT_CONTAINS(drain(a, NULL), "\"level\":0,\"message\":\"step (id \\\"s1\\\"): the "
+                    "daemon's ACK came after all: OK 100000000000 steps done\"");
+    fox_ack(&F, &ack, "me"); /* final: the slot is free */
+    ASSERT_STR(drain(a, NULL), "");
+    teardown();
+}
+
+/* An object's members are counted before its keys are compared: each of
+ * the first 1024 was compared with all (~1024 n strcmp), so one 64 KiB
+ * frame of 6,663 keys cost 0.08-0.19 s (a review). The limit is what a
+ * message can need (a set's params); a key twice is still refused. */
+static void test_members_limit(void)
+{
+    static char big[70000];
+    char why[200];
+    size_t n = (size_t)snprintf(big, sizeof big, "{");
+    int k = 0;
+    while (n < 65536 - 20)
+        n += (size_t)snprintf(big + n, sizeof big - n, "%s\"k%d\":1", k ? "," : "", k), k++;
+    n += (size_t)snprintf(big + n, sizeof big - n, "}");
+    ASSERT_TRUE(web_json_parse(big, n, why, sizeof why) == NULL);
+    char want[200];
+    snprintf(want, sizeof want, "an object with %d members: at most 64 (the most any message "
+             "has: a set's 'params', 64 parameters)", k);
+    ASSERT_STR(why, want);
+    for (int members = 64; members <= 65; members++) { /* the limit, and one more */
+        n = (size_t)snprintf(big, sizeof big, "{\"op\":\"set\",\"params\":{");
+        for (int i = 0; i < members; i++)
+            n += (size_t)snprintf(big + n, sizeof big - n, "%s\"p%d\":1", i ? "," : "", i);
+        n += (size_t)snprintf(big + n, sizeof big - n, "}}");
+        cJSON *j = web_json_parse(big, n, why, sizeof why);
+        ASSERT_EQ_INT(j != NULL, members == 64);
+        if (j) {
+            web_cmd c;
+            ASSERT_EQ_INT(web_cmd_from_json(&c, j, why, sizeof why), 0); /* a legitimate set */
+            ASSERT_EQ_INT(c.cmd.nparams, 64);
+        } else {
+            ASSERT_CONTAINS(why, "an object with 65 members: at most 64");
+        }
+        cJSON_Delete(j);
+    }
+    n = (size_t)snprintf(big, sizeof big, "{\"op\":\"set\",\"params\":{");
+    for (int i = 0; i < 63; i++)
+        n += (size_t)snprintf(big + n, sizeof big - n, "\"p%d\":1,", i);
+    n += (size_t)snprintf(big + n, sizeof big - n, "\"p7\":2}}"); /* 64 members, p7 twice */
+    ASSERT_TRUE(web_json_parse(big, n, why, sizeof why) == NULL);
+    ASSERT_STR(why, "the key 'p7' twice in one object (each key once)");
+}
+
 TEST_MAIN(TEST(test_jbuf), TEST(test_many_refusals_one_message), TEST(test_queue_drops_oldest),
           TEST(test_thin_scope_stride),
           TEST(test_thin_rate_cap), TEST(test_cmd_json), TEST(test_open_info_advertise),
           TEST(test_bad_inputs), TEST(test_subscribe_publish_drop), TEST(test_parameters),
-          TEST(test_client_publish))
+          TEST(test_client_publish), TEST(test_utf8),
+          TEST(test_late_ack), TEST(test_members_limit))
