@@ -422,5 +422,5 @@ int main(int argc, char **argv)
         rc = run(&o, &sc);
     }
     plot_fini();
-    return rc;
+    return cli_stdout_close("wgcont", rc);
 }

@@ -780,5 +780,5 @@ int main(int argc, char **argv)
     }
     plot_fini();
     par_fini();
-    return help ? 0 : rc;
+    return cli_stdout_close(PROG, help ? 0 : rc);
 }

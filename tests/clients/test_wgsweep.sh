@@ -52,6 +52,11 @@ check "--at with its phase portrait blocked: exit 1, only what was written liste
 timeout 60 "$sweep" --at 0.5 --at-periods 200 --out "$dir/p1" >"$dir/p1.out"
 rc=$?
 check "--at 0.5 (period 1): ends, its Poincare map drawn" '[ $rc -eq 0 ] && grep -q "regime      P1" "$dir/p1.out" && [ -s "$dir/p1-at-omega-0.5-poincare.png" ]'
+# its report on a standard output that takes nothing: said, exit 1 (it was 0)
+"$sweep" --at 0.5 --at-periods 50 --out "$dir/pf" >/dev/full 2>"$dir/pf.err"
+rc=$?
+check "--at with stdout /dev/full: exit 1, said once" \
+  '[ $rc -eq 1 ] && [ "$(grep -c "writing the standard output failed" "$dir/pf.err")" -eq 1 ]'
 
 "$sweep" $common --threads 2 --values xi_p=0.08,0.10 --out "$dir/s2" >/dev/null
 check "threads: identical csv" 'cmp -s "$dir/s1.csv" "$dir/s2.csv" && cmp -s "$dir/s1-poincare.csv" "$dir/s2-poincare.csv"'
