@@ -347,6 +347,17 @@ static int start(wgweb *w)
     return 0;
 }
 
+/* INT and TERM held (1) from main's start until the loop's watchers take
+ * them (0): one during the start (the LCM and the listening socket) ended
+ * wgweb with 143 instead of its clean stop. */
+static void hold_stop_signals(int hold)
+{
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT), sigaddset(&set, SIGTERM);
+    sigprocmask(hold ? SIG_BLOCK : SIG_UNBLOCK, &set, NULL);
+}
+
 static void watch(wgweb *w)
 {
     ev_io_init(&w->lcm_w, on_lcm, web_bus_fileno(&w->bus), EV_READ);
@@ -359,6 +370,7 @@ static void watch(wgweb *w)
     ev_signal_init(&w->term_w, on_signal, SIGTERM);
     ev_signal_start(w->loop, &w->int_w);
     ev_signal_start(w->loop, &w->term_w);
+    hold_stop_signals(0); /* the watchers take them now, one that came meanwhile first */
 }
 
 static void stop(wgweb *w)
@@ -391,6 +403,7 @@ static void announce(const wgweb *w)
 int main(int argc, char **argv)
 {
     static wgweb w; /* the one program struct */
+    hold_stop_signals(1);
     int rc = web_opt_parse(&w.o, argc, argv);
     if (rc)
         return rc == 1 ? 0 : 2;
