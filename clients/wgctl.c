@@ -8,6 +8,7 @@
 
 #include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_status_t.h"
+#include "wormgear/wg_sim.h"
 #include "wormgear/wg_key.h"
 #include "wormgear/wg_param.h"
 
@@ -326,10 +327,15 @@ static int expected(const char *what, int n, char **args)
 
 static int do_mode(ctl *t, int n, char **args)
 {
-    double rate = 0;
-    if (n < 1 || n > 2 || (n == 2 && (cli_double(args[1], &rate) || !(rate > 0))) ||
-        !one_of(args[0], "realtime", "fast", "lockstep"))
-        return expected("mode: expected realtime|fast|lockstep [RATE > 0]", n, args);
+    double rate = 0; /* 0 on the wire: keep the rate; a RATE given: the daemon's range */
+    if (n < 1 || n > 2 ||
+        (n == 2 && cli_num(args[1], WG_RATE_MIN, WG_RATE_MAX, &rate)) ||
+        !one_of(args[0], "realtime", "fast", "lockstep")) {
+        char what[96];
+        snprintf(what, sizeof what, "mode: expected realtime|fast|lockstep [RATE in [%g, %g]]",
+                 WG_RATE_MIN, WG_RATE_MAX);
+        return expected(what, n, args);
+    }
     wormgear_cmd_t c = bus_cmd("mode");
     c.name = args[0];
     c.rate = rate;

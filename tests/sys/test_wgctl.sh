@@ -225,7 +225,8 @@ has out "it replaces the running ramp of omega to 1.3"
 for v in 0.101 0.102 0.103 0.104 0.105 0.106 0.107 0.108; do
     "$C" set xi_p=$v >/dev/null || fail "set xi_p=$v"
 done
-expect 1 "$C" mode realtime 5000
+expect 2 "$C" mode realtime 5000   # the daemon's range, checked before sending (it was sent)
+has err "mode: expected realtime|fast|lockstep \[RATE in \[1e-06, 1000\]\] (got 'realtime 5000')"
 expect 0 "$C" reset --params
 expect 1 "$C" --prefix NOBODY_ --timeout 0.3 pause
 has err "no answer"
