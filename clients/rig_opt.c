@@ -4,6 +4,7 @@
 #include "bus.h"
 #include "cli.h"
 #include "plot_text.h"
+#include "wormgear/wg_sweep.h"
 
 #include <getopt.h>
 #include <math.h>
@@ -31,8 +32,8 @@ static void usage(FILE *f)
         "  --ramp DURATION     slow ramp instead of steps: over DURATION simulated time per\n"
         "                      direction, e.g. 2s, 500ms, 20000tau (default: stepwise)\n"
         "  --bins N            ramp: parameter bins of the diagram (default --points)\n"
-        "  --tol X             period tolerance, max norm (default: as wgsweep, max(1e-9,\n"
-        "                      10 x the one-period error of N vs 2N steps))\n"
+        "  --tol X             period tolerance, max norm, in [1e-13, 1e-4] (default: as\n"
+        "                      wgsweep, max(1e-9, 10 x the one-period error of N vs 2N steps))\n"
         "  --no-lle            skip the Lyapunov exponent of aperiodic points (local twin run)\n"
         "  --fast              switch the daemon to fast mode for the sweep, restore after\n"
         "  --keep              leave the parameter at the last point (default: restore it)\n"
@@ -105,7 +106,12 @@ static int opt_one(void *ctx, int c, const char *a)
     case 'e': return cli_opt_int(PROG, "--extend", a, 0, 100, "an integer in [0, 100]", &o->extend);
     case 'R': return opt_ramp(o, a);
     case 'b': return cli_opt_int(PROG, "--bins", a, 2, 10000, "an integer in [2, 10000]", &o->bins);
-    case 'T': return cli_opt_num(PROG, "--tol", a, 1e-300, 1, "a tolerance in (0, 1]", &o->tol);
+    case 'T': { /* the range of wgsweep's --tol-floor: the library's */
+        char allowed[80];
+        snprintf(allowed, sizeof allowed, "a tolerance in [%g, %g] (as wgsweep's --tol-floor)",
+                 WG_TOL_MIN, WG_TOL_FLOOR_MAX);
+        return cli_opt_num(PROG, "--tol", a, WG_TOL_MIN, WG_TOL_FLOOR_MAX, allowed, &o->tol);
+    }
     case 'L': o->lle = 0; return 0;
     case 'F': o->fast = 1; return 0;
     case 'K': o->keep = 1; return 0;
