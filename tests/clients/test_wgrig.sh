@@ -40,10 +40,10 @@ has err "omega = 20 out of range \[0.01, 10\]"
 expect 2 "$R" --from 0.5 --to 1 --dir sideways
 has err "\-\-dir 'sideways': one of up, down, both"
 expect 2 "$R" --param nosuch --from 0 --to 1
+has err "\-\-param 'nosuch'"
 # a tolerance in the library's range, as wgsweep's (1e300 was taken)
 expect 2 "$R" --from 0.5 --to 1 --tol 1e300
 has err "^wgrig: --tol '1e300': a tolerance in \[1e-13, 0.0001\]"
-has err "\-\-param 'nosuch'"
 expect 1 "$R" --from 0.5 --to 1 --timeout 0.2 --retries 0 --out "$tmp/none"
 has err "no ACK"
 
