@@ -511,8 +511,9 @@ static int write_impacts(rig *r, const sweep_study *st, wg_chain *ch[2], window 
         }
     int rc = out_close(f, path, why, whylen);
     char title[160], xl[96], x2l[96], cap[2][400] = {"", ""};
-    snprintf(title, sizeof title, "%s: mesh impacts per period vs %s (rig: up, then back down)%s",
-             r->scene, plot_text_psym(r->pid), st->partial ? " (partial)" : "");
+    snprintf(title, sizeof title, "%s: mesh impacts per period vs %s (rig: %s)%s", r->scene,
+             plot_text_psym(r->pid), r->o.up && r->o.down ? "up, then back down"
+             : r->o.up ? "up" : "down", st->partial ? " (partial)" : "");
     const wg_params *p = ch[0] ? &ch[0]->base : ch[1] ? &ch[1]->base : &r->base;
     plot_text_caption_run(cap, r->scene, p, &r->scene_p, r->pid, -1, &r->so, r->steps,
                           r->steps, st->run);
