@@ -517,14 +517,14 @@ static int write_impacts(rig *r, const sweep_study *st, wg_chain *ch[2], window 
     const wg_params *p = ch[0] ? &ch[0]->base : ch[1] ? &ch[1]->base : &r->base;
     plot_text_caption_run(cap, r->scene, p, &r->scene_p, r->pid, -1, &r->so, r->steps,
                           r->steps, st->run);
+    char note[160]; /* the markers named only when both sweeps are drawn (split) */
+    snprintf(note, sizeof note, "counted from POINCARE over each %s%s", st->run ? "bin's sections"
+             : "point's recorded periods", nup && nup < n ? "; up: dots, down: rings" : "");
     plot_xy px = {.title = title, .xlabel = plot_text_plabel(r->pid, xl, sizeof xl),
                   .ylabel = "mesh impacts per period  (-)", .x = x, .y = y, .n = n,
                   .split = nup > 0 && nup < n ? nup : 0,
                   .x2 = plot_text_pscale(r->pid, p, &r->us, x2l, sizeof x2l),
-                  .pg = {NULL, {cap[0], cap[1], st->run ? "counted from POINCARE over each "
-                                "bin's sections; up sweep: dots, down sweep: rings" : "counted "
-                                "from POINCARE over each point's recorded periods; up sweep: "
-                                "dots, down sweep: rings", NULL}}};
+                  .pg = {NULL, {cap[0], cap[1], note, NULL}}};
     snprintf(path, sizeof path, "%s-impacts.png", r->o.out);
     if (!rc && n > 0)
         rc = plot_xy_write(path, &px, why, whylen);
