@@ -487,14 +487,20 @@ typedef struct optset {
     char names[NKEYS][40];
 } optset;
 
+/* Key k's command-line name: its name with '-' for '_' ("steps-per-period"). */
+static const char *opt_name(const key *k, char *buf, size_t len)
+{
+    snprintf(buf, len, "%s", k->name);
+    for (char *p = buf; *p; p++)
+        *p = *p == '_' ? '-' : *p;
+    return buf;
+}
+
 static void build_options(optset *s)
 {
     int n = 0;
     for (int i = 0; i < NKEYS; i++) {
-        snprintf(s->names[i], sizeof s->names[i], "%s", keys[i].name);
-        for (char *p = s->names[i]; *p; p++)
-            if (*p == '_')
-                *p = '-';
+        opt_name(&keys[i], s->names[i], sizeof s->names[i]);
         s->o[n++] = (struct option){s->names[i],
                                     keys[i].type == K_BOOL ? optional_argument : required_argument,
                                     0, OPT_KEY0 + i};
@@ -544,10 +550,8 @@ static int given_once(int opt, const char *arg, char *seen, char sets[][64], int
     if (opt >= OPT_KEY0 && opt < OPT_KEY0 + NKEYS) {
         if (seen[opt - OPT_KEY0]++) {
             char o[40];
-            snprintf(o, sizeof o, "%s", keys[opt - OPT_KEY0].name);
-            for (char *p = o; *p; p++)
-                *p = *p == '_' ? '-' : *p;
-            snprintf(why, len, "--%s given twice (each option once)", o);
+            snprintf(why, len, "--%s given twice (each option once)",
+                     opt_name(&keys[opt - OPT_KEY0], o, sizeof o));
             return 2;
         }
         return 0;
@@ -739,9 +743,7 @@ void conf_usage(FILE *f)
                "Config keys (file: key = value; command line: --key value):\n");
     for (int i = 0; i < NKEYS; i++) {
         char range[96], opt[40];
-        snprintf(opt, sizeof opt, "%s", keys[i].name);
-        for (char *p = opt; *p; p++)
-            *p = *p == '_' ? '-' : *p;
+        opt_name(&keys[i], opt, sizeof opt);
         key_range(&keys[i], range, sizeof range);
         fprintf(f, "  --%-20s %s\n  %-22s   default %s%s%s\n", opt, keys[i].help, "",
                 key_default(&keys[i]), *range ? "; " : "", range);
