@@ -11,7 +11,7 @@
 static void build_advertise(fox *f, jbuf *b)
 {
     jb_raw(b, "{\"op\":\"advertise\",\"channels\":[");
-    for (int c = 1; c < MSG_NCHAN; c++) {
+    for (int c = 1; c < CHAN_N; c++) {
         jb_item(b);
         jb_fmt(b, "{\"id\":%d,\"topic\":", c);
         jb_str(b, msg_topic(c));
@@ -117,7 +117,7 @@ int fox_open(fox *f, void *conn)
     c->used = 1;
     c->id = f->next_id++;
     c->conn = conn;
-    for (int k = 0; k < MSG_NCHAN; k++)
+    for (int k = 0; k < CHAN_N; k++)
         c->sub[k] = -1;
     for (int k = 0; k < FOX_MAX_CCHAN; k++)
         c->cchan[k] = -1;
@@ -227,7 +227,7 @@ static void push_data(fox *f, int ci, wq_item it)
 
 void fox_publish(fox *f, int c, const char *json, size_t len, uint64_t ts_ns)
 {
-    if (c <= 0 || c >= MSG_NCHAN || !fox_wanted(f, c))
+    if (c <= 0 || c >= CHAN_N || !fox_wanted(f, c))
         return;
     wq_msg *m = wq_msg_new(json, len);
     if (!m)

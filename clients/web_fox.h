@@ -53,7 +53,7 @@ typedef struct fox_client {
     int used;
     unsigned id;                 /* from 1, never reused */
     void *conn;                  /* the transport's handle */
-    int64_t sub[MSG_NCHAN];      /* subscription id per channel, -1 none */
+    int64_t sub[CHAN_N];      /* subscription id per channel, -1 none */
     int64_t cchan[FOX_MAX_CCHAN]; /* client-advertised /cmd channel ids, -1 none */
     int psub_all;                /* subscribed to every parameter's updates */
     uint64_t psub_mask;          /* ... or to these (snapshot index) */

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "msg_check.h"
 #include "web_cmd.h"
 #include "web_fox_int.h"
 
@@ -20,7 +21,7 @@ static int get_u32(const cJSON *v, int64_t *out)
 
 static int sub_in_use(const fox_client *c, int64_t id)
 {
-    for (int k = 1; k < MSG_NCHAN; k++)
+    for (int k = 1; k < CHAN_N; k++)
         if (c->sub[k] == id)
             return k;
     return 0;
@@ -33,7 +34,7 @@ static void subscribe_one(fox *f, int ci, const cJSON *s)
     if (get_u32(cJSON_GetObjectItemCaseSensitive(s, "id"), &id) ||
         get_u32(cJSON_GetObjectItemCaseSensitive(s, "channelId"), &ch)) {
         fox_status(f, ci, 2, "subscribe: each subscription needs integer 'id' and 'channelId'");
-    } else if (ch < 1 || ch >= MSG_NCHAN) {
+    } else if (ch < 1 || ch >= CHAN_N) {
         fox_status(f, ci, 2, "subscribe: unknown channel id %lld", (long long)ch);
     } else if (sub_in_use(c, id)) {
         fox_status(f, ci, 2, "subscribe: subscription id %lld is already in use", (long long)id);
@@ -225,8 +226,7 @@ static void send_command(fox *f, int ci, web_cmd *wc, const char *id, int setpar
     p->deadline_s = f->now_s + f->conf.ack_timeout_s;
     snprintf(p->id, sizeof p->id, "%s", id ? id : "");
     snprintf(p->op, sizeof p->op, "%s", setparams ? "setParameters" : wc->op);
-    p->late = !setparams && (!strcmp(wc->op, "step") ||
-                             (!strcmp(wc->op, "set") && wc->cmd.at_section));
+    p->late = !setparams && msg_cmd_late(wc->cmd.op, wc->cmd.at_section);
     for (int k = 0; setparams && k < wc->cmd.nparams && k < FOX_MAX_PARAMS; k++) {
         snprintf(p->name[k], sizeof p->name[k], "%s", wc->names[k]);
         p->value[k] = wc->values[k];

@@ -73,12 +73,12 @@ static void publish_enc(wgweb *w, int chan, double t_s)
 static void on_state(void *ctx, const wormgear_state_t *m)
 {
     wgweb *w = ctx;
-    int want = fox_wanted(&w->fox, MSG_SCOPE);
+    int want = fox_wanted(&w->fox, CHAN_SCOPE);
     for (int i = 0; i < m->n; i++) {
         int64_t step = m->step0 + (int64_t)i * m->decimation;
         if (thin_scope_keep(&w->scope, step, m->decimation) && want) {
             msg_scope(&w->enc, m, i);
-            publish_enc(w, MSG_SCOPE, m->t_s[i]);
+            publish_enc(w, CHAN_SCOPE, m->t_s[i]);
         }
     }
     if (m->n > 0) {
@@ -91,11 +91,11 @@ static void on_poincare(void *ctx, const wormgear_poincare_t *m)
 {
     wgweb *w = ctx;
     double now = mono_s();
-    int want = fox_wanted(&w->fox, MSG_POINCARE);
+    int want = fox_wanted(&w->fox, CHAN_POINCARE);
     for (int i = 0; i < m->n; i++)
         if (thin_rate_keep(&w->sections, now) && want) {
             msg_poincare(&w->enc, m, i, w->regime);
-            publish_enc(w, MSG_POINCARE, m->t_s[i]);
+            publish_enc(w, CHAN_POINCARE, m->t_s[i]);
         }
 }
 
@@ -103,7 +103,7 @@ static void on_contact(void *ctx, const wormgear_contact_t *m)
 {
     wgweb *w = ctx;
     double now = mono_s();
-    int want = fox_wanted(&w->fox, MSG_CONTACT);
+    int want = fox_wanted(&w->fox, CHAN_CONTACT);
     for (int i = 0; i < m->n; i++) {
         if (m->contact[i] != 0 && !w->o.contacts_all) {
             w->contacts.thinned++;
@@ -111,7 +111,7 @@ static void on_contact(void *ctx, const wormgear_contact_t *m)
         }
         if (thin_rate_keep(&w->contacts, now) && want) {
             msg_contact(&w->enc, m, i);
-            publish_enc(w, MSG_CONTACT, m->t_s[i]);
+            publish_enc(w, CHAN_CONTACT, m->t_s[i]);
         }
     }
 }
@@ -149,9 +149,9 @@ static void on_status(void *ctx, const wormgear_status_t *m)
     w->last_status_s = mono_s();
     snprintf(w->regime, sizeof w->regime, "%s", m->regime);
     daemon_seen(w);
-    if (fox_wanted(&w->fox, MSG_STATUS)) {
+    if (fox_wanted(&w->fox, CHAN_STATUS)) {
         msg_status(&w->enc, m);
-        publish_enc(w, MSG_STATUS, m->t_s);
+        publish_enc(w, CHAN_STATUS, m->t_s);
     }
 }
 
@@ -164,9 +164,9 @@ static void on_params(void *ctx, const wormgear_params_t *m)
         return; /* not forwarded: every client would show it */
     }
     fox_params(&w->fox, m);
-    if (fox_wanted(&w->fox, MSG_PARAMS)) {
+    if (fox_wanted(&w->fox, CHAN_PARAMS)) {
         msg_params(&w->enc, m);
-        publish_enc(w, MSG_PARAMS, m->omega_n_rad_s > 0 ? m->tau / m->omega_n_rad_s : 0);
+        publish_enc(w, CHAN_PARAMS, m->omega_n_rad_s > 0 ? m->tau / m->omega_n_rad_s : 0);
     }
 }
 
@@ -178,9 +178,9 @@ static void on_ack(void *ctx, const wormgear_ack_t *m)
     if (w->o.verbose)
         fprintf(stderr, "wgweb: ack %s seq %lld %s %s\n", m->op, (long long)m->cmd_seq, m->code,
                 m->message);
-    if (fox_wanted(&w->fox, MSG_ACK)) {
+    if (fox_wanted(&w->fox, CHAN_ACK)) {
         msg_ack(&w->enc, m, id, owner);
-        publish_enc(w, MSG_ACK, m->t_s);
+        publish_enc(w, CHAN_ACK, m->t_s);
     }
     fox_ack(&w->fox, m, web_bus_client_id(&w->bus));
 }
@@ -243,7 +243,7 @@ static void bridge_status(wgweb *w, double now)
     jb_key(b, "cpu_share"), jb_num(b, w->cpu_share);
     fox_stats(&w->fox, b);
     jb_raw(b, "}");
-    publish_enc(w, MSG_BRIDGE, w->last_t_s);
+    publish_enc(w, CHAN_BRIDGE, w->last_t_s);
 }
 
 static void on_sec(struct ev_loop *loop, ev_timer *t, int revents)

@@ -89,20 +89,20 @@ static const char *const bridge_fields[] = {
     "i:queue_drops:messages dropped from client queues (oldest first)",
     "n:cpu_share:bridge CPU time / wall time over the last second (1 = one core)", NULL};
 
-static const char *const *const fields_of[MSG_NCHAN] = {
+static const char *const *const fields_of[CHAN_N] = {
     NULL,          status_fields,  NULL, scope_fields, poincare_fields, contact_fields,
     ack_fields,    bridge_fields};
-static const char *const topic_of[MSG_NCHAN] = {
+static const char *const topic_of[CHAN_N] = {
     NULL, "/status", "/params", "/scope", "/poincare", "/contact", "/ack", "/bridge"};
-static const char *const sname_of[MSG_NCHAN] = {
+static const char *const sname_of[CHAN_N] = {
     NULL, "wormgear.Status", "wormgear.Params", "wormgear.Scope", "wormgear.Poincare",
     "wormgear.Contact", "wormgear.Ack", "wormgear.Bridge"};
 
-const char *msg_topic(int c) { return c > 0 && c < MSG_NCHAN ? topic_of[c] : NULL; }
-const char *msg_schema_name(int c) { return c > 0 && c < MSG_NCHAN ? sname_of[c] : NULL; }
+const char *msg_topic(int c) { return c > 0 && c < CHAN_N ? topic_of[c] : NULL; }
+const char *msg_schema_name(int c) { return c > 0 && c < CHAN_N ? sname_of[c] : NULL; }
 const char *msg_schema(const msg_schemas *s, int c)
 {
-    return c > 0 && c < MSG_NCHAN ? s->text[c] : NULL;
+    return c > 0 && c < CHAN_N ? s->text[c] : NULL;
 }
 
 static const char *type_name(char t)
@@ -186,10 +186,10 @@ static void schema_params(jbuf *b)
 int msg_schemas_init(msg_schemas *s)
 {
     memset(s, 0, sizeof *s);
-    for (int c = 1; c < MSG_NCHAN; c++) {
+    for (int c = 1; c < CHAN_N; c++) {
         jbuf b;
         jb_init(&b);
-        if (c == MSG_PARAMS)
+        if (c == CHAN_PARAMS)
             schema_params(&b);
         else
             schema_of_fields(&b, c);
@@ -205,7 +205,7 @@ int msg_schemas_init(msg_schemas *s)
 
 void msg_schemas_fini(msg_schemas *s)
 {
-    for (int c = 0; c < MSG_NCHAN; c++) {
+    for (int c = 0; c < CHAN_N; c++) {
         free(s->text[c]);
         s->text[c] = NULL;
     }

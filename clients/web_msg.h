@@ -18,10 +18,10 @@
 #include "lcmtypes/wormgear_status_t.h"
 #include "web_json.h"
 
-/* The server channels, ids as advertised (1..MSG_NCHAN-1). */
+/* The server channels, ids as advertised (1..CHAN_N-1). */
 enum msg_chan {
-    MSG_STATUS = 1, MSG_PARAMS, MSG_SCOPE, MSG_POINCARE, MSG_CONTACT, MSG_ACK, MSG_BRIDGE,
-    MSG_NCHAN
+    CHAN_STATUS = 1, CHAN_PARAMS, CHAN_SCOPE, CHAN_POINCARE, CHAN_CONTACT, CHAN_ACK, CHAN_BRIDGE,
+    CHAN_N
 };
 
 /* Topic ("/scope"), schema name ("wormgear.Scope") of channel c; NULL if
@@ -31,7 +31,7 @@ const char *msg_schema_name(int c);
 
 /* The JSON Schemas of the channels (text), built once. */
 typedef struct msg_schemas {
-    char *text[MSG_NCHAN];
+    char *text[CHAN_N];
 } msg_schemas;
 
 /* Build every schema (the /params one lists the parameter table's names).

@@ -169,26 +169,25 @@ static void clean_status(wormgear_status_t *s)
     CLEAN(s->motion), CLEAN(s->regime), CLEAN(s->tick_refusal);
 }
 
-/* Commands whose ACK comes only when something has happened in the run
- * (PROTOCOL.md): their silence need not mean that no daemon is there. */
-static const char *late_answer(const ctl *t, const char *what)
+/* Why the silence of a command the daemon answers late (msg_cmd_late) need
+ * not mean that no daemon is there. */
+static const char *late_answer(const char *what)
 {
-    if (!strcmp(what, "set") && t->o.at_section)
+    if (!strcmp(what, "set"))
         return "a set --at-section is answered at the next Poincare section (psi = 0), which in "
                "lockstep mode comes only with further steps: it may still be pending, to be "
                "applied there (a reset cancels it; --timeout waits longer)";
-    if (!strcmp(what, "step"))
-        return "a step is answered when its steps are done: it may still be running (pause "
-               "cancels it; --timeout waits longer)";
-    return NULL;
+    return "a step is answered when its steps are done: it may still be running (pause "
+           "cancels it; --timeout waits longer)";
 }
 
-static int report(ctl *t, const char *what)
+/* late_cmd: a command the daemon answers late (msg_cmd_late). */
+static int report(ctl *t, const char *what, int late_cmd)
 {
     bus_ack *a = &t->c.ack;
     if (!a->got) {
         char hint[1024], msg[1280];
-        const char *late = late_answer(t, what);
+        const char *late = late_cmd ? late_answer(what) : NULL;
         if (t->o.json) { /* the same words as on stderr: it said only "no ACK within N s" */
             snprintf(msg, sizeof msg, "no ACK within %g s: %s", t->o.timeout_s,
                      late ? late : bus_hint(&t->c, hint, sizeof hint));
@@ -228,7 +227,7 @@ static int send_wait(ctl *t, wormgear_cmd_t *cmd)
         return 1;
     }
     bus_wait_ack(&t->c, (int)(t->o.timeout_s * 1000));
-    return report(t, cmd->op);
+    return report(t, cmd->op, msg_cmd_late(cmd->op, cmd->at_section));
 }
 
 /* ---- commands ---------------------------------------------------------------- */
@@ -483,7 +482,7 @@ static int do_get(ctl *t)
     if (t->params && t->c.ack.got && t->c.ack.accepted) {
         print_params(t, t->params);
         rc = 0;
-    } else if ((rc = report(t, "get")) == 0) {
+    } else if ((rc = report(t, "get", 0)) == 0) {
         fprintf(stderr, "wgctl: get: the PARAMS answer did not arrive\n");
         rc = 1;
     }

@@ -217,3 +217,8 @@ long msg_check(int type, const void *buf, long len, msg_walk *w)
             return -1;
     return w->end = (long)k.pos;
 }
+
+int msg_cmd_late(const char *op, int at_section)
+{
+    return !strcmp(op, "step") || (!strcmp(op, "set") && at_section);
+}

@@ -48,6 +48,12 @@ typedef struct msg_walk {
  * (w, if not NULL, says where and why). */
 long msg_check(int type, const void *buf, long len, msg_walk *w);
 
+/* 1 if the daemon answers the command op (with its at_section) only when
+ * something has happened in the run (PROTOCOL.md): a step when its steps
+ * are done, a set at_section at the next Poincare section. Its silence need
+ * not mean that no daemon is there. */
+int msg_cmd_late(const char *op, int at_section);
+
 /* A big-endian integer of n bytes at p (n <= 8). */
 uint64_t msg_be(const unsigned char *p, int n);
 

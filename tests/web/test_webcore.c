@@ -316,9 +316,9 @@ static void test_subscribe_publish_drop(void)
     rx(a, "{\"op\":\"subscribe\",\"subscriptions\":[{\"id\":7,\"channelId\":3}]}");
     rx(a, "{\"op\":\"subscribe\",\"subscriptions\":[{\"id\":7,\"channelId\":4}]}"); /* id reused */
     ASSERT_CONTAINS(drain(a, NULL), "already in use");
-    ASSERT_TRUE(fox_wanted(&F, MSG_SCOPE) && !fox_wanted(&F, MSG_POINCARE));
+    ASSERT_TRUE(fox_wanted(&F, CHAN_SCOPE) && !fox_wanted(&F, CHAN_POINCARE));
     for (int i = 0; i < 20; i++)
-        fox_publish(&F, MSG_SCOPE, "{\"x_n\":1}", 9, 1000 + i);
+        fox_publish(&F, CHAN_SCOPE, "{\"x_n\":1}", 9, 1000 + i);
     ASSERT_EQ_INT(F.queue_drops, 12); /* queue_len 8: a stalled reader keeps the newest 8 */
     jbuf out;
     int bin;
@@ -335,7 +335,7 @@ static void test_subscribe_publish_drop(void)
     ASSERT_STR(drain(b, &nb), ""); /* b never subscribed */
     ASSERT_EQ_INT(nb, 0);
     rx(a, "{\"op\":\"unsubscribe\",\"subscriptionIds\":[7]}");
-    ASSERT_TRUE(!fox_wanted(&F, MSG_SCOPE));
+    ASSERT_TRUE(!fox_wanted(&F, CHAN_SCOPE));
     teardown();
 }
 
