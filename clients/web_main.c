@@ -388,14 +388,21 @@ static void stop(wgweb *w)
     jb_free(&w->enc);
 }
 
+/* Before the socket: an address that cannot be used gets the warning too. */
+static void warn_exposed(const web_opt *o)
+{
+    if (!web_opt_is_loopback(o->listen))
+        fprintf(stderr, "wgweb: WARNING: --listen %s is not loopback: every host that reaches it "
+                        "sees the daemon's data%s\n", o->listen,
+                o->allow_commands ? " and can command it (--allow-commands)" : "");
+}
+
 static void announce(const wgweb *w)
 {
-    if (!web_opt_is_loopback(w->o.listen))
-        fprintf(stderr, "wgweb: WARNING: listening on %s, not loopback: every host that reaches "
-                        "it sees the daemon's data%s\n", w->o.listen,
-                w->o.allow_commands ? " and can command it (--allow-commands)" : "");
-    printf("wgweb: %s on %s -> http://%s:%d/ (Foxglove: ws://%s:%d), commands %s\n",
-           web_bus_prefix(&w->bus), w->bus.url, w->o.listen, w->srv.port, w->o.listen, w->srv.port,
+    const char *l = w->o.listen;
+    const char *lb = strchr(l, ':') ? "[" : "", *rb = *lb ? "]" : ""; /* IPv6 in a URL */
+    printf("wgweb: %s on %s -> http://%s%s%s:%d/ (Foxglove: ws://%s%s%s:%d), commands %s\n",
+           web_bus_prefix(&w->bus), w->bus.url, lb, l, rb, w->srv.port, lb, l, rb, w->srv.port,
            w->o.allow_commands ? "allowed" : "refused");
     fflush(stdout);
 }
@@ -407,6 +414,7 @@ int main(int argc, char **argv)
     int rc = web_opt_parse(&w.o, argc, argv);
     if (rc)
         return rc == 1 ? 0 : 2;
+    warn_exposed(&w.o);
     signal(SIGPIPE, SIG_IGN);
     w.loop = ev_default_loop(EVFLAG_AUTO);
     jb_init(&w.enc);

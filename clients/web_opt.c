@@ -1,6 +1,7 @@
 /* web_opt.c - wgweb's options. */
 #include "web_opt.h"
 
+#include <arpa/inet.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -51,7 +52,8 @@ static void usage(const web_opt *d)
            "(foxglove.websocket.v1) and serve the dashboard, on one HTTP port.\n\n"
            "  --url URL           LCM URL (default $WORMGEAR_URL or udpm://239.255.76.67:7667?ttl=0)\n"
            "  --prefix P          channel prefix (default $WORMGEAR_PREFIX or WORMGEAR_)\n"
-           "  --listen ADDR       address to listen on (default %s; others warn)\n"
+           "  --listen ADDR       IP address to listen on (default %s, or ::1, localhost;\n"
+           "                      others warn)\n"
            "  --web-root DIR      dashboard files (default $WGWEB_ROOT or\n"
            "                      <exe>/../share/wormgear/web)\n"
            "  --allow-commands    accept setParameters and clientPublish (/cmd)\n"
@@ -97,12 +99,31 @@ static int set_num(web_opt *o, const num_opt *n, const char *text)
 enum { O_URL = 256, O_PREFIX, O_LISTEN, O_ROOT, O_ALLOW, O_CONTACTS, O_VERBOSE, O_HELP, O_KEY,
        O_ORIGIN, O_NUM };
 
+/* --listen: an IPv4 or IPv6 address (localhost: 127.0.0.1). lws also took
+ * interface and host names, and one it could not find ("localhost",
+ * "127.1", a typo) it kept waiting for: wgweb ran on, listening nowhere,
+ * and printed http://localhost:0/. */
+static int set_listen(web_opt *o, const char *arg)
+{
+    unsigned char a[16];
+    if (!strcmp(arg, "localhost"))
+        arg = "127.0.0.1";
+    if (inet_pton(AF_INET, arg, a) != 1 && inet_pton(AF_INET6, arg, a) != 1) {
+        fprintf(stderr, "wgweb: --listen '%s': not an IP address; an IPv4 or IPv6 address of "
+                        "this host (127.0.0.1 the default, ::1, or localhost; 0.0.0.0 or :: for "
+                        "every interface, with a warning)\n", arg);
+        return 2;
+    }
+    o->listen = arg;
+    return 0;
+}
+
 static int parse_one(web_opt *o, int c, const char *arg)
 {
     switch (c) {
     case O_URL: o->url = arg; return 0;
     case O_PREFIX: o->prefix = arg; return 0;
-    case O_LISTEN: o->listen = arg; return 0;
+    case O_LISTEN: return set_listen(o, arg);
     case O_ROOT: o->web_root = arg; return 0;
     case O_ALLOW: o->allow_commands = 1; return 0;
     case O_KEY: o->key_file = arg; return 0;
@@ -168,5 +189,12 @@ int web_opt_parse(web_opt *o, int argc, char **argv)
 
 int web_opt_is_loopback(const char *addr)
 {
-    return !strncmp(addr, "127.", 4) || !strcmp(addr, "::1") || !strcmp(addr, "localhost");
+    static const unsigned char one[16] = {[15] = 1};
+    static const unsigned char v4mapped[12] = {[10] = 0xff, [11] = 0xff}; /* ::ffff:a.b.c.d */
+    unsigned char a[16];
+    if (inet_pton(AF_INET, addr, a) == 1)
+        return a[0] == 127;
+    if (inet_pton(AF_INET6, addr, a) != 1)
+        return 0;
+    return !memcmp(a, one, 16) || (!memcmp(a, v4mapped, 12) && a[12] == 127);
 }

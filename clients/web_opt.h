@@ -8,7 +8,7 @@
 
 typedef struct web_opt {
     const char *url, *prefix; /* NULL: $WORMGEAR_URL / $WORMGEAR_PREFIX or defaults */
-    const char *listen;       /* "127.0.0.1" */
+    const char *listen;       /* an IPv4 or IPv6 address: "127.0.0.1" */
     int port;                 /* 8765 */
     const char *web_root;     /* NULL: $WGWEB_ROOT or <exe>/../share/wormgear/web */
     int allow_commands;
@@ -30,7 +30,8 @@ typedef struct web_opt {
  * stderr). */
 int web_opt_parse(web_opt *o, int argc, char **argv);
 
-/* Whether addr is a loopback address (127.0.0.0/8, ::1, localhost). */
+/* Whether addr is a loopback address (127.0.0.0/8, ::1, ::ffff:127.0.0.0/104);
+ * anything that is not an IP address is not. */
 int web_opt_is_loopback(const char *addr);
 
 #endif

@@ -1,8 +1,13 @@
 /* web_srv.c - libwebsockets glue: HTTP mount and the Foxglove subprotocol. */
 #include "web_srv.h"
 
+#include <arpa/inet.h>
+#include <errno.h>
+#include <netinet/in.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include "web_cmd.h"
 
@@ -213,11 +218,37 @@ static void fill_info(srv *s, struct lws_context_creation_info *info, struct ev_
     info->vhost_name = "wgweb";
 }
 
+/* 0 if iface (an IP address, web_opt) is one of this host's: a socket binds
+ * to it (port 0, closed at once). lws keeps a vhost whose address is not
+ * here, waiting for it to appear, and listens nowhere. */
+static int addr_here(const char *iface, char *why, size_t whylen)
+{
+    struct sockaddr_in a4 = {.sin_family = AF_INET};
+    struct sockaddr_in6 a6 = {.sin6_family = AF_INET6};
+    int v4 = inet_pton(AF_INET, iface, &a4.sin_addr) == 1;
+    if (!v4 && inet_pton(AF_INET6, iface, &a6.sin6_addr) != 1) {
+        snprintf(why, whylen, "cannot listen on '%s': not an IP address", iface);
+        return -1;
+    }
+    int fd = socket(v4 ? AF_INET : AF_INET6, SOCK_STREAM | SOCK_CLOEXEC, 0), err = 0;
+    if (fd < 0 || (v4 ? bind(fd, (struct sockaddr *)&a4, sizeof a4)
+                      : bind(fd, (struct sockaddr *)&a6, sizeof a6)) != 0)
+        err = errno;
+    if (fd >= 0)
+        close(fd);
+    if (err)
+        snprintf(why, whylen, "cannot listen on %s: %s (--listen takes an address of this host)",
+                 iface, strerror(err));
+    return err ? -1 : 0;
+}
+
 int srv_init(srv *s, struct ev_loop *loop, const srv_conf *conf, fox *f, char *why,
              size_t whylen)
 {
     struct lws_context_creation_info info;
     memset(s, 0, sizeof *s);
+    if (addr_here(conf->iface, why, whylen) != 0)
+        return -1;
     s->conf = *conf;
     s->fox = f;
     snprintf(s->root, sizeof s->root, "%s", conf->web_root ? conf->web_root : "");
@@ -232,7 +263,12 @@ int srv_init(srv *s, struct ev_loop *loop, const srv_conf *conf, fox *f, char *w
         return -1;
     }
     struct lws_vhost *vh = lws_get_vhost_by_name(s->ctx, "wgweb");
-    s->port = vh ? lws_get_vhost_listen_port(vh) : conf->port;
+    s->port = vh ? lws_get_vhost_listen_port(vh) : 0;
+    if (s->port <= 0) { /* not expected after addr_here: lws listens nowhere */
+        snprintf(why, whylen, "cannot listen on %s port %d", conf->iface, conf->port);
+        srv_fini(s);
+        return -1;
+    }
     return 0;
 }
 

@@ -1,8 +1,8 @@
 #!/bin/sh
 # test_cli.sh WGWEB - wgweb's command line: --help lists every option with
-# its default and range, usage errors name the option and exit 2, another
-# --listen address than loopback prints a warning (run through netns.sh:
-# nothing outside this host can reach it), a port in use fails with 1, and
+# its default and range, usage errors name the option and exit 2, --listen
+# takes IP addresses only and warns when one is not loopback (no address but
+# loopback is used: run through netns.sh), a port in use fails with 1, and
 # so does a web root that cannot be used; one without index.html serves no
 # file.
 W=$1
@@ -57,18 +57,42 @@ for path in /secret.txt /; do
 done
 kill -TERM $pids; wait $pids || fail "wgweb exit $? after SIGTERM"
 pids=
-# Not loopback: a warning (in a private network namespace, no one else can reach it).
-"$W" --listen 0.0.0.0 --port 0 --allow-commands >"$tmp/out" 2>"$tmp/err" &
-pids=$!
-wait_until 5 grep -q 'http://0.0.0.0:' "$tmp/out" # until it says where it listens
-has err "WARNING: listening on 0.0.0.0, not loopback"
-has err "can command it"
-has out "commands allowed"
-port=$(sed -n 's|.*http://0.0.0.0:\([0-9]*\)/.*|\1|p' "$tmp/out")
-expect 1 "$W" --port "$port" --listen 0.0.0.0
-has err "cannot listen on 0.0.0.0 port $port"
-kill -TERM $pids; wait $pids || fail "wgweb exit $? after SIGTERM"
-pids=
+# --listen takes an IP address of this host. A name lws could not find
+# ("localhost" then, "127.1", a typo) left wgweb running, listening nowhere
+# and printing http://localhost:0/.
+for a in lo 127.1 nosuch0 ''; do
+    expect 2 timeout 5 "$W" --listen "$a" --port 0 # 124: it ran on
+    has err "--listen '$a': not an IP address; an IPv4 or IPv6 address of this host"
+done
+# Not loopback: the warning comes before the socket, so it is checked without
+# any address but loopback in use: 192.0.2.1 (TEST-NET-1, RFC 5737) is no
+# interface's here, and nothing binds.
+expect 1 timeout 5 "$W" --listen 192.0.2.1 --port 0 --allow-commands
+has err "WARNING: --listen 192.0.2.1 is not loopback: every host that reaches it sees the daemon's data and can command it (--allow-commands)"
+has err "cannot listen on 192.0.2.1: Cannot assign requested address"
+[ "$(wc -l <"$tmp/err")" -eq 2 ] || fail "not two messages: $(cat "$tmp/err")"
+# Loopback, no warning, and it serves: localhost as 127.0.0.1, IPv6 in brackets.
+v6=; ip -6 addr show dev lo 2>/dev/null | grep -q '::1/128' && v6='::1 ::ffff:127.0.0.1'
+[ -n "$v6" ] || echo "no ::1 on lo here: IPv6 --listen not checked"
+for a in localhost 127.0.0.2 $v6; do
+    "$W" --listen "$a" --port 0 --allow-commands >"$tmp/out" 2>"$tmp/err" &
+    pids=$!
+    wait_until 5 grep -q 'http://' "$tmp/out"
+    url=$(sed -n 's|.* -> \(http://[^ ]*/\) .*|\1|p' "$tmp/out")
+    case $a in localhost) want=http://127.0.0.1: ;; *:*) want="http://[$a]:" ;; *) want="http://$a:" ;; esac
+    case $url in "$want"[1-9]*/) ;; *) fail "--listen $a: URL '$url', want $want<port>/" ;; esac
+    ! grep -q WARNING "$tmp/err" || fail "--listen $a warned: $(cat "$tmp/err")"
+    has out "commands allowed"
+    code=$(curl -s -o /dev/null -w '%{http_code}' "$url")
+    [ "$code" != 000 ] || fail "--listen $a: nothing answers at $url"
+    if [ "$a" = 127.0.0.2 ]; then # a port in use: exit 1, with the reason
+        port=${url##*:}; port=${port%/}
+        expect 1 timeout 5 "$W" --port "$port" --listen 127.0.0.2
+        has err "cannot listen on 127.0.0.2 port $port"
+    fi
+    kill -TERM $pids; wait $pids || fail "wgweb --listen $a exit $? after SIGTERM"
+    pids=
+done
 # SIGTERM during the start (LCM, the listening socket): a clean stop, 0 (it
 # was 143 until the loop's watcher came). Sent at the first look in /proc
 # that shows main holding INT and TERM (SigBlk 0x4002) or the watchers there;
