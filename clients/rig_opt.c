@@ -151,3 +151,22 @@ int rig_parse_opts(int argc, char **argv, rig_opts *o)
         o->bins = o->points;
     return cli_opt_outdir(PROG, "--out", o->out);
 }
+
+int rig_check_opts(const rig_opts *o, wg_sweep_opts *so, int *pid)
+{
+    char why[256];
+    wg_sweep_opts_default(so);
+    so->transient = o->settle, so->record = o->record, so->extend = o->extend;
+    so->settle = 0; /* the daemon runs the whole transient: no early stop */
+    if (o->tol > 0)
+        so->tol_floor = o->tol, so->tol_factor = 0;
+    if ((*pid = cli_vary_param(o->param)) < 0)
+        return cli_vary_param_error("wgrig", "--param", o->param, *pid);
+    if (wg_param_check(*pid, o->from, why, sizeof why) ||
+        wg_param_check(*pid, o->to, why, sizeof why))
+        return fprintf(stderr, "wgrig: --from/--to: %s\n", why), CLI_EUSAGE;
+    if (o->ramp > 0 && !(wg_param_info_get(*pid)->flags & WG_PF_RAMP))
+        return cli_usage_error("wgrig", "--param '%s': not rampable: use the stepwise sweep",
+                               o->param);
+    return 0;
+}

@@ -4,6 +4,8 @@
 
 #include <stddef.h>
 
+#include "wormgear/wg_sweep.h"
+
 enum { RIG_REC_CAP = 8192 }; /* the most periods a point records */
 
 typedef struct rig_opts {
@@ -16,6 +18,12 @@ typedef struct rig_opts {
 /* Parse argv into o (defaults first): 0, or CLI_EUSAGE after one
  * message; --help prints the usage and exits 0. */
 int rig_parse_opts(int argc, char **argv, rig_opts *o);
+
+/* The swept parameter (*pid) and the analysis options (so: the library's
+ * defaults, then o's transient, record, extension and tolerance; no early
+ * stop, as the daemon runs the whole transient) from o: 0, or CLI_EUSAGE
+ * after one message. */
+int rig_check_opts(const rig_opts *o, wg_sweep_opts *so, int *pid);
 
 /* What a ramp run (o->ramp > 0) does, for the captions and the .md: "ramp ω 0.5 → 1 and
  * back over 2 s simulated each way (≈ 5600 mesh periods), every section binned onto 25

@@ -209,6 +209,24 @@ static void route(FILE *f, const wg_chain *c, int dg)
     fputs("\n\n", f);
 }
 
+/* The points of chain c (dir) with nothing measured (out_measured). */
+static void not_measured(FILE *f, const char *dir, const wg_chain *c, const char *p, int dg)
+{
+    int n = 0;
+    for (int i = 0; c && i < c->ndone; i++) {
+        if (out_measured(&c->pts[i]))
+            continue;
+        if (!n++)
+            fprintf(f, "Not measured in the %s sweep (refused by the daemon; the run's messages "
+                       "say why; their rows have regime none and no other value): %s = ", dir, p);
+        else
+            fputs(", ", f);
+        fprintf(f, "%.*f", dg, c->pts[i].value);
+    }
+    if (n)
+        fputs("\n\n", f);
+}
+
 /* Step-halving check of one chain: how many points keep their
  * classification (regime, period, motion class) with 2N steps. */
 static void halving(FILE *f, const char *dir, const wg_chain *c, int dg)
@@ -280,6 +298,8 @@ static void group_table(FILE *f, const sweep_study *st, const sweep_group *g)
     }
     if (g->up)
         route(f, g->up, dg);
+    not_measured(f, "up", g->up, p, dg);
+    not_measured(f, "down", g->down, p, dg);
     free(t);
 }
 

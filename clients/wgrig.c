@@ -352,10 +352,13 @@ static void progress(rig *r, const char *dir, const wg_point *pt)
         bar[i] = i < k ? '#' : '.';
     bar[w] = 0;
     int tty = isatty(STDERR_FILENO);
-    say(r, "%s[%s] %d/%d %s %s=%.6g %s %s %.3g imp/T | drops %ld refused %ld | %.0f s%s",
-            tty ? "\r" : "", bar, r->done, r->total, dir, r->o.param, pt->value,
-            out_label(pt, lab, sizeof lab), wg_motion_name(pt->motion), pt->impacts, r->pc_seq.missing,
-            r->refusals, cli_mono_s() - r->t0, tty ? "\033[K" : "\n");
+    char what[96] = "refused, not measured";
+    if (out_measured(pt))
+        snprintf(what, sizeof what, "%s %s %.3g imp/T", out_label(pt, lab, sizeof lab),
+                 wg_motion_name(pt->motion), pt->impacts);
+    say(r, "%s[%s] %d/%d %s %s=%.6g %s | drops %ld refused %ld | %.0f s%s", tty ? "\r" : "", bar,
+        r->done, r->total, dir, r->o.param, pt->value, what, r->pc_seq.missing, r->refusals,
+        cli_mono_s() - r->t0, tty ? "\033[K" : "\n");
 }
 
 /* Analyse the point at value v the way wg_point_run does: settle, record,
@@ -503,9 +506,13 @@ static int write_impacts(rig *r, const sweep_study *st, wg_chain *ch[2], window 
             char cs[32] = "";
             if (!lost)
                 snprintf(cs, sizeof cs, "%.6g", ci);
-            fprintf(f, "%s,%d,%.10g,%.6g,%s,%d,%s,%s,%d\n", d ? "down" : "up", i, p->value,
-                    p->impacts, cs, w->n, wg_motion_name(p->motion), wg_regime_name(p->regime),
-                    p->period);
+            if (!out_measured(p)) /* refused: its value, no measurement */
+                fprintf(f, "%s,%d,%.10g,,,0,,%s,\n", d ? "down" : "up", i, p->value,
+                        wg_regime_name(p->regime));
+            else
+                fprintf(f, "%s,%d,%.10g,%.6g,%s,%d,%s,%s,%d\n", d ? "down" : "up", i, p->value,
+                        p->impacts, cs, w->n, wg_motion_name(p->motion),
+                        wg_regime_name(p->regime), p->period);
             if (x && y && w->n)
                 x[n] = p->value, y[n++] = p->impacts, nup += d == 0;
         }
@@ -561,27 +568,6 @@ static int write_outputs(rig *r, wg_chain *ch[2], window *win[2], int partial, c
 
 /* ---- main -------------------------------------------------------------------------------- */
 
-/* The swept parameter and the analysis options from the command line: 0,
- * or 2 (reported). */
-static int check_param(rig *r)
-{
-    char why[256];
-    wg_sweep_opts_default(&r->so);
-    r->so.transient = r->o.settle, r->so.record = r->o.record, r->so.extend = r->o.extend;
-    r->so.settle = 0; /* the daemon runs the whole transient: no early stop */
-    if (r->o.tol > 0)
-        r->so.tol_floor = r->o.tol, r->so.tol_factor = 0;
-    if ((r->pid = cli_vary_param(r->o.param)) < 0)
-        return cli_vary_param_error(PROG, "--param", r->o.param, r->pid);
-    if (wg_param_check(r->pid, r->o.from, why, sizeof why) ||
-        wg_param_check(r->pid, r->o.to, why, sizeof why))
-        return fprintf(stderr, "wgrig: --from/--to: %s\n", why), 2;
-    if (r->o.ramp > 0 && !(wg_param_info_get(r->pid)->flags & WG_PF_RAMP))
-        return cli_usage_error(PROG, "--param '%s': not rampable: use the stepwise sweep",
-                               r->o.param);
-    return 0;
-}
-
 /* Sections the record must hold: one point's, or a whole ramp's (counted
  * at its highest omega). 0, or 2 when the ramp is too long or too short. */
 static int record_cap(const rig *r, int *cap)
@@ -618,7 +604,7 @@ static int setup(rig *r)
 {
     char path[1024];
     int rc, cap;
-    if ((rc = check_param(r)) || (rc = open_bus(r)))
+    if ((rc = rig_check_opts(&r->o, &r->so, &r->pid)) || (rc = open_bus(r)))
         return rc;
     r->orig = r->base.v[r->pid];
     /* captions say what differs from the scene: its file when this host has it

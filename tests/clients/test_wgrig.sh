@@ -8,7 +8,7 @@
 # CONTACT impacts equal the POINCARE statistics; a ramp (beside a hostile
 # sender whose PARAMS the rig ignores) and the value put back after it, also
 # when stopped mid-ramp; refusals (every point refused: no outputs written,
-# an earlier run's stay); usage.
+# an earlier run's stay; some refused: their rows hold no values); usage.
 # Run through netns.sh (host-local URL only).
 D=$1 R=$2 S=$3 C=$4 SPOOF=$5
 code=0
@@ -87,6 +87,32 @@ awk -F, 'NR > 1 && $6 > 0 && $5 != "" { d = $4 - $5; if (d < 0) d = -d; if (d > 
 expect 0 "$C" status
 has out "mode realtime (rate 0.01)"       # --fast restored the mode
 has out "^omega     0\.5$"                  # and the original omega (no --keep)
+
+# ---- partly refused: k1x 5050 and 10000 cross the RK4 limit at N = 128
+# and omega 0.5 (ESTABILITY); 100 is measured. A refused point's rows have its value, regime
+# none and nothing else (they read "none,0,0,no_impact,0,nan,..,0.000e+00"),
+# its progress line says so, and the .md lists it.
+expect 0 "$R" --param k1x --from 100 --to 10000 --points 3 --settle 20 --record 64 --extend 0 \
+    --no-lle --fast --out "$tmp/part"
+has err "set k1x=5050 refused (ESTABILITY)"
+has err "up k1x=5050 refused, not measured"
+has err "4 skipped (refused)"
+for d in up down; do
+    for v in 5050 10000; do
+        row=$(awk -F, -v d=$d -v v=$v '$1 == d && $3 == v' "$tmp/part.csv")
+        case $row in "$d,"[0-9]",$v,none"*) ;; *) fail "part.csv: no row for $d $v: $row" ;; esac
+        rest=$(printf '%s' "${row#*,none}" | tr -d ,)
+        [ -z "$rest" ] || fail "part.csv: refused $d $v has values: $row"
+        row=$(awk -F, -v d=$d -v v=$v '$1 == d && $3 == v' "$tmp/part-impacts.csv")
+        [ "${row#*,$v,}" = ",,0,,none," ] || fail "part-impacts.csv: refused $d $v: $row"
+    done
+    awk -F, -v d=$d '$1 == d && $3 == 100 && $4 == "periodic" && $7 == "no_impact" { ok = 1 }
+        END { exit !ok }' "$tmp/part.csv" || fail "part.csv: 100 $d not measured: $(cat "$tmp/part.csv")"
+done
+has_md() { grep -qF -- "$1" "$tmp/part.md" || fail "part.md lacks '$1'"; }
+has_md "Not measured in the up sweep (refused by the daemon; the run's messages say why; their rows have regime none and no other value): k1x = 5050.0000, 10000.0000"
+has_md "Not measured in the down sweep"
+grep -q '"value":5050,"regime":"none","period":null' "$tmp/part.json" || fail "part.json: refused point not null"
 
 # ---- stopped mid-sweep (SIGTERM: a script's background job ignores SIGINT):
 # exit 130, partial outputs, and the daemon put back, its mode and omega
