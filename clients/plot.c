@@ -376,17 +376,26 @@ static void dots(cairo_t *cr, const frame *f, const wg_point *pts, int n, const 
     cairo_fill(cr);
 }
 
+/* The min x_n line; a point not measured (wg_point_measured) breaks it (it
+ * was drawn at the panel's floor), and one measured alone is a dot. */
 static void min_curve(cairo_t *cr, const frame *f, const wg_point *pts, int n, const double c[3])
 {
     set_rgb(cr, c, 0.9);
     cairo_set_line_width(cr, 1.4);
-    for (int i = 0; i < n; i++) {
+    for (int i = 0, run = 0; i < n; i++) {
+        if (!wg_point_measured(&pts[i])) {
+            run = 0;
+            continue;
+        }
         double x = px(f, pts[i].value), y = py(f, fmax(f->ymin, pts[i].min_xn));
-        if (n == 1) { /* one point: a dot, as a line of one point draws nothing */
+        int alone = (i == 0 || !wg_point_measured(&pts[i - 1])) &&
+                    (i + 1 == n || !wg_point_measured(&pts[i + 1]));
+        if (alone) { /* a line of one point draws nothing */
+            cairo_stroke(cr);
             cairo_new_sub_path(cr);
             cairo_arc(cr, x, y, 2.5, 0, 2 * M_PI);
             cairo_fill(cr);
-        } else if (i == 0) {
+        } else if (!run++) {
             cairo_move_to(cr, x, y);
         } else {
             cairo_line_to(cr, x, y);
@@ -432,7 +441,9 @@ static void sweep_marks(cairo_t *cr, const frame *f, const wg_point *pts, int n,
         cairo_stroke(cr);
 }
 
-static void bif_legend(cairo_t *cr, double x, double y, const char *shading)
+/* The legend; `other` adds the dark cells of points not measured or diverged
+ * (only when the figure has some: the others' legend stays as it was). */
+static void bif_legend(cairo_t *cr, double x, double y, const char *shading, int other)
 {
     static const struct {
         int regime, period;
@@ -450,6 +461,12 @@ static void bif_legend(cairo_t *cr, double x, double y, const char *shading)
         legend_box(cr, x + 118.0 * i, y, rgb, items[i].label);
     }
     double mx = x + 118.0 * (sizeof items / sizeof items[0]) + 20;
+    if (other) {
+        wg_point p = {.regime = WG_REGIME_DIVERGED};
+        double rgb[3];
+        plot_regime_colour(&p, 0, rgb);
+        legend_box(cr, x + 640, y + 22, rgb, "none: not measured (refused); or diverged");
+    }
     sweep_marks(cr, NULL, NULL, 0, 1, mx + 7, y - 4);
     cairo_set_source_rgb(cr, 0, 0, 0);
     text(cr, mx + 19, y, 12, 0.0, "up sweep");
@@ -530,7 +547,12 @@ int plot_bifurcation(const char *path, const plot_bif *pb, char *why, size_t why
                                     "panel: up, then down)"
                                   : "background: regime of the down sweep (the strips above the "
                                     "panel: up, then down)";
-    bif_legend(cr, 90, y + 30, shading);
+    int other = 0;
+    for (int i = 0; i < pb->nup + pb->ndown; i++) {
+        const wg_point *p = i < pb->nup ? &pb->up[i] : &pb->down[i - pb->nup];
+        other |= p->regime == WG_REGIME_NONE || p->regime == WG_REGIME_DIVERGED;
+    }
+    bif_legend(cr, 90, y + 30, shading, other);
     bif_main(cr, pb, &top, ylab);
     /* min x_n panel, spanning +-b (the data alone where b is swept) */
     double mlo = isnan(pb->b) ? INFINITY : -pb->b, mhi = isnan(pb->b) ? -INFINITY : pb->b;

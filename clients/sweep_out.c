@@ -39,11 +39,6 @@ int out_close(FILE *f, const char *path, char *why, size_t whylen)
     return 0;
 }
 
-int out_measured(const wg_point *p)
-{
-    return p->regime != WG_REGIME_NONE || p->nsec > 0;
-}
-
 const char *out_label(const wg_point *p, char *buf, size_t len)
 {
     switch (p->regime) {
@@ -88,7 +83,7 @@ static void csv_point(FILE *f, const sweep_study *st, const sweep_group *g, cons
 {
     if (st->gparam >= 0)
         fprintf(f, "%.10g,", g->gval);
-    if (!out_measured(p)) { /* its value and "none", every other column empty */
+    if (!wg_point_measured(p)) { /* its value and "none", every other column empty */
         fprintf(f, "%s,%d,%.10g,%s", dir, i, p->value, wg_regime_name(p->regime));
         for (int c = 1; c < OUT_POINT_NCOLS; c++)
             fputc(',', f);
@@ -194,7 +189,7 @@ static void jnum(FILE *f, double v)
 
 static void json_point(FILE *f, const wg_point *p)
 {
-    if (!out_measured(p)) { /* the same keys, null where nothing was measured */
+    if (!wg_point_measured(p)) { /* the same keys, null where nothing was measured */
         fprintf(f, "{\"value\":%.12g,\"regime\":\"%s\",\"period\":null,\"converged\":null,"
                    "\"motion\":null,\"impacts_per_period\":null,\"min_xn\":null,\"max_xn\":null,"
                    "\"lle_per_period\":null,\"err\":null,\"tol\":null,\"resid\":null,"

@@ -91,11 +91,6 @@ int out_study(const char *prefix, const sweep_study *st, int json, int figures, 
 /* 2-D map: rows as CSV (row value, x value, regime, ...). */
 int out_map_csv(const char *path, const wg_chain *rows, int nrows, char *why, size_t whylen);
 
-/* 1 if p holds a measurement: 0 for a point with no regime and no section
- * recorded (wgrig: refused by the daemon), whose other columns are left
- * empty in the outputs (they read "no_impact, 0 impacts, 0 steps"). */
-int out_measured(const wg_point *p);
-
 /* Label of a point: "P1", "P2", "P? (n>32)", "quasi", "chaos", "-". */
 const char *out_label(const wg_point *p, char *buf, size_t len);
 

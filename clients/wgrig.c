@@ -353,7 +353,7 @@ static void progress(rig *r, const char *dir, const wg_point *pt)
     bar[w] = 0;
     int tty = isatty(STDERR_FILENO);
     char what[96] = "refused, not measured";
-    if (out_measured(pt))
+    if (wg_point_measured(pt))
         snprintf(what, sizeof what, "%s %s %.3g imp/T", out_label(pt, lab, sizeof lab),
                  wg_motion_name(pt->motion), pt->impacts);
     say(r, "%s[%s] %d/%d %s %s=%.6g %s | drops %ld refused %ld | %.0f s%s", tty ? "\r" : "", bar,
@@ -506,7 +506,7 @@ static int write_impacts(rig *r, const sweep_study *st, wg_chain *ch[2], window 
             char cs[32] = "";
             if (!lost)
                 snprintf(cs, sizeof cs, "%.6g", ci);
-            if (!out_measured(p)) /* refused: its value, no measurement */
+            if (!wg_point_measured(p)) /* refused: its value, no measurement */
                 fprintf(f, "%s,%d,%.10g,,,0,,%s,\n", d ? "down" : "up", i, p->value,
                         wg_regime_name(p->regime));
             else

@@ -475,6 +475,11 @@ int sweep_point_analyse(work *w, const wg_params *p, double *y, wg_point *pt, ch
     return WG_OK;
 }
 
+int wg_point_measured(const wg_point *pt)
+{
+    return pt->regime != WG_REGIME_NONE || pt->nsec > 0;
+}
+
 int wg_point_run(const wg_params *p, const wg_sweep_opts *o, double *y, wg_point *pt,
                  char *why, size_t whylen)
 {

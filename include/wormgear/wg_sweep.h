@@ -153,6 +153,11 @@ int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
 int wg_point_run(const wg_params *p, const wg_sweep_opts *o, double *y, wg_point *pt,
                  char *why, size_t whylen);
 
+/* 1 if pt holds a measurement; 0 for a point with no regime and no section
+ * recorded (a rig's point the daemon refused), whose other fields are not
+ * values: writers leave them empty, figures draw nothing for them. */
+int wg_point_measured(const wg_point *pt);
+
 /* ---- the analysis of recorded sections ----------------------------------
  * The steps of a point's analysis that only need the recorded Poincare
  * sections, whoever integrated them: the offline sweep (wg_point_run) and

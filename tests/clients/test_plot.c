@@ -7,7 +7,8 @@
  * data with no spread (a period-1 orbit's Poincare map) ends and shows
  * its dot; axis ticks end and their labels tell them apart, and the y
  * axis title keeps clear of long tick labels; a ramp run's caption says what
- * the ramp did, not a transient and record it never ran (the SVG's <desc>). The figures
+ * the ramp did, not a transient and record it never ran (the SVG's <desc>); points
+ * not measured break the min x_n line. The figures
  * are read back as pixels with cairo. */
 #include "test.h"
 
@@ -278,6 +279,48 @@ static void test_single_point(void)
     rmdir(dir);
 }
 
+/* Points not measured (a rig's refused values: regime none, no section,
+ * min x_n NAN) break the min x_n line: it dived to the panel's floor at
+ * them. Every coloured pixel of the lower panel lies on the measured
+ * points' height (min x_n 0.5 throughout). */
+static void test_unmeasured_break_the_line(void)
+{
+    static wg_point up[NPTS], down[NPTS];
+    setup();
+    make_points(up, down, 0);
+    for (int i = 0; i < NPTS; i++) /* period 1: white cells, only the data coloured */
+        up[i].regime = down[i].regime = WG_REGIME_PERIODIC, up[i].period = down[i].period = 1;
+    for (int i = 8; i < 12; i++)
+        for (wg_point *p = &up[i]; p; p = p == &up[i] ? &down[i] : NULL) {
+            double v = p->value;
+            memset(p, 0, sizeof *p);
+            p->value = v, p->min_xn = p->max_xn = p->lle = NAN;
+            ASSERT_TRUE(!wg_point_measured(p));
+        }
+    cairo_surface_t *s = draw("unmeasured", up, down);
+    int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
+    int st = cairo_image_surface_get_stride(s);
+    const unsigned char *d = cairo_image_surface_get_data(s);
+    long rows[1100] = {0}, n = 0;
+    for (int yy = (int)(h * 0.62); d && yy < h - 120 && yy < 1100; yy++)
+        for (int xx = 95; xx < w - 110; xx++) {
+            const unsigned char *q = d + yy * st + 4 * xx; /* B G R */
+            if (abs(q[0] - q[2]) > 60) /* the up blue or the down red */
+                rows[yy]++, n++;
+        }
+    int top = 0;
+    for (int yy = 0; yy < 1100; yy++)
+        top = rows[yy] > rows[top] ? yy : top;
+    long off = 0;
+    for (int yy = 0; yy < 1100; yy++)
+        off += abs(yy - top) > 3 ? rows[yy] : 0;
+    printf("lower panel: %ld coloured pixels, %ld off the line at y = %d\n", n, off, top);
+    ASSERT_TRUE(n > 0);
+    ASSERT_EQ_INT(off, 0);
+    cairo_surface_destroy(s);
+    rmdir(dir);
+}
+
 /* Axis ticks: k * step, each once, at most PD_TICKS_MAX, labelled with
  * the digits that tell them apart. */
 static void test_ticks(void)
@@ -414,4 +457,5 @@ TEST_MAIN(TEST(test_ticks), TEST(test_split_sweeps), TEST(test_run_caption),
           TEST(test_repeated_sections_drawn_once),
           TEST(test_near_sections_both_drawn),
           TEST(test_each_point_its_own_spots), TEST(test_poincare_of_period_one),
-          TEST(test_ylabel_clear_of_ticks), TEST(test_single_point))
+          TEST(test_ylabel_clear_of_ticks), TEST(test_single_point),
+          TEST(test_unmeasured_break_the_line))
