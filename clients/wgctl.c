@@ -258,7 +258,22 @@ static int do_set(ctl *t, int n, char **args)
 
 static int do_ramp(ctl *t, int n, char **args)
 {
-    double from = 0, to;
+    double from = 0, to, d;
+    const char *u;
+    if (n >= 2 && n <= 4 && cli_double(args[n - 1], &to) && !cli_duration(args[n - 1], &d, &u)) {
+        char say[256] = ""; /* the words before it, NAME=TO spelled NAME TO */
+        for (int i = 0; i < n - 1; i++) {
+            size_t k = strlen(say);
+            snprintf(say + k, sizeof say - k, "%s%s", i ? " " : "", args[i]);
+        }
+        for (char *c = say; (c = strchr(c, '=')) != NULL;)
+            *c = ' ';
+        return cli_usage_error(PROG, "ramp: '%s' is a duration: give it with --over (wgctl ramp "
+                               "%s --over %s)", args[n - 1], say, args[n - 1]);
+    }
+    if (n == 1 && strchr(args[0], '='))
+        return cli_usage_error(PROG, "ramp: expected NAME [FROM] TO --over DURATION, with spaces "
+                               "(got '%s')", args[0]);
     if (n < 2 || n > 3)
         return cli_usage_error(PROG, "ramp: expected NAME [FROM] TO --over DURATION");
     if (!t->o.have_over)
@@ -686,8 +701,17 @@ static int run(ctl *t, int argc, char **argv)
     unsigned k = 0;
     while (k < sizeof known / sizeof known[0] && strcmp(known[k], pos[0]))
         k++;
-    if (k == sizeof known / sizeof known[0])
-        return cli_usage_error(PROG, "unknown command '%s'", pos[0]);
+    if (k == sizeof known / sizeof known[0] && !strcmp(pos[0], "help") && npos == 1)
+        return usage(stdout), 0;
+    if (k == sizeof known / sizeof known[0]) {
+        char list[160] = "";
+        for (unsigned i = 0; i < sizeof known / sizeof known[0]; i++) {
+            size_t l = strlen(list);
+            snprintf(list + l, sizeof list - l, "%s, ", known[i]);
+        }
+        return cli_usage_error(PROG, "unknown command '%s' (one of: %sparams, keygen)", pos[0],
+                               list);
+    }
     if (t->o.prefix && !bus_prefix_ok(t->o.prefix))
         return cli_usage_error(PROG, "--prefix '%.60s': need [A-Za-z0-9_.-], at most %d "
                                "characters (the daemon's rule)", t->o.prefix, BUS_PREFIX_MAX);

@@ -44,6 +44,19 @@ expect 2 "$C" ramp omega 1 --over infs
 has err "^wgctl: --over 'infs': a positive duration"
 expect 2 "$C" --json ramp omega 1 --over infs
 has out '^{"accepted":false,"code":"EUSAGE","message":"usage error (see stderr)"}$'
+# a duration given without --over, or NAME=TO: the command line to type (it
+# said only "--over DURATION is required")
+expect 2 "$C" ramp omega 1 2 30s
+has err "^wgctl: ramp: '30s' is a duration: give it with --over (wgctl ramp omega 1 2 --over 30s)"
+expect 2 "$C" ramp omega=1.3 5s
+has err "(wgctl ramp omega 1.3 --over 5s)"
+expect 2 "$C" ramp omega=1.3 --over 5s
+has err "^wgctl: ramp: expected NAME \[FROM\] TO --over DURATION, with spaces (got 'omega=1.3')"
+# an unknown command lists the known ones; help is --help
+expect 2 "$C" snapshot
+has err "^wgctl: unknown command 'snapshot' (one of: set, ramp, step, tick, save, restore, mode, pause, resume, reset, get, status, contacts, params, keygen)"
+expect 0 "$C" help
+has out "^usage: wgctl"
 # ---- get NAME: names are checked before any message is sent
 expect 2 "$C" get nosuch
 has err "get: 'nosuch' is not a parameter (wgctl params lists them)"
