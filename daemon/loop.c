@@ -326,6 +326,14 @@ static void start_signal(wgd *d, ev_signal *w, int signum)
     ev_signal_start(d->loop, w);
 }
 
+void loop_hold_signals(int hold)
+{
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT), sigaddset(&set, SIGTERM), sigaddset(&set, SIGHUP);
+    pthread_sigmask(hold ? SIG_BLOCK : SIG_UNBLOCK, &set, NULL);
+}
+
 int loop_init(wgd *d)
 {
     d->tfd = -1;
@@ -349,12 +357,7 @@ int loop_init(wgd *d)
     start_signal(d, &d->sig_int, SIGINT);
     start_signal(d, &d->sig_term, SIGTERM);
     start_signal(d, &d->sig_hup, SIGHUP);
-    /* main blocked them until now: libev's handlers take them from here,
-     * one that came during the start first (pending until this line) */
-    sigset_t taken;
-    sigemptyset(&taken);
-    sigaddset(&taken, SIGINT), sigaddset(&taken, SIGTERM), sigaddset(&taken, SIGHUP);
-    pthread_sigmask(SIG_UNBLOCK, &taken, NULL);
+    loop_hold_signals(0); /* libev's handlers take them from here */
     /* A closed stdout or stderr (`wormgeard -F | head`) killed the daemon
      * with no clean shutdown; ignored, a write fails with EPIPE instead,
      * which the log and the foreground line take in their stride. */

@@ -16,6 +16,13 @@
 
 struct wgd;
 
+/* SIGINT, SIGTERM and SIGHUP held (1) in the calling thread, pending, or
+ * taken again (0): main holds them from its first line, before any thread
+ * starts (every thread inherits the mask), and loop_init lets them through
+ * once its watchers are there, one that came meanwhile first. One during
+ * the start killed the daemon (exit 143, a HUP 129). */
+void loop_hold_signals(int hold);
+
 /* Create the loop, the timerfd and the watchers. WG_OK or WG_EIO with d->init_why. */
 int loop_init(struct wgd *d);
 

@@ -14,7 +14,6 @@
 #include <errno.h>
 #include <pthread.h>
 #include <sched.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -170,14 +169,9 @@ static int run(wgd *d)
 
 int main(int argc, char **argv)
 {
-    /* SIGINT, SIGTERM and SIGHUP wait, pending, until the loop's watchers
-     * take them (loop_init): one during the start killed the daemon (exit
-     * 143, a HUP 129), and a thread started before then (the log's writer)
-     * could take one with the default action. Every thread inherits this. */
-    sigset_t stop;
-    sigemptyset(&stop);
-    sigaddset(&stop, SIGINT), sigaddset(&stop, SIGTERM), sigaddset(&stop, SIGHUP);
-    pthread_sigmask(SIG_BLOCK, &stop, NULL);
+    /* until the loop's watchers take them; a thread started before then (the
+     * log's writer) could take one with the default action */
+    loop_hold_signals(1);
     wgd *d = calloc(1, sizeof *d);
     if (!d) {
         fprintf(stderr, "wormgeard: out of memory\n");
