@@ -260,15 +260,23 @@ static void json_transitions(FILE *f, const sweep_study *st, const sweep_group *
     free(t);
 }
 
-static void json_opts(FILE *f, const wg_sweep_opts *o)
+/* The analysis options; run (a ramp's words, sweep_study) in their place:
+ * a ramp runs no per-point transient, record or extension. */
+static void json_opts(FILE *f, const wg_sweep_opts *o, const char *run)
 {
-    fprintf(f, "\"options\":{\"model\":\"%s\",\"stepper\":\"%s\",\"steps_per_period\":%d,"
-               "\"transient\":%d,\"settle\":%d,\"record\":%d,\"extend\":%d,\"lle_periods\":%d,"
-               "\"lle_d0\":%g,\"lle_tol\":%g,\"tol_factor\":%g,\"tol_floor\":%g,"
-               "\"floquet\":%s,\"verify_2n\":%s}",
-            wg_model_name(o->model), wg_stepper_name(o->stepper), o->steps, o->transient,
-            o->settle, o->record, o->extend, o->lle_periods, o->lle_d0, o->lle_tol, o->tol_factor,
-            o->tol_floor, o->floquet ? "true" : "false", o->verify ? "true" : "false");
+    fprintf(f, "\"options\":{\"model\":\"%s\",\"stepper\":\"%s\",\"steps_per_period\":%d,",
+            wg_model_name(o->model), wg_stepper_name(o->stepper), o->steps);
+    if (run) {
+        fputs("\"run\":", f);
+        cli_json_str(f, run);
+    } else {
+        fprintf(f, "\"transient\":%d,\"settle\":%d,\"record\":%d,\"extend\":%d,\"lle_periods\":%d,"
+                   "\"lle_d0\":%g", o->transient, o->settle, o->record, o->extend,
+                o->lle_periods, o->lle_d0);
+    }
+    fprintf(f, ",\"lle_tol\":%g,\"tol_factor\":%g,\"tol_floor\":%g,\"floquet\":%s,"
+               "\"verify_2n\":%s}", o->lle_tol, o->tol_factor, o->tol_floor,
+            o->floquet ? "true" : "false", o->verify ? "true" : "false");
 }
 
 int out_json(const char *path, const sweep_study *st, char *why, size_t whylen)
@@ -286,7 +294,7 @@ int out_json(const char *path, const sweep_study *st, char *why, size_t whylen)
     fprintf(f,
             ",\"b\":%g,\"partial\":%s,\"wall_s\":%.3f,\"threads\":%d,\"pair\":%d,\"ranks\":%d,\n",
             st->b, st->partial ? "true" : "false", st->wall_s, st->threads, st->pair, st->ranks);
-    json_opts(f, st->o);
+    json_opts(f, st->o, st->run);
     fputs(",\n\"groups\":[", f);
     for (int k = 0; k < st->ngroups; k++) {
         const sweep_group *g = &st->g[k];
@@ -344,7 +352,8 @@ static int out_png_group(const char *prefix, const sweep_study *st, int k, char 
         snprintf(path, len, "%s-%s.%s", prefix,
                  out_tag(tag, sizeof tag, out_pname(st->gparam), g->gval), ext);
         snprintf(title, sizeof title, "%s: bifurcation diagram in %s, %s = %.15g%s", st->scene,
-                 plot_text_psym(st->param), plot_text_psym(st->gparam), g->gval, st->partial ? " (partial)" : "");
+                 plot_text_psym(st->param), plot_text_psym(st->gparam), g->gval,
+                 st->partial ? " (partial)" : "");
     } else {
         snprintf(path, len, "%s.%s", prefix, ext);
         snprintf(title, sizeof title, "%s: bifurcation diagram in %s%s", st->scene,

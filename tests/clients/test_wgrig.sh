@@ -182,6 +182,11 @@ grep -q "ramp ω 0.5 → 1 and back over 0.5 s simulated each way (≈ [0-9]* me
 every section binned onto 6 values" "$tmp/ramp.md" || fail "ramp.md: $(sed -n 5p "$tmp/ramp.md")"
 grep -q "transient" "$tmp/ramp.md" &&
     fail "ramp.md claims a transient: $(grep transient "$tmp/ramp.md")"
+# the JSON too: its options say the ramp ("run"), no transient or record
+grep -q '"run":"ramp ω 0.5 → 1 and back over 0.5 s simulated each way' "$tmp/ramp.json" ||
+    fail "ramp.json: no run: $(grep options "$tmp/ramp.json")"
+grep -q '"transient"\|"record"' "$tmp/ramp.json" &&
+    fail "ramp.json claims a transient or record: $(grep options "$tmp/ramp.json")"
 
 # the value put back after a ramp (no --keep), from 0.8, neither end: the
 # ramps left it at their end (0.5 after both ways, 1.0 after one up). The
