@@ -8,6 +8,13 @@
  *            flip of a valid snapshot; FIFO, symlink, directory, oversized
  *   wgfuzz WORMGEARD kill [SEED]           SIGKILL at random moments of
  *            repeated saves: the file is always the old or the new one
+ *   wgfuzz WORMGEARD wire [SEED|- [N]]     raw UDP datagrams on the group,
+ *            beneath LCM's framing (its udpm: short and fragmented messages):
+ *            bad magic, cut headers, unterminated and 60 kB channel names,
+ *            impossible fragments, a flood of first fragments of 16-256 MB
+ *            messages that never end, N x 10 random datagrams; then the
+ *            daemon answers within the limit, its state is the same bytes,
+ *            its memory grew less than 64 MB
  *   wgfuzz WORMGEARD commands-keyed [SEED|- [N]]  the commands run against
  *            a daemon with a key (command_key_file), by an attacker without
  *            it: every hostile message refused EAUTH or EDECODE, one ACK
@@ -28,6 +35,7 @@
 #include "wormgear/wg_key.h"
 #include "wormgear/wg_status.h"
 
+#include <arpa/inet.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <lcm/lcm.h>
@@ -38,6 +46,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -1044,6 +1053,110 @@ static void kill_during_saves(int rounds)
 
 /* ---- main ---------------------------------------------------------------------- */
 
+/* ---- beneath LCM: raw datagrams on the group ------------------------------------ */
+
+enum { LC_SHORT = 0x4c433032, LC_LONG = 0x4c433033 }; /* "LC02", "LC03" (LCM's udpm) */
+
+/* The daemon's resident memory in kB (/proc), or -1. */
+static long rss_kb(pid_t pid)
+{
+    char path[64], line[256];
+    long kb = -1;
+    snprintf(path, sizeof path, "/proc/%d/status", (int)pid);
+    FILE *f = fopen(path, "r");
+    while (f && fgets(line, sizeof line, f))
+        if (sscanf(line, "VmRSS: %ld", &kb) == 1)
+            break;
+    if (f)
+        fclose(f);
+    return kb;
+}
+
+/* One LC03 fragment: header (seqno, msg_size, offset, no, count), the
+ * channel name when no is 0, then len payload bytes. */
+static size_t frag(unsigned char *b, uint32_t seqno, uint32_t size, uint32_t off, uint16_t no,
+                   uint16_t count, const char *ch, size_t len)
+{
+    uint32_t h[4] = {htonl(LC_LONG), htonl(seqno), htonl(size), htonl(off)};
+    uint16_t k[2] = {htons(no), htons(count)};
+    memcpy(b, h, 16), memcpy(b + 16, k, 4);
+    size_t n = 20;
+    if (!no)
+        memcpy(b + n, ch, strlen(ch) + 1), n += strlen(ch) + 1;
+    for (size_t i = 0; i < len; i++)
+        b[n++] = (unsigned char)rnd();
+    return n;
+}
+
+static void wire(long n)
+{
+    static unsigned char b[65536];
+    int port = atoi(strrchr(F.url, ':') + 1), s = socket(AF_INET, SOCK_DGRAM, 0);
+    unsigned char ttl = 0, loop = 1;
+    struct sockaddr_in to = {.sin_family = AF_INET, .sin_port = htons((uint16_t)port)};
+    inet_pton(AF_INET, "239.255.76.67", &to.sin_addr);
+    if (s < 0 || setsockopt(s, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, 1) ||
+        setsockopt(s, IPPROTO_IP, IP_MULTICAST_LOOP, &loop, 1)) {
+        fail("wire: no UDP socket: %s", strerror(errno));
+        return;
+    }
+#define SEND(len) (sendto(s, b, (len), 0, (struct sockaddr *)&to, sizeof to) >= 0 ? sent++ : 0)
+    long sent = 0, rss0 = rss_kb(F.pid), acks0 = F.acks_total;
+    uint32_t hs[2] = {htonl(LC_SHORT), htonl(1)};
+    /* short messages: cut headers, bad magic, no NUL in the channel, a 60 kB name */
+    for (size_t len = 0; len <= 8; len++)
+        memcpy(b, hs, 8), SEND(len);
+    memcpy(b, hs, 8), memcpy(b + 8, "FZ_CMD", 6), SEND(14);
+    b[0] ^= 1, memcpy(b + 8, "FZ_CMD", 7), SEND(60);
+    memcpy(b, hs, 8), memset(b + 8, 'A', 60000), b[60008] = 0, SEND(60100);
+    memcpy(b, hs, 8), memcpy(b + 8, "FZ_CMD", 7), SEND(15); /* an empty command */
+    /* fragments that cannot be: offset past the size, number past the count, a count
+     * of 0, a size of 0 and of 4 GB, a second fragment with no first, one that ends
+     * past the message */
+    const uint32_t bad[][4] = {{100, 200, 1, 2}, {100, 0, 5, 2}, {100, 0, 0, 0}, {0, 0, 0, 1},
+                               {0xffffffffu, 0, 0, 65535}, {3000, 1400, 1, 3},
+                               {2000, 1500, 1, 2}, {1000, 0, 0, 2}, {0x7fffffffu, 0, 0, 2}};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+        SEND(frag(b, 100 + (uint32_t)i, bad[i][0], bad[i][1], (uint16_t)bad[i][2],
+                  (uint16_t)bad[i][3], "FZ_CMD", 1300));
+    /* a flood of first fragments of 16 MB .. 256 MB messages that never end */
+    for (long i = 0; i < 10 * n; i++) {
+        uint32_t size = 1u << (24 + rndi(5));
+        SEND(frag(b, 1000 + (uint32_t)i, size, 0, 0, (uint16_t)((size + 1399) / 1400),
+                  rndi(2) ? "FZ_CMD" : "FZ_TICK", 1300));
+    }
+    /* random datagrams, half with a magic of LCM's */
+    for (long i = 0; i < 10 * n; i++) {
+        size_t len = (size_t)rndi(1500);
+        for (size_t k = 0; k < len; k++)
+            b[k] = (unsigned char)rnd();
+        if (len >= 4 && rndi(2))
+            memcpy(b, rndi(2) ? &hs[0] : &(uint32_t){htonl(LC_LONG)}, 4);
+        SEND(len);
+    }
+#undef SEND
+    close(s);
+    pump(500); /* the refusals of what decoded as a command, a STATUS */
+    long rss1 = rss_kb(F.pid), acks = F.acks_total - acks0;
+    if (acks < 1) /* the empty command at least: the datagrams reached the daemon */
+        fail("wire: no refusal came back: the datagrams did not reach the daemon");
+    mark();
+    double t0 = now_ms();
+    if (own("save", "fzpost", 3000) != 0)
+        fail("wire: our own save after the datagrams was not accepted");
+    else
+        record_latency(now_ms() - t0, "a save after the raw datagrams");
+    if (!same_file("fzpre.wgstate", "fzpost.wgstate")) {
+        F.changed++;
+        fail("wire: the raw datagrams changed the state");
+    }
+    printf("wire: %ld datagrams sent (%ld flood fragments, %ld random), %ld refused with an "
+           "ACK; the daemon's memory %ld -> %ld kB; a save answered in %.1f ms\n", sent, 10 * n,
+           10 * n, acks, rss0, rss1, now_ms() - t0);
+    if (rss0 < 0 || rss1 < 0 || rss1 - rss0 > 65536)
+        fail("wire: the daemon's memory grew from %ld to %ld kB (limit 64 MB)", rss0, rss1);
+}
+
 static int cmp_d(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -1064,7 +1177,7 @@ static void figures(void)
 int main(int argc, char **argv)
 {
     if (argc < 3) {
-        fprintf(stderr, "usage: wgfuzz WORMGEARD commands|commands-keyed|snapshots|kill "
+        fprintf(stderr, "usage: wgfuzz WORMGEARD commands|commands-keyed|snapshots|kill|wire "
                 "[SEED [N]]\n");
         return 2;
     }
@@ -1117,6 +1230,8 @@ int main(int argc, char **argv)
     } else if (!strcmp(argv[2], "snapshots")) {
         snapshots();
         special_files();
+    } else if (!strcmp(argv[2], "wire")) {
+        wire(n);
     } else if (!strcmp(argv[2], "kill")) {
         kill_during_saves((int)(n > 40 ? 40 : n));
     }
