@@ -210,6 +210,9 @@ long msg_check(int type, const void *buf, long len, msg_walk *w)
     static const fld fp = SKIP(8, "fingerprint");
     if (type < 0 || type >= MSG_NTYPE || !buf || len < 0)
         return fault(&k, &fp, -1, "not a message type or no bytes", 0, 0);
+    if (len > MSG_MAX_BYTES) /* LCM's length of a short datagram it misread, say */
+        return fault(&k, &fp, -1, "a message of %lld bytes, the limit is %lld", len,
+                     MSG_MAX_BYTES);
     if (skip(&k, &fp, -1, 8))
         return -1;
     for (const fld *f = LAYOUT[type]; f->kind != F_END; f++)

@@ -27,7 +27,13 @@ enum {
     MSG_CMD_MAX_PARAMS = 64,   /* names[] / values[] (the parameter table has 29) */
     MSG_CMD_MAX_STRING = 4096, /* bytes of any string of a cmd_t, without its NUL */
     MSG_CMD_MAX_CLIENT = 256,  /* bytes of a client id (echoed in its ACK) */
-    MSG_CMD_MAC_BYTES = 32     /* a signed command's MAC (crypto_auth) */
+    MSG_CMD_MAC_BYTES = 32,    /* a signed command's MAC (crypto_auth) */
+    /* The bytes of any message, whatever its type (the daemon's largest are some
+     * 60 kB). LCM 1.3.1 hands on a short datagram whose channel name has no NUL
+     * (read on into the bytes its buffer held before) with a length of -1,
+     * 4294967295 bytes: walked against that, a stale count or string length would
+     * carry the walk past the real bytes. */
+    MSG_MAX_BYTES = 1 << 24
 };
 
 /* What a walk found. */
@@ -43,7 +49,7 @@ typedef struct msg_walk {
 
 /* Walk the message of type at the start of buf (len bytes, its 8-byte
  * fingerprint first, not compared here): the bytes it occupies, or -1
- * when a field runs past len, a count is negative or over its limit, a
+ * when len is over MSG_MAX_BYTES, a field runs past len, a count is negative or over its limit, a
  * string is longer than its limit or not one NUL-terminated C string
  * (w, if not NULL, says where and why). */
 long msg_check(int type, const void *buf, long len, msg_walk *w);

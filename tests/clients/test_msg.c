@@ -7,7 +7,9 @@
  * sender would (2^31 - 1, -1, one too many) is refused, as is a string
  * without its NUL; random mutants that pass decode within their bytes.
  * A count of 2^31 - 1 in a CONTACT message crashed wgweb,
- * wgmon, wgrig and wglog inside the generated decoder. */
+ * wgmon, wgrig and wglog inside the generated decoder. A length over
+ * MSG_MAX_BYTES (LCM's 4294967295 for a datagram it misread) is refused
+ * before a byte is read. */
 #include "test.h"
 
 #include "bus_msg.h"
@@ -213,6 +215,31 @@ static void test_string_without_nul_refused(void)
     ASSERT_TRUE(!bus_msg_ok(BUS_NTYPE, e.buf, e.len));
 }
 
+/* A message of 4294967295 bytes, which is what LCM 1.3.1 reports for a
+ * short datagram whose channel name has no NUL: refused before a byte is
+ * read. Walked, a string length left in its buffer from an earlier message
+ * (here 2^30) carried the walk, and its NUL test, a gigabyte past the bytes
+ * there are. Every type; the bytes are a heap copy of exactly the message,
+ * so under AddressSanitizer any read past them fails the run. */
+static void test_misread_length_refused(void)
+{
+    static enc e;
+    for (int type = 0; type < BUS_NTYPE; type++) {
+        encode(type, &e);
+        unsigned char *b = malloc(e.len);
+        ASSERT_TRUE(b != NULL);
+        memcpy(b, e.buf, e.len);
+        if (type == BUS_ACK)
+            put32(b + 8 + 8 + 8, 1 << 30); /* the client string's length */
+        msg_walk w;
+        ASSERT_EQ_INT((int)msg_check(type, b, 4294967295L, &w), -1);
+        ASSERT_STR(w.what, "a message of 4294967295 bytes, the limit is 16777216");
+        ASSERT_TRUE(!bus_msg_ok(type, b, 4294967295L));
+        ASSERT_EQ_INT((int)msg_check(type, b, MSG_MAX_BYTES + 1L, &w), -1);
+        free(b);
+    }
+}
+
 /* Decode with the generated decoder as the clients do once the check
  * passed (under AddressSanitizer a read past len fails the run). */
 #define TRY(T, e, n)                                                                       \
@@ -272,5 +299,5 @@ static void test_random_mutants(void)
 }
 
 TEST_MAIN(TEST(test_layouts_match_the_encoder), TEST(test_hostile_counts_refused),
-          TEST(test_random_mutants),
+          TEST(test_random_mutants), TEST(test_misread_length_refused),
           TEST(test_string_without_nul_refused))

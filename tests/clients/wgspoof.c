@@ -16,7 +16,11 @@
  * sends: a CONTACT whose count
  * is 2^31 - 1, a STATUS and an ACK whose first string claims 2^31 - 1
  * bytes (the generated decoder read past the buffer on them, and every
- * client died; they must be dropped, bus_msg.h).
+ * client died; they must be dropped, bus_msg.h). And beneath LCM, on a
+ * udpm URL, the same bytes sent so that LCM 1.3.1 hands them on with a
+ * length of 4294967295 (raw_misread): walked against that length, the
+ * claimed 2^31 - 1 bytes carried a client's check past its buffer (two
+ * datagrams killed wgctl status with SIGSEGV).
  * With "flood", only this: messages of 250 kB (bytes no type decodes) on
  * PREFIX STATE, as fast as it can publish them, for a client whose loop
  * stalls: LCM queues what the loop has not handled.
@@ -38,13 +42,16 @@
 #include "lcmtypes/wormgear_state_t.h"
 #include "lcmtypes/wormgear_status_t.h"
 
+#include <arpa/inet.h>
 #include <lcm/lcm.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
 #include <time.h>
+#include <unistd.h>
 
 static double now_s(void)
 {
@@ -255,16 +262,60 @@ static int publish_params(lcm_t *l, const char *ch, int64_t seq)
     return wormgear_params_t_publish(l, ch, &p);
 }
 
-/* A valid message's bytes with the int32 at byte at set to 2^31 - 1, on ch. */
-static int publish_bent(lcm_t *l, const char *ch, unsigned char *buf, int len, int at)
+/* Raw UDP to the group of a udpm:// URL (fd -1 for any other URL). */
+typedef struct raw {
+    int fd;
+    struct sockaddr_in to;
+    uint32_t seqno;
+} raw;
+
+static void raw_open(raw *r, const char *url)
+{
+    char host[64];
+    int port;
+    r->fd = -1, r->seqno = 1u << 30;
+    memset(&r->to, 0, sizeof r->to);
+    if (sscanf(url, "udpm://%63[0-9.]:%d", host, &port) != 2 ||
+        inet_pton(AF_INET, host, &r->to.sin_addr) != 1)
+        return;
+    r->to.sin_family = AF_INET, r->to.sin_port = htons((uint16_t)port);
+    unsigned char ttl = 0; /* this host only, as the URLs of the tests */
+    r->fd = socket(AF_INET, SOCK_DGRAM, 0);
+    if (r->fd >= 0)
+        setsockopt(r->fd, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, 1);
+}
+
+/* Beneath LCM: a whole short datagram on ch carrying b, then ch again with
+ * no NUL and nothing after it. LCM 1.3.1 reads the second's channel name
+ * on into the NUL the first left in its buffer, takes it for ch, and hands
+ * on the first's bytes with a length of 8 + strlen(ch) - (8 + strlen(ch) +
+ * 1) = -1: 4294967295. */
+static void raw_misread(raw *r, const char *ch, const unsigned char *b, int len)
+{
+    unsigned char d[1500];
+    size_t cl = strlen(ch);
+    if (r->fd < 0 || len < 0 || 9 + cl + (size_t)len > sizeof d)
+        return;
+    uint32_t h[2] = {htonl(0x4c433032), htonl(r->seqno++)}; /* "LC02", seqno */
+    memcpy(d, h, 8), memcpy(d + 8, ch, cl + 1), memcpy(d + 9 + cl, b, (size_t)len);
+    sendto(r->fd, d, 9 + cl + (size_t)len, 0, (struct sockaddr *)&r->to, sizeof r->to);
+    h[1] = htonl(r->seqno++);
+    memcpy(d, h, 8);
+    sendto(r->fd, d, 8 + cl, 0, (struct sockaddr *)&r->to, sizeof r->to);
+}
+
+/* A valid message's bytes with the int32 at byte at set to 2^31 - 1, on ch,
+ * and misread beneath LCM. */
+static int publish_bent(lcm_t *l, raw *r, const char *ch, unsigned char *buf, int len, int at)
 {
     if (len < at + 4)
         return -1;
     buf[at] = 0x7f, buf[at + 1] = buf[at + 2] = buf[at + 3] = 0xff;
+    raw_misread(r, ch, buf, len);
     return lcm_publish(l, ch, buf, (unsigned)len);
 }
 
-static int publish_hostile_bytes(lcm_t *l, const char *prefix)
+static int publish_hostile_bytes(lcm_t *l, raw *r, const char *prefix)
 {
     unsigned char buf[4096];
     char ch[128];
@@ -275,16 +326,16 @@ static int publish_hostile_bytes(lcm_t *l, const char *prefix)
                             .contact = k, .kind = k};
     int n = wormgear_contact_t_encode(buf, 0, sizeof buf, &c), rc = 0;
     channel(ch, sizeof ch, prefix, "CONTACT");
-    rc |= publish_bent(l, ch, buf, n, 8 + 8 + 8 + 4); /* n */
+    rc |= publish_bent(l, r, ch, buf, n, 8 + 8 + 8 + 4); /* n */
     wormgear_status_t s = {.scene = "s", .mode = "m", .run = "r", .health = "h", .fault = "",
                            .motion = "", .regime = "", .tick_refusal = ""};
     n = wormgear_status_t_encode(buf, 0, sizeof buf, &s);
     channel(ch, sizeof ch, prefix, "STATUS");
-    rc |= publish_bent(l, ch, buf, n, 8 + 8 + 8); /* scene's length */
+    rc |= publish_bent(l, r, ch, buf, n, 8 + 8 + 8); /* scene's length */
     wormgear_ack_t a = {.client = "c", .op = "set", .code = "OK", .message = ""};
     n = wormgear_ack_t_encode(buf, 0, sizeof buf, &a);
     channel(ch, sizeof ch, prefix, "ACK");
-    rc |= publish_bent(l, ch, buf, n, 8 + 8 + 8); /* client's length */
+    rc |= publish_bent(l, r, ch, buf, n, 8 + 8 + 8); /* client's length */
     return rc;
 }
 
@@ -314,15 +365,20 @@ int main(int argc, char **argv)
         return frc;
     }
     int rc = 0;
+    raw r;
+    raw_open(&r, argv[1]);
     for (int64_t seq = 0; now_s() < end && rc == 0; seq++) {
-        rc |= publish_status(l, cs, seq) | publish_state(l, ct, seq, valid) | publish_poincare(l, cp, seq);
-        rc |= publish_hostile_bytes(l, argv[2]);
+        rc |= publish_status(l, cs, seq) | publish_state(l, ct, seq, valid) |
+              publish_poincare(l, cp, seq);
+        rc |= publish_hostile_bytes(l, &r, argv[2]);
         if (params)
             rc |= publish_params(l, cq, seq);
         struct timespec ts = {0, 20000000};
         nanosleep(&ts, NULL);
     }
     lcm_destroy(l);
+    if (r.fd >= 0)
+        close(r.fd);
     if (rc)
         fprintf(stderr, "wgspoof: a publish failed\n");
     return rc ? 1 : 0;

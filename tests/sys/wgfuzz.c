@@ -78,6 +78,7 @@ typedef struct fz {
     ackrec win[LOGACK];          /* ACKs since the last mark (the window) */
     int nwin, nwin_total;
     long acks_total;
+    long foreign_acks;           /* ACKs to another client than ours (the wire's refusals) */
     long tick_acks;              /* ACKs with op "tick": a refused tick's answer (not in win) */
     int64_t tick_ack_seq;        /* the last one's cmd_seq, code and client */
     char tick_ack_code[24], tick_ack_client[64];
@@ -258,6 +259,7 @@ static void on_ack(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_
 {
     (void)rb, (void)ch, (void)u;
     F.acks_total++;
+    F.foreign_acks += strcmp(m->client, "fz-self") != 0;
     if (!strcmp(m->op, "tick")) { /* a tick's, counted apart: commands' seqs are others */
         F.tick_acks++;
         F.tick_ack_seq = m->cmd_seq;
@@ -1101,7 +1103,7 @@ static void wire(long n)
         return;
     }
 #define SEND(len) (sendto(s, b, (len), 0, (struct sockaddr *)&to, sizeof to) >= 0 ? sent++ : 0)
-    long sent = 0, rss0 = rss_kb(F.pid), acks0 = F.acks_total;
+    long sent = 0, rss0 = rss_kb(F.pid), acks0 = F.foreign_acks;
     uint32_t hs[2] = {htonl(LC_SHORT), htonl(1)};
     /* short messages: cut headers, bad magic, no NUL in the channel, a 60 kB name */
     for (size_t len = 0; len <= 8; len++)
@@ -1119,8 +1121,17 @@ static void wire(long n)
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
         SEND(frag(b, 100 + (uint32_t)i, bad[i][0], bad[i][1], (uint16_t)bad[i][2],
                   (uint16_t)bad[i][3], "FZ_CMD", 1300));
-    /* a flood of first fragments of 16 MB .. 256 MB messages that never end */
-    for (long i = 0; i < 10 * n; i++) {
+    /* a flood of first fragments of 16 MB .. 256 MB messages that never end. LCM
+     * allocates each message's size at its first fragment: glibc maps it lazily, but
+     * AddressSanitizer's allocator maps and unmaps its shadow too (about 25 ms a
+     * fragment here, the daemon's receive thread busy in it), so the ASan build sends
+     * a thirtieth of them */
+#if defined(__SANITIZE_ADDRESS__)
+    long nflood = n / 3;
+#else
+    long nflood = 10 * n;
+#endif
+    for (long i = 0; i < nflood; i++) {
         uint32_t size = 1u << (24 + rndi(5));
         SEND(frag(b, 1000 + (uint32_t)i, size, 0, 0, (uint16_t)((size + 1399) / 1400),
                   rndi(2) ? "FZ_CMD" : "FZ_TICK", 1300));
@@ -1136,23 +1147,37 @@ static void wire(long n)
     }
 #undef SEND
     close(s);
-    pump(500); /* the refusals of what decoded as a command, a STATUS */
-    long rss1 = rss_kb(F.pid), acks = F.acks_total - acks0;
+    /* Answered again: a get every 0.5 s until one is (while the daemon works through
+     * what its socket holds, the kernel drops what does not fit, a get of ours too:
+     * counted on STATUS as rx_dropped), within 20 s. */
+    double t0 = now_ms(), back = -1;
+    for (int i = 0; i < 40 && back < 0; i++) {
+        mark();
+        cmdspec c = {.seq = ++F.seq, .client = "fz-self", .op = "get", .unit = "", .name = ""};
+        static enc e;
+        encode_cmd(&e, &c);
+        seal_own(&e);
+        publish("CMD", e.b, e.n);
+        if (wait_for(c.seq, 500) >= 0)
+            back = now_ms() - t0;
+    }
+    long rss1 = rss_kb(F.pid), acks = F.foreign_acks - acks0;
+    if (back < 0) {
+        fail("wire: the daemon answered no get within 20 s of the datagrams");
+        return;
+    }
     if (acks < 1) /* the empty command at least: the datagrams reached the daemon */
         fail("wire: no refusal came back: the datagrams did not reach the daemon");
     mark();
-    double t0 = now_ms();
     if (own("save", "fzpost", 3000) != 0)
         fail("wire: our own save after the datagrams was not accepted");
-    else
-        record_latency(now_ms() - t0, "a save after the raw datagrams");
-    if (!same_file("fzpre.wgstate", "fzpost.wgstate")) {
+    else if (!same_file("fzpre.wgstate", "fzpost.wgstate")) {
         F.changed++;
         fail("wire: the raw datagrams changed the state");
     }
     printf("wire: %ld datagrams sent (%ld flood fragments, %ld random), %ld refused with an "
-           "ACK; the daemon's memory %ld -> %ld kB; a save answered in %.1f ms\n", sent, 10 * n,
-           10 * n, acks, rss0, rss1, now_ms() - t0);
+           "ACK; the daemon's memory %ld -> %ld kB; a get answered %.0f ms after the last "
+           "datagram\n", sent, nflood, 10 * n, acks, rss0, rss1, back);
     if (rss0 < 0 || rss1 < 0 || rss1 - rss0 > 65536)
         fail("wire: the daemon's memory grew from %ld to %ld kB (limit 64 MB)", rss0, rss1);
 }
