@@ -97,6 +97,16 @@ static int parse_point(char **f, int ncol, wg_point *pt, char *why, size_t whyle
     const char *need = "";
     memset(pt, 0, sizeof *pt);
     pt->value2 = NAN;
+    if (ncol > 0 && (!strcmp(f[0], "none") || !strcmp(f[0], "diverged"))) {
+        int blank = 1; /* not measured (wg_point_measured): every other column empty */
+        for (int i = 1; i < ncol; i++)
+            blank &= !f[i][0];
+        if (blank) {
+            pt->regime = !strcmp(f[0], "none") ? WG_REGIME_NONE : WG_REGIME_DIVERGED;
+            pt->min_xn = pt->max_xn = pt->lle = NAN;
+            return 0;
+        }
+    }
     for (int i = 0; i < ncol; i++)
         if (put(i, f[i], pt, &need)) {
             snprintf(why, whylen, "%s '%s' is not what wgsweep writes there: need %s",

@@ -209,13 +209,13 @@ static void route(FILE *f, const wg_chain *c, int dg)
     fputs("\n\n", f);
 }
 
-/* The points of chain c (dir) with nothing measured (wg_point_measured). */
+/* The points of chain c (dir) not measured and with no regime (wg_point_measured). */
 static void not_measured(FILE *f, const char *dir, const wg_chain *c, const char *p, int dg)
 {
     int n = 0;
     for (int i = 0; c && i < c->ndone; i++) {
-        if (wg_point_measured(&c->pts[i]))
-            continue;
+        if (wg_point_measured(&c->pts[i]) || c->pts[i].regime != WG_REGIME_NONE)
+            continue; /* a diverged point: its route says so */
         if (!n++)
             fprintf(f, "Not measured in the %s sweep (refused by the daemon; the run's messages "
                        "say why; their rows have regime none and no other value): %s = ", dir, p);

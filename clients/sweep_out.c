@@ -83,7 +83,7 @@ static void csv_point(FILE *f, const sweep_study *st, const sweep_group *g, cons
 {
     if (st->gparam >= 0)
         fprintf(f, "%.10g,", g->gval);
-    if (!wg_point_measured(p)) { /* its value and "none", every other column empty */
+    if (!wg_point_measured(p)) { /* its value and regime (none, diverged), the rest empty */
         fprintf(f, "%s,%d,%.10g,%s", dir, i, p->value, wg_regime_name(p->regime));
         for (int c = 1; c < OUT_POINT_NCOLS; c++)
             fputc(',', f);

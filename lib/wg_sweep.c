@@ -477,7 +477,7 @@ int sweep_point_analyse(work *w, const wg_params *p, double *y, wg_point *pt, ch
 
 int wg_point_measured(const wg_point *pt)
 {
-    return pt->regime != WG_REGIME_NONE || pt->nsec > 0;
+    return pt->nsec > 0 || (pt->regime != WG_REGIME_NONE && pt->regime != WG_REGIME_DIVERGED);
 }
 
 int wg_point_run(const wg_params *p, const wg_sweep_opts *o, double *y, wg_point *pt,

@@ -153,9 +153,11 @@ int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
 int wg_point_run(const wg_params *p, const wg_sweep_opts *o, double *y, wg_point *pt,
                  char *why, size_t whylen);
 
-/* 1 if pt holds a measurement; 0 for a point with no regime and no section
- * recorded (a rig's point the daemon refused), whose other fields are not
- * values: writers leave them empty, figures draw nothing for them. */
+/* 1 if pt holds a measurement; 0 for a point with no section recorded and
+ * no regime (a rig's point the daemon refused) or a diverged one (its
+ * integration blew up before any record: its motion, impacts and x_n
+ * extremes read "no impact, 0"), whose other fields are not values: writers
+ * leave them empty, figures draw nothing for them. */
 int wg_point_measured(const wg_point *pt);
 
 /* ---- the analysis of recorded sections ----------------------------------
