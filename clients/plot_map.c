@@ -9,15 +9,23 @@
 static void map_cell_colour(const wg_point *p, int mode, double rgb[3])
 {
     static const double mot[3][3] = {{0.85, 0.90, 0.97}, {0.99, 0.75, 0.30}, {0.80, 0.10, 0.25}};
-    if (mode == PLOT_MAP_MOTION && p->regime != WG_REGIME_NONE) {
+    if (mode == PLOT_MAP_MOTION && wg_point_measured(p)) { /* else dark: none, diverged */
         memcpy(rgb, mot[p->motion < 0 || p->motion > 2 ? 0 : p->motion], sizeof(double) * 3);
         return;
     }
     plot_regime_colour(p, 1, rgb);
 }
 
-static void map_legend(cairo_t *cr, int mode, double x, double y)
+/* The legend; other (the map has cells not measured or diverged) adds their
+ * dark one. */
+static void map_legend(cairo_t *cr, int mode, double x, double y, int other)
 {
+    if (other) {
+        wg_point p = {.regime = WG_REGIME_DIVERGED};
+        double rgb[3];
+        plot_regime_colour(&p, 1, rgb);
+        pd_legend_box(cr, x, y + 22, rgb, "none: not measured; or diverged");
+    }
     if (mode == PLOT_MAP_MOTION) {
         static const char *lab[3] = {"no impact", "single-sided", "double-sided"};
         for (int m = 0; m < 3; m++) {
@@ -77,7 +85,11 @@ int plot_regime_map(const char *path, const plot_map *pm, char *why, size_t whyl
             cairo_fill(cr);
         }
     }
-    map_legend(cr, pm->mode, 110, y + 30);
+    int other = 0;
+    for (int r = 0; r < nr; r++)
+        for (int i = 0; i < pm->rows[r].ndone; i++)
+            other |= !wg_point_measured(&pm->rows[r].pts[i]);
+    map_legend(cr, pm->mode, 110, y + 30, other);
     pd_axes(cr, &f, pm->xlabel, pm->ylabel, 1);
     pd_scale2(cr, &f, &pm->x2, 0);
     pd_scale2(cr, &f, &pm->y2, 2);

@@ -169,6 +169,11 @@ int out_map_csv(const char *path, const wg_chain *rows, int nrows, char *why, si
     for (int r = 0; r < nrows; r++)
         for (int i = 0; i < rows[r].ndone; i++) {
             const wg_point *p = &rows[r].pts[i];
+            if (!wg_point_measured(p)) { /* its values and regime, the rest empty */
+                fprintf(f, "%.10g,%.10g,%s,,,,,,\n", p->value2, p->value,
+                        wg_regime_name(p->regime));
+                continue;
+            }
             fprintf(f, "%.10g,%.10g,%s,%d,%s,%.6g,%.12g,%.12g,%.6g\n", p->value2, p->value,
                     wg_regime_name(p->regime), p->period, wg_motion_name(p->motion), p->impacts,
                     p->min_xn, p->max_xn, p->lle);
