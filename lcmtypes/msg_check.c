@@ -29,7 +29,7 @@ typedef struct fld {
 #define I32(nm) SKIP(4, nm)
 #define I8(nm) SKIP(1, nm)
 #define N32(s, mx, nm) {F_N32, s, 0, 0, mx, nm}
-#define N8(s, nm) {F_N8, s, 0, 0, 0, nm}
+#define N8(s, mx, nm) {F_N8, s, 0, 0, mx, nm}
 #define MACLEN(s, bytes, nm) {F_N32, s, 0, 1, bytes, nm}
 #define STR(mx, nm) {F_STR, 0, 0, 0, mx, nm}
 #define ARR(n, s, nm) {F_ARR, n, s, 0, 0, nm}
@@ -52,10 +52,10 @@ static const fld STATE[] = {
     D(0, "fb_x1"), D(0, "fb_y1"), D(0, "fb_z1"), D(0, "fb_x2"), D(0, "fb_y2"), D(0, "fb_z2"),
     D(0, "theta1"), D(0, "theta2"), MACLEN(1, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 1, "mac"), END};
 static const fld POINCARE[] = {
-    I64("utime"), I64("seq"), N32(1, 0, "nstate"), N32(0, 0, "n"), ARR(8, 0, "period"),
+    I64("utime"), I64("seq"), N32(1, MSG_NSTATE_MAX, "nstate"), N32(0, 0, "n"), ARR(8, 0, "period"),
     D(0, "tau"), D(0, "t_s"), D(0, "omega"), D(0, "xn"), D(0, "dxn"), D(0, "force"),
     D(0, "min_xn"), D(0, "max_xn"), ARR(1, 0, "motion"), ARR(4, 0, "impacts"),
-    ARR2(8, 0, 1, "y"), N32(2, 0, "nbearing"), ARR2(4, 0, 2, "bearing_impacts"),
+    ARR2(8, 0, 1, "y"), N32(2, MSG_NBEARING_MAX, "nbearing"), ARR2(4, 0, 2, "bearing_impacts"),
     ARR2(8, 0, 2, "bearing_vmax"), MACLEN(1, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 1, "mac"), END};
 static const fld CONTACT[] = {I64("utime"), I64("seq"), I32("bearing_every"), N32(0, 0, "n"),
                               D(0, "tau"), D(0, "t_s"), D(0, "velocity"), ARR(8, 0, "period"),
@@ -69,7 +69,7 @@ static const fld STATUS[] = {
     I64("msgs_dropped"), I64("cmds_accepted"), I64("cmds_refused"), I64("cmds_dropped"),
     I64("rx_dropped"), I64("ticks_refused"), STR(0, "tick_refusal"), I64("ticks_lost"),
     STR(0, "motion"),
-    F64("impacts_per_period"), N8(2, "nbearing"),
+    F64("impacts_per_period"), N8(2, MSG_NBEARING_MAX, "nbearing"),
     D(2, "bearing_impacts_per_period"), D(2, "bearing_impact_vmax"), STR(0, "regime"),
     I8("ramp_active"), F64("uptime_s"), MACLEN(0, MSG_CMD_MAC_BYTES, "mac_len"), ARR(1, 0, "mac"),
     END};

@@ -33,7 +33,13 @@ enum {
      * (read on into the bytes its buffer held before) with a length of -1,
      * 4294967295 bytes: walked against that, a stale count or string length would
      * carry the walk past the real bytes. */
-    MSG_MAX_BYTES = 1 << 24
+    MSG_MAX_BYTES = 1 << 24,
+    /* POINCARE's nstate and nbearing, STATUS's nbearing: what any model has
+     * (WG_NSTATE_MAX, WG_NBEARING; clients.test_msg holds them equal). With no
+     * rows, a count of 2^31 - 1 needs no bytes, and wglog wrote a CSV header of
+     * that many columns. */
+    MSG_NSTATE_MAX = 16,
+    MSG_NBEARING_MAX = 6
 };
 
 /* What a walk found. */

@@ -22,6 +22,7 @@
 #include "lcmtypes/wormgear_state_t.h"
 #include "lcmtypes/wormgear_status_t.h"
 #include "lcmtypes/wormgear_tick_t.h"
+#include "wormgear/wg_model.h"
 
 #include <stdint.h>
 #include <stdlib.h>
@@ -186,6 +187,21 @@ static void test_hostile_counts_refused(void)
     ASSERT_STR(w.what, "truncated");
     ASSERT_EQ_INT((int)w.at, 8 + 8 + 8 + 4 + 4);
     ASSERT_EQ_INT((int)w.count[0], INT32_MAX);
+    /* POINCARE with no rows and nstate 2^31 - 1 needs no state bytes: refused by
+     * its limit (wglog export wrote a header of 2^31 columns), as is nbearing 7 */
+    ASSERT_EQ_INT(MSG_NSTATE_MAX, WG_NSTATE_MAX);
+    ASSERT_EQ_INT(MSG_NBEARING_MAX, WG_NBEARING);
+    {
+        wormgear_poincare_t m = {.nstate = INT32_MAX, .n = 0, .nbearing = 6};
+        ENCODE(wormgear_poincare_t, &m, &e);
+        ASSERT_EQ_INT((int)msg_check(BUS_POINCARE, e.buf, e.len, &w), -1);
+        ASSERT_STR(w.field, "nstate");
+        ASSERT_STR(w.what, "2147483647, allowed 0 to 16");
+        m.nstate = 14, m.nbearing = 7;
+        ENCODE(wormgear_poincare_t, &m, &e);
+        ASSERT_EQ_INT((int)msg_check(BUS_POINCARE, e.buf, e.len, &w), -1);
+        ASSERT_STR(w.field, "nbearing");
+    }
     /* a command over the protocol's limits is refused wherever it is read */
     encode(BUS_CMD, &e);
     ASSERT_TRUE(bus_msg_ok(BUS_CMD, e.buf, e.len));
