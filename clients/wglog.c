@@ -114,6 +114,11 @@ static void lead(FILE *f, int64_t ts, int64_t utime, int64_t seq)
 
 /* ---- one row writer per type: decode, write, return samples (-1 bad) -------- */
 
+/* No message of c has decoded yet: the header (and PARAMS's and POINCARE's
+ * columns) come with the first that does. With c->msgs == 0, a first
+ * message that failed the check left the CSV without a header. */
+static int first_good(const chan *c) { return c->msgs == c->bad; }
+
 #define DECODE_OR_FAIL(T, TYPE, msg, ev) /* bytes checked first: bus_msg.h */             \
     T msg;                                                                                 \
     if (!bus_msg_ok((TYPE), (ev)->data, (ev)->datalen) ||                                  \
@@ -139,7 +144,7 @@ static int rows_state(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
     DECODE_OR_FAIL(wormgear_state_t, BUS_STATE, m, ev);
     FILE *f = c->csv;
     fx k = factors(r);
-    if (f && c->msgs == 0)
+    if (f && first_good(c))
         head(f, r->physical ? "step0,decimation,i,tau,t_s,f_mesh_hz,x_n_um,dx_n_m_s,F_N,fb_x1_N,"
                               "fb_y1_N,fb_z1_N,fb_x2_N,fb_y2_N,fb_z2_N,theta1_rad,theta2_rad"
                             : "step0,decimation,i,tau,t_s,omega,xn,dxn,force,fb_x1,fb_y1,fb_z1,"
@@ -187,7 +192,7 @@ static int rows_poincare(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
     DECODE_OR_FAIL(wormgear_poincare_t, BUS_POINCARE, m, ev);
     FILE *f = c->csv;
     fx k = factors(r);
-    if (f && c->msgs == 0) {
+    if (f && first_good(c)) {
         c->ncols = m.nstate;
         poincare_head(r, f, m.nstate);
     }
@@ -216,7 +221,7 @@ static int rows_contact(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
     DECODE_OR_FAIL(wormgear_contact_t, BUS_CONTACT, m, ev);
     FILE *f = c->csv;
     fx k = factors(r);
-    if (f && c->msgs == 0)
+    if (f && first_good(c))
         head(f, r->physical ? "i,tau,t_s,velocity_m_s,period,contact,kind,contact_name,kind_name,"
                               "bearing_every"
                             : "i,tau,t_s,velocity,period,contact,kind,contact_name,kind_name,"
@@ -240,7 +245,7 @@ static int rows_status(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
     (void)r;
     DECODE_OR_FAIL(wormgear_status_t, BUS_STATUS, m, ev);
     FILE *f = c->csv;
-    if (f && c->msgs == 0)
+    if (f && first_good(c))
         head(f, "scene,mode,rate,run,health,fault,tau,t_s,omega,steps,period,steps_per_period,"
                 "rtf,lag_s,overruns,loop_mean_us,loop_max_us,steps_per_s,cpu_share,"
                 "msgs_dropped,cmds_accepted,cmds_refused,cmds_dropped,rx_dropped,"
@@ -272,7 +277,7 @@ static int rows_params(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
     units_scale sc = {m.omega_n_rad_s, m.length_m, m.mesh_stiffness_N_m};
     if (units_scale_ok(&sc))
         r->scale = sc; /* the samples after it are in its scale */
-    if (f && c->msgs == 0) {
+    if (f && first_good(c)) {
         c->ncols = m.n;
         fprintf(f, "log_utime,utime,seq,reason,cmd_client,cmd_seq,cmd_utime,scene,model,stepper,"
                    "steps_per_period,omega_n_rad_s,length_m,mesh_stiffness_N_m,tau,ramp_active,"
@@ -302,7 +307,7 @@ static int rows_cmd(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
     (void)r;
     DECODE_OR_FAIL(wormgear_cmd_t, BUS_CMD, m, ev);
     FILE *f = c->csv;
-    if (f && c->msgs == 0)
+    if (f && first_good(c))
         head(f, "client,op,params,has_from,from,duration,unit,nsteps,name,rate");
     if (f) {
         char buf[2048] = "";
@@ -326,7 +331,7 @@ static int rows_ack(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
     (void)r;
     DECODE_OR_FAIL(wormgear_ack_t, BUS_ACK, m, ev);
     FILE *f = c->csv;
-    if (f && c->msgs == 0)
+    if (f && first_good(c))
         head(f, "client,cmd_seq,cmd_utime,op,accepted,status,code,message,tau,t_s,steps");
     if (f) {
         lead(f, ev->timestamp, m.utime, m.seq);
@@ -343,7 +348,7 @@ static int rows_tick(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {
     (void)r;
     DECODE_OR_FAIL(wormgear_tick_t, BUS_TICK, m, ev);
-    if (c->csv && c->msgs == 0)
+    if (c->csv && first_good(c))
         head(c->csv, "nsteps");
     if (c->csv) {
         lead(c->csv, ev->timestamp, m.utime, m.seq);
@@ -359,7 +364,7 @@ static int rows_scope(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
     DECODE_OR_FAIL(wormgear_scope_t, BUS_SCOPE, m, ev);
     FILE *f = c->csv;
     fx k = factors(r);
-    if (f && c->msgs == 0)
+    if (f && first_good(c))
         head(f, r->physical ? "t_s,tau,f_mesh_hz,x_n_um,dx_n_m_s,F_N"
                             : "t_s,tau,omega,xn,dxn,force");
     if (f) {
@@ -500,11 +505,12 @@ static int event(log_run *r, const lcm_eventlog_event_t *ev)
         }
     }
     int n = c->type == T_UNKNOWN ? 0 : types[c->type].rows(r, c, ev);
-    if (n < 0)
-        c->bad++;
-    else
+    if (n < 0) {
+        c->bad++; /* its seq is no seq either (it was noted: a false restart) */
+    } else {
         c->samples += n;
-    note_seq(c, ev);
+        note_seq(c, ev);
+    }
     c->msgs++;
     c->bytes += ev->datalen;
     c->t1 = ev->timestamp;
@@ -603,6 +609,12 @@ static int close_all(log_run *r)
             }
         }
         c->csv = NULL;
+        if (r->export_ && c->bad && c->type != T_UNKNOWN) { /* they went without a word */
+            fprintf(stderr, "wglog: %s: %ld of %ld messages are not whole %s messages (their "
+                    "bytes fail the check; `wglog summary` counts them as bad): left out of %s\n",
+                    c->shown, c->bad, c->msgs, types[c->type].name, c->file ? c->file : "its CSV");
+            rc = 1;
+        }
         if (r->export_ && c->type == T_UNKNOWN && !r->quiet)
             fprintf(stderr, "wglog: %s: not a wormgear type (fingerprint %016llx), skipped\n",
                     c->shown, (unsigned long long)c->hash);

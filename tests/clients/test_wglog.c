@@ -522,6 +522,48 @@ static void test_hostile_messages(void)
     ASSERT_CONTAINS(out, "text.md: not an LCM log: no event in its 22 bytes");
 }
 
+/* A channel whose first message fails the check: its CSV still gets its
+ * header, with the state columns of the first good POINCARE (it had none,
+ * the rows 14 cells short); the bad one is said on stderr and the export
+ * exits 1 (it went without a word, exit 0). The bad one here is what the
+ * fuzzer found: no rows and nstate 2^31 - 1, which passed the check and
+ * made wglog write a header of 2^31 columns. */
+static void test_first_message_bad(void)
+{
+    char path[160], cmd[640], out[8192];
+    snprintf(path, sizeof path, "%s/first.lcmlog", dir);
+    lcm_eventlog_t *l = lcm_eventlog_create(path, "w");
+    ASSERT_TRUE(l != NULL);
+    wormgear_poincare_t bad = {.seq = 0, .nstate = INT32_MAX, .n = 0, .nbearing = 6};
+    PUT(wormgear_poincare_t, l, "FIRST_POINCARE", 1000, &bad);
+    double y[14] = {0}, d[1] = {0.5}, *rows[1] = {y}, bv[6] = {0}, *bvr[1] = {bv};
+    int64_t per[1] = {7};
+    int8_t mot[1] = {1};
+    int32_t imp[1] = {1}, bi[6] = {0}, *bir[1] = {bi};
+    wormgear_poincare_t p = {.seq = 1, .nstate = 14, .n = 1, .period = per, .tau = d,
+                             .t_s = d, .omega = d, .xn = d, .dxn = d, .force = d,
+                             .min_xn = d, .max_xn = d, .motion = mot, .impacts = imp, .y = rows,
+                             .nbearing = 6, .bearing_impacts = bir, .bearing_vmax = bvr};
+    PUT(wormgear_poincare_t, l, "FIRST_POINCARE", 2000, &p);
+    lcm_eventlog_destroy(l);
+    snprintf(cmd, sizeof cmd, "timeout 20 %s export %s --out %s/first 2>&1", wglog(), path, dir);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 1);
+    ASSERT_CONTAINS(out, "FIRST_POINCARE: 1 of 2 messages are not whole poincare_t messages");
+    snprintf(path, sizeof path, "%s/first/FIRST_POINCARE.csv", dir);
+    FILE *f = fopen(path, "r");
+    ASSERT_TRUE(f != NULL);
+    int lines = 0;
+    char line[8192] = "";
+    while (f && fgets(out, sizeof out, f))
+        if (lines++ == 0)
+            snprintf(line, sizeof line, "%s", out);
+    if (f)
+        fclose(f);
+    ASSERT_EQ_INT(lines, 2); /* the header and the good row */
+    ASSERT_CONTAINS(line, "log_utime,utime,seq,");
+    ASSERT_CONTAINS(line, ",x1,y1,z1,x2,y2,z2,s,dx1,");
+}
+
 static void test_usage(void)
 {
     char cmd[512], out[4096];
@@ -596,6 +638,7 @@ static void test_all(void)
     test_physical();
     test_channel_filter();
     test_hostile_messages();
+    test_first_message_bad();
     test_export_names_collide();
     test_usage();
     test_extreme_logs();
