@@ -472,6 +472,8 @@ int conf_read_file(conf *c, const char *path, char *why, size_t whylen)
     long n = wg_file_read(path, "config file", 0, text, CONF_FILE_MAX, why, whylen);
     int rc = n < 0 ? 2 : parse_text(c, path, text, (size_t)n, why, whylen);
     free(text);
+    if (rc) /* it quotes the file's text: no control byte reaches a terminal or the log */
+        wg_text_clean(why);
     if (!rc)
         snprintf(c->path, sizeof c->path, "%s", path);
     return rc;

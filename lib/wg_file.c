@@ -136,3 +136,13 @@ int wg_file_write_all(int fd, const void *buf, size_t n)
     }
     return 0;
 }
+
+char *wg_text_clean(char *s)
+{
+    for (unsigned char *p = (unsigned char *)s; p && *p; p++)
+        if ((*p < 0x20 && *p != '\t') || *p == 0x7f)
+            *p = '?';
+        else if (*p == 0xc2 && p[1] >= 0x80 && p[1] <= 0x9f)
+            *p = '?', p[1] = '?', p++;
+    return s;
+}

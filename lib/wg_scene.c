@@ -125,6 +125,7 @@ typedef struct loader {
     double ph[NPHYS];
     int ph_line[NPHYS];
     int nphys;
+    int scale_line; /* the first [scale] key's (a [physical] scene takes its scale from it) */
     int par_line[WG_NPARAM];
     double par[WG_NPARAM];
     int state_given, state_line;
@@ -142,6 +143,7 @@ __attribute__((format(printf, 4, 5))) static int failf(loader *L, int line, int 
         va_start(ap, fmt);
         vsnprintf(msg, sizeof msg, fmt, ap);
         va_end(ap);
+        wg_text_clean(msg); /* it quotes the file's text */
         if (line)
             snprintf(L->why, L->whylen, "%s:%d: %s", L->path, line, msg);
         else
@@ -313,7 +315,8 @@ static int on_key(loader *L, const char *section, const char *name, const char *
     if (strcmp(section, "params") == 0) {
         int id = wg_param_lookup(name);
         if (id < 0)
-            return failf(L, L->line, WG_EUNKNOWN, "[params] %s: unknown parameter", name);
+            return failf(L, L->line, WG_EUNKNOWN, "[params] %s: unknown parameter (wgsim "
+                         "--help lists them)", name);
         if (!number(L, wg_param_info_get(id), value, &L->par[id]))
             return 0;
         L->par_line[id] = L->line;
@@ -333,6 +336,7 @@ static int on_key(loader *L, const char *section, const char *name, const char *
                     double *dst[] = {&L->sc->scale.omega_n_rad_s, &L->sc->scale.length_m,
                                      &L->sc->scale.mesh_stiffness_N_m};
                     *dst[i] = x;
+                    L->scale_line = L->scale_line ? L->scale_line : L->line;
                     return 1;
                 }
             return failf(L, L->line, WG_EUNKNOWN, "[scale] %s: unknown key (omega_n_rad_s, "
@@ -342,6 +346,10 @@ static int on_key(loader *L, const char *section, const char *name, const char *
             if (strcmp(name, phys[i].name) == 0) {
                 if (!number(L, &phys[i], value, &L->ph[i]))
                     return 0;
+                if (i == PH_RIGID && L->ph[i] != 0.0 && L->ph[i] != 1.0) /* 0.5 was rigid */
+                    return failf(L, L->line, WG_ERANGE, "[physical] rigid_bearings = %g: 0 "
+                                 "(the bearings' stiffness and clearance) or 1 (rigid: the "
+                                 "torsional model), nothing between", L->ph[i]);
                 L->ph_line[i] = L->line;
                 L->nphys++;
                 return 1;
@@ -580,6 +588,12 @@ int wg_scene_load(wg_scene *sc, const char *path, char *why, size_t whylen)
     int rc = check_initial(&L);
     if (rc)
         return rc;
+    if (L.nphys && L.scale_line) { /* the [scale] keys were overwritten, without a word */
+        failf(&L, L.scale_line, WG_EINVAL, "[scale] in a scene with [physical]: its scale "
+              "comes from the [physical] data (omega_n from K_m and the inertias, b_c from "
+              "length_scale_m); give one of the two sections");
+        return L.rc;
+    }
     if (L.nphys) {
         sc->physical = 1;
         rc = convert(&L);

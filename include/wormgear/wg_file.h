@@ -47,6 +47,12 @@ long wg_file_read(const char *path, const char *what, unsigned flags, char *buf,
  * failed (EIO for one that wrote nothing). */
 int wg_file_write_all(int fd, const void *buf, size_t n);
 
+/* Text from a file or the bus made fit for a message, in place: every
+ * control byte (C0 but tab, DEL, and C1 as UTF-8 encodes it, \xc2\x80 to
+ * \xc2\x9f) becomes '?'. Echoed raw, a scene's "model = \e]0;x\a" set the
+ * terminal's title, and reached the journal. Returns s. */
+char *wg_text_clean(char *s);
+
 /* Why a file of stat mode st_mode is not read ("is a FIFO, not a regular
  * file", ...), NULL for a regular file. */
 const char *wg_file_not_regular(unsigned st_mode);

@@ -235,6 +235,17 @@ static void test_nul_bytes(void)
     ASSERT_CONTAINS(why, ":2: a NUL byte (column 9)");
 }
 
+/* Text quoted from the file in a refusal has no control byte (it set the
+ * terminal's title, cleared the screen and reached the journal). */
+static void test_refusal_text_clean(void)
+{
+    char why[400];
+    ASSERT_EQ_INT(READ_STR("mode = \x1b[2J\x1b]0;t\x07\xc2\x9b" "31mfast\n", why), 2);
+    ASSERT_CONTAINS(why, "mode: '?[2J?]0;t???31mfast' is not one of realtime, fast, lockstep");
+    for (const char *p = why; *p; p++)
+        ASSERT_TRUE((unsigned char)*p >= 0x20 && *p != 0x7f);
+}
+
 /* A key set twice took the last value silently: refused at the second,
  * naming the first (top level and [wormgeard] are one section). An
  * indented line continued the value above it (inih's multi-line values):
@@ -376,8 +387,9 @@ static void test_set_long_spelling(void)
 
 #define main tests_main
 TEST_MAIN(TEST(test_reload_live_and_restart), TEST(test_reload_names_every_restart_key),
-          TEST(test_reload_keeps_commands), TEST(test_reload_from_file), TEST(test_check_number), TEST(test_file_kinds),
-          TEST(test_nul_bytes), TEST(test_keys_once), TEST(test_long_line),
+          TEST(test_reload_keeps_commands), TEST(test_reload_from_file), TEST(test_check_number),
+          TEST(test_file_kinds), TEST(test_nul_bytes), TEST(test_refusal_text_clean),
+          TEST(test_keys_once), TEST(test_long_line),
           TEST(test_environment), TEST(test_set_long_spelling))
 #undef main
 

@@ -119,7 +119,7 @@ static void test_malformed_lines(void)
                  "omega: not a number (allowed [0.01, 10]");
     expect_error("inf.ini", "[params]\nomega = inf\n", WG_EINVAL, ":2:", "not a number");
     expect_error("key.ini", "[params]\nomega = 1\nfoo = 1\n", WG_EUNKNOWN, ":3:",
-                 "[params] foo: unknown parameter");
+                 "[params] foo: unknown parameter (wgsim --help lists them)");
     expect_error("sect.ini", "[params]\nomega = 1\n[nope]\nx = 1\n", WG_EUNKNOWN, ":4:",
                  "[nope]: unknown section");
     expect_error("syntax.ini", "[params]\nomega = 1\nthis line has no equals sign\n", WG_EINVAL,
@@ -131,6 +131,19 @@ static void test_malformed_lines(void)
     expect_error("cos.ini", "[params]\na1 = 0.5\n", WG_ERANGE, ":2:", "a1^2 + a2^2 + a3^2");
     expect_error("init.ini", "[initial]\nstate = wobbly\n", WG_EINVAL, ":2:",
                  "not one of [equilibrium, given]");
+    /* rigid_bearings is 0 or 1 (0.5 loaded as rigid); [scale] beside [physical] was
+     * overwritten without a word; text quoted from the file has no control byte */
+    expect_error("rigid.ini", "[physical]\nrigid_bearings = 0.5\n", WG_ERANGE, ":2:",
+                 "[physical] rigid_bearings = 0.5: 0 (the bearings' stiffness and clearance) "
+                 "or 1 (rigid: the torsional model), nothing between");
+    expect_error("both.ini",
+                 "[physical]\nwheel_radius_mm = 74\nworm_mass_kg = 0.716\n"
+                 "worm_inertia_kgm2 = 1.733e-4\nwheel_mass_kg = 4.86\n"
+                 "wheel_inertia_kgm2 = 1.331e-2\nmesh_stiffness_N_m = 2e9\n"
+                 "[scale]\nlength_m = 0.5\n",
+                 WG_EINVAL, ":9:", "[scale] in a scene with [physical]: its scale comes from");
+    expect_error("esc.ini", "[scene]\nmodel = \x1b]0;pwned\x07\x1b[2J\xc2\x9b" "1m\n", WG_EINVAL,
+                 ":2:", "model: '?]0;pwned??[2J??1m' is not one of");
     /* a physical scene missing a mass names the key */
     expect_error("need.ini", "[physical]\nwheel_radius_mm = 74\n", WG_EINVAL, ":",
                  "[physical] needs worm_mass_kg");
