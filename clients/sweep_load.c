@@ -198,6 +198,8 @@ static int parse_header(char *line, sweep_study *st, int *nf)
             return -1;
     st->gparam = off ? wg_param_lookup(f[0]) : -1;
     st->param = wg_param_lookup(f[2 + off]);
+    if (off && st->gparam == st->param) /* --values of the swept parameter: wgsweep refuses it */
+        return -1;
     return (off && st->gparam < 0) || st->param < 0 ? -1 : off;
 }
 

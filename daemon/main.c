@@ -42,7 +42,7 @@ static void rt_sched(wgd *d)
 
 static int m_lcm(wgd *d)
 {
-    if (d->conf.mlock && mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
+    if (d->conf.mlock && !d->conf.check_only && mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
         log_msg(&d->log, LOG_WARNING, "mlockall: %s (raise LimitMEMLOCK=)", strerror(errno));
     if (d->conf.rt_priority > 0 && !d->conf.check_only)
         rt_sched(d);

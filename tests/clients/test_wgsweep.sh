@@ -234,6 +234,8 @@ awk -F, -v OFS=, 'NR == 2 { $5 = "+1" } 1' "$dir/v.csv" >"$dir/t18.csv"
 # 65 groups: one more than --values takes ("too many groups" gave no limit)
 awk -F, -v OFS=, 'NR == 1 { print; next } NR == 2 { for (k = 1; k <= 65; k++) { $1 = k / 100; print } }' \
   "$dir/s1.csv" >"$dir/t19.csv"
+# the group column is the swept parameter itself (wgsweep refuses --values omega=...)
+sed '1s/^xi_p,/omega,/' "$dir/s1.csv" >"$dir/t20.csv"
 i=0
 for want in ":1: the line is cut short" ":3: the line is cut short" ": no points after the header" \
             ":2: regime 'periodik' is not what wgsweep writes there: need a regime name" \
@@ -250,7 +252,8 @@ for want in ":1: the line is cut short" ":3: the line is cut short" ": no points
             ":2: floquet1_re 'zzz' is not what wgsweep writes there: need a finite number, or empty" \
             ":3: omega 1.18 after 1.17 in the down sweep: need values strictly decreasing" \
             ":2: period '+1' is not what wgsweep writes there" \
-            ":66: too many groups: at most 64 values of xi_p (as --values takes)"; do
+            ":66: too many groups: at most 64 values of xi_p (as --values takes)" \
+            ":1: not a wgsweep points CSV header"; do
   i=$((i + 1))
   "$sweep" --table-from "$dir/t$i.csv" --out "$dir/tt$i" >/dev/null 2>"$dir/tt.err"; rc=$?
   check "--table-from a damaged file ($i): exit 1, '$want'" \
