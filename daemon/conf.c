@@ -291,14 +291,20 @@ static int add_set(conf *c, const char *name, const char *value, char *why, size
     }
     if (wg_param_parse(id, value, &v, why, len))
         return 2;
-    if (c->nsets == CONF_MAX_SETS) {
+    /* one entry a parameter: a --set replaces the file's [params] value (the two
+     * shared a cap of 32 entries, so a file setting every parameter was refused) */
+    size_t nl = strlen(name);
+    int at = 0;
+    while (at < c->nsets && !(strncmp(c->sets[at], name, nl) == 0 && c->sets[at][nl] == '='))
+        at++;
+    if (at == CONF_MAX_SETS) {
         snprintf(why, len, "more than %d parameter overrides", CONF_MAX_SETS);
         return 2;
     }
     char num[32]; /* the value as read, in its shortest exact text: a long spelling of it
                    * (160 digits of 0.1) was cut at 127 characters to another value */
-    snprintf(c->sets[c->nsets++], sizeof c->sets[0], "%s=%s", name,
-             wg_num_format(v, num, sizeof num));
+    snprintf(c->sets[at], sizeof c->sets[0], "%s=%s", name, wg_num_format(v, num, sizeof num));
+    c->nsets += at == c->nsets;
     return 0;
 }
 

@@ -14,10 +14,12 @@
 #include <stddef.h>
 #include <stdio.h>
 
+#include "wormgear/wg_param.h"
+
 enum { MODE_REALTIME, MODE_FAST, MODE_LOCKSTEP };
 enum { POLICY_CONTINUE, POLICY_FREEZE, POLICY_STOP };
 enum { CONTACTS_ALL, CONTACTS_MESH, CONTACTS_NONE };
-enum { CONF_MAX_SETS = 32 };
+enum { CONF_MAX_SETS = WG_NPARAM }; /* one override a parameter: a file's every one fits */
 enum { CONF_RESTART = 1 }; /* key flag: takes effect at the next restart only */
 enum { CONF_FILE_MAX = 1 << 20 }; /* a config file larger than this is refused */
 

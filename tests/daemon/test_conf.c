@@ -372,6 +372,31 @@ static void test_environment(void)
     ASSERT_STR(c.prefix, "WORMGEAR_");
 }
 
+/* A file may set every parameter once (a cap of 32 overrides refused one
+ * setting all 35), and a --set of one replaces the file's value, one entry. */
+static void test_every_parameter_set(void)
+{
+    char text[4096] = "[params]\n", why[400];
+    for (int i = 0; i < WG_NPARAM; i++) {
+        wg_params p;
+        wg_params_default(&p);
+        size_t n = strlen(text);
+        snprintf(text + n, sizeof text - n, "%s = %.17g\n", wg_param_info_get(i)->name, p.v[i]);
+    }
+    write_bytes(text, strlen(text));
+    char a0[] = "wormgeard", a1[] = "-c", a3[] = "--set", a4[] = "omega=1.3";
+    char *argv[] = {a0, a1, cfgpath, a3, a4, NULL};
+    conf c;
+    ASSERT_EQ_INT(conf_load(&c, 5, argv, why, sizeof why), 0);
+    unlink(cfgpath);
+    ASSERT_EQ_INT(c.nsets, WG_NPARAM);
+    int omega = 0;
+    for (int i = 0; i < c.nsets; i++)
+        omega += !strncmp(c.sets[i], "omega=", 6);
+    ASSERT_EQ_INT(omega, 1);
+    ASSERT_STR(c.sets[0], "omega=1.3");
+}
+
 /* A --set value is kept as read, whatever its spelling (one of 160
  * characters was cut at 127 to another number). */
 static void test_set_long_spelling(void)
@@ -390,7 +415,7 @@ TEST_MAIN(TEST(test_reload_live_and_restart), TEST(test_reload_names_every_resta
           TEST(test_reload_keeps_commands), TEST(test_reload_from_file), TEST(test_check_number),
           TEST(test_file_kinds), TEST(test_nul_bytes), TEST(test_refusal_text_clean),
           TEST(test_keys_once), TEST(test_long_line),
-          TEST(test_environment), TEST(test_set_long_spelling))
+          TEST(test_environment), TEST(test_set_long_spelling), TEST(test_every_parameter_set))
 #undef main
 
 int main(int argc, char **argv)
