@@ -351,6 +351,18 @@ static int own(const char *op, const char *name, double wait_ms)
 
 /* ---- the daemon ------------------------------------------------------------- */
 
+/* A get of ours; 1 if its ACK came within ms. */
+static int get_answered(double ms)
+{
+    mark();
+    cmdspec c = {.seq = ++F.seq, .client = "fz-self", .op = "get", .unit = "", .name = ""};
+    static enc e;
+    encode_cmd(&e, &c);
+    seal_own(&e);
+    publish("CMD", e.b, e.n);
+    return wait_for(c.seq, ms) >= 0;
+}
+
 static void start_daemon(const char *extra)
 {
     F.pid = fork();
@@ -363,16 +375,9 @@ static void start_daemon(const char *extra)
               F.keyed ? "--command-key-file" : (char *)NULL, F.keyfile, (char *)NULL);
         _exit(127);
     }
-    for (int i = 0; i < 200; i++) { /* up when it answers a get */
-        mark();
-        cmdspec c = {.seq = ++F.seq, .client = "fz-self", .op = "get", .unit = "", .name = ""};
-        static enc e;
-        encode_cmd(&e, &c);
-        seal_own(&e);
-        publish("CMD", e.b, e.n);
-        if (wait_for(c.seq, 50) >= 0)
+    for (int i = 0; i < 200; i++) /* up when it answers a get */
+        if (get_answered(50))
             return;
-    }
     fail("the daemon did not answer within 10 s");
     exit(1);
 }
@@ -1151,16 +1156,9 @@ static void wire(long n)
      * what its socket holds, the kernel drops what does not fit, a get of ours too:
      * counted on STATUS as rx_dropped), within 20 s. */
     double t0 = now_ms(), back = -1;
-    for (int i = 0; i < 40 && back < 0; i++) {
-        mark();
-        cmdspec c = {.seq = ++F.seq, .client = "fz-self", .op = "get", .unit = "", .name = ""};
-        static enc e;
-        encode_cmd(&e, &c);
-        seal_own(&e);
-        publish("CMD", e.b, e.n);
-        if (wait_for(c.seq, 500) >= 0)
+    for (int i = 0; i < 40 && back < 0; i++)
+        if (get_answered(500))
             back = now_ms() - t0;
-    }
     long rss1 = rss_kb(F.pid), acks = F.foreign_acks - acks0;
     if (back < 0) {
         fail("wire: the daemon answered no get within 20 s of the datagrams");
