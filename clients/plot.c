@@ -441,8 +441,9 @@ static void sweep_marks(cairo_t *cr, const frame *f, const wg_point *pts, int n,
         cairo_stroke(cr);
 }
 
-/* The legend; `other` adds the dark cells of points not measured or diverged
- * (only when the figure has some: the others' legend stays as it was). */
+/* The legend; `other` adds the dark cells of points with no regime (a rig's
+ * refused point, a ramp's aperiodic bin) or diverged (only when the figure
+ * has some: the others' legend stays as it was). */
 static void bif_legend(cairo_t *cr, double x, double y, const char *shading, int other)
 {
     static const struct {
@@ -465,7 +466,8 @@ static void bif_legend(cairo_t *cr, double x, double y, const char *shading, int
         wg_point p = {.regime = WG_REGIME_DIVERGED};
         double rgb[3];
         plot_regime_colour(&p, 0, rgb);
-        legend_box(cr, x + 640, y + 22, rgb, "none: not measured (refused); or diverged");
+        legend_box(cr, x + 640, y + 22, rgb,
+                   "no regime (refused, or a ramp bin unclassified); diverged");
     }
     sweep_marks(cr, NULL, NULL, 0, 1, mx + 7, y - 4);
     cairo_set_source_rgb(cr, 0, 0, 0);

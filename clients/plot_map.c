@@ -24,7 +24,7 @@ static void map_legend(cairo_t *cr, int mode, double x, double y, int other)
         wg_point p = {.regime = WG_REGIME_DIVERGED};
         double rgb[3];
         plot_regime_colour(&p, 1, rgb);
-        pd_legend_box(cr, x, y + 22, rgb, "none: not measured; or diverged");
+        pd_legend_box(cr, x, y + 22, rgb, "no regime (not measured); diverged");
     }
     if (mode == PLOT_MAP_MOTION) {
         static const char *lab[3] = {"no impact", "single-sided", "double-sided"};
