@@ -410,6 +410,24 @@ static void test_export_names_collide(void)
 }
 
 /* A big-endian int32 at p (the log's lengths). */
+/* The lines of a file an export wrote (-1 if it cannot be read); its first
+ * into first (len bytes) when first is not NULL. */
+static int csv_lines(const char *path, char *first, size_t len)
+{
+    static char buf[8192];
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return -1;
+    int n = 0;
+    if (first)
+        first[0] = 0;
+    while (fgets(buf, sizeof buf, f))
+        if (n++ == 0 && first)
+            snprintf(first, len, "%s", buf);
+    fclose(f);
+    return n;
+}
+
 static int32_t get32(const unsigned char *p)
 {
     return (int32_t)((uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3]);
@@ -459,14 +477,7 @@ static void test_hostile_messages(void)
     rc = run(cmd, NULL, 0);
     ASSERT_TRUE(rc == 0 || rc == 1);
     snprintf(path, sizeof path, "%s/bent/BENT_CONTACT.csv", dir);
-    FILE *f = fopen(path, "r");
-    ASSERT_TRUE(f != NULL);
-    int lines = 0;
-    while (f && fgets(out, sizeof out, f))
-        lines++;
-    if (f)
-        fclose(f);
-    ASSERT_EQ_INT(lines, 1 + 2); /* the header and the two good rows */
+    ASSERT_EQ_INT(csv_lines(path, NULL, 0), 1 + 2); /* the header and the two good rows */
     /* the same log cut inside its last event, and a directory: exit 1 with
      * the reason (they gave exit 0: a part of the log, "0 events"), the
      * summary of what could be read */
@@ -482,7 +493,7 @@ static void test_hostile_messages(void)
      * stopped there, the last 4 events unread); a 2-byte tail after the
      * last event is damage too (it passed as a clean end) */
     snprintf(path, sizeof path, "%s/bent.lcmlog", dir);
-    f = fopen(path, "rb");
+    FILE *f = fopen(path, "rb");
     ASSERT_TRUE(f != NULL);
     static unsigned char img[8192];
     size_t len = f ? fread(img, 1, sizeof img, f) : 0;
@@ -550,16 +561,8 @@ static void test_first_message_bad(void)
     ASSERT_EQ_INT(run(cmd, out, sizeof out), 1);
     ASSERT_CONTAINS(out, "FIRST_POINCARE: 1 of 2 messages are not whole poincare_t messages");
     snprintf(path, sizeof path, "%s/first/FIRST_POINCARE.csv", dir);
-    FILE *f = fopen(path, "r");
-    ASSERT_TRUE(f != NULL);
-    int lines = 0;
-    char line[8192] = "";
-    while (f && fgets(out, sizeof out, f))
-        if (lines++ == 0)
-            snprintf(line, sizeof line, "%s", out);
-    if (f)
-        fclose(f);
-    ASSERT_EQ_INT(lines, 2); /* the header and the good row */
+    char line[8192];
+    ASSERT_EQ_INT(csv_lines(path, line, sizeof line), 2); /* the header and the good row */
     ASSERT_CONTAINS(line, "log_utime,utime,seq,");
     ASSERT_CONTAINS(line, ",x1,y1,z1,x2,y2,z2,s,dx1,");
 }
