@@ -267,44 +267,58 @@ done
 grep -q '^wormgeard: ' "$tmp/log" || fail "log lines without 'wormgeard: ': $(head -3 "$tmp/log")"
 
 # ---- a signal during the start: SIGTERM ended it with 143 and SIGHUP with
-# 129 until the loop's handlers took them (over 1 s in the ASan build). main
-# holds them from its first line, before its first thread. Polled in
-# /proc: once a second thread runs and the loop's handlers are not yet
-# there, the start is under way and the signals must be held; the signal
-# is sent then, and taken once the loop runs: TERM stops it cleanly (0),
-# HUP reloads and it runs on. (A fast start may pass before a poll: said.)
+# 129 until the loop's handlers took them. main holds them from its first
+# line, before its first thread. The start is stopped at a known point:
+# stderr is a pipe already full, and the state dir does not exist yet, so
+# main blocks writing "state dir ... made" (the first module, before LCM and
+# the loop). There, by /proc, main and every other thread must hold INT,
+# TERM and HUP, and the loop's handlers must not be there yet. The signal
+# is sent then, the pipe drained, and the signal taken once the loop runs:
+# TERM stops it cleanly (0), HUP reloads and it runs on.
 status_field() { sed -n "s/^$2:[[:space:]]*//p" "/proc/$1/status" 2>/dev/null; }
+# blocked in write(2, ...): /proc/PID/syscall starts "1 0x2 "
+in_stderr_write() {
+    case $(cat "/proc/$1/syscall" 2>/dev/null) in "1 0x2 "*) return 0 ;; esac
+    return 1
+}
 for sig in TERM HUP; do
-    "$D" --rate 0.05 --state-dir "$tmp/state" >/dev/null 2>"$tmp/log4" &
+    rm -rf "$tmp/fresh" "$tmp/errpipe" && mkfifo "$tmp/errpipe"
+    exec 3<>"$tmp/errpipe" # both ends held: the pipe never closes
+    timeout 5 dd if=/dev/zero bs=65536 count=1 >&3 2>/dev/null || fail "cannot fill the pipe"
+    "$D" --rate 0.05 --state-dir "$tmp/fresh" >/dev/null 2>"$tmp/errpipe" &
     pid=$!
-    when=
-    i=0
-    while [ -z "$when" ] && [ $i -lt 20000 ] && kill -0 "$pid" 2>/dev/null; do
-        i=$((i + 1))
-        th=$(status_field "$pid" Threads); cgt=$(status_field "$pid" SigCgt)
-        blk=$(status_field "$pid" SigBlk)
-        [ -n "$th" ] && [ -n "$cgt" ] && [ -n "$blk" ] || continue
-        if [ $((0x$cgt & 0x4000)) -ne 0 ]; then
-            when="after the start (the loop's handlers were there at the first look)"
-        elif [ "$th" -ge 2 ]; then
-            [ $((0x$blk & 0x4003)) -eq $((0x4003)) ] ||
-                fail "SIG$sig: during the start ($th threads, no handlers) the signals are not held (SigBlk $blk)"
-            when="during the start ($th threads, SigBlk $blk)"
-        fi
-    done
-    [ -n "$when" ] || fail "SIG$sig: the daemon never came up: $(cat "$tmp/log4")"
+    if wait_until 20 in_stderr_write "$pid"; then
+        blk=$(status_field "$pid" SigBlk); cgt=$(status_field "$pid" SigCgt)
+        [ $((0x$blk & 0x4003)) -eq $((0x4003)) ] ||
+            fail "SIG$sig: at the start, main does not hold INT, TERM, HUP (SigBlk $blk)"
+        [ $((0x$cgt & 0x4000)) -eq 0 ] || fail "SIG$sig: the loop's handlers before LCM (SigCgt $cgt)"
+        for t in /proc/$pid/task/*; do
+            b=$(sed -n "s/^SigBlk:[[:space:]]*//p" "$t/status" 2>/dev/null)
+            [ -z "$b" ] || [ $((0x$b & 0x4003)) -eq $((0x4003)) ] ||
+                fail "SIG$sig: at the start, thread ${t##*/} does not hold them (SigBlk $b)"
+        done
+        echo "SIG$sig sent during the start ($(status_field "$pid" Threads) threads, SigBlk $blk)"
+    else
+        fail "SIG$sig: the daemon never wrote its first line: $(cat "/proc/$pid/syscall" 2>&1)"
+    fi
     kill -$sig "$pid"
-    echo "SIG$sig sent $when"
+    cat <&3 >"$tmp/raw4" & # the drain: the fill's zeros, then the daemon's lines
+    drain=$!
     if [ $sig = HUP ]; then
         wait_until 20 "$C" --timeout 0.5 status >/dev/null 2>&1 || fail "SIGHUP at the start: no daemon"
         kill -0 "$pid" 2>/dev/null || fail "SIGHUP at the start killed the daemon"
-        wait_until 10 grep -q 'reload' "$tmp/log4" || fail "SIGHUP at the start: no reload: $(cat "$tmp/log4")"
+        wait_until 10 grep -q 'reload' "$tmp/raw4" || fail "SIGHUP at the start: no reload"
         kill -TERM "$pid"
     fi
     wait "$pid"
     rc=$?
     pid=
+    wait_until 5 grep -q "stopping on" "$tmp/raw4"
+    kill "$drain"; wait "$drain" 2>/dev/null
+    exec 3>&-
+    tr -d '\000' <"$tmp/raw4" >"$tmp/log4"
     [ $rc -eq 0 ] || fail "SIG$sig at the start: exit $rc, want 0: $(tail -3 "$tmp/log4")"
+    has log4 "state dir $tmp/fresh made"
     has log4 "stopping on Terminated"
 done
 
