@@ -49,9 +49,17 @@ static int m_lcm(wgd *d)
     if (!d->conf.check_only && log_start(&d->log)) /* after rt_sched: the writer inherits it */
         log_msg(&d->log, LOG_WARNING, "log: no writer thread (%s): lines are written in the "
                 "loop, which a stalled stderr or stdout stops", strerror(errno));
+    /* --check-config sends and writes nothing. The URL is opened, so that
+     * LCM judges it (and a udpm:// one's multicast route), but nothing is
+     * subscribed: LCM's self-test datagram, sent at the first subscription,
+     * stays unsent. A file:// URL is not opened: in mode w it makes a log. */
+    if (d->conf.check_only && !strncmp(d->conf.url, "file://", 7)) {
+        log_msg(&d->log, LOG_INFO, "url %s: not opened by --check-config (a file:// URL "
+                "may write its file)", d->conf.url);
+        return 0;
+    }
     if (lcmio_init(&d->io, d->conf.url, d->conf.prefix, d->init_why, sizeof d->init_why))
         return 1;
-    d->io_ok = 1;
     return 0;
 }
 
@@ -98,22 +106,24 @@ static void f_stream(wgd *d) { stream_fini(&d->st); }
 static void f_sdn(wgd *d) { sdn_fini(&d->sd); }
 static void f_none(wgd *d) { (void)d; }
 
-/* In dependency order; finalised in reverse. */
+/* In dependency order; finalised in reverse. --check-config runs those that
+ * check (a prefix): the rest subscribe, arm timers and take signals. */
 static const struct module {
     const char *name;
     int (*init)(wgd *d); /* 0, 1 runtime failure, 2 config error */
     void (*fini)(wgd *d);
+    int check; /* run by --check-config */
 } modules[] = {
-    {"snap", m_snap, f_none},
-    {"engine", m_engine, engine_fini},
-    {"lcm", m_lcm, f_lcm},
-    {"stream", m_stream, f_stream},
-    {"key", m_key, cmd_key_fini},
-    {"cmd", m_cmd, cmd_fini},
-    {"lockstep", m_lockstep, f_none},
-    {"loop", m_loop, loop_fini},
-    {"report", m_report, report_fini},
-    {"sdn", m_sdn, f_sdn},
+    {"snap", m_snap, f_none, 1},
+    {"engine", m_engine, engine_fini, 1},
+    {"lcm", m_lcm, f_lcm, 1},
+    {"stream", m_stream, f_stream, 1},
+    {"key", m_key, cmd_key_fini, 1},
+    {"cmd", m_cmd, cmd_fini, 0},
+    {"lockstep", m_lockstep, f_none, 0},
+    {"loop", m_loop, loop_fini, 0},
+    {"report", m_report, report_fini, 0},
+    {"sdn", m_sdn, f_sdn, 0},
 };
 enum { NMOD = sizeof modules / sizeof modules[0] };
 
@@ -138,7 +148,7 @@ static void started(wgd *d)
 static int run(wgd *d)
 {
     int i, rc = 0;
-    for (i = 0; i < NMOD && !rc; i++)
+    for (i = 0; i < NMOD && !rc && (modules[i].check || !d->conf.check_only); i++)
         if ((rc = modules[i].init(d))) /* a config error: from which file, if one */
             log_msg(&d->log, LOG_ERR, "%s: %s%s%s%s", modules[i].name, d->init_why,
                     rc == 2 && d->conf.path[0] ? " (configuration: " : "",
@@ -154,7 +164,7 @@ static int run(wgd *d)
                "state dir %s%s%s\n", d->scene.name, d->sim.cfg.steps_per_period,
                conf_mode_name(d->conf.mode), d->conf.rate, d->conf.url, d->conf.prefix,
                d->conf.state_dir, d->conf.path[0] ? ", config " : "", d->conf.path);
-        finish(d, NMOD);
+        finish(d, i);
         return 0;
     }
     started(d);

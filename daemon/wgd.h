@@ -121,7 +121,6 @@ typedef struct wgd {
     auth auth;                 /* signed commands: the key and per-client counters */
     unsigned char cmdbuf[INBOX_MSG_MAX]; /* the one being handled */
     lcmio io;
-    int io_ok;
     stream st;
     pace pace;
     stats stat;

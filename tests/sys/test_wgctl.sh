@@ -76,6 +76,40 @@ expect 2 "$D" --check-config --state-dir "$tmp/none/sub"
 has err "state dir $tmp/none/sub does not exist, and cannot be made in $tmp/none"
 expect 2 "$D" --check-config --state-dir "$tmp/dup.conf"
 has err "is not a directory (state_dir must be a directory this process can write"
+# --check-config sends and writes nothing: it sent LCM's self-test datagram
+# onto the group (it subscribed), and a file:// URL in mode w made the file.
+# A plain UDP listener on the group writes each datagram's channel; wgctl
+# afterwards, whose LCM sends that self-test, shows that it hears.
+group_port=${WORMGEAR_URL##*:}; group_port=${group_port%%\?*}
+python3 - "$group_port" "$tmp/heard" <<'EOF' &
+import os, socket, struct, sys
+s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+s.bind(("", int(sys.argv[1])))
+s.setsockopt(socket.IPPROTO_IP, socket.IP_ADD_MEMBERSHIP,
+             struct.pack("4s4s", socket.inet_aton("239.255.76.67"), socket.inet_aton("0.0.0.0")))
+s.settimeout(20)
+out = open(sys.argv[2] + ".tmp", "w")
+os.rename(sys.argv[2] + ".tmp", sys.argv[2])  # ready
+while True:
+    try:
+        d = s.recv(65536)
+    except socket.timeout:
+        break
+    out.write(d[8:].split(b"\0")[0].decode("ascii", "replace") + "\n")
+    out.flush()
+EOF
+listener=$!
+wait_until 10 test -f "$tmp/heard" || fail "the UDP listener did not start"
+expect 0 "$D" --check-config --state-dir "$tmp/state"
+expect 0 "$D" --check-config --state-dir "$tmp/state" --url "file://$tmp/made.log?mode=w"
+has err "url file://$tmp/made.log?mode=w: not opened by --check-config"
+[ ! -e "$tmp/made.log" ] || fail "--check-config made the file:// URL's log"
+sleep 0.5
+[ ! -s "$tmp/heard" ] || fail "--check-config sent datagrams on the group: $(cat "$tmp/heard")"
+"$C" --timeout 0.2 status >/dev/null 2>&1
+wait_until 5 grep -q "LCM_SELF_TEST" "$tmp/heard" || fail "the listener did not hear wgctl"
+kill "$listener"; wait "$listener" 2>/dev/null
 
 # ---- the daemon, in the foreground with its one-line status
 printf '[wormgeard]\nstatus_hz = 4\nstate_dir = %s/state\n' "$tmp" >"$tmp/run.conf"
