@@ -171,8 +171,9 @@ static int check_number(const key *k, double x, const char *text, char *why, siz
 {
     int isint = k->type == K_INT;
     if (!isfinite(x) || x < k->min || x > k->max || (isint && x != floor(x))) {
-        snprintf(why, len, "%s: '%s' must be %s in [%g, %g]", k->name, text,
-                 isint ? "an integer" : "a number", k->min, k->max);
+        snprintf(why, len, "%s: '%s' must be %s in [%g, %g]%s", k->name, text,
+                 isint ? "an integer" : "a number", k->min, k->max,
+                 strchr(text, '#') ? " (" WG_INI_HASH_HINT ")" : "");
         return 2;
     }
     return 0;

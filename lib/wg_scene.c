@@ -205,7 +205,10 @@ static int number(loader *L, const wg_param_info *row, const char *value, double
         char rng[80];
         snprintf(rng, sizeof rng, "[%g, %g]%s%s", row->min, row->max,
                  strcmp(row->unit, "1") ? " " : "", strcmp(row->unit, "1") ? row->unit : "");
-        return failf(L, L->line, WG_EINVAL, "%s: not a number (allowed %s)", row->name, rng);
+        int n = (int)strlen(value); /* quoted, cut at 40 (failf cleans it) */
+        return failf(L, L->line, WG_EINVAL, "%s: '%.*s%s' is not a number (allowed %s%s)",
+                     row->name, n > 40 ? 37 : n, value, n > 40 ? "..." : "", rng,
+                     strchr(value, '#') ? "; " WG_INI_HASH_HINT : "");
     }
     if (x < row->min || x > row->max) {
         char msg[120];

@@ -53,6 +53,11 @@ int wg_file_write_all(int fd, const void *buf, size_t n);
  * terminal's title, and reached the journal. Returns s. */
 char *wg_text_clean(char *s);
 
+/* Said after a file's value that holds '#' and was refused: libinih (as
+ * Debian builds it) ends a value at " ;", and '#' only starts a whole-line
+ * comment, so "omega = 1.2 # note" read as the value "1.2 # note". */
+#define WG_INI_HASH_HINT "a comment after a value starts with ';', not '#'"
+
 /* Why a file of stat mode st_mode is not read ("is a FIFO, not a regular
  * file", ...), NULL for a regular file. */
 const char *wg_file_not_regular(unsigned st_mode);

@@ -116,7 +116,13 @@ static void test_malformed_lines(void)
     expect_error("range.ini", "[scene]\nname = r\n[params]\nomega = 1\nxi_p = 5\n", WG_ERANGE,
                  ":5:", "xi_p: value 5 out of range [0, 2]");
     expect_error("nan.ini", "[params]\n\nomega = fast\n", WG_EINVAL, ":3:",
-                 "omega: not a number (allowed [0.01, 10]");
+                 "omega: 'fast' is not a number (allowed [0.01, 10])");
+    /* the value quoted: a '#' after it is no comment in inih, ';' is */
+    expect_error("hash.ini", "[params]\nomega = 1.2 # note\n", WG_EINVAL, ":2:",
+                 "omega: '1.2 # note' is not a number (allowed [0.01, 10]; a comment after a "
+                 "value starts with ';', not '#')");
+    expect_error("long.ini", "[params]\nomega = 1234567890123456789012345678901234567890x\n",
+                 WG_EINVAL, ":2:", "omega: '1234567890123456789012345678901234567...' is not");
     expect_error("inf.ini", "[params]\nomega = inf\n", WG_EINVAL, ":2:", "not a number");
     expect_error("key.ini", "[params]\nomega = 1\nfoo = 1\n", WG_EUNKNOWN, ":3:",
                  "[params] foo: unknown parameter (wgsim --help lists them)");

@@ -25,6 +25,9 @@ has() { grep -q -- "$2" "$tmp/$1" || fail "$1 lacks '$2': $(cat "$tmp/$1")"; }
 printf '[wormgeard]\nmode = realtime\nrate = 5000\n' >"$tmp/bad.conf"
 expect 2 "$D" -c "$tmp/bad.conf" --check-config
 has err "bad.conf:3: rate: '5000' must be a number in \[1e-06, 1000\]"
+printf '[wormgeard]\nrate = 0.5 # half\n' >"$tmp/hash.conf" # no comment to inih; ';' is
+expect 2 "$D" -c "$tmp/hash.conf" --check-config
+has err "hash.conf:2: rate: '0.5 # half' must be a number in \[1e-06, 1000\] (a comment after a value starts with ';', not '#')"
 printf '[wormgeard]\nfoo = 1\n' >"$tmp/bad2.conf"
 expect 2 "$D" -c "$tmp/bad2.conf" --check-config
 has err "bad2.conf:2: unknown key 'foo'"
