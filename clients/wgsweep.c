@@ -130,7 +130,8 @@ static void usage(FILE *f)
         "  -h, --help              this text\n\n"
         "Ctrl-C stops a sweep after the current points and writes what is done (exit\n"
         "130); a second Ctrl-C, or one during --at, ends it at once.\n"
-        "Exit status: 0 ok, 1 runtime error, 2 usage error, 130 interrupted.\n",
+        "Exit status: 0 ok, 1 runtime error, 2 usage error (an option, or a file one names:\n"
+        "--scene, --table-from, --exact), 130 interrupted.\n",
         WG_LLE_TOL_MIN, WG_LLE_TOL_MAX, WG_TOL_FACTOR_MIN, WG_TOL_FACTOR_MAX, WG_TOL_MIN,
         WG_TOL_FLOOR_MAX);
 }
@@ -641,13 +642,15 @@ static int do_table(const opts *o, const wg_scene *sc, const char *cmd)
     st.o = &o->so;
     cont_bifs ex[STUDY_MAX_GROUPS];
     memset(ex, 0, sizeof ex);
-    int rc = load_points_csv(o->table_from, &st, why, sizeof why), xrc = 0;
-    if (!rc && (xrc = attach_exact(o, &st, ex)) == 0) {
-        snprintf(path, sizeof path, "%s.md", o->out);
-        rc = md_write(path, &st, why, sizeof why);
-    }
-    if (rc)
+    /* a points file that cannot be used is 2, as a scene or --exact file is */
+    int xrc = load_points_csv(o->table_from, &st, why, sizeof why) ? 2 : 0, rc = 0;
+    if (xrc)
         fprintf(stderr, "wgsweep: %s\n", why);
+    else if ((xrc = attach_exact(o, &st, ex)) == 0) {
+        snprintf(path, sizeof path, "%s.md", o->out);
+        if ((rc = md_write(path, &st, why, sizeof why)))
+            fprintf(stderr, "wgsweep: %s\n", why);
+    }
     load_exact_free(ex, o->nexact);
     load_free(&st);
     return xrc ? xrc : rc ? 1 : 0;

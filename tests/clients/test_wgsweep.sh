@@ -256,19 +256,19 @@ for want in ":1: the line is cut short" ":3: the line is cut short" ": no points
             ":1: not a wgsweep points CSV header"; do
   i=$((i + 1))
   "$sweep" --table-from "$dir/t$i.csv" --out "$dir/tt$i" >/dev/null 2>"$dir/tt.err"; rc=$?
-  check "--table-from a damaged file ($i): exit 1, '$want'" \
-    '[ $rc -eq 1 ] && grep -q -- "^wgsweep: $dir/t$i.csv$want" "$dir/tt.err" && [ "$(wc -l <"$dir/tt.err")" -eq 1 ] && ! [ -e "$dir/tt$i.md" ]'
+  check "--table-from a damaged file ($i): exit 2, '$want'" \
+    '[ $rc -eq 2 ] && grep -q -- "^wgsweep: $dir/t$i.csv$want" "$dir/tt.err" && [ "$(wc -l <"$dir/tt.err")" -eq 1 ] && ! [ -e "$dir/tt$i.md" ]'
 done
 
 # a FIFO or a directory is not a points file: refused at once (a FIFO
 # blocked the open until a writer came; timeout ends it if it still would)
 mkfifo "$dir/fifo.csv"
 timeout 20 "$sweep" --table-from "$dir/fifo.csv" --out "$dir/tf" >/dev/null 2>"$dir/tf.err"; rc=$?
-check "--table-from a FIFO: exit 1 at once, 'is a FIFO, not a regular file'" \
-  '[ $rc -eq 1 ] && grep -q "^wgsweep: points file $dir/fifo.csv is a FIFO, not a regular file" "$dir/tf.err"'
+check "--table-from a FIFO: exit 2 at once, 'is a FIFO, not a regular file'" \
+  '[ $rc -eq 2 ] && grep -q "^wgsweep: points file $dir/fifo.csv is a FIFO, not a regular file" "$dir/tf.err"'
 "$sweep" --table-from "$dir" --out "$dir/td" >/dev/null 2>"$dir/td.err"; rc=$?
-check "--table-from a directory: exit 1, 'is a directory'" \
-  '[ $rc -eq 1 ] && grep -q "is a directory, not a regular file" "$dir/td.err"'
+check "--table-from a directory: exit 2, 'is a directory'" \
+  '[ $rc -eq 2 ] && grep -q "is a directory, not a regular file" "$dir/td.err"'
 
 # Ctrl-C: a long sweep interrupted after a second
 "$sweep" --from 0.6 --to 1.0 --points 400 --threads 1 --quiet --out "$dir/int" >/dev/null 2>&1 &
