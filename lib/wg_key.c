@@ -52,6 +52,16 @@ int wg_key_load(const char *path, unsigned char key[WG_KEY_BYTES], char *why, si
         return WG_EINVAL;
     }
     sodium_memzero(text, sizeof text);
+    /* a placeholder (every byte the same: 00...0, ff...f) is no secret */
+    size_t same = 1;
+    while (same < WG_KEY_BYTES && key[same] == key[0])
+        same++;
+    if (same == WG_KEY_BYTES) {
+        sodium_memzero(key, WG_KEY_BYTES);
+        snprintf(why, whylen, "key file %s: every byte of the key is the same, a placeholder "
+                              "anyone can guess (wgctl keygen FILE writes a random key)", path);
+        return WG_EINVAL;
+    }
     return WG_OK;
 }
 

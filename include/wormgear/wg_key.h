@@ -13,8 +13,8 @@
 enum { WG_KEY_BYTES = 32, WG_MAC_BYTES = 32 };
 
 /* Read a key file into key. WG_OK, or WG_EIO (cannot read, not a regular
- * file, readable by group or others) / WG_EINVAL (not 64 hex digits) with
- * why naming the file. */
+ * file, readable by group or others) / WG_EINVAL (not 64 hex digits, or a
+ * placeholder: every byte the same) with why naming the file. */
 int wg_key_load(const char *path, unsigned char key[WG_KEY_BYTES], char *why, size_t whylen);
 
 /* Write a new random key to path (created with mode 0600; an existing file

@@ -84,6 +84,15 @@ static void test_signed_commands(void)
     chmod(path, 0600);
     ASSERT_EQ_INT(auth_load(&d->auth, path, lcmio_now_us(), why, sizeof why), WG_EINVAL);
     ASSERT_CONTAINS(why, "64 hexadecimal digits");
+    /* a placeholder key (every byte the same) was taken */
+    for (int b = 0; b < 2; b++) {
+        f = fopen(path, "w");
+        for (int k = 0; k < 32; k++)
+            fprintf(f, "%s", b ? "ff" : "00");
+        fclose(f);
+        ASSERT_EQ_INT(auth_load(&d->auth, path, lcmio_now_us(), why, sizeof why), WG_EINVAL);
+        ASSERT_CONTAINS(why, "every byte of the key is the same, a placeholder anyone can guess");
+    }
     ASSERT_EQ_INT(auth_load(&d->auth, "/nonexistent/key", lcmio_now_us(), why, sizeof why),
                   WG_EIO);
     ASSERT_TRUE(d->auth.on);
