@@ -41,6 +41,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 
 enum { T_UNKNOWN = -1 };
@@ -60,6 +61,12 @@ typedef struct chan {
     int ncols;                /* params_t / poincare_t: columns fixed by the first message */
 } chan;
 
+/* Export: at most this many CSVs open at once (and half the descriptors the
+ * process may have). One per channel ran out of descriptors (1,024) in a log
+ * of more channels; past it, all are closed and each reopened (appending)
+ * at its channel's next message. */
+enum { CSV_OPEN_MAX = 256 };
+
 typedef struct log_run {
     const char *path, *out, *pattern;
     int export_, quiet, also_summary;
@@ -75,6 +82,9 @@ typedef struct log_run {
     int damaged;              /* the log stopped being readable before its end: exit 1 */
     char others[64][96];      /* the first channels --channel left out, as text */
     int nothers, more;        /* how many; more: others past those */
+    int open_ix[CSV_OPEN_MAX]; /* export: the channels whose CSV is open now */
+    int nopen, open_max;      /* how many; the most at once (csv_open_max) */
+    int wfail;                /* a CSV's write failed (said): exit 1 */
 } log_run;
 
 /* ---- CSV helpers ------------------------------------------------------------- */
@@ -529,6 +539,56 @@ static void note_other(log_run *r, const char *name)
         r->more = 1;
 }
 
+static int csv_open_max(void)
+{
+    struct rlimit rl;
+    if (getrlimit(RLIMIT_NOFILE, &rl) != 0 || rl.rlim_cur == RLIM_INFINITY)
+        return CSV_OPEN_MAX;
+    rlim_t half = rl.rlim_cur / 2;
+    return half < 4 ? 4 : half < CSV_OPEN_MAX ? (int)half : CSV_OPEN_MAX;
+}
+
+/* Close c's CSV, saying so if a write to it failed: 0, or 1. */
+static int close_csv(chan *c)
+{
+    errno = 0;
+    int bad = ferror(c->csv), err = errno;
+    if (fclose(c->csv))
+        bad = 1, err = errno;
+    c->csv = NULL;
+    if (bad) /* its name and why: "error writing the CSV of X" said neither */
+        fprintf(stderr, "wglog: writing %s (channel %s) failed: %s: the file is incomplete\n",
+                c->file ? c->file : "?", c->shown, err ? strerror(err) : "a write error");
+    return bad;
+}
+
+/* c's CSV open for its next rows: made ("w") at its first message, reopened
+ * ("a") after close_open; CSV_OPEN_MAX open at most. 0, or -1 (said). */
+static int csv_ready(log_run *r, chan *c)
+{
+    char path[4096];
+    if (c->csv)
+        return 0;
+    if (!r->open_max)
+        r->open_max = csv_open_max();
+    if (r->nopen == r->open_max) {
+        for (int i = 0; i < r->nopen; i++)
+            r->wfail |= close_csv(&r->ch[r->open_ix[i]]);
+        r->nopen = 0;
+    }
+    if (c->file)
+        c->csv = fopen(c->file, "a");
+    else if ((c->csv = open_csv(r, c, path, sizeof path)) && !(c->file = strdup(path)))
+        fclose(c->csv), c->csv = NULL, errno = ENOMEM;
+    if (!c->csv) {
+        fprintf(stderr, "wglog: cannot write %s: %s\n", c->file ? c->file : path,
+                strerror(errno));
+        return -1;
+    }
+    r->open_ix[r->nopen++] = (int)(c - r->ch);
+    return 0;
+}
+
 static int event(log_run *r, const lcm_eventlog_event_t *ev)
 {
     if (r->has_re && regexec(&r->re, ev->channel, 0, NULL, 0) != 0) {
@@ -538,13 +598,8 @@ static int event(log_run *r, const lcm_eventlog_event_t *ev)
     chan *c = find_chan(r, ev);
     if (!c || !c->name)
         return -1;
-    if (r->export_ && c->msgs == 0 && c->type != T_UNKNOWN) {
-        char path[4096];
-        if (!(c->csv = open_csv(r, c, path, sizeof path)) || !(c->file = strdup(path))) {
-            fprintf(stderr, "wglog: cannot write %s: %s\n", path, strerror(errno));
-            return -1;
-        }
-    }
+    if (r->export_ && c->type != T_UNKNOWN && (c->msgs == 0 || c->file) && csv_ready(r, c))
+        return -1;
     int n = c->type == T_UNKNOWN ? 0 : types[c->type].rows(r, c, ev);
     if (n < 0) {
         c->bad++; /* its seq is no seq either (it was noted: a false restart) */
@@ -634,22 +689,12 @@ static void summary(log_run *r, FILE *f)
 
 static int close_all(log_run *r)
 {
-    int rc = 0;
+    int rc = r->wfail;
+    r->nopen = 0;
     for (int i = 0; i < r->nch; i++) {
         chan *c = &r->ch[i];
-        if (c->csv) {
-            errno = 0;
-            int bad = ferror(c->csv), err = errno;
-            if (fclose(c->csv))
-                bad = 1, err = errno;
-            if (bad) { /* its name and why: "error writing the CSV of X" said neither */
-                fprintf(stderr, "wglog: writing %s (channel %s) failed: %s: the file is "
-                        "incomplete\n", c->file ? c->file : "?", c->shown,
-                        err ? strerror(err) : "a write error");
-                rc = 1;
-            }
-        }
-        c->csv = NULL;
+        if (c->csv && close_csv(c))
+            rc = 1;
         if (r->export_ && c->bad && c->type != T_UNKNOWN) { /* they went without a word */
             fprintf(stderr, "wglog: %s: %ld of %ld messages are not whole %s messages (their "
                     "bytes fail the check; `wglog summary` counts them as bad): left out of %s\n",

@@ -591,6 +591,45 @@ static void test_many_channels(void)
     ASSERT_STR(out, "5000 4999 3\n");
 }
 
+/* Export of more channels than descriptors: each channel's CSV was kept
+ * open, and a log of 1,500 TICK channels stopped at "Too many open files"
+ * (here under ulimit -n 64). Now at most 256 are open, the rest reopened:
+ * every CSV has its header and its three rows, in order. */
+static void test_export_many_channels(void)
+{
+    char path[160], cmd[640], name[16], out[4096], line[256];
+    snprintf(path, sizeof path, "%s/manyx.lcmlog", dir);
+    lcm_eventlog_t *l = lcm_eventlog_create(path, "w");
+    ASSERT_TRUE(l != NULL);
+    for (int k = 0; k < 3; k++)
+        for (int i = 0; i < 1500; i++) {
+            wormgear_tick_t t = {.utime = 1000 + k, .seq = k, .nsteps = 10 * k + 1,
+                                 .client = "", .mac_len = 0, .mac = NULL};
+            snprintf(name, sizeof name, "M%04d_TICK", i);
+            PUT(wormgear_tick_t, l, name, 1000 * k + i, &t);
+        }
+    lcm_eventlog_destroy(l);
+    snprintf(cmd, sizeof cmd, "ulimit -n 64 && %s export %s --out %s/manyx 2>&1", wglog(), path,
+             dir);
+    ASSERT_EQ_INT(run(cmd, out, sizeof out), 0);
+    for (int i = 0; i < 1500; i += 149) {
+        snprintf(path, sizeof path, "%s/manyx/M%04d_TICK.csv", dir, i);
+        ASSERT_EQ_INT(csv_lines(path, NULL, 0), 4);
+        FILE *f = fopen(path, "r");
+        ASSERT_TRUE(f != NULL);
+        for (int k = -1; k < 3 && fgets(line, sizeof line, f); k++) {
+            if (k < 0) {
+                ASSERT_CONTAINS(line, "log_utime,utime,seq,");
+                continue;
+            }
+            char want[64];
+            snprintf(want, sizeof want, "%d,%d,%d,%d\n", 1000 * k + i, 1000 + k, k, 10 * k + 1);
+            ASSERT_STR(line, want);
+        }
+        fclose(f);
+    }
+}
+
 static void test_usage(void)
 {
     char cmd[512], out[4096];
@@ -667,6 +706,7 @@ static void test_all(void)
     test_hostile_messages();
     test_first_message_bad();
     test_many_channels();
+    test_export_many_channels();
     test_export_names_collide();
     test_usage();
     test_extreme_logs();
