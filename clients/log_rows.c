@@ -336,7 +336,7 @@ static const struct type {
 };
 enum { NTYPES = sizeof types / sizeof types[0] };
 
-int log_type_of(int64_t hash)
+int log_rows_type(int64_t hash)
 {
     for (int t = 0; t < NTYPES; t++)
         if (types[t].hash() == hash)
@@ -344,7 +344,7 @@ int log_type_of(int64_t hash)
     return T_UNKNOWN;
 }
 
-const char *log_type_name(int type) { return types[type].name; }
+const char *log_rows_type_name(int type) { return types[type].name; }
 
 int log_rows(log_run *r, chan *c, const lcm_eventlog_event_t *ev)
 {

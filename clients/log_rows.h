@@ -57,11 +57,11 @@ typedef struct log_run {
 } log_run;
 
 /* The type of a message whose fingerprint is hash: an index for
- * log_type_name and log_rows, or T_UNKNOWN. */
-int log_type_of(int64_t hash);
+ * log_rows_type_name and log_rows, or T_UNKNOWN. */
+int log_rows_type(int64_t hash);
 
-/* "state_t", ... of a type log_type_of gave. */
-const char *log_type_name(int type);
+/* "state_t", ... of a type log_rows_type gave. */
+const char *log_rows_type_name(int type);
 
 /* Decode ev, a message of c's type, and write its rows to c->csv when one
  * is open (the header with the first message that decodes; --units

@@ -118,7 +118,7 @@ static chan *find_chan(log_run *r, const lcm_eventlog_event_t *ev)
     *slot = r->nch;
     cli_text(c->shown, sizeof c->shown, ev->channel); /* any sender named it */
     c->hash = ev->datalen >= 8 ? be64(ev->data) : 0;
-    c->type = ev->datalen >= 8 ? log_type_of(c->hash) : T_UNKNOWN;
+    c->type = ev->datalen >= 8 ? log_rows_type(c->hash) : T_UNKNOWN;
     c->t0 = ev->timestamp;
     return c;
 }
@@ -128,7 +128,8 @@ static chan *find_chan(log_run *r, const lcm_eventlog_event_t *ev)
  * and note every sender after the first. */
 static void note_seq(chan *c, const lcm_eventlog_event_t *ev)
 {
-    if (c->type == T_UNKNOWN || ev->datalen < 24 || !strcmp(log_type_name(c->type), "cmd_t"))
+    if (c->type == T_UNKNOWN || ev->datalen < 24 ||
+        !strcmp(log_rows_type_name(c->type), "cmd_t"))
         return; /* cmd_t seq counts per client, not per channel */
     int64_t utime = be64((const char *)ev->data + 8), seq = be64((const char *)ev->data + 16);
     int line, rc = bus_streams_note(&c->seq, seq, utime, 0, ev->timestamp * 1e-6,
@@ -297,8 +298,9 @@ static void summary(log_run *r, FILE *f)
         double s = ((double)c->t1 - (double)c->t0) * 1e-6;
         double rate = c->msgs > 1 && s > 0 ? (c->msgs - 1) / s : 0;
         fprintf(f, "%-24s %-11s %8ld %9ld %11lld %9.2f %5ld %8ld %8ld %6ld %7ld\n", c->shown,
-                c->type == T_UNKNOWN ? "unknown" : log_type_name(c->type), c->msgs, c->samples,
-                c->bytes, rate, c->seq.gaps, c->seq.missing, c->seq.restarts, c->bad, c->seq.senders);
+                c->type == T_UNKNOWN ? "unknown" : log_rows_type_name(c->type), c->msgs,
+                c->samples, c->bytes, rate, c->seq.gaps, c->seq.missing, c->seq.restarts, c->bad,
+                c->seq.senders);
     }
     for (int i = 0; i < r->nch; i++)
         if (r->ch[i].notes[0])
@@ -316,7 +318,7 @@ static int close_all(log_run *r)
         if (r->export_ && c->bad && c->type != T_UNKNOWN) { /* they went without a word */
             fprintf(stderr, "wglog: %s: %ld of %ld messages are not whole %s messages (their "
                     "bytes fail the check; `wglog summary` counts them as bad): left out of %s\n",
-                    c->shown, c->bad, c->msgs, log_type_name(c->type),
+                    c->shown, c->bad, c->msgs, log_rows_type_name(c->type),
                     c->file ? c->file : "its CSV");
             rc = 1;
         }
