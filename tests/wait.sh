@@ -42,3 +42,31 @@ stop() {
     kill "-$2" "$1"
     wait_exit "$1" 10
 }
+
+# A program stopped at a known point of its start: stderr_stall FIFO makes
+# FIFO (a new name) a pipe already full (64 KiB, Linux's default capacity),
+# held open at both ends on this shell's fd 3, so that a program started
+# with 2>FIFO blocks in its first write to stderr; `cat <&3` drains it,
+# `exec 3>&-` closes it. Polling /proc for a moment instead hit the
+# sanitizer runtime's own start before main, where no code of ours runs.
+stderr_stall() {
+    rm -f "$1" && mkfifo "$1" || return 1
+    exec 3<>"$1"
+    timeout 5 dd if=/dev/zero bs=65536 count=1 >&3 2>/dev/null
+}
+
+# in_stderr_write PID: true while PID is blocked in write(2, ...).
+in_stderr_write() {
+    case $(cat "/proc/$1/syscall" 2>/dev/null) in "1 0x2 "*) return 0 ;; esac
+    return 1
+}
+
+# thread_unheld PID MASK: "TID SIGBLK" of the first thread of PID whose
+# blocked signals lack a bit of MASK (hex, e.g. 0x4002: INT and TERM), or
+# nothing.
+thread_unheld() {
+    for t in /proc/$1/task/*; do
+        b=$(sed -n "s/^SigBlk:[[:space:]]*//p" "$t/status" 2>/dev/null)
+        [ -z "$b" ] || [ $((0x$b & $2)) -eq $(($2)) ] || { echo "${t##*/} $b"; return; }
+    done
+}

@@ -12,7 +12,7 @@ trap cleanup EXIT
 export WORMGEAR_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0" WORMGEAR_PREFIX=CTL_
 
 fail() { echo "FAIL: $*"; code=1; }
-. "$(dirname "$0")/../wait.sh" # wait_until
+. "$(dirname "$0")/../wait.sh" # wait_until, stderr_stall
 # expect CODE CMD...: run, keep stdout/stderr in $tmp/out, $tmp/err
 expect() {
     want=$1; shift
@@ -313,15 +313,9 @@ grep -q '^wormgeard: ' "$tmp/log" || fail "log lines without 'wormgeard: ': $(he
 # is sent then, the pipe drained, and the signal taken once the loop runs:
 # TERM stops it cleanly (0), HUP reloads and it runs on.
 status_field() { sed -n "s/^$2:[[:space:]]*//p" "/proc/$1/status" 2>/dev/null; }
-# blocked in write(2, ...): /proc/PID/syscall starts "1 0x2 "
-in_stderr_write() {
-    case $(cat "/proc/$1/syscall" 2>/dev/null) in "1 0x2 "*) return 0 ;; esac
-    return 1
-}
 for sig in TERM HUP; do
-    rm -rf "$tmp/fresh" "$tmp/errpipe" && mkfifo "$tmp/errpipe"
-    exec 3<>"$tmp/errpipe" # both ends held: the pipe never closes
-    timeout 5 dd if=/dev/zero bs=65536 count=1 >&3 2>/dev/null || fail "cannot fill the pipe"
+    rm -rf "$tmp/fresh"
+    stderr_stall "$tmp/errpipe" || fail "cannot fill the pipe"
     "$D" --rate 0.05 --state-dir "$tmp/fresh" >/dev/null 2>"$tmp/errpipe" &
     pid=$!
     if wait_until 20 in_stderr_write "$pid"; then
@@ -329,11 +323,8 @@ for sig in TERM HUP; do
         [ $((0x$blk & 0x4003)) -eq $((0x4003)) ] ||
             fail "SIG$sig: at the start, main does not hold INT, TERM, HUP (SigBlk $blk)"
         [ $((0x$cgt & 0x4000)) -eq 0 ] || fail "SIG$sig: the loop's handlers before LCM (SigCgt $cgt)"
-        for t in /proc/$pid/task/*; do
-            b=$(sed -n "s/^SigBlk:[[:space:]]*//p" "$t/status" 2>/dev/null)
-            [ -z "$b" ] || [ $((0x$b & 0x4003)) -eq $((0x4003)) ] ||
-                fail "SIG$sig: at the start, thread ${t##*/} does not hold them (SigBlk $b)"
-        done
+        open=$(thread_unheld "$pid" 0x4003)
+        [ -z "$open" ] || fail "SIG$sig: at the start, thread $open (tid, SigBlk) does not hold them"
         echo "SIG$sig sent during the start ($(status_field "$pid" Threads) threads, SigBlk $blk)"
     else
         fail "SIG$sig: the daemon never wrote its first line: $(cat "/proc/$pid/syscall" 2>&1)"

@@ -11,7 +11,7 @@ tmp=$(mktemp -d) || exit 1
 pids=
 trap 'for p in $pids; do kill -KILL $p 2>/dev/null; done; rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; status=1; }
-. "$(dirname "$0")/../wait.sh" # wait_until
+. "$(dirname "$0")/../wait.sh" # wait_until, stderr_stall
 expect() {
     want=$1; shift
     "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
@@ -100,24 +100,15 @@ done
 # the watchers). There, by /proc, every thread must hold INT and TERM and
 # no handler be there yet; SIGTERM is sent, the pipe drained.
 sigfield() { sed -n "s/^$2:[[:space:]]*//p" "/proc/$1/status" 2>/dev/null; }
-in_stderr_write() {
-    case $(cat "/proc/$1/syscall" 2>/dev/null) in "1 0x2 "*) return 0 ;; esac
-    return 1
-}
-rm -f "$tmp/errpipe" && mkfifo "$tmp/errpipe"
-exec 3<>"$tmp/errpipe" # both ends held: the pipe never closes
-timeout 5 dd if=/dev/zero bs=65536 count=1 >&3 2>/dev/null || fail "cannot fill the pipe"
+stderr_stall "$tmp/errpipe" || fail "cannot fill the pipe"
 "$W" --listen 127.0.0.1 --port 0 --web-root "$tmp/root" >/dev/null 2>"$tmp/errpipe" &
 p=$!
 pids=$p
 if wait_until 20 in_stderr_write $p; then
     cgt=$(sigfield $p SigCgt)
     [ $((0x$cgt & 0x4002)) -eq 0 ] || fail "SIGTERM: handlers before the socket (SigCgt $cgt)"
-    for t in /proc/$p/task/*; do
-        b=$(sed -n "s/^SigBlk:[[:space:]]*//p" "$t/status" 2>/dev/null)
-        [ -z "$b" ] || [ $((0x$b & 0x4002)) -eq $((0x4002)) ] ||
-            fail "SIGTERM: at the start, thread ${t##*/} does not hold INT and TERM (SigBlk $b)"
-    done
+    open=$(thread_unheld $p 0x4002)
+    [ -z "$open" ] || fail "SIGTERM: at the start, thread $open (tid, SigBlk) does not hold INT, TERM"
     echo "SIGTERM sent during the start ($(sigfield $p Threads) threads, SigBlk $(sigfield $p SigBlk))"
 else
     fail "SIGTERM: wgweb never wrote its warning: $(cat "/proc/$p/syscall" 2>&1)"
