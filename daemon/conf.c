@@ -747,7 +747,9 @@ void conf_usage(FILE *f)
                "      --set name=value  override a scene parameter (repeatable; list below)\n"
                "  -F                    same as --foreground\n"
                "  -v                    same as --verbose\n"
-               "      --check-config    load and validate the configuration and the scene, exit\n"
+               "      --check-config    load and validate the configuration and the scene, exit;\n"
+               "                        nothing is sent or written (a udpm URL is opened, not\n"
+               "                        subscribed; a file:// one is not opened)\n"
                "  -h, --help            this text\n\n"
                "Config keys (file: key = value; command line: --key value):\n");
     for (int i = 0; i < NKEYS; i++) {
