@@ -25,8 +25,9 @@ typedef struct chan {
     int64_t t0, t1;           /* log timestamps, us */
     bus_streams seq;          /* senders: gaps, missing (messages lost), restarts */
     char notes[600];          /* the senders after the first, as they appeared */
-    FILE *csv;
+    FILE *csv;                /* its CSV while open (export; log_rows writes none if NULL) */
     char *file;               /* its CSV's path (export) */
+    int wbad;                 /* a write to its CSV failed (said): no more rows */
     int ncols;                /* params_t / poincare_t: columns fixed by the first message */
 } chan;
 

@@ -167,7 +167,9 @@ static int csv_open_max(void)
     return half < 4 ? 4 : half < CSV_OPEN_MAX ? (int)half : CSV_OPEN_MAX;
 }
 
-/* Close c's CSV, saying so if a write to it failed: 0, or 1. */
+/* Close c's CSV. A write to it that failed is said, once: the channel
+ * writes no more rows (reopened, it would add them after a torn one, and
+ * say it again at every close). 0, or 1. */
 static int close_csv(chan *c)
 {
     errno = 0;
@@ -175,30 +177,44 @@ static int close_csv(chan *c)
     if (fclose(c->csv))
         bad = 1, err = errno;
     c->csv = NULL;
-    if (bad) /* its name and why: "error writing the CSV of X" said neither */
+    if (bad) { /* its name and why: "error writing the CSV of X" said neither */
+        c->wbad = 1;
         fprintf(stderr, "wglog: writing %s (channel %s) failed: %s: the file is incomplete\n",
                 c->file ? c->file : "?", c->shown, err ? strerror(err) : "a write error");
+    }
     return bad;
 }
 
+/* Close every CSV open now (each is reopened at its channel's next message). */
+static void close_open(log_run *r)
+{
+    for (int i = 0; i < r->nopen; i++)
+        r->wfail |= close_csv(&r->ch[r->open_ix[i]]);
+    r->nopen = 0;
+}
+
 /* c's CSV open for its next rows: made ("w") at its first message, reopened
- * ("a") after close_open; CSV_OPEN_MAX open at most. 0, or -1 (said). */
+ * ("a") after close_open, which runs when open_max are open or the
+ * descriptors run out; none for a channel whose write failed. 0, or -1
+ * (said). */
 static int csv_ready(log_run *r, chan *c)
 {
-    char path[4096];
-    if (c->csv)
+    char path[4096] = "";
+    if (c->csv || c->wbad)
         return 0;
     if (!r->open_max)
         r->open_max = csv_open_max();
-    if (r->nopen == r->open_max) {
-        for (int i = 0; i < r->nopen; i++)
-            r->wfail |= close_csv(&r->ch[r->open_ix[i]]);
-        r->nopen = 0;
+    if (r->nopen == r->open_max)
+        close_open(r);
+    for (int again = 1; !c->csv; again = 0) {
+        if (c->file)
+            c->csv = fopen(c->file, "a");
+        else if ((c->csv = open_csv(r, c, path, sizeof path)) && !(c->file = strdup(path)))
+            fclose(c->csv), c->csv = NULL, errno = ENOMEM;
+        if (c->csv || !again || r->nopen == 0 || (errno != EMFILE && errno != ENFILE))
+            break;
+        close_open(r); /* fewer descriptors than open_max allowed for: once more */
     }
-    if (c->file)
-        c->csv = fopen(c->file, "a");
-    else if ((c->csv = open_csv(r, c, path, sizeof path)) && !(c->file = strdup(path)))
-        fclose(c->csv), c->csv = NULL, errno = ENOMEM;
     if (!c->csv) {
         fprintf(stderr, "wglog: cannot write %s: %s\n", c->file ? c->file : path,
                 strerror(errno));

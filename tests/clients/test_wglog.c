@@ -628,6 +628,30 @@ static void test_export_many_channels(void)
         }
         fclose(f);
     }
+    /* a write that fails (files over 2 KiB: ulimit -f, SIGXFSZ ignored) is said
+     * once per channel; it was said again at every close of the open CSVs, and
+     * rows were added after the torn one (3,520 lines for 40 channels) */
+    snprintf(path, sizeof path, "%s/big.lcmlog", dir);
+    l = lcm_eventlog_create(path, "w");
+    ASSERT_TRUE(l != NULL);
+    for (int k = 0; k < 200; k++)
+        for (int i = 0; i < 40; i++) {
+            wormgear_tick_t t = {.utime = 1000 + k, .seq = k, .nsteps = 1, .client = "",
+                                 .mac_len = 0, .mac = NULL};
+            snprintf(name, sizeof name, "B%02d_TICK", i);
+            PUT(wormgear_tick_t, l, name, 1000 * k + i, &t);
+        }
+    lcm_eventlog_destroy(l);
+    static char big[1 << 16];
+    snprintf(cmd, sizeof cmd, "trap '' XFSZ; ulimit -n 16 && ulimit -f 2 && %s export %s --out "
+             "%s/big 2>&1", wglog(), path, dir);
+    ASSERT_EQ_INT(run(cmd, big, sizeof big), 1);
+    int said = 0;
+    for (const char *q = big; (q = strstr(q, "failed: File too large")); q++)
+        said++;
+    ASSERT_EQ_INT(said, 40);
+    ASSERT_CONTAINS(big, "B07_TICK.csv (channel B07_TICK) failed: File too large: the file is "
+                         "incomplete");
 }
 
 static void test_usage(void)
