@@ -205,9 +205,12 @@ static int number(loader *L, const wg_param_info *row, const char *value, double
         char rng[80];
         snprintf(rng, sizeof rng, "[%g, %g]%s%s", row->min, row->max,
                  strcmp(row->unit, "1") ? " " : "", strcmp(row->unit, "1") ? row->unit : "");
-        int n = (int)strlen(value); /* quoted, cut at 40 (failf cleans it) */
+        int n = (int)strlen(value), k = n; /* quoted, cut at 40 (failf cleans it) */
+        if (n > 40) /* not inside a UTF-8 character */
+            for (k = 37; k > 0 && ((unsigned char)value[k] & 0xc0) == 0x80; k--)
+                ;
         return failf(L, L->line, WG_EINVAL, "%s: '%.*s%s' is not a number (allowed %s%s)",
-                     row->name, n > 40 ? 37 : n, value, n > 40 ? "..." : "", rng,
+                     row->name, k, value, n > 40 ? "..." : "", rng,
                      strchr(value, '#') ? "; " WG_INI_HASH_HINT : "");
     }
     if (x < row->min || x > row->max) {

@@ -123,6 +123,10 @@ static void test_malformed_lines(void)
                  "value starts with ';', not '#')");
     expect_error("long.ini", "[params]\nomega = 1234567890123456789012345678901234567890x\n",
                  WG_EINVAL, ":2:", "omega: '1234567890123456789012345678901234567...' is not");
+    /* the cut backs off a UTF-8 character it would split (byte 37 is inside the e-acute) */
+    expect_error("utf8.ini",
+                 "[params]\nomega = 123456789012345678901234567890123456\xc3\xa9xxxxx\n",
+                 WG_EINVAL, ":2:", "omega: '123456789012345678901234567890123456...' is not");
     expect_error("inf.ini", "[params]\nomega = inf\n", WG_EINVAL, ":2:", "not a number");
     expect_error("key.ini", "[params]\nomega = 1\nfoo = 1\n", WG_EUNKNOWN, ":3:",
                  "[params] foo: unknown parameter (wgsim --help lists them)");
