@@ -171,9 +171,8 @@ static int check_number(const key *k, double x, const char *text, char *why, siz
 {
     int isint = k->type == K_INT;
     if (!isfinite(x) || x < k->min || x > k->max || (isint && x != floor(x))) {
-        snprintf(why, len, "%s: '%s' must be %s in [%g, %g]%s", k->name, text,
-                 isint ? "an integer" : "a number", k->min, k->max,
-                 strchr(text, '#') ? " (" WG_INI_HASH_HINT ")" : "");
+        snprintf(why, len, "%s: '%s' must be %s in [%g, %g]", k->name, text,
+                 isint ? "an integer" : "a number", k->min, k->max);
         return 2;
     }
     return 0;
@@ -418,6 +417,12 @@ static int on_ini(void *user, const char *section, const char *name, const char 
     if (strcmp(section, "params") && *section && strcmp(section, "wormgeard")) {
         snprintf(why, sizeof why, "unknown section [%s] (allowed: [wormgeard], [params])",
                  section);
+        rc = 2;
+    } else if (strstr(value, " #") || strstr(value, "\t#")) {
+        /* inih ends a value at " ;" only: the rest was the value ("state_dir =
+         * /x # saves" made the directory "/x # saves") */
+        snprintf(why, sizeof why, "%s: '%s': " WG_INI_HASH_HINT " (a value in a file may not "
+                 "hold ' #')", name, value);
         rc = 2;
     } else if (!(rc = once(r, section, name, why, sizeof why))) {
         rc = strcmp(section, "params") == 0 ? add_set(r->c, name, value, why, sizeof why)
@@ -749,7 +754,7 @@ void conf_usage(FILE *f)
                "  -v                    same as --verbose\n"
                "      --check-config    load and validate the configuration and the scene, exit;\n"
                "                        nothing is sent or written (a udpm URL is opened, not\n"
-               "                        subscribed; a file:// one is not opened)\n"
+               "                        subscribed; file:// and tcpq:// ones are not opened)\n"
                "  -h, --help            this text\n\n"
                "Config keys (file: key = value; command line: --key value):\n");
     for (int i = 0; i < NKEYS; i++) {

@@ -52,10 +52,12 @@ static int m_lcm(wgd *d)
     /* --check-config sends and writes nothing. The URL is opened, so that
      * LCM judges it (and a udpm:// one's multicast route), but nothing is
      * subscribed: LCM's self-test datagram, sent at the first subscription,
-     * stays unsent. A file:// URL is not opened: in mode w it makes a log. */
-    if (d->conf.check_only && !strncmp(d->conf.url, "file://", 7)) {
-        log_msg(&d->log, LOG_INFO, "url %s: not opened by --check-config (a file:// URL "
-                "may write its file)", d->conf.url);
+     * stays unsent. A file:// URL is not opened (in mode w it makes a log),
+     * nor a tcpq:// one (it connects to its server). */
+    if (d->conf.check_only &&
+        (!strncmp(d->conf.url, "file://", 7) || !strncmp(d->conf.url, "tcpq://", 7))) {
+        log_msg(&d->log, LOG_INFO, "url %s: not opened by --check-config (a file:// URL may "
+                "write its file, a tcpq:// one connects)", d->conf.url);
         return 0;
     }
     if (lcmio_init(&d->io, d->conf.url, d->conf.prefix, d->init_why, sizeof d->init_why))

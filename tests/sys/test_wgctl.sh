@@ -25,9 +25,18 @@ has() { grep -q -- "$2" "$tmp/$1" || fail "$1 lacks '$2': $(cat "$tmp/$1")"; }
 printf '[wormgeard]\nmode = realtime\nrate = 5000\n' >"$tmp/bad.conf"
 expect 2 "$D" -c "$tmp/bad.conf" --check-config
 has err "bad.conf:3: rate: '5000' must be a number in \[1e-06, 1000\]"
-printf '[wormgeard]\nrate = 0.5 # half\n' >"$tmp/hash.conf" # no comment to inih; ';' is
-expect 2 "$D" -c "$tmp/hash.conf" --check-config
-has err "hash.conf:2: rate: '0.5 # half' must be a number in \[1e-06, 1000\] (a comment after a value starts with ';', not '#')"
+# '#' after a value is no comment to inih (';' is): it was the value's, and
+# "state_dir = DIR # saves" made a directory of that name
+for kv in 'rate = 0.5 # half' "state_dir = $tmp/sd # saves" 'foreground = yes	# tab'; do
+    printf '[wormgeard]\n%s\n' "$kv" >"$tmp/hash.conf"
+    expect 2 "$D" -c "$tmp/hash.conf" --check-config
+    has err "hash.conf:2: ${kv%% =*}: '.*#.*': a comment after a value starts with ';', not '#' (a value in a file may not hold ' #')"
+done
+printf '[wormgeard]\nrate = 0.5 ; half\n' >"$tmp/semi.conf"
+expect 0 "$D" -c "$tmp/semi.conf" --check-config --state-dir "$tmp/state"
+expect 2 "$D" --rate '2 # x' --check-config # no comments on a command line: no hint
+has err "rate: '2 # x' must be a number in \[1e-06, 1000\]"
+! grep -q "comment" "$tmp/err" || fail "a comment hint for a command-line value: $(cat "$tmp/err")"
 printf '[wormgeard]\nfoo = 1\n' >"$tmp/bad2.conf"
 expect 2 "$D" -c "$tmp/bad2.conf" --check-config
 has err "bad2.conf:2: unknown key 'foo'"
@@ -107,6 +116,8 @@ wait_until 10 test -f "$tmp/heard" || fail "the UDP listener did not start"
 expect 0 "$D" --check-config --state-dir "$tmp/state"
 expect 0 "$D" --check-config --state-dir "$tmp/state" --url "file://$tmp/made.log?mode=w"
 has err "url file://$tmp/made.log?mode=w: not opened by --check-config"
+expect 0 "$D" --check-config --state-dir "$tmp/state" --url "tcpq://127.0.0.1:1" # no connect
+has err "url tcpq://127.0.0.1:1: not opened by --check-config"
 [ ! -e "$tmp/made.log" ] || fail "--check-config made the file:// URL's log"
 sleep 0.5
 [ ! -s "$tmp/heard" ] || fail "--check-config sent datagrams on the group: $(cat "$tmp/heard")"
@@ -316,7 +327,7 @@ status_field() { sed -n "s/^$2:[[:space:]]*//p" "/proc/$1/status" 2>/dev/null; }
 for sig in TERM HUP; do
     rm -rf "$tmp/fresh"
     stderr_stall "$tmp/errpipe" || fail "cannot fill the pipe"
-    "$D" --rate 0.05 --state-dir "$tmp/fresh" >/dev/null 2>"$tmp/errpipe" &
+    "$D" --rate 0.05 --state-dir "$tmp/fresh" >/dev/null 2>"$tmp/errpipe" 3>&- &
     pid=$!
     if wait_until 20 in_stderr_write "$pid"; then
         blk=$(status_field "$pid" SigBlk); cgt=$(status_field "$pid" SigCgt)
