@@ -293,7 +293,9 @@ int load_points_csv(const char *path, sweep_study *st, char *why, size_t whylen)
             pt.value = v;
             if (append(g, dir, &pt) == 0)
                 continue;
-            snprintf(w, sizeof w, "out of memory");
+            snprintf(why, whylen, "%s:%d: out of memory", path, lineno);
+            rc = -2; /* not the file's fault */
+            break;
         }
         snprintf(why, whylen, "%s:%d: %s", path, lineno, w);
         rc = -1;

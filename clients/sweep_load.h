@@ -7,7 +7,8 @@
 #include "sweep_out.h"
 
 /* Fill st's param, gparam, groups and chains (allocated; free with
- * load_free) from path. 0, or -1 with "file:line: ..." in why. The caller
+ * load_free) from path. 0, or -1 with "file:line: ..." in why (-2: out of
+ * memory, said there too). The caller
  * sets scene, b, o and the other fields. Points carry no Poincare values. */
 int load_points_csv(const char *path, sweep_study *st, char *why, size_t whylen);
 

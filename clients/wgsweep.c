@@ -643,7 +643,8 @@ static int do_table(const opts *o, const wg_scene *sc, const char *cmd)
     cont_bifs ex[STUDY_MAX_GROUPS];
     memset(ex, 0, sizeof ex);
     /* a points file that cannot be used is 2, as a scene or --exact file is */
-    int xrc = load_points_csv(o->table_from, &st, why, sizeof why) ? 2 : 0, rc = 0;
+    int lrc = load_points_csv(o->table_from, &st, why, sizeof why);
+    int xrc = lrc == -1 ? 2 : lrc ? 1 : 0, rc = 0;
     if (xrc)
         fprintf(stderr, "wgsweep: %s\n", why);
     else if ((xrc = attach_exact(o, &st, ex)) == 0) {

@@ -46,8 +46,9 @@ stop() {
 # A program stopped at a known point of its start: stderr_stall FIFO makes
 # FIFO (a new name) a pipe already full (64 KiB, Linux's default capacity),
 # held open at both ends on this shell's fd 3, so that a program started
-# with 2>FIFO blocks in its first write to stderr; `cat <&3` drains it,
-# `exec 3>&-` closes it. Polling /proc for a moment instead hit the
+# with 2>FIFO 3>&- blocks in its first write to stderr; `cat <&3` drains it
+# (it never sees an end: wait for what it must have read), `exec 3>&-`
+# closes it. Polling /proc for a moment instead hit the
 # sanitizer runtime's own start before main, where no code of ours runs.
 stderr_stall() {
     rm -f "$1" && mkfifo "$1" || return 1
@@ -55,9 +56,11 @@ stderr_stall() {
     timeout 5 dd if=/dev/zero bs=65536 count=1 >&3 2>/dev/null
 }
 
-# in_stderr_write PID: true while PID is blocked in write(2, ...).
+# in_stderr_write PID: true while PID is blocked in write(2, ...) (write is
+# syscall 1 on x86-64, 64 on arm64 and riscv64).
 in_stderr_write() {
-    case $(cat "/proc/$1/syscall" 2>/dev/null) in "1 0x2 "*) return 0 ;; esac
+    case $(uname -m) in aarch64 | riscv64) nr=64 ;; *) nr=1 ;; esac
+    case $(cat "/proc/$1/syscall" 2>/dev/null) in "$nr 0x2 "*) return 0 ;; esac
     return 1
 }
 

@@ -101,7 +101,7 @@ done
 # no handler be there yet; SIGTERM is sent, the pipe drained.
 sigfield() { sed -n "s/^$2:[[:space:]]*//p" "/proc/$1/status" 2>/dev/null; }
 stderr_stall "$tmp/errpipe" || fail "cannot fill the pipe"
-"$W" --listen 127.0.0.1 --port 0 --web-root "$tmp/root" >/dev/null 2>"$tmp/errpipe" &
+"$W" --listen 127.0.0.1 --port 0 --web-root "$tmp/root" >/dev/null 2>"$tmp/errpipe" 3>&- &
 p=$!
 pids=$p
 if wait_until 20 in_stderr_write $p; then
@@ -119,6 +119,7 @@ drain=$!
 wait $p
 rc=$?
 pids=
+wait_until 5 grep -q "no dashboard" "$tmp/raw"
 kill $drain; wait $drain 2>/dev/null
 exec 3>&-
 [ $rc -eq 0 ] || fail "SIGTERM during the start: exit $rc, want 0"
