@@ -695,7 +695,8 @@ int cmd_key_init(wgd *d)
     }
     if (d->auth.on) {
         log_msg(&d->log, LOG_INFO, "signed commands only (key %s)", d->auth.path);
-        wait_until_us(auth_open_us(&d->auth));
+        if (!d->conf.check_only) /* --check-config takes no command to wait for */
+            wait_until_us(auth_open_us(&d->auth));
     }
     return WG_OK;
 }
