@@ -209,9 +209,8 @@ static int number(loader *L, const wg_param_info *row, const char *value, double
         if (n > 40) /* not inside a UTF-8 character */
             for (k = 37; k > 0 && ((unsigned char)value[k] & 0xc0) == 0x80; k--)
                 ;
-        return failf(L, L->line, WG_EINVAL, "%s: '%.*s%s' is not a number (allowed %s%s)",
-                     row->name, k, value, n > 40 ? "..." : "", rng,
-                     strchr(value, '#') ? "; " WG_INI_HASH_HINT : "");
+        return failf(L, L->line, WG_EINVAL, "%s: '%.*s%s' is not a number (allowed %s)",
+                     row->name, k, value, n > 40 ? "..." : "", rng);
     }
     if (x < row->min || x > row->max) {
         char msg[120];
@@ -371,6 +370,10 @@ static int handler(void *user, const char *section, const char *name, const char
 {
     loader *L = user;
     L->nset++;
+    int text = !strcmp(section, "scene") && (!strcmp(name, "name") || !strcmp(name, "description"));
+    if (!text && (strstr(value, " #") || strstr(value, "\t#"))) /* inih ends a value at " ;" */
+        return failf(L, L->line, WG_EINVAL, "%s: '%s': " WG_INI_HASH_HINT " (a value may not "
+                     "hold ' #')", name, value);
     int ok = first_time(L, section, name) && on_key(L, section, name, value);
     if (ok)
         remember(L, section, name);

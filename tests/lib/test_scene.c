@@ -117,10 +117,23 @@ static void test_malformed_lines(void)
                  ":5:", "xi_p: value 5 out of range [0, 2]");
     expect_error("nan.ini", "[params]\n\nomega = fast\n", WG_EINVAL, ":3:",
                  "omega: 'fast' is not a number (allowed [0.01, 10])");
-    /* the value quoted: a '#' after it is no comment in inih, ';' is */
+    /* a '#' after a value is no comment to inih (';' is): refused, saying so, for
+     * numbers and words alike; the scene's name and description are free text */
     expect_error("hash.ini", "[params]\nomega = 1.2 # note\n", WG_EINVAL, ":2:",
-                 "omega: '1.2 # note' is not a number (allowed [0.01, 10]; a comment after a "
-                 "value starts with ';', not '#')");
+                 "omega: '1.2 # note': a comment after a value starts with ';', not '#' (a "
+                 "value may not hold ' #')");
+    expect_error("hash2.ini", "[scene]\nmodel = printed\t# the paper's\n", WG_EINVAL, ":2:",
+                 "model: 'printed\t# the paper's': a comment after a value starts with ';'");
+    {
+        wg_scene sc;
+        char why[600];
+        const char *p = scene_file("hash3.ini", "[scene]\nname = g #2\ndescription = gear #2 ; "
+                                                "a note\n[params]\nomega = 1.2 ; ok\n");
+        ASSERT_EQ_INT(wg_scene_load(&sc, p, why, sizeof why), WG_OK);
+        ASSERT_STR(sc.name, "g #2");
+        ASSERT_STR(sc.description, "gear #2");
+        ASSERT_NEAR(sc.p.v[WG_P_OMEGA], 1.2, 0);
+    }
     expect_error("long.ini", "[params]\nomega = 1234567890123456789012345678901234567890x\n",
                  WG_EINVAL, ":2:", "omega: '1234567890123456789012345678901234567...' is not");
     /* the cut backs off a UTF-8 character it would split (byte 37 is inside the e-acute) */
