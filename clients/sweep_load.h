@@ -8,8 +8,8 @@
 
 /* Fill st's param, gparam, groups and chains (allocated; free with
  * load_free) from path. 0, or -1 with "file:line: ..." in why (-2: out of
- * memory, said there too). The caller
- * sets scene, b, o and the other fields. Points carry no Poincare values. */
+ * memory, said there too). The caller sets scene, b, o and the other
+ * fields. Points carry no Poincare values. */
 int load_points_csv(const char *path, sweep_study *st, char *why, size_t whylen);
 
 /* Attach the n bifurcation files at paths (wgcont's, --exact) to st's

@@ -48,8 +48,8 @@ stop() {
 # held open at both ends on this shell's fd 3, so that a program started
 # with 2>FIFO 3>&- blocks in its first write to stderr; `cat <&3` drains it
 # (it never sees an end: wait for what it must have read), `exec 3>&-`
-# closes it. Polling /proc for a moment instead hit the
-# sanitizer runtime's own start before main, where no code of ours runs.
+# closes it. Polling /proc for a moment instead hit the sanitizer runtime's
+# own start before main, where no code of ours runs.
 stderr_stall() {
     rm -f "$1" && mkfifo "$1" || return 1
     exec 3<>"$1"
