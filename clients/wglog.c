@@ -233,7 +233,7 @@ static int event(log_run *r, const lcm_eventlog_event_t *ev)
     chan *c = find_chan(r, ev);
     if (!c || !c->name)
         return -1;
-    if (r->export_ && c->type != T_UNKNOWN && (c->msgs == 0 || c->file) && csv_ready(r, c))
+    if (r->export_ && c->type != T_UNKNOWN && csv_ready(r, c))
         return -1;
     int n = c->type == T_UNKNOWN ? 0 : log_rows(r, c, ev);
     if (n < 0) {

@@ -57,10 +57,10 @@ stderr_stall() {
 }
 
 # in_stderr_write PID: true while PID is blocked in write(2, ...) (write is
-# syscall 1 on x86-64, 64 on arm64 and riscv64).
+# syscall 1 on x86-64, 64 on arm64 and riscv64: looked up once, not a poll).
+case $(uname -m) in aarch64 | riscv64) write_nr=64 ;; *) write_nr=1 ;; esac
 in_stderr_write() {
-    case $(uname -m) in aarch64 | riscv64) nr=64 ;; *) nr=1 ;; esac
-    case $(cat "/proc/$1/syscall" 2>/dev/null) in "$nr 0x2 "*) return 0 ;; esac
+    case $(cat "/proc/$1/syscall" 2>/dev/null) in "$write_nr 0x2 "*) return 0 ;; esac
     return 1
 }
 

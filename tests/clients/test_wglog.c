@@ -591,24 +591,33 @@ static void test_many_channels(void)
     ASSERT_STR(out, "5000 4999 3\n");
 }
 
+/* A log at path of nchan TICK channels ("<letter>0000_TICK", ...), each with
+ * nmsg messages in turn: message k has utime 1000 + k, seq k, nsteps 10 k + 1,
+ * the log's time 1000 k + the channel's index. */
+static void write_ticks(const char *path, char letter, int nchan, int nmsg)
+{
+    char name[16];
+    lcm_eventlog_t *l = lcm_eventlog_create(path, "w");
+    ASSERT_TRUE(l != NULL);
+    for (int k = 0; k < nmsg; k++)
+        for (int i = 0; i < nchan; i++) {
+            wormgear_tick_t t = {.utime = 1000 + k, .seq = k, .nsteps = 10 * k + 1,
+                                 .client = "", .mac_len = 0, .mac = NULL};
+            snprintf(name, sizeof name, "%c%04d_TICK", letter, i);
+            PUT(wormgear_tick_t, l, name, 1000 * k + i, &t);
+        }
+    lcm_eventlog_destroy(l);
+}
+
 /* Export of more channels than descriptors: each channel's CSV was kept
  * open, and a log of 1,500 TICK channels stopped at "Too many open files"
  * (here under ulimit -n 64). Now at most 256 are open, the rest reopened:
  * every CSV has its header and its three rows, in order. */
 static void test_export_many_channels(void)
 {
-    char path[160], cmd[640], name[16], out[4096], line[256];
+    char path[160], cmd[640], out[4096], line[256];
     snprintf(path, sizeof path, "%s/manyx.lcmlog", dir);
-    lcm_eventlog_t *l = lcm_eventlog_create(path, "w");
-    ASSERT_TRUE(l != NULL);
-    for (int k = 0; k < 3; k++)
-        for (int i = 0; i < 1500; i++) {
-            wormgear_tick_t t = {.utime = 1000 + k, .seq = k, .nsteps = 10 * k + 1,
-                                 .client = "", .mac_len = 0, .mac = NULL};
-            snprintf(name, sizeof name, "M%04d_TICK", i);
-            PUT(wormgear_tick_t, l, name, 1000 * k + i, &t);
-        }
-    lcm_eventlog_destroy(l);
+    write_ticks(path, 'M', 1500, 3);
     snprintf(cmd, sizeof cmd, "ulimit -n 64 && %s export %s --out %s/manyx 2>&1", wglog(), path,
              dir);
     ASSERT_EQ_INT(run(cmd, out, sizeof out), 0);
@@ -630,18 +639,9 @@ static void test_export_many_channels(void)
     }
     /* a write that fails (files over 2 KiB: ulimit -f, SIGXFSZ ignored) is said
      * once per channel; it was said again at every close of the open CSVs, and
-     * rows were added after the torn one (3,520 lines for 40 channels) */
+     * rows were added after the torn one (541 lines for these 40 channels) */
     snprintf(path, sizeof path, "%s/big.lcmlog", dir);
-    l = lcm_eventlog_create(path, "w");
-    ASSERT_TRUE(l != NULL);
-    for (int k = 0; k < 200; k++)
-        for (int i = 0; i < 40; i++) {
-            wormgear_tick_t t = {.utime = 1000 + k, .seq = k, .nsteps = 1, .client = "",
-                                 .mac_len = 0, .mac = NULL};
-            snprintf(name, sizeof name, "B%02d_TICK", i);
-            PUT(wormgear_tick_t, l, name, 1000 * k + i, &t);
-        }
-    lcm_eventlog_destroy(l);
+    write_ticks(path, 'B', 40, 200);
     static char big[1 << 16];
     snprintf(cmd, sizeof cmd, "trap '' XFSZ; ulimit -n 16 && ulimit -f 2 && %s export %s --out "
              "%s/big 2>&1", wglog(), path, dir);
@@ -650,7 +650,7 @@ static void test_export_many_channels(void)
     for (const char *q = big; (q = strstr(q, "failed: File too large")); q++)
         said++;
     ASSERT_EQ_INT(said, 40);
-    ASSERT_CONTAINS(big, "B07_TICK.csv (channel B07_TICK) failed: File too large: the file is "
+    ASSERT_CONTAINS(big, "B0007_TICK.csv (channel B0007_TICK) failed: File too large: the file is "
                          "incomplete");
 }
 
