@@ -596,7 +596,7 @@ static void test_many_channels(void)
  * the log's time 1000 k + the channel's index. */
 static void write_ticks(const char *path, char letter, int nchan, int nmsg)
 {
-    char name[16];
+    char name[24]; /* a letter, an int (up to 11 characters), "_TICK" */
     lcm_eventlog_t *l = lcm_eventlog_create(path, "w");
     ASSERT_TRUE(l != NULL);
     for (int k = 0; k < nmsg; k++)
