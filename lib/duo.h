@@ -32,7 +32,7 @@ enum { DUO_MAX = 8 };
 
 /* Runs of one kind waiting at once from which the scheduler batches them
  * (wg_sim_run_batch, where the CPU has a batched loop); fewer are paired. */
-enum { DUO_BATCH_MIN = 4 };
+enum { DUO_BATCH_MIN = 3 };
 int duo_main(int n, duo_task_fn fn, void *const args[], duo_idle_fn idle, void *ctx);
 
 /* From a task: wg_sim_run(s, n, sink, NULL), interleaved with another

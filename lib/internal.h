@@ -105,15 +105,17 @@ typedef void (*wg_krun2_fn)(const void *restrict ka, wg_krun *restrict ra, uint6
                             uint64_t m[2]);
 
 /* Up to KB_LANES runs of the same specialisation in one loop, one run per
- * vector lane (AVX-512 only): every lane does a single run's arithmetic in
- * the same order, so each run's bits are wg_krun's. The lanes sit apart in
+ * vector lane (AVX2 and AVX-512): every lane does a single run's
+ * arithmetic in the same order, so each run's bits are wg_krun's. The lanes sit apart in
  * the batch (one row of KB_LANES per quantity); kb_load and kb_store
  * (wg_sim_run.c) move one run in and out. The loop stops once a lane in
  * `active` stops: it refused a step (its `trial` written, has_trial set),
  * or it took the steps it may (lim_steps: the steps asked for, or to the
  * period's end). The other lanes take the step a lane refused, then stop
  * too; ran[l] is what lane l took (lim_steps and ep move on by it). Lanes
- * outside `active` compute and are ignored. */
+ * outside `active` compute and are ignored; on AVX2 (two 4-wide groups)
+ * the upper group is not computed while none of its lanes is active, and
+ * its ran[l] is 0. */
 enum { KB_LANES = 8 };
 typedef struct wg_kbatch {
     /* each lane's run: state, mesh contact, Kahan time, period extrema */
@@ -200,9 +202,11 @@ wg_krun_fn krun_select(unsigned kflags, int isa);
  * torsional path, which is not paired). */
 wg_krun2_fn krun2_select(unsigned kflags, int isa);
 
-/* The batched run for a set of KF_* bits and an instruction set (NULL:
- * the torsional path, or an instruction set without one: only AVX-512). */
-wg_kbatch_fn kbatch_select(unsigned kflags, int isa);
+/* The batched run of L lanes for a set of KF_* bits and an instruction
+ * set (NULL: the torsional path, or the baseline, which has none). On
+ * AVX-512 a batch of four or fewer takes AVX2's loop: one 4-wide vector a
+ * quantity costs less than an 8-wide one, with the same bits. */
+wg_kbatch_fn kbatch_select(unsigned kflags, int isa, int L);
 
 /* RK4 step of the printed form (unspecialised, for comparison); kc is the
  * wg_params. */

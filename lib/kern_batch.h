@@ -1,40 +1,63 @@
 /* kern_batch.h - the batched run (wg_kbatch, lib/internal.h) of the full
- * path: part of kern_tmpl.h's template, included by it for AVX-512 only
- * (KW == 8, where vb holds eight doubles) after the kernel's own helpers,
- * which it uses (vsplat, vdz, vabs). Not a header of its own. */
-#if KW != 8
-#error "kern_batch.h: only inside kern_tmpl.h with KW == 8"
+ * path: part of kern_tmpl.h's template, included by it for AVX2 (KW == 4)
+ * and AVX-512 (KW == 8) after the kernel's own helpers, which it uses
+ * (vsplat, vdz, vabs). Not a header of its own. */
+#if KW != 4 && KW != 8
+#error "kern_batch.h: only inside kern_tmpl.h with KW == 4 or 8"
 #endif
 
 /* The same arithmetic as rk4_full_t, frun_check and kloc_accept, in the
- * same order, with every scalar of one run a lane of a vector of eight
- * runs (KW == 8: vb holds eight doubles). */
+ * same order, with every scalar of one run a lane of a vector (vb: KW
+ * runs). The batch's KB_LANES lanes are BG groups of KW: one vector on
+ * AVX-512, two on AVX2, whose steps are independent chains the CPU
+ * overlaps; a group with no active lane is not computed. A lane mask is
+ * an unsigned, bit l for lane l of the batch. */
+#define BG (KB_LANES / KW)
 
 typedef struct bst {
     vb q[6], v[6], s, vs;
 } bst;
 
+#if KW == 8
 INLINE vb bld(const double *p) { return (vb)_mm512_load_pd(p); }
 INLINE void bsto(double *p, vb x) { _mm512_store_pd(p, (__m512d)x); }
 INLINE vb bmin(vb a, vb b) { return (vb)_mm512_min_pd((__m512d)a, (__m512d)b); }
 INLINE vb bmax(vb a, vb b) { return (vb)_mm512_max_pd((__m512d)a, (__m512d)b); }
 /* lanes in m from a, the others from b */
-INLINE vb bsel(__mmask8 m, vb a, vb b)
+INLINE vb bsel(unsigned m, vb a, vb b)
 {
-    return (vb)_mm512_mask_blend_pd(m, (__m512d)b, (__m512d)a);
+    return (vb)_mm512_mask_blend_pd((__mmask8)m, (__m512d)b, (__m512d)a);
 }
-/* ((p0 + p2) + p4) + ((p1 + p3) + p5): hsumb's order */
-INLINE vb bsum6(const vb p[6]) { return ((p[0] + p[2]) + p[4]) + ((p[1] + p[3]) + p[5]); }
-INLINE __mmask8 bcmpm(vb a, vb b, const int op)
+INLINE unsigned bcmpm(vb a, vb b, const int op)
 {
     return _mm512_cmp_pd_mask((__m512d)a, (__m512d)b, op);
 }
+#else
+INLINE vb bld(const double *p) { return (vb)_mm256_load_pd(p); }
+INLINE void bsto(double *p, vb x) { _mm256_store_pd(p, (__m256d)x); }
+INLINE vb bmin(vb a, vb b) { return (vb)_mm256_min_pd((__m256d)a, (__m256d)b); }
+INLINE vb bmax(vb a, vb b) { return (vb)_mm256_max_pd((__m256d)a, (__m256d)b); }
+INLINE vb bsel(unsigned m, vb a, vb b)
+{
+    const vbi k = {-(long long)(m & 1u), -(long long)((m >> 1) & 1u),
+                   -(long long)((m >> 2) & 1u), -(long long)((m >> 3) & 1u)};
+    return (vb)(((vbi)a & k) | ((vbi)b & ~k));
+}
+INLINE unsigned bcmpm(vb a, vb b, const int op)
+{
+    return (unsigned)_mm256_movemask_pd(_mm256_cmp_pd((__m256d)a, (__m256d)b, op));
+}
+#endif
+/* ((p0 + p2) + p4) + ((p1 + p3) + p5): hsumb's order */
+INLINE vb bsum6(const vb p[6]) { return ((p[0] + p[2]) + p[4]) + ((p[1] + p[3]) + p[5]); }
 
 /* The three excitation entries of each lane's step i (table[2k .. 2k+2],
- * twelve doubles in a row) as twelve vectors: kp, te, dte, fx of each. */
-INLINE void bexc(const wg_exc *const ep[8], uint64_t i, vb kp[3], vb te[3], vb dte[3],
+ * twelve doubles in a row) as twelve vectors: kp, te, dte, fx of each;
+ * ep: the group's KW lanes. */
+INLINE void bexc(const wg_exc *const ep[KW], uint64_t i, vb kp[3], vb te[3], vb dte[3],
                  vb fx[3])
 {
+#if KW == 8
     __m512d r[8], t0[8], t1[8], f[8];
     __m256d u[8];
 #pragma GCC unroll 8
@@ -76,10 +99,26 @@ INLINE void bexc(const wg_exc *const ep[8], uint64_t i, vb kp[3], vb te[3], vb d
     te[2] = (vb)_mm512_permutexvar_pd(perm, _mm512_shuffle_f64x2(a1, a3, 0x88));
     dte[2] = (vb)_mm512_permutexvar_pd(perm, _mm512_shuffle_f64x2(a0, a2, 0xdd));
     fx[2] = (vb)_mm512_permutexvar_pd(perm, _mm512_shuffle_f64x2(a1, a3, 0xdd));
+#else
+    /* entry e of the four lanes, rows kp te dte fx: transpose 4 x 4 */
+#pragma GCC unroll 3
+    for (int e = 0; e < 3; e++) {
+        __m256d r[4];
+#pragma GCC unroll 4
+        for (int l = 0; l < 4; l++)
+            r[l] = _mm256_loadu_pd(&ep[l][2 * i + (uint64_t)e].kp);
+        __m256d t0 = _mm256_unpacklo_pd(r[0], r[1]), t1 = _mm256_unpackhi_pd(r[0], r[1]);
+        __m256d t2 = _mm256_unpacklo_pd(r[2], r[3]), t3 = _mm256_unpackhi_pd(r[2], r[3]);
+        kp[e] = (vb)_mm256_permute2f128_pd(t0, t2, 0x20);
+        te[e] = (vb)_mm256_permute2f128_pd(t1, t3, 0x20);
+        dte[e] = (vb)_mm256_permute2f128_pd(t0, t2, 0x31);
+        fx[e] = (vb)_mm256_permute2f128_pd(t1, t3, 0x31);
+    }
+#endif
 }
 
-/* One stage of eight runs: stage_full lane-wise. */
-INLINE void bstage(const wg_kbatch *restrict B, vb kp, vb te, vb dte, vb fx, const vb q[6],
+/* One stage of the KW runs from lane o: stage_full lane-wise. */
+INLINE void bstage(const wg_kbatch *restrict B, int o, vb kp, vb te, vb dte, vb fx, const vb q[6],
                    const vb v[6], vb vs, vb X, vb V, vb acc[6], vb *as6, vb *cacc,
                    const int LOCK, const int BJ, const int MB, const int KA, const int EM)
 {
@@ -88,23 +127,25 @@ INLINE void bstage(const wg_kbatch *restrict B, vb kp, vb te, vb dte, vb fx, con
         xn -= te;
         dxn += dte;
     }
-    vb g = !MB ? xn : LOCK ? bld(B->w0) * xn - bld(B->zc0) : vdz(xn, bld(B->b));
-    vb F = bld(B->dp) * dxn + (KA ? kp * g : g);
+    vb g = !MB ? xn : LOCK ? bld(B->w0 + o) * xn - bld(B->zc0 + o) : vdz(xn, bld(B->b + o));
+    vb F = bld(B->dp + o) * dxn + (KA ? kp * g : g);
     vb pb[6];
 #pragma GCC unroll 6
     for (int b = 0; b < 6; b++) {
-        vb gb = !BJ ? q[b] : LOCK ? bld(B->w[b]) * q[b] - bld(B->zc[b]) : vdz(q[b], bld(B->bj));
-        vb base = bld(B->nd[b]) * v[b] - bld(B->k[b]) * gb; /* (-d) v == -(d v) exactly */
-        pb[b] = bld(B->cd[b]) * v[b] + bld(B->ck[b]) * gb;
-        acc[b] = base - bld(B->m[b]) * F;
+        vb gb = !BJ   ? q[b]
+                : LOCK ? bld(B->w[b] + o) * q[b] - bld(B->zc[b] + o)
+                       : vdz(q[b], bld(B->bj + o));
+        vb base = bld(B->nd[b] + o) * v[b] - bld(B->k[b] + o) * gb; /* (-d) v == -(d v) exactly */
+        pb[b] = bld(B->cd[b] + o) * v[b] + bld(B->ck[b] + o) * gb;
+        acc[b] = base - bld(B->m[b] + o) * F;
     }
-    vb P = (fx - bld(B->ds) * vs) - bsum6(pb);
-    *as6 = (fx - F) - bld(B->ds) * vs;
-    *cacc = P - bld(B->M) * F;
+    vb P = (fx - bld(B->ds + o) * vs) - bsum6(pb);
+    *as6 = (fx - F) - bld(B->ds + o) * vs;
+    *cacc = P - bld(B->M + o) * F;
 }
 
-/* One RK4 step of eight runs: rk4_full_t lane-wise. */
-INLINE bst brk4(const wg_kbatch *restrict B, const vb kp[3], const vb te[3], const vb dte[3],
+/* One RK4 step of the KW runs from lane o: rk4_full_t lane-wise. */
+INLINE bst brk4(const wg_kbatch *restrict B, int o, const vb kp[3], const vb te[3], const vb dte[3],
                 const vb fx[3], vb h, bst y0, const int LOCK, const int BJ, const int MB,
                 const int KA, const int EM)
 {
@@ -115,8 +156,8 @@ INLINE bst brk4(const wg_kbatch *restrict B, const vb kp[3], const vb te[3], con
     for (int b = 0; b < 6; b++) {
         q[b] = y0.q[b];
         v[b] = y0.v[b];
-        pq[b] = bld(B->c[b]) * y0.q[b];
-        pv[b] = bld(B->c[b]) * y0.v[b];
+        pq[b] = bld(B->c[b] + o) * y0.q[b];
+        pv[b] = bld(B->c[b] + o) * y0.v[b];
         sq[b] = sv[b] = vsplat(0.0);
     }
     vb X0 = bsum6(pq) + y0.s, V0 = bsum6(pv) + y0.vs;
@@ -125,7 +166,7 @@ INLINE bst brk4(const wg_kbatch *restrict B, const vb kp[3], const vb te[3], con
     for (int j = 0; j < 4; j++) {
         const int ei = (j + 1) / 2;
         vb as6, cacc;
-        bstage(B, kp[ei], te[ei], dte[ei], fx[ei], q, v, vs, X, V, acc, &as6, &cacc, LOCK, BJ,
+        bstage(B, o, kp[ei], te[ei], dte[ei], fx[ei], q, v, vs, X, V, acc, &as6, &cacc, LOCK, BJ,
                MB, KA, EM);
         vb w = vsplat(wt[j]);
 #pragma GCC unroll 6
@@ -167,113 +208,156 @@ INLINE bst brk4(const wg_kbatch *restrict B, const vb kp[3], const vb te[3], con
 INLINE unsigned run_batch(wg_kbatch *restrict B, const int LOCK, const int BJ, const int MB,
                           const int KA, const int EM)
 {
-    const unsigned act = B->active & 0xffu;
+    const unsigned all = (1u << KB_LANES) - 1, act = B->active & all;
     uint64_t nmax = UINT64_MAX;
     int first = __builtin_ctz(act);
-    const wg_exc *ep[8];
-    for (int l = 0; l < 8; l++) {
+    const wg_exc *ep[KB_LANES];
+    for (int l = 0; l < KB_LANES; l++) {
         int in = (act >> l) & 1u;
         ep[l] = in ? B->ep[l] : B->ep[first]; /* a lane left out reads in bounds */
         if (in && B->lim_steps[l] < nmax)
             nmax = B->lim_steps[l];
     }
-    bst y;
-#pragma GCC unroll 6
-    for (int b = 0; b < 6; b++) {
-        y.q[b] = bld(B->q[b]);
-        y.v[b] = bld(B->v[b]);
-    }
-    y.s = bld(B->s), y.vs = bld(B->vs);
-    vb xn = bld(B->xn), dxn = bld(B->dxn), tau = bld(B->tau), tc = bld(B->tc);
-    vb mn = bld(B->mn), mx = bld(B->mx);
-    const vb h = bld(B->h), zero = vsplat(0.0);
-    unsigned refused = 0;
-    uint64_t i, step[8] = {0}; /* step: the refusal's step, where taken */
-    for (i = 0; i < nmax; i++) {
-        vb kp[3], te[3], dte[3], fx[3];
-        bexc(ep, i, kp, te, dte, fx);
-        bst z = brk4(B, kp, te, dte, fx, h, y, LOCK, BJ, MB, KA, EM);
-        /* frun_check: the mesh contact in ct_contacts' order, the bounds */
-        vb xs = -te[2], dxs = dte[2];
+    /* the groups up to the last with an active lane are computed */
+    const int ng = BG == 1 || !(act >> KW) ? 1 : BG;
+    const unsigned gm = (1u << KW) - 1;
+    bst y[BG];
+    vb xn[BG], dxn[BG], tau[BG], tc[BG], mn[BG], mx[BG], h[BG];
+#pragma GCC unroll 2
+    for (int g = 0; g < BG; g++) {
+        const int o = g * KW;
 #pragma GCC unroll 6
         for (int b = 0; b < 6; b++) {
-            xs += bld(B->c[b]) * z.q[b];
-            dxs += bld(B->c[b]) * z.v[b];
+            y[g].q[b] = bld(B->q[b] + o);
+            y[g].v[b] = bld(B->v[b] + o);
         }
-        xs += z.s;
-        dxs += z.vs;
-        const vb lim = bld(B->lim);
-        __mmask8 ok = bcmpm(vabs(z.s), lim, _CMP_LT_OQ) & bcmpm(vabs(z.vs), lim, _CMP_LT_OQ) &
-                      bcmpm(xs, bld(B->mlo), _CMP_GE_OQ) & bcmpm(xs, bld(B->mhi), _CMP_LE_OQ);
+        y[g].s = bld(B->s + o), y[g].vs = bld(B->vs + o);
+        xn[g] = bld(B->xn + o), dxn[g] = bld(B->dxn + o);
+        tau[g] = bld(B->tau + o), tc[g] = bld(B->tc + o);
+        mn[g] = bld(B->mn + o), mx[g] = bld(B->mx + o), h[g] = bld(B->h + o);
+    }
+    const vb zero = vsplat(0.0);
+    unsigned refused = 0;
+    uint64_t i, step[KB_LANES] = {0}; /* step: the refusal's step, where taken */
+    for (i = 0; i < nmax; i++) {
+        bst z[BG];
+        vb xs[BG], dxs[BG];
+        unsigned ok = all;
+#pragma GCC unroll 2
+        for (int g = 0; g < ng; g++) {
+            const int o = g * KW;
+            vb kp[3], te[3], dte[3], fx[3];
+            bexc(&ep[o], i, kp, te, dte, fx);
+            z[g] = brk4(B, o, kp, te, dte, fx, h[g], y[g], LOCK, BJ, MB, KA, EM);
+            /* frun_check: the mesh contact in ct_contacts' order, the bounds */
+            vb x = -te[2], dx = dte[2];
 #pragma GCC unroll 6
-        for (int b = 0; b < 6; b++)
-            ok &= bcmpm(z.q[b], bld(B->lo[b]), _CMP_GE_OQ) &
-                  bcmpm(z.q[b], bld(B->hi[b]), _CMP_LE_OQ) &
-                  bcmpm(vabs(z.v[b]), lim, _CMP_LT_OQ);
+            for (int b = 0; b < 6; b++) {
+                x += bld(B->c[b] + o) * z[g].q[b];
+                dx += bld(B->c[b] + o) * z[g].v[b];
+            }
+            x += z[g].s;
+            dx += z[g].vs;
+            xs[g] = x, dxs[g] = dx;
+            const vb lim = bld(B->lim + o);
+            unsigned k = bcmpm(vabs(z[g].s), lim, _CMP_LT_OQ) &
+                         bcmpm(vabs(z[g].vs), lim, _CMP_LT_OQ) &
+                         bcmpm(x, bld(B->mlo + o), _CMP_GE_OQ) &
+                         bcmpm(x, bld(B->mhi + o), _CMP_LE_OQ);
+#pragma GCC unroll 6
+            for (int b = 0; b < 6; b++)
+                k &= bcmpm(z[g].q[b], bld(B->lo[b] + o), _CMP_GE_OQ) &
+                     bcmpm(z[g].q[b], bld(B->hi[b] + o), _CMP_LE_OQ) &
+                     bcmpm(vabs(z[g].v[b]), lim, _CMP_LT_OQ);
+            ok &= ~(gm << o) | (k << o);
+        }
         /* kloc_accept lane-wise: Kahan time, an extremum inside the step
          * (rare: lane by lane), the period's extrema. A lane that refuses
          * the step keeps its state; the others take it, and the loop ends. */
-        const __mmask8 rf = ~ok & act, acc = rf ? (__mmask8)~rf : 0xff;
-        vb dt = h - tc, t = tau + dt, ntc = (t - tau) - dt;
-        __mmask8 turn = (bcmpm(dxn, zero, _CMP_LT_OQ) ^ bcmpm(dxs, zero, _CMP_LT_OQ)) & acc;
-        if (__builtin_expect(turn != 0, 0)) {
-            for (int l = 0; l < 8; l++)
-                if ((turn >> l) & 1u) {
-                    double a = mn[l], c = mx[l];
-                    herm_turn(xn[l], xs[l], dxn[l], dxs[l], h[l], &a, &c);
-                    mn[l] = a, mx[l] = c;
-                }
+        const unsigned rf = ~ok & act, acc = rf ? ~rf & all : all;
+        vb t[BG], ntc[BG];
+#pragma GCC unroll 2
+        for (int g = 0; g < ng; g++) {
+            const int o = g * KW;
+            vb dt = h[g] - tc[g];
+            t[g] = tau[g] + dt;
+            ntc[g] = (t[g] - tau[g]) - dt;
+            unsigned turn =
+                (bcmpm(dxn[g], zero, _CMP_LT_OQ) ^ bcmpm(dxs[g], zero, _CMP_LT_OQ)) &
+                (acc >> o) & gm;
+            if (__builtin_expect(turn != 0, 0)) {
+                for (int l = 0; l < KW; l++)
+                    if ((turn >> l) & 1u) {
+                        double a = mn[g][l], c = mx[g][l];
+                        herm_turn(xn[g][l], xs[g][l], dxn[g][l], dxs[g][l], h[g][l], &a, &c);
+                        mn[g][l] = a, mx[g][l] = c;
+                    }
+            }
         }
         if (__builtin_expect(rf == 0, 1)) {
-            tc = ntc;
-            tau = t;
-            mn = bmin(mn, xs);
-            mx = bmax(mx, xs);
-            xn = xs;
-            dxn = dxs;
-            y = z;
+#pragma GCC unroll 2
+            for (int g = 0; g < ng; g++) {
+                tc[g] = ntc[g];
+                tau[g] = t[g];
+                mn[g] = bmin(mn[g], xs[g]);
+                mx[g] = bmax(mx[g], xs[g]);
+                xn[g] = xs[g];
+                dxn[g] = dxs[g];
+                y[g] = z[g];
+            }
             continue;
         }
         refused = rf;
-        for (int l = 0; l < 8; l++) /* frun_refuse: the step as kst_store writes it */
+        for (int l = 0; l < KB_LANES; l++) /* frun_refuse: the step as kst_store writes it */
             if ((refused >> l) & 1u) {
+                const bst *zl = &z[l / KW];
+                const int m = l % KW;
                 double *tr = B->trial[l];
                 for (int b = 0; b < 6; b++) {
-                    tr[b] = z.q[b][l];
-                    tr[7 + b] = z.v[b][l];
+                    tr[b] = zl->q[b][m];
+                    tr[7 + b] = zl->v[b][m];
                 }
-                tr[6] = z.s[l];
-                tr[13] = z.vs[l];
+                tr[6] = zl->s[m];
+                tr[13] = zl->vs[m];
             }
-        tc = bsel(acc, ntc, tc);
-        tau = bsel(acc, t, tau);
-        mn = bsel(acc, bmin(mn, xs), mn);
-        mx = bsel(acc, bmax(mx, xs), mx);
-        xn = bsel(acc, xs, xn);
-        dxn = bsel(acc, dxs, dxn);
+#pragma GCC unroll 2
+        for (int g = 0; g < ng; g++) {
+            const unsigned a = (acc >> (g * KW)) & gm;
+            tc[g] = bsel(a, ntc[g], tc[g]);
+            tau[g] = bsel(a, t[g], tau[g]);
+            mn[g] = bsel(a, bmin(mn[g], xs[g]), mn[g]);
+            mx[g] = bsel(a, bmax(mx[g], xs[g]), mx[g]);
+            xn[g] = bsel(a, xs[g], xn[g]);
+            dxn[g] = bsel(a, dxs[g], dxn[g]);
 #pragma GCC unroll 6
-        for (int b = 0; b < 6; b++) {
-            y.q[b] = bsel(acc, z.q[b], y.q[b]);
-            y.v[b] = bsel(acc, z.v[b], y.v[b]);
+            for (int b = 0; b < 6; b++) {
+                y[g].q[b] = bsel(a, z[g].q[b], y[g].q[b]);
+                y[g].v[b] = bsel(a, z[g].v[b], y[g].v[b]);
+            }
+            y[g].s = bsel(a, z[g].s, y[g].s);
+            y[g].vs = bsel(a, z[g].vs, y[g].vs);
         }
-        y.s = bsel(acc, z.s, y.s);
-        y.vs = bsel(acc, z.vs, y.vs);
-        for (int l = 0; l < 8; l++)
+        for (int l = 0; l < ng * KW; l++)
             step[l] += (acc >> l) & 1u;
         break;
     }
+#pragma GCC unroll 2
+    for (int g = 0; g < BG; g++) {
+        const int o = g * KW;
 #pragma GCC unroll 6
-    for (int b = 0; b < 6; b++) {
-        bsto(B->q[b], y.q[b]);
-        bsto(B->v[b], y.v[b]);
+        for (int b = 0; b < 6; b++) {
+            bsto(B->q[b] + o, y[g].q[b]);
+            bsto(B->v[b] + o, y[g].v[b]);
+        }
+        bsto(B->s + o, y[g].s), bsto(B->vs + o, y[g].vs);
+        bsto(B->xn + o, xn[g]), bsto(B->dxn + o, dxn[g]);
+        bsto(B->tau + o, tau[g]), bsto(B->tc + o, tc[g]);
+        bsto(B->mn + o, mn[g]), bsto(B->mx + o, mx[g]);
     }
-    bsto(B->s, y.s), bsto(B->vs, y.vs);
-    bsto(B->xn, xn), bsto(B->dxn, dxn), bsto(B->tau, tau), bsto(B->tc, tc);
-    bsto(B->mn, mn), bsto(B->mx, mx);
     B->refused = refused;
     unsigned stop = refused;
-    for (int l = 0; l < 8; l++) {
-        uint64_t m = i + step[l];
+    for (int l = 0; l < KB_LANES; l++) {
+        uint64_t m = l < ng * KW ? i + step[l] : 0; /* a group not computed took none */
         B->ran[l] = m;
         B->lim_steps[l] = B->lim_steps[l] > m ? B->lim_steps[l] - m : 0;
         B->ep[l] = ep[l] + 2 * m;
@@ -282,3 +366,5 @@ INLINE unsigned run_batch(wg_kbatch *restrict B, const int LOCK, const int BJ, c
     }
     return stop;
 }
+
+#undef BG

@@ -566,7 +566,7 @@ INLINE uint64_t run_tors(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
     return i;
 }
 
-#if KW == 8
+#if KW >= 4
 #include "kern_batch.h" /* batches: one run per vector lane */
 #endif
 
@@ -598,7 +598,7 @@ INLINE uint64_t run_tors(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
     {                                                                                          \
         run_full2(ka, ra, na, kb, rb, nb, m, L, J, M, A, E);                                   \
     }
-#if KW == 8
+#if KW >= 4
 #define BNAME(L, J, M, A, E) kbatch_##L##J##M##A##E
 #define KBATCH(L, J, M, A, E)                                                                  \
     static unsigned BNAME(L, J, M, A, E)(wg_kbatch *restrict B)                               \
@@ -633,7 +633,7 @@ const wg_kernel_fn KCAT(kern_tab, KSUF)[KF_NKERNEL] = {T_L(KNAME, 0) T_L(KNAME, 
 const wg_krun_fn KCAT(krun_tab, KSUF)[KF_NKERNEL] = {T_L(RNAME, 0) T_L(RNAME, 1)};
 #define PN(B, L, J, M, A, E) PNAME(L, J, M, A, E)
 const wg_krun2_fn KCAT(krun2_tab, KSUF)[KF_NKERNEL / 2] = {T_L(PN, 1)};
-#if KW == 8
+#if KW >= 4
 #define BN(B, L, J, M, A, E) BNAME(L, J, M, A, E)
 const wg_kbatch_fn KCAT(kbatch_tab, KSUF)[KF_NKERNEL / 2] = {T_L(BN, 1)};
 #endif

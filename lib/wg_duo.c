@@ -4,7 +4,7 @@
  * page below it. The scheduler runs on the thread's own stack: it resumes
  * every task that can go on until each has asked for a run (or returned),
  * then advances the two runs asked for longest ago with wg_sim_run_pair
- * (four or more of one kind, on a CPU with a batched loop: all of those
+ * (three or more of one kind, on a CPU with a batched loop: all of those
  * with wg_sim_run_batch, one sim a vector lane) until one is done, and
  * resumes that task; a run with no partner goes by wg_sim_run. The runs
  * themselves (and their sinks' callbacks) execute on the scheduler's stack.
@@ -258,11 +258,11 @@ int duo_main(int n, duo_task_fn fn, void *const args[], duo_idle_fn idle, void *
                 duo_wake(d);
             continue;
         }
-        /* four or more runs of one kind, with a batched loop: all of them
+        /* three or more runs of one kind, with a batched loop: all of them
          * in one batch (one sim a vector lane); else the two oldest paired */
         const wg_sim_core *c = d->t[a].s->core;
         int idx[DUO_MAX], L = same_kind(d, a, idx);
-        if (L >= DUO_BATCH_MIN && kbatch_select(c->kflags, c->isa))
+        if (L >= DUO_BATCH_MIN && kbatch_select(c->kflags, c->isa, L))
             advance_batch(d, idx, L);
         else
             advance(d, a, oldest_waiting(d, a));

@@ -13,7 +13,7 @@
 extern const wg_kernel_fn kern_tab_avx2[KF_NKERNEL], kern_tab_avx512[KF_NKERNEL];
 extern const wg_krun_fn krun_tab_avx2[KF_NKERNEL], krun_tab_avx512[KF_NKERNEL];
 extern const wg_krun2_fn krun2_tab_avx2[KF_NKERNEL / 2], krun2_tab_avx512[KF_NKERNEL / 2];
-extern const wg_kbatch_fn kbatch_tab_avx512[KF_NKERNEL / 2];
+extern const wg_kbatch_fn kbatch_tab_avx2[KF_NKERNEL / 2], kbatch_tab_avx512[KF_NKERNEL / 2];
 
 static const char *const isa_names[KISA_N] = {"sse2", "avx2", "avx512"};
 
@@ -64,10 +64,13 @@ wg_krun2_fn krun2_select(unsigned kflags, int isa)
     return kflags & KF_BEAR ? t[kflags & (KF_NKERNEL / 2 - 1)] : NULL;
 }
 
-wg_kbatch_fn kbatch_select(unsigned kflags, int isa)
+wg_kbatch_fn kbatch_select(unsigned kflags, int isa, int L)
 {
-    return isa == KISA_AVX512 && (kflags & KF_BEAR) ? kbatch_tab_avx512[kflags & (KF_NKERNEL / 2 - 1)]
-                                                    : NULL;
+    if (isa == KISA_AVX512 && L <= 4 && kernel_isa_supported(KISA_AVX2))
+        isa = KISA_AVX2; /* one 4-wide group costs less than an 8-wide vector */
+    const wg_kbatch_fn *t = isa == KISA_AVX512 ? kbatch_tab_avx512
+                            : isa == KISA_AVX2 ? kbatch_tab_avx2 : NULL;
+    return t && (kflags & KF_BEAR) ? t[kflags & (KF_NKERNEL / 2 - 1)] : NULL;
 }
 
 void kernel_printed(const double *restrict y0, double *restrict y1, const void *restrict kc,

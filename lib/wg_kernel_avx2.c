@@ -11,4 +11,5 @@
 const wg_kernel_fn kern_tab_avx2[KF_NKERNEL];
 const wg_krun_fn krun_tab_avx2[KF_NKERNEL];
 const wg_krun2_fn krun2_tab_avx2[KF_NKERNEL / 2];
+const wg_kbatch_fn kbatch_tab_avx2[KF_NKERNEL / 2];
 #endif

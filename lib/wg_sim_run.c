@@ -473,7 +473,7 @@ static int batch_fast(runner *R, int L)
 {
     const unsigned kflags = R[0].s->core->kflags;
     const int isa = R[0].s->core->isa;
-    wg_kbatch_fn f = kbatch_select(kflags, isa);
+    wg_kbatch_fn f = kbatch_select(kflags, isa, L);
     for (int j = 0; j < L && f; j++)
         if (!batch_lane_ok(&R[j], kflags, isa))
             f = NULL;

@@ -217,8 +217,8 @@ void wg_sim_run_pair(wg_sim *const sim[2], const uint64_t n[2], const wg_sink *c
  * n[j], sink[j]) would, to the bit, until one has taken its n[j] steps or
  * failed: wg_sim_run_pair for more sims. While all take plain steps of the
  * same specialisation they run in one loop, one sim per vector lane, where
- * the CPU has AVX-512 (else, and whenever one cannot, each in turn). More
- * than 8: none runs, each rc[j] is WG_EINVAL; L < 1: nothing. */
+ * the CPU has AVX2 or AVX-512 (else, and whenever one cannot, each in
+ * turn). More than 8: none runs, each rc[j] is WG_EINVAL; L < 1: nothing. */
 void wg_sim_run_batch(int L, wg_sim *const sim[], const uint64_t n[], const wg_sink *const sink[],
                       uint64_t done[], int rc[]);
 

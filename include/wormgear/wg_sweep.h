@@ -63,10 +63,11 @@ typedef struct wg_sweep_opts {
     int verify;          /* re-analyse each point's attractor with 2N steps */
     int pair;            /* chains each thread advances at once (the same
                             results): 2 to 8 (8, the default), their runs paired
-                            (wg_sim_run_pair) or, four or more where the CPU
-                            has AVX-512, batched (wg_sim_run_batch); 1: one at
-                            a time. A thread takes at most its share of the
-                            chains, and two at once when that is under four */
+                            (wg_sim_run_pair) or, three or more where the CPU
+                            has AVX2 or AVX-512, batched (wg_sim_run_batch); 1:
+                            one at a time. A thread takes at most its share of
+                            the chains, and two at once when that is under
+                            three */
 } wg_sweep_opts;
 
 /* Result of one point. */

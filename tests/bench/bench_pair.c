@@ -81,7 +81,7 @@ __attribute__((noinline)) static double hsum_chain(const double *d6, long n)
 /* ns a step of eight sims (omega w + 0.01 j, xi_p 0.10 + 0.005 j, N 256),
  * 200 periods each: one after another by wg_sim_run, two at a time by
  * wg_sim_run_pair (--pair 2), and all eight by wg_sim_run_batch (one per
- * vector lane where the CPU has AVX-512; called again with the ones left
+ * vector lane where the CPU has AVX2 or AVX-512; called again with the ones left
  * each time one is done). */
 enum { NS = 8 };
 static void runs(double w, double *alone, double *paired, double *batched)

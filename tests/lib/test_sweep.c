@@ -194,7 +194,7 @@ static void test_threads_identical(void)
 }
 
 /* Chains advanced o.pair at a time on a thread (their runs paired by
- * wg_sim_run_pair, or, four or more on AVX-512, batched by
+ * wg_sim_run_pair, or, three or more on AVX2 or AVX-512, batched by
  * wg_sim_run_batch) give the same points, to the bit, as one at a time: on
  * one thread (five runs batched), and on two with more tasks than chains
  * (too few a thread to batch: two at a time), through early-stopped
