@@ -12,7 +12,8 @@
  * the bookkeeping, zone tests and period ends): eight table3 sims one
  * after the other by wg_sim_run, two at a time by wg_sim_run_pair (what a
  * sweep thread does with --pair 2), then all eight by wg_sim_run_batch
- * (--pair 8), without impacts and impacting.
+ * (--pair 8), and three at a time by it (a study thread's three chains),
+ * without impacts and impacting.
  * Thread CPU time, medians of REPS repetitions interleaved.
  * usage: bench_pair_{sse2,avx2,avx512} [steps per repetition (2e6)] [reps (7)] */
 #ifndef KW
@@ -78,13 +79,36 @@ __attribute__((noinline)) static double hsum_chain(const double *d6, long n)
     return hsumb(p);
 }
 
+/* Sims j0..j1-1 by wg_sim_run_batch, len steps each, called again with
+ * the ones left each time one is done. */
+static void batch_runs(wg_sim *s, int j0, int j1, uint64_t len)
+{
+    uint64_t left[8];
+    for (int j = j0; j < j1; j++)
+        left[j - j0] = len;
+    for (;;) {
+        wg_sim *sp[8];
+        uint64_t n[8], done[8];
+        const wg_sink *sk[8];
+        int rc[8], idx[8], m = 0;
+        for (int j = j0; j < j1; j++)
+            if (left[j - j0])
+                sp[m] = &s[j], n[m] = left[j - j0], sk[m] = NULL, idx[m++] = j - j0;
+        if (!m)
+            break;
+        wg_sim_run_batch(m, sp, n, sk, done, rc);
+        for (int i = 0; i < m; i++)
+            left[idx[i]] -= rc[i] ? left[idx[i]] : done[i];
+    }
+}
+
 /* ns a step of eight sims (omega w + 0.01 j, xi_p 0.10 + 0.005 j, N 256),
  * 200 periods each: one after another by wg_sim_run, two at a time by
- * wg_sim_run_pair (--pair 2), and all eight by wg_sim_run_batch (one per
- * vector lane where the CPU has AVX2 or AVX-512; called again with the ones left
- * each time one is done). */
+ * wg_sim_run_pair (--pair 2), all eight by wg_sim_run_batch (one per
+ * vector lane where the CPU has AVX2 or AVX-512), and three at a time by
+ * it (3, 3, 2: a study thread's three chains). */
 enum { NS = 8 };
-static void runs(double w, double *alone, double *paired, double *batched)
+static void runs(double w, double *alone, double *paired, double *batched, double *by3)
 {
     wg_sim s[NS];
     char why[300];
@@ -118,27 +142,15 @@ static void runs(double w, double *alone, double *paired, double *batched)
         wg_sim_run(sp[1], n[1], NULL, NULL);
     }
     double c = bench_now_ns();
-    uint64_t left[NS];
-    for (int j = 0; j < NS; j++)
-        left[j] = len;
-    for (;;) {
-        wg_sim *sp[NS];
-        uint64_t n[NS], done[NS];
-        const wg_sink *sk[NS];
-        int rc[NS], idx[NS], m = 0;
-        for (int j = 0; j < NS; j++)
-            if (left[j])
-                sp[m] = &s[j], n[m] = left[j], sk[m] = NULL, idx[m++] = j;
-        if (!m)
-            break;
-        wg_sim_run_batch(m, sp, n, sk, done, rc);
-        for (int i = 0; i < m; i++)
-            left[idx[i]] -= rc[i] ? left[idx[i]] : done[i];
-    }
+    batch_runs(s, 0, NS, len);
     double d = bench_now_ns();
+    for (int j = 0; j < NS; j += 3)
+        batch_runs(s, j, j + 3 < NS ? j + 3 : NS, len);
+    double e = bench_now_ns();
     *alone = (b - a) / (double)(NS * len);
     *paired = (c - b) / (double)(NS * len);
     *batched = (d - c) / (double)(NS * len);
+    *by3 = (e - d) / (double)(NS * len);
     for (int j = 0; j < NS; j++)
         wg_sim_fini(&s[j]);
 }
@@ -222,17 +234,17 @@ int main(int argc, char **argv)
            lh, lh / la, sink == 1.0 ? " " : "");
     static const double omega[2] = {0.5, 0.7};
     for (int k = 0; k < 2; k++) {
-        double ra[64], rp[64], rb[64], rr[64], rs[64];
+        double ra[64], rp[64], rb[64], r3[64], rr[64], rs[64];
         for (int r = 0; r < reps; r++) {
-            runs(omega[k], &ra[r], &rp[r], &rb[r]);
+            runs(omega[k], &ra[r], &rp[r], &rb[r], &r3[r]);
             rr[r] = ra[r] / rp[r];
             rs[r] = ra[r] / rb[r];
         }
         printf("runs, omega %.2f..%.2f %s  alone %.1f, paired %.1f, batched %.1f ns/step: "
-               "%.2fx, %.2fx\n",
+               "%.2fx, %.2fx; batched three at a time %.1f\n",
                omega[k], omega[k] + 0.07, k ? "(impacting) " : "(no impact)",
                bench_median(ra, reps), bench_median(rp, reps), bench_median(rb, reps),
-               bench_median(rr, reps), bench_median(rs, reps));
+               bench_median(rr, reps), bench_median(rs, reps), bench_median(r3, reps));
     }
     wg_sim_fini(&s);
     return 0;
