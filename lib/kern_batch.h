@@ -10,8 +10,8 @@
  * same order, with every scalar of one run a lane of a vector (vb: KW
  * runs). The batch's KB_LANES lanes are BG groups of KW: one vector on
  * AVX-512, two on AVX2, whose steps are independent chains the CPU
- * overlaps; a group with no active lane is not computed. A lane mask is
- * an unsigned, bit l for lane l of the batch. */
+ * overlaps; the upper group is not computed while none of its lanes is
+ * active. A lane mask is an unsigned, bit l for lane l of the batch. */
 #define BG (KB_LANES / KW)
 
 typedef struct bst {

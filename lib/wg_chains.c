@@ -287,8 +287,9 @@ enum { TMAX = 256 }; /* threads */
 
 typedef struct pool {
     wg_chain *cs;
-    int n, next;     /* next: positions taken, in the order of pool_deal */
-    int fill;        /* chains a thread takes at its start (pool_deal) */
+    int n, next;     /* next: chains taken (pool_take) */
+    int fill;        /* chains dealt to each thread for its start (pool_take) */
+    int cursor;      /* the next chain past the dealt ones */
     const wg_sweep_opts *o;
     volatile sig_atomic_t *stop;
     wg_progress_fn progress;
@@ -298,6 +299,7 @@ typedef struct pool {
     long left[TMAX]; /* per thread: the points its running chains have left */
     int live[TMAX];  /* per thread: its tasks still taking chains */
     int running[TMAX]; /* per thread: its chains running */
+    int dealt[TMAX];   /* per thread: its dealt chains taken */
     jobs J;
 } pool;
 
@@ -354,20 +356,26 @@ static int pool_tasks(const pool *pl)
     return k;
 }
 
-/* The chain at position p of the pool's order. A thread takes its first
- * chains one after another, so in index order the first thread would get
- * chains 0..fill-1: neighbours, whose costs go together (the study's
- * first thread both of xi_p 0.08's chains and 0.10's up, 4.27 s of work
- * against 3.03 s for the other). The first nt * fill positions deal the
- * chains as cards are dealt, back and forth: thread h's fill are chains
- * h, 2nt-1-h, 2nt+h, ...; the rest in index order. */
-static int pool_deal(const pool *pl, int p)
+/* The chain thread t takes (under the lock; at least one is left). In
+ * index order a thread would take neighbours, whose costs go together:
+ * the study's first thread took both of xi_p 0.08's chains and 0.10's up
+ * (4.27 s of work) and the other the rest (3.03 s). So the first nt * fill
+ * chains are dealt as cards are, back and forth: thread h's are h,
+ * 2nt-1-h, 2nt+h, ... A thread takes its own first, then the rest in
+ * index order, then another thread's dealt ones (one that never started,
+ * or has not taken them yet). */
+static int pool_take(pool *pl, int t)
 {
-    const int nt = pl->nt;
-    if (p >= nt * pl->fill)
-        return p;
-    const int h = p / pl->fill, r = p % pl->fill;
-    return r * nt + (r % 2 ? nt - 1 - h : h);
+    int h = t;
+    pl->next++;
+    if (pl->dealt[t] >= pl->fill) {
+        if (pl->cursor < pl->n)
+            return pl->cursor++;
+        for (h = 0; pl->dealt[h] >= pl->fill; h++)
+            ;
+    }
+    const int r = pl->dealt[h]++;
+    return r * pl->nt + (r % 2 ? pl->nt - 1 - h : h);
 }
 
 /* Chains from the pool until it is empty, or until the last ones are
@@ -383,7 +391,7 @@ static void pool_chains(duo *d, void *arg)
     for (;;) {
         pthread_mutex_lock(&pl->lock);
         int stopped = pl->stop && *pl->stop;
-        int i = !stopped && pl->next < pl->n && pool_mine(pl, t) ? pool_deal(pl, pl->next++) : -1;
+        int i = !stopped && pl->next < pl->n && pool_mine(pl, t) ? pool_take(pl, t) : -1;
         int more = !stopped && pl->next < pl->n;
         for (int u = 0; u < pl->nt; u++)
             more |= pl->running[u] > 0;
@@ -457,7 +465,8 @@ int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
 {
     if (n <= 0) /* no chains (an MPI rank with none dealt to it): no threads either */
         return n == 0 ? WG_OK : WG_EINVAL;
-    pool pl = {cs, n, 0, 0, o, stop, progress, ctx, PTHREAD_MUTEX_INITIALIZER, 0, {0}, {0}, {0},
+    pool pl = {cs, n, 0, 0, 0, o, stop, progress, ctx, PTHREAD_MUTEX_INITIALIZER, 0,
+               {0}, {0}, {0}, {0},
                {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0, NULL, NULL}};
     pthread_t tid[TMAX];
     pool_thread pt[TMAX];
@@ -466,6 +475,7 @@ int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
         nt = n;
     pl.nt = nt; /* a thread that cannot be had is never live */
     pl.fill = pool_tasks(&pl) < n / nt ? pool_tasks(&pl) : n / nt;
+    pl.cursor = nt * pl.fill;
     int started = 0;
     for (int t = 0; t < nt; t++)
         pt[t] = (pool_thread){&pl, t, 0};

@@ -197,7 +197,7 @@ static void test_threads_identical(void)
  * wg_sim_run_pair, or, three or more on AVX2 or AVX-512, batched by
  * wg_sim_run_batch) give the same points, to the bit, as one at a time: on
  * one thread (five runs batched), and on two with more tasks than chains
- * (too few a thread to batch: two at a time), through early-stopped
+ * (up to three a thread, batched or paired), through early-stopped
  * transients, extensions, the LLE of aperiodic points, N raised at low
  * omega (runs of different N paired), impacts, and the 2N check. */
 static void test_pairs_identical(void)
