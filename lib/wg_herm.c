@@ -26,6 +26,8 @@ double herm_root(const herm *H, double c)
 {
     double a = 0.0, b = 1.0, fa = H->q0 - c, fb = H->q1 - c;
     int side = 0;
+    if (fb == 0.0) /* the loop would take 0 for fb's sign and leave the root */
+        return 1.0;
     for (int it = 0; it < 60 && b - a > 1e-15; it++) {
         double t = (fa * b - fb * a) / (fa - fb);
         if (!(t > a && t < b))
