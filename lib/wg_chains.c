@@ -287,7 +287,8 @@ enum { TMAX = 256 }; /* threads */
 
 typedef struct pool {
     wg_chain *cs;
-    int n, next;     /* next: chains taken (pool_take) */
+    int n, taken;    /* chains, and how many pool_take has handed out */
+    int tasks;       /* chains a thread advances at once (pool_tasks) */
     int fill;        /* chains dealt to each thread for its start (pool_take) */
     int cursor;      /* the next chain past the dealt ones */
     const wg_sweep_opts *o;
@@ -337,7 +338,7 @@ static int pool_mine(const pool *pl, int t)
 {
     if (pl->running[t] >= (pl->n + pl->nt - 1) / pl->nt)
         return 0; /* its share at once: a thread's tasks do not take them all */
-    if (pl->n - pl->next >= pl->nt)
+    if (pl->n - pl->taken >= pl->nt)
         return 1;
     for (int u = 0; u < pl->nt; u++)
         if (u != t && pl->live[u] > 0 && pl->left[u] < pl->left[t])
@@ -367,7 +368,7 @@ static int pool_tasks(const pool *pl)
 static int pool_take(pool *pl, int t)
 {
     int h = t;
-    pl->next++;
+    pl->taken++;
     if (pl->dealt[t] >= pl->fill) {
         if (pl->cursor < pl->n)
             return pl->cursor++;
@@ -391,8 +392,8 @@ static void pool_chains(duo *d, void *arg)
     for (;;) {
         pthread_mutex_lock(&pl->lock);
         int stopped = pl->stop && *pl->stop;
-        int i = !stopped && pl->next < pl->n && pool_mine(pl, t) ? pool_take(pl, t) : -1;
-        int more = !stopped && pl->next < pl->n;
+        int i = !stopped && pl->taken < pl->n && pool_mine(pl, t) ? pool_take(pl, t) : -1;
+        int more = !stopped && pl->taken < pl->n;
         for (int u = 0; u < pl->nt; u++)
             more |= pl->running[u] > 0;
         if (i >= 0)
@@ -444,7 +445,7 @@ static void *pool_worker(void *arg)
 {
     pool_thread *pt = arg;
     pool *pl = pt->pl;
-    int k = pool_tasks(pl);
+    int k = pl->tasks;
     void *args[DUO_MAX];
     for (int i = 0; i < k; i++)
         args[i] = pt;
@@ -465,7 +466,7 @@ int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
 {
     if (n <= 0) /* no chains (an MPI rank with none dealt to it): no threads either */
         return n == 0 ? WG_OK : WG_EINVAL;
-    pool pl = {cs, n, 0, 0, 0, o, stop, progress, ctx, PTHREAD_MUTEX_INITIALIZER, 0,
+    pool pl = {cs, n, 0, 0, 0, 0, o, stop, progress, ctx, PTHREAD_MUTEX_INITIALIZER, 0,
                {0}, {0}, {0}, {0},
                {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0, NULL, NULL}};
     pthread_t tid[TMAX];
@@ -474,7 +475,8 @@ int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
     if (nt > n)
         nt = n;
     pl.nt = nt; /* a thread that cannot be had is never live */
-    pl.fill = pool_tasks(&pl) < n / nt ? pool_tasks(&pl) : n / nt;
+    pl.tasks = pool_tasks(&pl);
+    pl.fill = pl.tasks < n / nt ? pl.tasks : n / nt;
     pl.cursor = nt * pl.fill;
     int started = 0;
     for (int t = 0; t < nt; t++)
