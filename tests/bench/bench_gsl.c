@@ -100,9 +100,13 @@ int main(int argc, char **argv)
     enum { NROWS = sizeof rows / sizeof rows[0] };
     double event_ratio[NROWS]; /* rk4-event / bound, the median */
     gsl_set_error_handler_off();
+    const char *isa = kernel_isa_name(kernel_isa_choose()), *want = getenv("WG_ISA");
     printf("bench_gsl: N = %d, %ld steps (ours) / %ld (GSL, hand) x %d reps, medians; kernels "
            "for %s (WG_ISA=sse2|avx2|avx512 chooses)\n\n",
-           N, n, ng, reps, kernel_isa_name(kernel_isa_choose()));
+           N, n, ng, reps, isa);
+    if (want && strcmp(want, isa) != 0) /* misspelt, or a set this CPU lacks */
+        printf("WG_ISA=%s is not a kernel set this CPU runs (sse2, avx2, avx512 where the CPU "
+               "has them): the %s kernels ran\n\n", want, isa);
     printf("| scene | omega | kernel (rk4) | bare kernel ns/step | rk4 ns/step | rk4-event ns/step "
            "| GSL rk4 ns/step (RHS calls) | hand RK4 ns/step | GSL / rk4 | GSL / rk4-event "
            "| hand / rk4 | rk4 / bare | chain bound ns (add+mul+other on the path; their ns) "
