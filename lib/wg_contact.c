@@ -256,8 +256,8 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
                 dir = d;
             }
         }
-        if (first < 0 || splits == MAX_SPLITS)
-            break;
+        if (first < 0 || splits == MAX_SPLITS || tfirst >= 1.0)
+            break; /* none, too many, or one exactly at h: interpolated below */
         /* step to the crossing, then refine it by Newton on the coordinate */
         double tc = t + tfirst * (h - t);
         for (int it = 0; it < 3; it++) {

@@ -18,6 +18,8 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 #include <math.h>
+#include <stdlib.h>
+#include <string.h>
 
 enum { N = 128, MAXREP = 31 };
 
@@ -104,7 +106,7 @@ int main(int argc, char **argv)
     printf("bench_gsl: N = %d, %ld steps (ours) / %ld (GSL, hand) x %d reps, medians; kernels "
            "for %s (WG_ISA=sse2|avx2|avx512 chooses)\n\n",
            N, n, ng, reps, isa);
-    if (want && strcmp(want, isa) != 0) /* misspelt, or a set this CPU lacks */
+    if (want && *want && strcmp(want, isa) != 0) /* misspelt, or a set this CPU lacks */
         printf("WG_ISA=%s is not a kernel set this CPU runs (sse2, avx2, avx512 where the CPU "
                "has them): the %s kernels ran\n\n", want, isa);
     printf("| scene | omega | kernel (rk4) | bare kernel ns/step | rk4 ns/step | rk4-event ns/step "

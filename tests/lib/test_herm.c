@@ -13,6 +13,16 @@
 
 static uint64_t rng_state;
 
+/* The generator's state from a seed: splitmix64, so that every seed (even
+ * or odd, small or large) starts its own sequence. */
+static void rng_seed(unsigned seed)
+{
+    uint64_t z = (uint64_t)seed + 0x9e3779b97f4a7c15u;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+    rng_state = (z ^ (z >> 31)) | 1u; /* xorshift's state must not be 0 */
+}
+
 static double urand(double lo, double hi)
 {
     rng_state ^= rng_state << 13; /* xorshift64 */
@@ -39,8 +49,9 @@ static long double hder(const herm *H, long double t)
 /* Is t a crossing of H = c to within the claim, ~1e-15 in t? H - c must
  * change sign (or vanish) on [t - e, t + e] within [0, 1], where e is
  * 2e-15 plus what rounding H to double near the root (4e-16 of its terms)
- * moves the root by at H's rate there. *worst: the largest distance seen
- * from t to the sign change. */
+ * moves the root by at H's rate there, and at most 1e-7 (a turning point,
+ * where the rate vanishes, must not pass for a root). *worst: the largest
+ * distance seen from t to the sign change. */
 static int near_crossing(const herm *H, double c, double t, double *worst)
 {
     if (!(t >= 0.0 && t <= 1.0))
@@ -49,6 +60,8 @@ static int near_crossing(const herm *H, double c, double t, double *worst)
                         fabsl((long double)H->d0) + fabsl((long double)H->d1) + fabs(c);
     long double slope = fabsl(hder(H, t));
     long double e = 2e-15L + 4e-16L * scale / (slope > 1e-300L ? slope : 1e-300L);
+    if (e > 1e-7L)
+        e = 1e-7L;
     long double lo = t - e < 0 ? 0 : t - e, hi = t + e > 1 ? 1 : t + e;
     long double flo = hval(H, lo) - c, fhi = hval(H, hi) - c, fm = hval(H, t) - c;
     int ok = (flo <= 0 && fhi >= 0) || (flo >= 0 && fhi <= 0) || fm == 0;
@@ -72,7 +85,7 @@ static int near_crossing(const herm *H, double c, double t, double *worst)
  * crossing to ~1e-15 in t. */
 static void test_root_random(void)
 {
-    rng_state = test_seed("herm_root cubics") | 1u;
+    rng_seed(test_seed("herm_root cubics"));
     int bad = 0, n = 0, multi = 0;
     double worst = 0.0;
     while (n < 200000) {
@@ -96,9 +109,16 @@ static void test_root_random(void)
     ASSERT_TRUE(multi > 100); /* the cases are there (~0.3 %) */
 }
 
-/* Known roots: lines, the threshold at an end, three crossings, grazing
- * crossings (H - c = (t - 1/2)^3 + eps (t - 1/2): the rate eps at the
- * root), and a step of an impacting run. */
+/* The Hermite data of a cubic given in the power basis (c = 0). */
+static herm from_poly(double p0, double p1, double p2, double p3)
+{
+    return (herm){p0, p0 + p1 + p2 + p3, p1, p1 + 2 * p2 + 3 * p3};
+}
+
+/* Known roots: lines, the threshold at either end, three crossings,
+ * grazing crossings (H - c = (t - m)^3 + eps (t - m): the rate eps at the
+ * root m, off the middle so that the chord does not land on it), and a
+ * step of an impacting run. */
 static void test_root_cases(void)
 {
     double worst = 0.0;
@@ -109,27 +129,30 @@ static void test_root_cases(void)
     /* descending */
     herm D = {1.0, -1.0, -2.0, -2.0};
     ASSERT_NEAR(herm_root(&D, 0.0), 0.5, 1e-15);
-    /* the threshold at an end (from below to exactly c: false position
-     * alone moved the bracket's end off the root) */
-    herm E = {1.0, 2.0, 1.0, 1.0};
+    /* the threshold at an end: from below and from above to exactly c at
+     * t = 1 is 1 (false position alone moved the bracket's end off it) */
+    herm E = {1.0, 2.0, 1.0, 1.0}, F = {2.0, 1.0, -1.0, -1.0};
     ASSERT_NEAR(herm_root(&E, 1.0), 0.0, 1e-15);
-    ASSERT_NEAR(herm_root(&E, 2.0), 1.0, 1e-15);
-    /* three crossings: any of them */
-    herm T = {-1.0, 1.0, 12.0, 12.0}; /* rises, falls back below, rises */
-    ASSERT_TRUE(near_crossing(&T, 0.0, herm_root(&T, 0.0), &worst));
-    /* grazing: a crossing where the rate is 1e-6 of the coordinate's */
+    ASSERT_TRUE(herm_root(&E, 2.0) == 1.0);
+    ASSERT_TRUE(herm_root(&F, 1.0) == 1.0);
+    /* three crossings, 20 (t - 0.2)(t - 0.5)(t - 0.9): any of them */
+    herm T = from_poly(-1.8, 20 * 0.73, -20 * 1.6, 20.0);
+    double t = herm_root(&T, 0.0);
+    ASSERT_TRUE(near_crossing(&T, 0.0, t, &worst));
+    ASSERT_TRUE(fabs(t - 0.2) < 1e-14 || fabs(t - 0.5) < 1e-14 || fabs(t - 0.9) < 1e-14);
+    /* grazing: the rate at the crossing 1e-1 ... 1e-8 of the coordinate's */
     for (int k = 1; k <= 8; k++) {
-        double eps = pow(10.0, -k); /* H - c = (t - 1/2)^3 + eps (t - 1/2), crossing at 1/2 */
-        herm G = {-0.125 - 0.5 * eps, 0.125 + 0.5 * eps, 0.75 + eps, 0.75 + eps};
-        double t = herm_root(&G, 0.0);
+        double eps = pow(10.0, -k), m = 0.3;
+        herm G = from_poly(-m * m * m - eps * m, 3 * m * m + eps, -3 * m, 1.0);
+        t = herm_root(&G, 0.0);
         ASSERT_TRUE(near_crossing(&G, 0.0, t, &worst));
-        ASSERT_NEAR(t, 0.5, 1e-15 + 1e-15 / eps);
+        ASSERT_NEAR(t, m, 1e-15 + 1e-15 / eps);
     }
     /* a step of an impacting run, q from just inside the clearance to past
      * it: H - 1 = 1e-5 (t^2 + 3 t - 1), the root (sqrt(13) - 3) / 2; q0 and
      * q1 rounded to double (1e-16) move it by 1e-16 / H' = 3e-12 */
     herm S = {0.99999, 1.00003, 0.00003, 0.00005};
-    double t = herm_root(&S, 1.0);
+    t = herm_root(&S, 1.0);
     ASSERT_NEAR(t, 0.30277563773199464, 1e-11);
     ASSERT_TRUE(near_crossing(&S, 1.0, t, &worst));
     printf("  farthest from its crossing: %.2g in t\n", worst);
@@ -139,7 +162,7 @@ static void test_root_cases(void)
  * [0, 1]; herm_turn lowers or raises them only when the rate changes sign. */
 static void test_extrema(void)
 {
-    rng_state = test_seed("herm extrema") | 1u;
+    rng_seed(test_seed("herm extrema"));
     int bad = 0;
     for (int n = 0; n < 20000; n++) {
         herm H = {urand(-2, 2), urand(-2, 2), urand(-3, 3), urand(-3, 3)};
@@ -152,7 +175,8 @@ static void test_extrema(void)
             mn = v < mn ? v : mn;
             mx = v > mx ? v : mx;
         }
-        /* the sampled extremum is within (3/4000)^2 * |H''| / 2 of the true one */
+        /* the sampled extremum is within |H''| / 2 (1/8000)^2 of the true one,
+         * |H''| <= 18 (|q0| + |q1| + |d0| + |d1|): 1.4e-7 of that sum */
         double tol = 1e-12 + 1.5e-7 * (fabs(H.q0) + fabs(H.q1) + fabs(H.d0) + fabs(H.d1));
         double hmn = herm_min(&H), hmx = herm_max(&H);
         if ((!(hmn <= (double)mn + 1e-14) || !(hmn >= (double)mn - tol) ||
