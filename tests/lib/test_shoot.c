@@ -158,7 +158,12 @@ static void test_monodromy_against_finite_differences(void)
         printf("  table3, N = %d: |M - M_fd| %.2e (%ld crossings), |M_flow - M| %.2e\n",
                256 << k, dd[k], o->crossings, ff[k]);
     }
-    ASSERT_TRUE(dd[0] < 2e-5 && dd[1] < dd[0] / 8);
+    /* Both gaps fall from N = 256 to 512, then sit at 6e-7 .. 1.4e-6 at N =
+     * 1024 and 2048 (measured, with false position's crossings and with
+     * Newton's): a floor, not truncation error. |M - M_fd| fell 23x from 256
+     * to 512 with false position and 2.7x with Newton (3.6e-7 at 256, 15x
+     * below false position's), so it has a bound at each N, not a ratio. */
+    ASSERT_TRUE(dd[0] < 2e-5 && dd[1] < 1e-6);
     ASSERT_TRUE(ff[1] < ff[0] / 8);
     free(o);
 }
