@@ -79,18 +79,20 @@ __attribute__((noinline)) static double hsum_chain(const double *d6, long n)
     return hsumb(p);
 }
 
-/* Sims j0..j1-1 by wg_sim_run_batch, len steps each, called again with
- * the ones left each time one is done. */
+enum { NS = 8 }; /* sims a benchmark row runs */
+
+/* Sims j0..j1-1 (at most NS) by wg_sim_run_batch, len steps each, called
+ * again with the ones left each time one is done. */
 static void batch_runs(wg_sim *s, int j0, int j1, uint64_t len)
 {
-    uint64_t left[8];
+    uint64_t left[NS];
     for (int j = j0; j < j1; j++)
         left[j - j0] = len;
     for (;;) {
-        wg_sim *sp[8];
-        uint64_t n[8], done[8];
-        const wg_sink *sk[8];
-        int rc[8], idx[8], m = 0;
+        wg_sim *sp[NS];
+        uint64_t n[NS], done[NS];
+        const wg_sink *sk[NS];
+        int rc[NS], idx[NS], m = 0;
         for (int j = j0; j < j1; j++)
             if (left[j - j0])
                 sp[m] = &s[j], n[m] = left[j - j0], sk[m] = NULL, idx[m++] = j - j0;
@@ -107,7 +109,6 @@ static void batch_runs(wg_sim *s, int j0, int j1, uint64_t len)
  * wg_sim_run_pair (--pair 2), all eight by wg_sim_run_batch (one per
  * vector lane where the CPU has AVX2 or AVX-512), and three at a time by
  * it (3, 3, 2: a study thread's three chains). */
-enum { NS = 8 };
 static void runs(double w, double *alone, double *paired, double *batched, double *by3)
 {
     wg_sim s[NS];
