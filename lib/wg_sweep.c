@@ -141,15 +141,16 @@ static wg_record record_of(const work *w)
     return (wg_record){w->nstate, w->nrec, w->rec, w->stats};
 }
 
-int wg_record_period_error(wg_sim *fine, const wg_record *r, double *err)
+/* wg_record_period_error with the fine sim's period run by sm (its run
+ * hook, if any). */
+static int period_error_by(wg_simmap *sm, const wg_record *r, double *err)
 {
     if (r->n < 2)
         return WG_EINVAL;
     double x[WG_NSTATE_MAX];
     const double *a = r->y + (size_t)(r->n - 2) * r->nstate, *b = a + r->nstate;
     memcpy(x, a, sizeof(double) * (size_t)r->nstate);
-    wg_simmap sm = {fine, 1, NULL, NULL};
-    int rc = wg_simmap_step(&sm, x);
+    int rc = wg_simmap_step(sm, x);
     if (rc)
         return rc;
     double e = 0.0;
@@ -158,6 +159,14 @@ int wg_record_period_error(wg_sim *fine, const wg_record *r, double *err)
     *err = e;
     return WG_OK;
 }
+
+int wg_record_period_error(wg_sim *fine, const wg_record *r, double *err)
+{
+    wg_simmap sm = {fine, 1, NULL, NULL};
+    return period_error_by(&sm, r, err);
+}
+
+static int duo_sim_run(void *d, wg_sim *s, uint64_t n) { return duo_run(d, s, n, NULL); }
 
 /* One-period error of the N solution from the recorded sections. */
 static int period_error(work *w, const wg_params *p, double *err, char *why, size_t whylen)
@@ -169,10 +178,11 @@ static int period_error(work *w, const wg_params *p, double *err, char *why, siz
     if (rc)
         return rc;
     wg_record r = record_of(w);
-    return wg_record_period_error(&w->fine, &r, err);
+    wg_simmap sm = {&w->fine, 1, NULL, NULL};
+    if (w->duo) /* batched with other chains' runs when the thread runs several */
+        sm.run = duo_sim_run, sm.run_ctx = w->duo;
+    return period_error_by(&sm, &r, err);
 }
-
-static int duo_sim_run(void *d, wg_sim *s, uint64_t n) { return duo_run(d, s, n, NULL); }
 
 /* Largest Lyapunov exponent from the main sim's current state (both
  * trajectories' runs paired with other chains' when the thread runs
