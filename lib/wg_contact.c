@@ -132,63 +132,37 @@ void ct_interpolate(const wg_sim *s, evbuf *b, int j, int z0, int z1,
 
 /* The excitation at the sub-step times of one split step, each by
  * ct_exc_rot from psi0's (cos, sin), kept per k (ct_psi0: psi0 = 2 pi k /
- * N). Each time is evaluated once: the step's end recurs at every pass,
- * and the crossing a substep ends at is where the next starts and where
- * its contacts are taken. */
-enum { EXC_MEMO = 8 };
-typedef struct exc_memo {
-    double t[EXC_MEMO];
-    wg_exc e[EXC_MEMO];
-    int n, next;
+ * N). Each time is evaluated once: ct_split_step keeps the excitation at
+ * the step's end, at the time the next substep starts and at the crossing
+ * a substep ends at. */
+typedef struct exc_rot0 {
     double c0, s0; /* cos psi0, sin psi0 */
-} exc_memo;
+} exc_rot0;
 
 /* psi0 is wg_sim_psi(s) = 2 pi k / N at every step, an omega ramp's too
  * (ramp_step keeps the phase grid and adjusts h). */
-static void exc_memo_init(exc_memo *m, wg_sim *s, const phase *ph)
+static exc_rot0 exc_rot0_of(wg_sim *s, const phase *ph)
 {
-    m->n = m->next = 0;
     ct_psi0 *z = &s->core->psi0[s->k];
     if (!z->set) {
         z->c = cos(ph->psi0);
         z->s = sin(ph->psi0);
         z->set = 1;
     }
-    m->c0 = z->c;
-    m->s0 = z->s;
+    return (exc_rot0){z->c, z->s};
 }
 
-/* The excitation at t into *e (and the memo), the memo's if it has t. */
-static void exc_at(exc_memo *m, const wg_sim *s, const phase *ph, double t, wg_exc *e)
+static wg_exc exc_at(const exc_rot0 *m, const wg_sim *s, const phase *ph, double t)
 {
-    for (int i = 0; i < m->n; i++)
-        if (m->t[i] == t) {
-            *e = m->e[i];
-            return;
-        }
-    int i = m->next;
-    m->next = (i + 1) % EXC_MEMO;
-    m->n += m->n < EXC_MEMO;
-    m->t[i] = t;
-    m->e[i] = *e = ct_exc_rot(s, ph, m->c0, m->s0, t);
+    return ct_exc_rot(s, ph, m->c0, m->s0, t);
 }
 
-static void substep(const wg_sim *s, const phase *ph, exc_memo *m, const double *ya,
-                    double *yb, double t0, double t1)
+/* From ya at t0 (excitation e0) to yb at t1 (excitation e1). */
+static void substep(const wg_sim *s, const phase *ph, const exc_rot0 *m, const double *ya,
+                    double *yb, double t0, double t1, const wg_exc *e0, const wg_exc *e1)
 {
-    wg_exc e[3];
-    exc_at(m, s, ph, t0, &e[0]);
-    exc_at(m, s, ph, 0.5 * (t0 + t1), &e[1]);
-    exc_at(m, s, ph, t1, &e[2]);
+    wg_exc e[3] = {*e0, exc_at(m, s, ph, 0.5 * (t0 + t1)), *e1};
     s->core->kernel(ya, yb, &s->core->kc, e, t1 - t0);
-}
-
-static void contacts_at(const wg_sim *s, const phase *ph, exc_memo *m, const double *y,
-                        double t, double *q, double *v)
-{
-    wg_exc e;
-    exc_at(m, s, ph, t, &e);
-    ct_contacts(s, y, &e, q, v);
 }
 
 /* Record a located crossing in the trace (NULL: not recording). */
@@ -226,19 +200,20 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
     double qa[WG_NCONTACT], va[WG_NCONTACT], qb[WG_NCONTACT], vb[WG_NCONTACT];
     int nc = ct_ncontacts(s);
     double t = 0.0;
-    exc_memo m;
-    exc_memo_init(&m, s, ph);
+    const exc_rot0 m = exc_rot0_of(s, ph);
+    /* the excitation at t, at h, at the crossing tc a substep ended at */
+    wg_exc ea = exc_at(&m, s, ph, 0.0), eh = exc_at(&m, s, ph, h), ec;
     memcpy(ya, y0, sizeof ya);
     memcpy(yc, y0, sizeof yc);
     double qc[WG_NCONTACT], vc[WG_NCONTACT], tstate = 0.0;
     for (int splits = 0;; splits++) {
         if (splits > 0 && tstate == t) { /* ya = yc was evaluated there already */
-            memcpy(qa, qc, sizeof qa[0] * (size_t)nc);
-            memcpy(va, vc, sizeof va[0] * (size_t)nc);
+            memcpy(qa, qc, sizeof qa);
+            memcpy(va, vc, sizeof va);
         } else {
-            contacts_at(s, ph, &m, ya, t, qa, va);
+            ct_contacts(s, ya, &ea, qa, va);
         }
-        contacts_at(s, ph, &m, y1, h, qb, vb);
+        ct_contacts(s, y1, &eh, qb, vb);
         int first = -1, dir = 0;
         double tfirst = 2.0, thr = 0.0;
         for (int j = 0; j < nc; j++) {
@@ -261,9 +236,10 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
         /* step to the crossing, then refine it by Newton on the coordinate */
         double tc = t + tfirst * (h - t);
         for (int it = 0; it < 3; it++) {
-            substep(s, ph, &m, ya, yc, t, tc);
+            ec = exc_at(&m, s, ph, tc);
+            substep(s, ph, &m, ya, yc, t, tc, &ea, &ec);
             tstate = tc;
-            contacts_at(s, ph, &m, yc, tc, qc, vc);
+            ct_contacts(s, yc, &ec, qc, vc);
             double r = qc[first] - thr;
             if (fabs(r) <= 1e-13 * (1.0 + fabs(thr)) || vc[first] == 0.0)
                 break;
@@ -296,8 +272,9 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
             ct_set_lock(s, j, s->core->zone[j]);
         }
         memcpy(ya, yc, sizeof ya);
+        ea = tc == tstate ? ec : exc_at(&m, s, ph, tc); /* Newton ran out: tc is past tstate */
         t = tc;
-        substep(s, ph, &m, ya, y1, t, h);
+        substep(s, ph, &m, ya, y1, t, h, &ea, &eh);
     }
     /* smooth contacts, and any left after MAX_SPLITS: interpolate over the
      * last piece (qb: y1's contacts, from the pass that ended the loop) */

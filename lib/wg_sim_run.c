@@ -4,16 +4,9 @@
 #include "wormgear/wg_status.h"
 
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 /* ---- the step loop --------------------------------------------------------- */
-
-static int cmp_event(const void *a, const void *b)
-{
-    double ta = ((const wg_event *)a)->tau, tb = ((const wg_event *)b)->tau;
-    return (ta > tb) - (ta < tb);
-}
 
 /* Prepare a ramp step: current values, h with exactly 2 pi / N of phase,
  * and the phase law. Returns 1 if the ramp ends with this step. */
@@ -77,8 +70,13 @@ static void after_step(wg_sim *s, const double *q0, const double *v0, const doub
     s->core->cur.max_xn = dmax(s->core->cur.max_xn, q1[0]);
     if (b->n == 0)
         return;
-    if (b->n > 1)
-        qsort(b->ev, (size_t)b->n, sizeof b->ev[0], cmp_event);
+    for (int i = 1; i < b->n; i++) { /* by time, stable: a step has a few */
+        wg_event ev = b->ev[i];
+        int j = i;
+        for (; j > 0 && b->ev[j - 1].tau > ev.tau; j--)
+            b->ev[j] = b->ev[j - 1];
+        b->ev[j] = ev;
+    }
     for (int i = 0; i < b->n; i++) {
         wg_event *ev = &b->ev[i];
         s->nevents[ev->contact][ev->kind]++;
@@ -267,6 +265,7 @@ RUN_INLINE void run_general(runner *R)
         changed |= ct_zone(q1[j], s->core->kc.bj) ^ s->core->zone[j];
     evbuf b;
     b.n = 0;
+    int finite = 1;
     if (changed) {
         int zsave[WG_NCONTACT];
         uint64_t splits_before = s->nsplit;
@@ -289,14 +288,15 @@ RUN_INLINE void run_general(runner *R)
                 }
             }
         }
-        if (!sim_finite_state(y1, nst)) { /* undo the zone updates and counts */
+        finite = sim_finite_state(y1, nst);
+        if (!finite) { /* undo the zone updates and counts */
             s->nsplit = splits_before;
             memcpy(s->core->zone, zsave, sizeof zsave);
             for (int j = 0; j < WG_NCONTACT; j++)
                 ct_set_lock(s, j, s->core->zone[j]);
         }
     }
-    if (!sim_finite_state(y1, nst)) {
+    if (!(changed ? finite : sim_finite_state(y1, nst))) {
         R->rc = WG_ENONFINITE;
         return;
     }
