@@ -189,6 +189,17 @@ static void trace_switch(ct_split *sp, int contact, int from, int to)
     sp->zone_to[sp->n++] = to;
 }
 
+/* The contacts (bit j) whose coordinate q[j] lies outside its zone's
+ * bounds (ct_set_lock's zlo, zhi): every one whose ct_zone differs from
+ * its zone, and a NaN's. */
+static unsigned ct_left(const wg_sim *s, const double *q, int nc)
+{
+    unsigned m = 0;
+    for (int j = 0; j < nc; j++)
+        m |= (unsigned)!((s->core->zlo[j] <= q[j]) & (q[j] <= s->core->zhi[j])) << j;
+    return m;
+}
+
 /* Integrate [0, h] from y0 into y1 with the zones of the kinked contacts
  * (c > 0) locked between located crossings; y1 holds the unsplit trial
  * step on entry. Crossings of smooth contacts (c = 0) are interpolated.
@@ -216,7 +227,9 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
         ct_contacts(s, y1, &eh, qb, vb);
         int first = -1, dir = 0;
         double tfirst = 2.0, thr = 0.0;
-        for (int j = 0; j < nc; j++) {
+        const unsigned left = ct_left(s, qb, nc); /* the others keep their zones */
+        for (unsigned lm = left; lm; lm &= lm - 1) {
+            const int j = __builtin_ctz(lm);
             double c = ct_threshold(s, j), th;
             int z1 = ct_zone(qb[j], c), z = s->core->zone[j], d = z1 > z ? 1 : -1;
             if (z1 == z || c == 0.0)
@@ -258,7 +271,8 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
         /* Contacts at their boundary at the same instant switch in the same
          * split (a body's three bearing axes share k and xi and cross
          * together to ~1e-13): one split, not three. */
-        for (int j = 0; j < nc; j++) {
+        for (unsigned lm = left; lm; lm &= lm - 1) {
+            const int j = __builtin_ctz(lm);
             double c = ct_threshold(s, j), th;
             int z1 = ct_zone(qb[j], c), z = s->core->zone[j], d = z1 > z ? 1 : -1;
             if (j == first || z1 == z || c == 0.0)
@@ -278,7 +292,8 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
     }
     /* smooth contacts, and any left after MAX_SPLITS: interpolate over the
      * last piece (qb: y1's contacts, from the pass that ended the loop) */
-    for (int j = 0; j < nc; j++) {
+    for (unsigned lm = ct_left(s, qb, nc); lm; lm &= lm - 1) {
+        const int j = __builtin_ctz(lm);
         int z1 = ct_zone(qb[j], ct_threshold(s, j));
         if (z1 != s->core->zone[j]) {
             herm H = {qa[j], qb[j], va[j] * (h - t), vb[j] * (h - t)};
