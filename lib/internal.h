@@ -326,6 +326,17 @@ static inline void ct_contacts(const wg_sim *s, const double *y, const wg_exc *e
     v[0] = dx;
 }
 
+/* The contacts (bit j of the first nc) whose coordinate q[j] lies outside
+ * its zone's bounds (zlo, zhi, kept by ct_set_lock): every one whose
+ * ct_zone differs from its zone, and a NaN's (lib.test_model). */
+static inline unsigned ct_left(const wg_sim *s, const double *q, int nc)
+{
+    unsigned m = 0;
+    for (int j = 0; j < nc; j++)
+        m |= (unsigned)!((s->core->zlo[j] <= q[j]) & (q[j] <= s->core->zhi[j])) << j;
+    return m;
+}
+
 /* Lock contact's dead zone on `zone` (g = w x - zc) for the locked kernels,
  * and set the bounds of that zone (zlo, zhi) for the runs of plain steps.
  * Called whenever a zone or a threshold changes. */

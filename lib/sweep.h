@@ -26,11 +26,11 @@ typedef struct work {
     int hvalid;
     int cut;                   /* the last transient ended early (o->settle) */
     volatile sig_atomic_t *stop;
-    duo *duo;                  /* non-NULL: the main sim's runs go through it */
+    duo *duo;                  /* non-NULL: the sims' runs go through it */
 } work;
 
 /* A workspace for options o (stop: checked between a point's stages; d:
- * the main sim's runs go through it, or NULL); WG_ENOMEM if its record
+ * the main, twin and fine sims' runs go through it, or NULL); WG_ENOMEM if its record
  * buffer cannot be had. */
 int sweep_work_init(work *w, const wg_sweep_opts *o, volatile sig_atomic_t *stop, duo *d);
 void sweep_work_fini(work *w);

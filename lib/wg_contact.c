@@ -189,17 +189,6 @@ static void trace_switch(ct_split *sp, int contact, int from, int to)
     sp->zone_to[sp->n++] = to;
 }
 
-/* The contacts (bit j) whose coordinate q[j] lies outside its zone's
- * bounds (ct_set_lock's zlo, zhi): every one whose ct_zone differs from
- * its zone, and a NaN's. */
-static unsigned ct_left(const wg_sim *s, const double *q, int nc)
-{
-    unsigned m = 0;
-    for (int j = 0; j < nc; j++)
-        m |= (unsigned)!((s->core->zlo[j] <= q[j]) & (q[j] <= s->core->zhi[j])) << j;
-    return m;
-}
-
 /* Integrate [0, h] from y0 into y1 with the zones of the kinked contacts
  * (c > 0) locked between located crossings; y1 holds the unsplit trial
  * step on entry. Crossings of smooth contacts (c = 0) are interpolated.

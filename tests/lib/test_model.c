@@ -1,7 +1,7 @@
 /* Model equations: dead zone, hand-computed RHS terms, every specialised
  * kernel against the reference RHS, symmetric stiffness (consistent) vs the
  * printed form's asymmetry and drift, equilibrium, RK4 stability limit,
- * the split step's excitation by rotation. */
+ * the split step's excitation by rotation, the contacts' zone bounds. */
 #include "kern_fix.h"
 
 #include <math.h>
@@ -389,8 +389,59 @@ static void test_split_excitation_by_rotation(void)
     ASSERT_TRUE(worst > 0.0 && worst < 2e-15);
 }
 
+/* The split step finds the contacts that left their zones from the bounds
+ * ct_set_lock keeps (ct_left): a contact's bit must be set exactly where
+ * ct_zone puts its coordinate in another zone, or the coordinate is NaN,
+ * for every zone and threshold (0 too: a smooth contact), at the bounds,
+ * the doubles beside them, signed zeros, denormals and infinities. */
+static void test_zone_bounds_mask(void)
+{
+    wg_params p;
+    wg_params_default(&p);
+    wg_sim s;
+    char why[256];
+    wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, 128};
+    ASSERT_EQ_INT(wg_sim_init(&s, &p, &cfg, why, sizeof why), WG_OK);
+    const double cs[] = {0.0, 4.9e-324, 1e-300, 0.05, 1.0, 3.5};
+    unsigned seed = 12345;
+    long checked = 0, set = 0;
+    for (size_t a = 0; a < sizeof cs / sizeof cs[0]; a++)
+        for (size_t bj = 0; bj < sizeof cs / sizeof cs[0]; bj++)
+            for (int pat = 0; pat < 3; pat++) {
+                s.p.v[WG_P_B] = cs[a];
+                s.p.v[WG_P_B_J] = cs[bj];
+                for (int j = 0; j < WG_NCONTACT; j++) { /* zones -1, 0, 1 in turn */
+                    s.core->zone[j] = (j + pat) % 3 - 1;
+                    ct_set_lock(&s, j, s.core->zone[j]);
+                }
+                for (int j = 0; j < WG_NCONTACT; j++) {
+                    const double c = ct_threshold(&s, j);
+                    double probe[24] = {0.0, -0.0, c, -c, nextafter(c, INFINITY),
+                                        nextafter(c, -INFINITY), nextafter(-c, INFINITY),
+                                        nextafter(-c, -INFINITY), 2 * c + 1, -2 * c - 1,
+                                        INFINITY, -INFINITY, NAN, 4.9e-324, -4.9e-324};
+                    for (int r = 15; r < 24; r++) /* around the bounds, c's scale */
+                        probe[r] = (2.0 * rand_r(&seed) / RAND_MAX - 1.0) * (2 * c + 1e-300);
+                    for (int r = 0; r < 24; r++) {
+                        double q[WG_NCONTACT];
+                        for (int i = 0; i < WG_NCONTACT; i++)
+                            q[i] = i == j ? probe[r] : 0.5 * c; /* others at a zone-0 point */
+                        const unsigned m = ct_left(&s, q, WG_NCONTACT);
+                        const int left = ct_zone(q[j], c) != s.core->zone[j] || isnan(q[j]);
+                        ASSERT_EQ_INT((int)((m >> j) & 1u), left);
+                        checked++;
+                        set += left;
+                    }
+                }
+            }
+    printf("  %ld coordinates checked against ct_zone, %ld outside their zone\n", checked, set);
+    ASSERT_TRUE(set > checked / 4 && set < checked);
+    wg_sim_fini(&s);
+}
+
 TEST_MAIN(TEST(test_deadzone), TEST(test_model_names), TEST(test_rhs_hand_computed),
           TEST(test_kernels_match_reference),
           TEST(test_stiffness_symmetry), TEST(test_printed_drifts_consistent_settles),
           TEST(test_equilibrium_is_static), TEST(test_stability_limit),
-          TEST(test_stability_limit_methods), TEST(test_split_excitation_by_rotation))
+          TEST(test_stability_limit_methods), TEST(test_split_excitation_by_rotation),
+          TEST(test_zone_bounds_mask))
