@@ -487,6 +487,63 @@ static void test_batch_sink_changes_sim(void)
         wg_sim_fini(&s3[j]);
 }
 
+/* A sink that at its sim's 5th section sets xi_p 0.09 and k_1x 10 % up:
+ * the same specialisation, so its lane stays in the batch, which must load
+ * the new constants with the lane's state for the next steps to be alone's
+ * (a lane loaded again with its state alone fails here). */
+static void on_sec_retune(void *ctx, const wg_section *sec)
+{
+    changer *c = ctx;
+    on_sec(&c->r, sec);
+    if (c->r.nsec == 5) {
+        wg_params p = c->sim->p;
+        char why[300];
+        p.v[WG_P_XI_P] = 0.09;
+        p.v[WG_P_K1X] *= 1.1;
+        c->rc = wg_sim_set_params(c->sim, &p, why, sizeof why);
+    }
+}
+
+static void test_batch_sink_retunes_sim(void)
+{
+    const spec sp[3] = {{NULL, 0.7, 0.10, 0, 128, 0, 0}, {NULL, 0.5, 0.10, 0, 128, 0, 0},
+                        {NULL, 1.45, 0.12, 0, 128, 0, 0}};
+    const uint64_t n = 20 * 128;
+    int isa = kernel_isa_choose();
+    wg_sim alone, s3[3];
+    changer ca, cp;
+    runrec r3[3];
+    memset(&ca, 0, sizeof ca);
+    memset(&cp, 0, sizeof cp);
+    memset(r3, 0, sizeof r3);
+    sim_of(&sp[0], isa, &alone);
+    for (int j = 0; j < 3; j++)
+        sim_of(&sp[j], isa, &s3[j]);
+    const unsigned before = s3[0].core->kflags;
+    ca.sim = &alone, cp.sim = &s3[0];
+    wg_sink ska = {&ca, NULL, on_sec_retune, on_ev};
+    wg_sink sk[3] = {{&cp, NULL, on_sec_retune, on_ev}, {&r3[1], NULL, on_sec, on_ev},
+                     {&r3[2], NULL, on_sec, on_ev}};
+    ASSERT_EQ_INT(wg_sim_run(&alone, n, &ska, NULL), WG_OK);
+    wg_sim *const s[3] = {&s3[0], &s3[1], &s3[2]};
+    const uint64_t nn[3] = {n, 2 * n, 2 * n};
+    const wg_sink *const skp[3] = {&sk[0], &sk[1], &sk[2]};
+    uint64_t done[3];
+    int rc[3];
+    wg_sim_run_batch(3, s, nn, skp, done, rc);
+    ASSERT_TRUE(rc[0] == WG_OK && rc[1] == WG_OK && rc[2] == WG_OK && done[0] == n);
+    ASSERT_TRUE(ca.rc == WG_OK && cp.rc == WG_OK && s3[0].core->kflags == before);
+    same_run(&alone, &s3[0], &ca.r, &cp.r);
+    if (kbatch_select(before, isa, 3)) /* the change was made inside the batched loop */
+        ASSERT_TRUE(s3[0].core->batched > n / 2);
+    printf("a sink in a batch retuned its sim (xi_p, k_1x) at its 5th section: the same as "
+           "alone, %llu of %llu steps batched\n", (unsigned long long)s3[0].core->batched,
+           (unsigned long long)n);
+    wg_sim_fini(&alone);
+    for (int j = 0; j < 3; j++)
+        wg_sim_fini(&s3[j]);
+}
+
 /* A duo task: its runs, one after another, each recorded; or none. */
 typedef struct dtask {
     spec sp;
@@ -630,5 +687,5 @@ static void test_duo_wait(void)
 
 TEST_MAIN(TEST(test_pair_differs_in_params), TEST(test_pair_in_turn), TEST(test_pair_blowup),
           TEST(test_pair_sink_changes_sim), TEST(test_batch_eight), TEST(test_batch_kinds), TEST(test_batch_in_turn),
-          TEST(test_batch_sink_changes_sim), TEST(test_duo_tasks),
+          TEST(test_batch_sink_changes_sim), TEST(test_batch_sink_retunes_sim), TEST(test_duo_tasks),
           TEST(test_duo_wait))
