@@ -425,7 +425,7 @@ static void test_zone_bounds_mask(void)
                     for (int r = 0; r < 24; r++) {
                         double q[WG_NCONTACT];
                         for (int i = 0; i < WG_NCONTACT; i++)
-                            q[i] = i == j ? probe[r] : 0.5 * c; /* others at a zone-0 point */
+                            q[i] = i == j ? probe[r] : 0.5 * c; /* the others: bits not checked */
                         const unsigned m = ct_left(&s, q, WG_NCONTACT);
                         const int left = ct_zone(q[j], c) != s.core->zone[j] || isnan(q[j]);
                         ASSERT_EQ_INT((int)((m >> j) & 1u), left);
