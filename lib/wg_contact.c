@@ -206,6 +206,7 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
     memcpy(ya, y0, sizeof ya);
     memcpy(yc, y0, sizeof yc);
     double qc[WG_NCONTACT], vc[WG_NCONTACT], tstate = 0.0;
+    unsigned left; /* the contacts y1 has out of their zones, as of the last pass */
     for (int splits = 0;; splits++) {
         if (splits > 0 && tstate == t) { /* ya = yc was evaluated there already */
             memcpy(qa, qc, sizeof qa);
@@ -216,7 +217,7 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
         ct_contacts(s, y1, &eh, qb, vb);
         int first = -1, dir = 0;
         double tfirst = 2.0, thr = 0.0;
-        const unsigned left = ct_left(s, qb, nc); /* the others keep their zones */
+        left = ct_left(s, qb, nc); /* the others keep their zones */
         for (unsigned lm = left; lm; lm &= lm - 1) {
             const int j = __builtin_ctz(lm);
             double c = ct_threshold(s, j), th;
@@ -280,8 +281,9 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
         substep(s, ph, &m, ya, y1, t, h, &ea, &eh);
     }
     /* smooth contacts, and any left after MAX_SPLITS: interpolate over the
-     * last piece (qb: y1's contacts, from the pass that ended the loop) */
-    for (unsigned lm = ct_left(s, qb, nc); lm; lm &= lm - 1) {
+     * last piece (qb: y1's contacts, and left, from the pass that ended the
+     * loop, which switched no zone after it) */
+    for (unsigned lm = left; lm; lm &= lm - 1) {
         const int j = __builtin_ctz(lm);
         int z1 = ct_zone(qb[j], ct_threshold(s, j));
         if (z1 != s->core->zone[j]) {
