@@ -434,14 +434,22 @@ static void test_batch_in_turn(void)
     wg_sim_fini(&one);
 }
 
-/* A sink that ramps omega and then respecialises its sim mid-run (as in
- * test_pair_sink_changes_sim), in a batch of three: the loop is left at
- * once, and each sim ends as alone. */
-static void test_batch_sink_changes_sim(void)
+/* What batch3_changer reports of sim 0. */
+typedef struct batch3 {
+    uint64_t done0;         /* its steps in the batch call */
+    unsigned kflags0;       /* its specialisation before and after */
+    unsigned kflags1;
+    uint64_t batched;       /* its steps in the batched loop */
+} batch3;
+
+/* Three sims in one batch (table3 at omega 0.7, 0.5, 1.45), the first with
+ * the sink `change` (a changer) for n steps, the others recording only for
+ * 2n, then each alone to its end: the first must end as the same sink
+ * leaves it alone, the others as alone. */
+static batch3 batch3_changer(void (*change)(void *, const wg_section *), uint64_t n)
 {
     const spec sp[3] = {{NULL, 0.7, 0.10, 0, 128, 0, 0}, {NULL, 0.5, 0.10, 0, 128, 0, 0},
                         {NULL, 1.45, 0.12, 0, 128, 0, 0}};
-    const uint64_t n = 30 * 128;
     int isa = kernel_isa_choose();
     wg_sim alone, s3[3];
     changer ca, cp;
@@ -452,9 +460,10 @@ static void test_batch_sink_changes_sim(void)
     sim_of(&sp[0], isa, &alone);
     for (int j = 0; j < 3; j++)
         sim_of(&sp[j], isa, &s3[j]);
+    batch3 out = {0, s3[0].core->kflags, 0, 0};
     ca.sim = &alone, cp.sim = &s3[0];
-    wg_sink ska = {&ca, NULL, on_sec_change, on_ev};
-    wg_sink sk[3] = {{&cp, NULL, on_sec_change, on_ev}, {&r3[1], NULL, on_sec, on_ev},
+    wg_sink ska = {&ca, NULL, change, on_ev};
+    wg_sink sk[3] = {{&cp, NULL, change, on_ev}, {&r3[1], NULL, on_sec, on_ev},
                      {&r3[2], NULL, on_sec, on_ev}};
     ASSERT_EQ_INT(wg_sim_run(&alone, n, &ska, NULL), WG_OK);
     wg_sim *const s[3] = {&s3[0], &s3[1], &s3[2]};
@@ -465,12 +474,13 @@ static void test_batch_sink_changes_sim(void)
     wg_sim_run_batch(3, s, nn, skp, done, rc);
     ASSERT_TRUE(rc[0] == WG_OK && rc[1] == WG_OK && rc[2] == WG_OK);
     ASSERT_TRUE(done[0] == n || done[1] == 2 * n || done[2] == 2 * n);
+    out.done0 = done[0];
     for (int j = 0; j < 3; j++) { /* the rest of each, alone */
         uint64_t d = 0;
         ASSERT_EQ_INT(wg_sim_run(s[j], nn[j] - done[j], &sk[j], &d), WG_OK);
         done[j] += d;
     }
-    ASSERT_TRUE(ca.rc == WG_OK && cp.rc == WG_OK && !(s3[0].core->kflags & KF_BJ));
+    ASSERT_TRUE(ca.rc == WG_OK && cp.rc == WG_OK);
     same_run(&alone, &s3[0], &ca.r, &cp.r);
     for (int j = 1; j < 3; j++) {
         wg_sim b;
@@ -481,10 +491,22 @@ static void test_batch_sink_changes_sim(void)
         same_run(&b, &s3[j], &rr, &r3[j]);
         wg_sim_fini(&b);
     }
-    printf("a sink in a batch ramped its sim, then respecialised it: the same as alone\n");
+    out.kflags1 = s3[0].core->kflags;
+    out.batched = s3[0].core->batched;
     wg_sim_fini(&alone);
     for (int j = 0; j < 3; j++)
         wg_sim_fini(&s3[j]);
+    return out;
+}
+
+/* A sink that ramps omega and then respecialises its sim mid-run (as in
+ * test_pair_sink_changes_sim), in a batch of three: the loop is left at
+ * once, and each sim ends as alone. */
+static void test_batch_sink_changes_sim(void)
+{
+    batch3 b = batch3_changer(on_sec_change, 30 * 128);
+    ASSERT_TRUE(!(b.kflags1 & KF_BJ));
+    printf("a sink in a batch ramped its sim, then respecialised it: the same as alone\n");
 }
 
 /* A sink that at its sim's 5th section sets xi_p 0.09 and k_1x 10 % up:
@@ -506,42 +528,14 @@ static void on_sec_retune(void *ctx, const wg_section *sec)
 
 static void test_batch_sink_retunes_sim(void)
 {
-    const spec sp[3] = {{NULL, 0.7, 0.10, 0, 128, 0, 0}, {NULL, 0.5, 0.10, 0, 128, 0, 0},
-                        {NULL, 1.45, 0.12, 0, 128, 0, 0}};
     const uint64_t n = 20 * 128;
-    int isa = kernel_isa_choose();
-    wg_sim alone, s3[3];
-    changer ca, cp;
-    runrec r3[3];
-    memset(&ca, 0, sizeof ca);
-    memset(&cp, 0, sizeof cp);
-    memset(r3, 0, sizeof r3);
-    sim_of(&sp[0], isa, &alone);
-    for (int j = 0; j < 3; j++)
-        sim_of(&sp[j], isa, &s3[j]);
-    const unsigned before = s3[0].core->kflags;
-    ca.sim = &alone, cp.sim = &s3[0];
-    wg_sink ska = {&ca, NULL, on_sec_retune, on_ev};
-    wg_sink sk[3] = {{&cp, NULL, on_sec_retune, on_ev}, {&r3[1], NULL, on_sec, on_ev},
-                     {&r3[2], NULL, on_sec, on_ev}};
-    ASSERT_EQ_INT(wg_sim_run(&alone, n, &ska, NULL), WG_OK);
-    wg_sim *const s[3] = {&s3[0], &s3[1], &s3[2]};
-    const uint64_t nn[3] = {n, 2 * n, 2 * n};
-    const wg_sink *const skp[3] = {&sk[0], &sk[1], &sk[2]};
-    uint64_t done[3];
-    int rc[3];
-    wg_sim_run_batch(3, s, nn, skp, done, rc);
-    ASSERT_TRUE(rc[0] == WG_OK && rc[1] == WG_OK && rc[2] == WG_OK && done[0] == n);
-    ASSERT_TRUE(ca.rc == WG_OK && cp.rc == WG_OK && s3[0].core->kflags == before);
-    same_run(&alone, &s3[0], &ca.r, &cp.r);
-    if (kbatch_select(before, isa, 3)) /* the change was made inside the batched loop */
-        ASSERT_TRUE(s3[0].core->batched > n / 2);
+    batch3 b = batch3_changer(on_sec_retune, n);
+    ASSERT_TRUE(b.done0 == n && b.kflags1 == b.kflags0);
+    if (kbatch_select(b.kflags0, kernel_isa_choose(), 3)) /* changed inside the batched loop */
+        ASSERT_TRUE(b.batched > n / 2);
     printf("a sink in a batch retuned its sim (xi_p, k_1x) at its 5th section: the same as "
-           "alone, %llu of %llu steps batched\n", (unsigned long long)s3[0].core->batched,
+           "alone, %llu of %llu steps batched\n", (unsigned long long)b.batched,
            (unsigned long long)n);
-    wg_sim_fini(&alone);
-    for (int j = 0; j < 3; j++)
-        wg_sim_fini(&s3[j]);
 }
 
 /* A duo task: its runs, one after another, each recorded; or none. */
