@@ -146,7 +146,8 @@ typedef struct wg_sim_core {
     wg_kernel_fn kernel;  /* specialised kernel for the current parameters */
     wg_krun_fn krun;      /* its run of plain steps (NULL: printed form) */
     unsigned kflags;      /* which specialisation (for reports) */
-    int isa;              /* which instruction set's kernels (KISA_*) */
+    int isa;              /* instruction set of its batched loop's kernels (KISA_*) */
+    int isa_one;          /* ... of its own: kernel, krun, a pair's (kernel_isa_one) */
     int wrap_pending;     /* 1 from psi wrapping to 0 until period counts it (on_step) */
     wg_exc *table;        /* 2N+1 excitation entries at half steps */
     struct ct_psi0 *psi0; /* N: cos, sin of 2 pi k / N for ct_split_step, once set */
@@ -190,6 +191,18 @@ enum { KISA_SSE2, KISA_AVX2, KISA_AVX512, KISA_N };
 const char *kernel_isa_name(int isa);
 int kernel_isa_supported(int isa);
 int kernel_isa_choose(void);
+
+/* The set for one run's own kernels (a step, its run of plain steps, two
+ * runs paired) where isa is the one kernel_isa_choose gave: AVX2 in place
+ * of AVX-512 on an Intel CPU unless $WG_ISA names avx512, else isa. A run
+ * fills six of a 512-bit vector's eight lanes, and Intel's cores run
+ * 512-bit operations on two vector ports instead of three: on the Xeon
+ * (Emerald Rapids) of the twentieth session the AVX2 run loop took 41-46 ns
+ * a step against 48-51 (bench_gsl, table3 no impact), while a batch of
+ * eight runs, one a lane, still gained from AVX-512 (the 21-row map 6.1 s
+ * against 8.5 s with WG_ISA=avx2). On AMD's Zen 5 the AVX-512 run loop
+ * was the quicker, 45 against 49 ns (docs/performance.md). */
+int kernel_isa_one(int isa);
 
 /* The consistent-form kernel for a set of KF_* bits and an instruction set;
  * kc is a wg_kcoef. */

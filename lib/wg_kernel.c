@@ -43,6 +43,17 @@ int kernel_isa_choose(void)
            : kernel_isa_supported(KISA_AVX2) ? KISA_AVX2 : KISA_SSE2;
 }
 
+int kernel_isa_one(int isa)
+{
+#if defined(__x86_64__) && defined(__GNUC__)
+    const char *want = getenv("WG_ISA");
+    if (isa == KISA_AVX512 && !(want && strcmp(want, isa_names[KISA_AVX512]) == 0) &&
+        __builtin_cpu_is("intel") && kernel_isa_supported(KISA_AVX2))
+        return KISA_AVX2;
+#endif
+    return isa;
+}
+
 wg_kernel_fn kernel_select(unsigned kflags, int isa)
 {
     const wg_kernel_fn *t = isa == KISA_AVX512 ? kern_tab_avx512

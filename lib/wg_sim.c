@@ -90,8 +90,8 @@ void sim_coefficients(wg_sim *s)
         ct_set_lock(s, j, s->core->zone[j]);
     s->core->kflags = kflags_of(s);
     int printed = s->cfg.model == WG_MODEL_PRINTED;
-    s->core->kernel = printed ? kernel_printed : kernel_select(s->core->kflags, s->core->isa);
-    s->core->krun = printed ? NULL : krun_select(s->core->kflags, s->core->isa);
+    s->core->kernel = printed ? kernel_printed : kernel_select(s->core->kflags, s->core->isa_one);
+    s->core->krun = printed ? NULL : krun_select(s->core->kflags, s->core->isa_one);
 }
 
 void sim_build_table(wg_sim *s)
@@ -220,6 +220,7 @@ int wg_sim_init(wg_sim *s, const wg_params *p, const wg_sim_config *cfg, char *w
         s->core->table = malloc(sizeof(wg_exc) * (size_t)(2 * cfg->steps_per_period + 1));
         s->core->psi0 = calloc((size_t)cfg->steps_per_period, sizeof(ct_psi0)); /* none set */
         s->core->isa = kernel_isa_choose();
+        s->core->isa_one = kernel_isa_one(s->core->isa);
     }
     if (!s->core || !s->core->table || !s->core->psi0) {
         wg_sim_fini(s);

@@ -348,10 +348,10 @@ int wg_sim_run(wg_sim *s, uint64_t n, const wg_sink *sink, uint64_t *done)
 static wg_krun2_fn pair_fn(const runner *R)
 {
     const wg_sim_core *a = R[0].s->core, *b = R[1].s->core;
-    if (a->kflags != b->kflags || a->isa != b->isa || !run_fast_now(&R[0]) ||
+    if (a->kflags != b->kflags || a->isa_one != b->isa_one || !run_fast_now(&R[0]) ||
         !run_fast_now(&R[1]))
         return NULL;
-    return krun2_select(a->kflags, a->isa);
+    return krun2_select(a->kflags, a->isa_one);
 }
 
 /* Both sims' plain steps in one paired loop while both can take them (asked

@@ -283,6 +283,24 @@ static void test_isa_choice(void)
     ASSERT_EQ_INT(kernel_isa_choose(), widest);
     unsetenv("WG_ISA");
     ASSERT_STR(kernel_isa_name(KISA_AVX2), "avx2");
+    /* a run's own kernels: AVX2 for AVX-512 on an Intel CPU unless WG_ISA
+     * names avx512; any other set as it is */
+    ASSERT_EQ_INT(kernel_isa_one(KISA_SSE2), KISA_SSE2);
+    ASSERT_EQ_INT(kernel_isa_one(KISA_AVX2), KISA_AVX2);
+    if (kernel_isa_supported(KISA_AVX512)) {
+        int intel = 0;
+#if defined(__x86_64__) && defined(__GNUC__)
+        intel = __builtin_cpu_is("intel");
+#endif
+        ASSERT_EQ_INT(kernel_isa_one(KISA_AVX512), intel ? KISA_AVX2 : KISA_AVX512);
+        setenv("WG_ISA", "avx512", 1);
+        ASSERT_EQ_INT(kernel_isa_one(KISA_AVX512), KISA_AVX512);
+        setenv("WG_ISA", "avx2", 1);
+        ASSERT_EQ_INT(kernel_isa_one(KISA_AVX512), intel ? KISA_AVX2 : KISA_AVX512);
+        unsetenv("WG_ISA");
+        printf("a run's own kernels on this %s CPU: %s\n", intel ? "Intel" : "non-Intel",
+               kernel_isa_name(kernel_isa_one(KISA_AVX512)));
+    }
 }
 
 TEST_MAIN(TEST(test_kernels_agree_across_isas), TEST(test_runs_agree_across_paths),

@@ -56,7 +56,9 @@ typedef struct spec {
 } spec;
 
 /* A sim for sp on instruction set isa, with rk4-event (rk4: the plain rk4
- * stepper, whose dead zones are min/max instead of zone-locked). */
+ * stepper, whose dead zones are min/max instead of zone-locked); isa -1:
+ * the sets a user gets, with no WG_ISA (on an Intel CPU with AVX-512, the
+ * batched loop's AVX-512 and the run's own kernels' AVX2). */
 static void sim_of_stepper(const spec *sp, int isa, int rk4, wg_sim *s)
 {
     wg_params p;
@@ -69,7 +71,15 @@ static void sim_of_stepper(const spec *sp, int isa, int rk4, wg_sim *s)
     }
     p.v[WG_P_OMEGA] = sp->omega;
     p.v[WG_P_XI_P] = sp->xi_p;
-    if (rk4) { /* as kfix_sim_on, with the other stepper */
+    if (isa < 0) {
+        wg_sim_config cfg = {WG_MODEL_CONSISTENT, rk4 ? WG_STEPPER_RK4 : WG_STEPPER_RK4_EVENT,
+                             sp->N};
+        char why[300];
+        unsetenv("WG_ISA");
+        ASSERT_EQ_INT(wg_sim_init(s, &p, &cfg, why, sizeof why), WG_OK);
+        ASSERT_EQ_INT(s->core->isa, kernel_isa_choose());
+        ASSERT_EQ_INT(s->core->isa_one, kernel_isa_one(kernel_isa_choose()));
+    } else if (rk4) { /* as kfix_sim_on, with the other stepper */
         wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4, sp->N};
         char why[300];
         ASSERT_TRUE(setenv("WG_ISA", kernel_isa_name(isa), 1) == 0);
@@ -300,12 +310,15 @@ static void test_pair_sink_changes_sim(void)
  * all are (each call must return once one of them is done or fails), and
  * each alone by wg_sim_run, on every instruction set: the same bits; with
  * want_batched, most steps in the batched loop on AVX2 and AVX-512 (none
- * on the baseline, which has no batched loop).
+ * on the baseline, which has no batched loop). Last, the batch on the sets
+ * a user gets (no WG_ISA: the batched loop's and the runs' own may
+ * differ) against each run alone on the baseline.
  * Returns the number of calls. */
 static int check_batch(int L, const spec *sp, const int *want_rc, int want_batched, int rk4)
 {
     int calls = 0;
-    for (int isa = 0; isa < KISA_N; isa++) {
+    for (int pass = 0; pass <= KISA_N; pass++) {
+        const int user = pass == KISA_N, isa = user ? kernel_isa_choose() : pass;
         if (!kernel_isa_supported(isa))
             continue;
         wg_sim alone[KB_LANES], bs[KB_LANES];
@@ -314,11 +327,11 @@ static int check_batch(int L, const spec *sp, const int *want_rc, int want_batch
         uint64_t done[KB_LANES] = {0};
         int rc[KB_LANES] = {0};
         for (int j = 0; j < L; j++) {
-            sim_of_stepper(&sp[j], isa, rk4, &alone[j]);
+            sim_of_stepper(&sp[j], user ? KISA_SSE2 : isa, rk4, &alone[j]);
             memset(&ra[j], 0, sizeof ra[j]);
             wg_sink ska = {&ra[j], sp[j].general ? on_step : NULL, on_sec, on_ev};
             ASSERT_EQ_INT(wg_sim_run(&alone[j], sp[j].n, &ska, NULL), want_rc[j]);
-            sim_of_stepper(&sp[j], isa, rk4, &bs[j]);
+            sim_of_stepper(&sp[j], user ? -1 : isa, rk4, &bs[j]);
             memset(&rb[j], 0, sizeof rb[j]);
             sk[j] = (wg_sink){&rb[j], sp[j].general ? on_step : NULL, on_sec, on_ev};
         }
@@ -355,9 +368,11 @@ static int check_batch(int L, const spec *sp, const int *want_rc, int want_batch
             wg_sim_fini(&alone[j]);
             wg_sim_fini(&bs[j]);
         }
-        printf("%s: %d sims in %d calls, %llu of %llu steps in the batched loop: each as "
-               "alone\n", kernel_isa_name(isa), L, calls, (unsigned long long)batched,
-               (unsigned long long)steps);
+        printf("%s%s%s: %d sims in %d calls, %llu of %llu steps in the batched loop: each as "
+               "alone%s\n", kernel_isa_name(isa), user ? ", own kernels " : "",
+               user ? kernel_isa_name(kernel_isa_one(isa)) : "", L, calls,
+               (unsigned long long)batched, (unsigned long long)steps,
+               user ? " on sse2" : "");
         if (isa != KISA_SSE2 && want_batched) /* most steps in one loop */
             ASSERT_TRUE(batched > steps / 2);
         else if (isa == KISA_SSE2)
