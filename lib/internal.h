@@ -187,7 +187,8 @@ enum {
 enum { KISA_SSE2, KISA_AVX2, KISA_AVX512, KISA_N };
 
 /* Name ("sse2", "avx2", "avx512"); whether this CPU runs it; the one a new
- * wg_sim uses: $WG_ISA if it names a supported set, else the widest. */
+ * wg_sim's batched loop uses: $WG_ISA if it names a supported set, else the
+ * widest (its own kernels: kernel_isa_one). */
 const char *kernel_isa_name(int isa);
 int kernel_isa_supported(int isa);
 int kernel_isa_choose(void);
@@ -200,8 +201,9 @@ int kernel_isa_choose(void);
  * (Emerald Rapids) of the twentieth session the AVX2 run loop took 41-46 ns
  * a step against 48-51 (bench_gsl, table3 no impact), while a batch of
  * eight runs, one a lane, still gained from AVX-512 (the 21-row map 6.1 s
- * against 8.5 s with WG_ISA=avx2). On AMD's Zen 5 the AVX-512 run loop
- * was the quicker, 45 against 49 ns (docs/performance.md). */
+ * against 8.5 s with WG_ISA=avx2). On the AMD EPYC of the first sessions
+ * the AVX-512 run loop was the quicker, 45 against 49 ns
+ * (docs/performance.md, "A run's own kernels on AVX2 on an Intel CPU"). */
 int kernel_isa_one(int isa);
 
 /* The consistent-form kernel for a set of KF_* bits and an instruction set;
