@@ -3,6 +3,7 @@
 #include "bus_msg.h"
 #include "cli.h"
 #include "units.h"
+#include "wormgear/wg_mcast.h"
 #include "wormgear/wg_model.h"
 #include "wormgear/wg_sim.h"
 
@@ -261,9 +262,12 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
     gethostname(host, sizeof host - 1);
     snprintf(c->client, sizeof c->client, "%s-%d@%s", name, (int)getpid(), host);
     c->opened_us = cli_wall_us();
+    if (wg_mcast_route(url, why, whylen))
+        return -1;
     c->lcm = lcm_create(url);
-    if (!c->lcm) {
-        snprintf(why, whylen, "cannot open LCM URL '%s'", url);
+    if (!c->lcm) { /* LCM has said why on stderr */
+        snprintf(why, whylen, "cannot open LCM URL '%s' (LCM's reason is above); a URL is "
+                 WG_LCM_URL_FORMS, url);
         return -1;
     }
     c->ack_sub = bus_subscribe(c, "ACK", on_ack_raw, c, 0);

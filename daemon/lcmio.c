@@ -2,6 +2,7 @@
 #include "lcmio.h"
 
 #include "wormgear/wg_key.h"
+#include "wormgear/wg_mcast.h"
 #include "wormgear/wg_status.h"
 
 #include <dirent.h>
@@ -29,11 +30,13 @@ int lcmio_init(lcmio *io, const char *url, const char *prefix, char *why, size_t
                  LCMIO_RECV_BUF);
     else
         snprintf(full, sizeof full, "%s", url);
-    io->lcm = lcm_create(full);
-    if (!io->lcm) {
-        snprintf(why, whylen, "LCM: cannot open '%s' (bad URL, or no route for multicast: "
-                              "see docs/daemon.md)", url);
+    if (wg_mcast_route(url, why, whylen))
         return WG_EIO;
+    io->lcm = lcm_create(full);
+    if (!io->lcm) { /* LCM has said why on stderr */
+        snprintf(why, whylen, "LCM could not open '%s' (LCM's reason is above); a URL is "
+                 WG_LCM_URL_FORMS, url);
+        return WG_EINVAL;
     }
     return WG_OK;
 }

@@ -41,8 +41,10 @@ typedef struct lcmio {
 /* Suffixes of the channels: "CMD", "ACK", ... */
 const char *lcmio_channel_suffix(int ch);
 
-/* Create the LCM instance for url and build the channel names. WG_OK or
- * WG_EIO with why (bad URL, no multicast route: see docs/daemon.md). */
+/* Create the LCM instance for url and build the channel names. WG_OK,
+ * WG_EIO with why if the host has no route to a udpm:// URL's group
+ * (wg_mcast_route), or WG_EINVAL if LCM refuses the URL (a misspelt one:
+ * LCM's reason is on stderr). */
 int lcmio_init(lcmio *io, const char *url, const char *prefix, char *why, size_t whylen);
 
 /* Destroy the LCM instance (subscriptions go with it). */

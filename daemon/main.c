@@ -60,9 +60,8 @@ static int m_lcm(wgd *d)
                 "write its file, a tcpq:// one connects)", d->conf.url);
         return 0;
     }
-    if (lcmio_init(&d->io, d->conf.url, d->conf.prefix, d->init_why, sizeof d->init_why))
-        return 1;
-    return 0;
+    int rc = lcmio_init(&d->io, d->conf.url, d->conf.prefix, d->init_why, sizeof d->init_why);
+    return rc == WG_OK ? 0 : rc == WG_EINVAL ? 2 : 1; /* a URL LCM refuses: a config error */
 }
 
 static int m_stream(wgd *d)

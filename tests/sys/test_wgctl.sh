@@ -60,6 +60,25 @@ has err "config given twice"
 expect 2 "$D" --bogus
 has err "unknown option '--bogus'"
 [ "$(grep -o -- '--help' "$tmp/err" | wc -l)" -eq 1 ] || fail "--bogus: not exactly one hint: $(cat "$tmp/err")"
+# a URL LCM refuses is a configuration error: exit 2, LCM's reason and what
+# a URL is (it was exit 1, "bad URL, or no route for multicast")
+expect 2 "$D" --url bogus://x --check-config --state-dir "$tmp/state"
+has err 'LCM provider "bogus" not found'
+has err "lcm: LCM could not open 'bogus://x' (LCM's reason is above); a URL is udpm://GROUP:PORT"
+# no route to the group (a network namespace of its own, with nothing in
+# it): one line naming the group and the route to add, exit 1, from the
+# daemon and from a client; LCM's own page of advice, which named another
+# address and ifconfig, is not printed
+if unshare -n true 2>/dev/null; then
+    expect 1 unshare -n "$D" --check-config --state-dir "$tmp/state"
+    has err "lcm: no route to the multicast group 239.255.76.67 of $WORMGEAR_URL (Network is unreachable): add one, \`ip route add 239.0.0.0/8 dev lo\` for this host only"
+    ! grep -q "ifconfig\|LCM requires" "$tmp/err" || fail "LCM's advice printed: $(cat "$tmp/err")"
+    [ "$(grep -c 'error' "$tmp/err")" -eq 1 ] || fail "no route: not one error: $(cat "$tmp/err")"
+    expect 1 unshare -n "$C" get
+    has err "^wgctl: no route to the multicast group 239.255.76.67 of $WORMGEAR_URL"
+else
+    echo "note: no network namespace here: the no-route case is not tried"
+fi
 # a boolean takes "--key no" as well as "--key=no"
 expect 0 "$D" --accept-commands no --start-paused=yes --check-config
 expect 2 "$D" --accept-commands maybe --check-config
