@@ -11,46 +11,56 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-/* The group and port of udpm://A.B.C.D:PORT[?options]; 0 if url is not of
- * that form. */
-static int udpm_group(const char *url, struct sockaddr_in *sa, char *group, size_t glen)
+/* The group of udpm://NETWORK[?options] as LCM 1.3.1 reads NETWORK: empty
+ * for its default group, else GROUP[:PORT] with GROUP as inet_aton takes
+ * it (the port does not change the route). */
+static int group_of(const char *url, struct in_addr *group)
 {
     static const char scheme[] = "udpm://";
-    if (strncmp(url, scheme, sizeof scheme - 1) != 0)
+    if (!url || strncmp(url, scheme, sizeof scheme - 1) != 0)
         return 0;
-    const char *net = url + sizeof scheme - 1, *colon = strchr(net, ':');
-    size_t n = colon ? (size_t)(colon - net) : 0;
-    if (!colon || n == 0 || n >= glen)
+    const char *net = url + sizeof scheme - 1;
+    size_t n = strcspn(net, ":?");
+    char addr[64];
+    if (n == 0 && (net[0] == '\0' || net[0] == '?'))
+        snprintf(addr, sizeof addr, "%s", WG_LCM_DEFAULT_GROUP);
+    else if (n < sizeof addr)
+        memcpy(addr, net, n), addr[n] = '\0';
+    else
         return 0;
-    memcpy(group, net, n);
-    group[n] = '\0';
-    char *end;
-    errno = 0;
-    long port = strtol(colon + 1, &end, 10);
-    if (errno || end == colon + 1 || (*end != '\0' && *end != '?') || port < 1 || port > 65535)
-        return 0;
-    memset(sa, 0, sizeof *sa);
-    sa->sin_family = AF_INET;
-    sa->sin_port = htons((unsigned short)port);
-    return inet_pton(AF_INET, group, &sa->sin_addr) == 1 &&
-           IN_MULTICAST(ntohl(sa->sin_addr.s_addr));
+    return inet_aton(addr, group) != 0 && IN_MULTICAST(ntohl(group->s_addr));
+}
+
+int wg_mcast_group(const char *url, char name[WG_MCAST_NAME])
+{
+    struct in_addr g;
+    return group_of(url, &g) && inet_ntop(AF_INET, &g, name, WG_MCAST_NAME) != NULL;
 }
 
 int wg_mcast_route(const char *url, char *why, size_t whylen)
 {
-    struct sockaddr_in sa;
-    char group[INET_ADDRSTRLEN];
-    if (!url || !udpm_group(url, &sa, group, sizeof group))
+    struct in_addr g;
+    char name[WG_MCAST_NAME];
+    if (!group_of(url, &g) || !inet_ntop(AF_INET, &g, name, sizeof name))
         return WG_OK;
-    int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-    if (fd < 0)
-        return WG_OK; /* LCM will fail to open it too, and say why */
-    int rc = connect(fd, (const struct sockaddr *)&sa, sizeof sa), err = errno;
+    struct sockaddr_in sa = {.sin_family = AF_INET, .sin_port = htons(7667), .sin_addr = g};
+    int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0), err = errno;
+    if (fd < 0) {
+        snprintf(why, whylen, "cannot open a UDP socket for the multicast group %s: %s", name,
+                 strerror(err));
+        return WG_EIO;
+    }
+    int rc = connect(fd, (const struct sockaddr *)&sa, sizeof sa);
+    err = errno;
     close(fd);
-    if (rc == 0 || (err != ENETUNREACH && err != EHOSTUNREACH))
+    if (rc == 0)
         return WG_OK;
-    snprintf(why, whylen, "no route to the multicast group %s of %s (%s): add one, "
-             "`ip route add 239.0.0.0/8 dev lo` for this host only (ttl=0), or with the LAN's "
-             "interface in place of lo for ttl=1 (docs/daemon.md)", group, url, strerror(err));
+    if (err == ENETUNREACH || err == EHOSTUNREACH)
+        snprintf(why, whylen, "no route to the multicast group %s (%s): add one, e.g. `ip route "
+                 "add 239.0.0.0/8 dev lo` for this host only (docs/daemon.md)", name,
+                 strerror(err));
+    else
+        snprintf(why, whylen, "cannot send to the multicast group %s: %s (docs/daemon.md)", name,
+                 strerror(err));
     return WG_EIO;
 }

@@ -11,11 +11,22 @@
 
 #include <stddef.h>
 
-/* WG_OK if url is not of the form udpm://A.B.C.D:PORT[?...] with a
- * multicast group (LCM judges it), or a UDP socket connects to the group
- * (what LCM's own test does); WG_EIO with why (one sentence naming the
- * group and the command that adds a route) when the host has no route to
- * it. */
+enum { WG_MCAST_NAME = 16 }; /* "255.255.255.255" and its NUL */
+
+/* LCM's group when a udpm:// URL names none (udpm:// or udpm://?ttl=0). */
+#define WG_LCM_DEFAULT_GROUP "239.255.76.67"
+
+/* The multicast group of a udpm:// URL, read as LCM 1.3.1 reads it (no
+ * group: WG_LCM_DEFAULT_GROUP; GROUP[:PORT], GROUP as inet_aton takes it):
+ * 1 and the group in dotted form in name, or 0 if url is not a udpm:// one
+ * or names no multicast group that way (LCM judges it). */
+int wg_mcast_group(const char *url, char name[WG_MCAST_NAME]);
+
+/* WG_OK if wg_mcast_group finds no group in url, or a UDP socket connects
+ * to the group (what LCM's own test does); else WG_EIO with why, one
+ * sentence naming the group: "no route to the multicast group G (...):
+ * add one, e.g. `ip route add 239.0.0.0/8 dev lo` ..." when the host has
+ * no route to it, the error otherwise. */
 int wg_mcast_route(const char *url, char *why, size_t whylen);
 
 /* The forms of an LCM URL, for the message when LCM refuses one. */

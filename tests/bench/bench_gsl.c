@@ -102,11 +102,12 @@ int main(int argc, char **argv)
     enum { NROWS = sizeof rows / sizeof rows[0] };
     double event_ratio[NROWS]; /* rk4-event / bound, the median */
     gsl_set_error_handler_off();
-    const int ichosen = kernel_isa_choose();
-    const char *isa = kernel_isa_name(ichosen), *want = getenv("WG_ISA");
+    /* every row times a run alone: its own kernels (kernel_isa_one) */
+    const char *isa = kernel_isa_name(kernel_isa_one(kernel_isa_choose())),
+               *want = getenv("WG_ISA");
     printf("bench_gsl: N = %d, %ld steps (ours) / %ld (GSL, hand) x %d reps, medians; kernels "
-           "for %s (WG_ISA=sse2|avx2|avx512 chooses; a run's own kernels: %s)\n\n",
-           N, n, ng, reps, isa, kernel_isa_name(kernel_isa_one(ichosen)));
+           "for %s (a run's own; WG_ISA=sse2|avx2|avx512 chooses)\n\n",
+           N, n, ng, reps, isa);
     if (want && *want && strcmp(want, isa) != 0) /* misspelt, or a set this CPU lacks */
         printf("WG_ISA=%s is not a kernel set this CPU runs (sse2, avx2, avx512 where the CPU "
                "has them): the %s kernels ran\n\n", want, isa);

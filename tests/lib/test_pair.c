@@ -79,6 +79,10 @@ static void sim_of_stepper(const spec *sp, int isa, int rk4, wg_sim *s)
         ASSERT_EQ_INT(wg_sim_init(s, &p, &cfg, why, sizeof why), WG_OK);
         ASSERT_EQ_INT(s->core->isa, kernel_isa_choose());
         ASSERT_EQ_INT(s->core->isa_one, kernel_isa_one(kernel_isa_choose()));
+        /* the run's own kernels are the isa_one set's (every set gives the
+         * same bits, so only this tells which one runs) */
+        ASSERT_TRUE(s->core->kernel == kernel_select(s->core->kflags, s->core->isa_one));
+        ASSERT_TRUE(s->core->krun == krun_select(s->core->kflags, s->core->isa_one));
     } else if (rk4) { /* as kfix_sim_on, with the other stepper */
         wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4, sp->N};
         char why[300];
