@@ -307,8 +307,9 @@ static void summary(const run *r, const wg_sim *s, double wall)
            sc->description[0] ? "" : "");
     if (sc->description[0])
         printf("            %s\n", sc->description);
-    printf("model       %s, kernel %s, stepper %s\n", wg_model_name(s->cfg.model),
-           wg_sim_kernel_name(s, kn, sizeof kn), wg_stepper_name(s->cfg.stepper));
+    printf("model       %s, kernel %s (%s), stepper %s\n", wg_model_name(s->cfg.model),
+           wg_sim_kernel_name(s, kn, sizeof kn), wg_sim_isa_name(s),
+           wg_stepper_name(s->cfg.stepper));
     printf("scale       omega_n = %.6g rad/s, m_e = %.6g kg, b_c = %.3g m, K_m = %.6g N/m\n", wn,
            sc->scale.me_kg, sc->scale.length_m, sc->scale.mesh_stiffness_N_m);
     printf("geometry    a1 = %.6g, a2 = %.6g, a3 = %.6g, mu1 = %.6g, mu2 = %.6g\n", v[WG_P_A1],

@@ -138,9 +138,10 @@ static void started(wgd *d)
 {
     char kn[64];
     log_msg(&d->log, LOG_INFO,
-            "scene %s (%s, kernel %s, stepper %s, N = %d), mode %s rate %g, url %s, channels "
-            "%s*, state dir %s", d->scene.name, wg_model_name(d->sim.cfg.model),
-            wg_sim_kernel_name(&d->sim, kn, sizeof kn), wg_stepper_name(d->sim.cfg.stepper),
+            "scene %s (%s, kernel %s on %s, stepper %s, N = %d), mode %s rate %g, url %s, "
+            "channels %s*, state dir %s", d->scene.name, wg_model_name(d->sim.cfg.model),
+            wg_sim_kernel_name(&d->sim, kn, sizeof kn), wg_sim_isa_name(&d->sim),
+            wg_stepper_name(d->sim.cfg.stepper),
             d->sim.cfg.steps_per_period, conf_mode_name(d->conf.mode), d->conf.rate,
             d->conf.url, d->conf.prefix, d->conf.state_dir);
     report_params(d, "start", "", -1, 0);

@@ -448,6 +448,11 @@ void wg_sim_angles(const wg_sim *s, double th[2])
               s->y, th);
 }
 
+const char *wg_sim_isa_name(const wg_sim *s)
+{
+    return s->cfg.model == WG_MODEL_PRINTED ? "baseline" : kernel_isa_name(s->core->isa_one);
+}
+
 const char *wg_sim_kernel_name(const wg_sim *s, char *buf, size_t len)
 {
     if (s->cfg.model == WG_MODEL_PRINTED) {

@@ -301,6 +301,26 @@ static void test_isa_choice(void)
         printf("a run's own kernels on this %s CPU: %s\n", intel ? "Intel" : "non-Intel",
                kernel_isa_name(kernel_isa_one(KISA_AVX512)));
     }
+    /* wg_sim_isa_name: the set of a sim's own steps, as wgsim and the
+     * daemon report it; the printed form's step is the baseline's */
+    wg_params p;
+    wg_params_default(&p);
+    for (int model = 0; model < 2; model++)
+        for (int isa = -1; isa < KISA_N; isa++) {
+            if (isa >= 0 && !kernel_isa_supported(isa))
+                continue;
+            if (isa >= 0)
+                setenv("WG_ISA", kernel_isa_name(isa), 1);
+            wg_sim s;
+            wg_sim_config cfg = {model ? WG_MODEL_PRINTED : WG_MODEL_CONSISTENT,
+                                 WG_STEPPER_DEFAULT, 128};
+            char why[300];
+            const int want = kernel_isa_one(kernel_isa_choose()); /* WG_ISA as the sim sees it */
+            ASSERT_EQ_INT(wg_sim_init(&s, &p, &cfg, why, sizeof why), WG_OK);
+            unsetenv("WG_ISA");
+            ASSERT_STR(wg_sim_isa_name(&s), model ? "baseline" : kernel_isa_name(want));
+            wg_sim_fini(&s);
+        }
 }
 
 TEST_MAIN(TEST(test_kernels_agree_across_isas), TEST(test_runs_agree_across_paths),
