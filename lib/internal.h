@@ -201,8 +201,8 @@ int kernel_isa_choose(void);
  * (Emerald Rapids) of the twentieth session the AVX2 run loop took 41-46 ns
  * a step against 48-51 (bench_gsl, table3 no impact), while a batch of
  * eight runs, one a lane, still gained from AVX-512 (the 21-row map
- * 6.0-6.2 s against 8.4-8.8 s with WG_ISA=avx2). On the AMD EPYC of the first sessions
- * the AVX-512 run loop was the quicker, 45 against 49 ns
+ * 6.0-6.2 s against 8.4-8.8 s with WG_ISA=avx2). On the AMD EPYC of the
+ * first sessions the AVX-512 run loop was the quicker, 45 against 49 ns
  * (docs/performance.md, "A run's own kernels on AVX2 on an Intel CPU"). */
 int kernel_isa_one(int isa);
 
