@@ -268,7 +268,7 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
     if (!c->lcm) { /* LCM has said why on stderr */
         snprintf(why, whylen, "cannot open LCM URL '%s' (LCM's reason is above); a URL is "
                  WG_LCM_URL_FORMS, url);
-        return -1;
+        return BUS_EURL;
     }
     c->ack_sub = bus_subscribe(c, "ACK", on_ack_raw, c, 0);
     const char *key = getenv("WORMGEAR_KEY_FILE");

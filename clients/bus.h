@@ -136,12 +136,17 @@ const char *bus_default_prefix(void);
 
 /* 1 if p is a channel prefix the daemon accepts: [A-Za-z0-9_.-]{0,40}. */
 enum { BUS_PREFIX_MAX = 40 };
+
+/* bus_open's status when LCM refuses the URL (a misspelt one: LCM's reason
+ * is on stderr): a usage error, which the clients exit 2 for. */
+enum { BUS_EURL = -2 };
 int bus_prefix_ok(const char *p);
 
 /* Open LCM on url (NULL: default) with prefix (NULL: default); name is the
  * program name used in the client id. Commands are signed with the key in
- * $WORMGEAR_KEY_FILE when that is set (bus_set_key). 0, or -1 with a
- * message in why. */
+ * $WORMGEAR_KEY_FILE when that is set (bus_set_key). 0, BUS_EURL if LCM
+ * refuses the URL, or -1 (no route to its group, a key file refused); why
+ * says which. */
 int bus_open(bus *c, const char *url, const char *prefix, const char *name, char *why,
              size_t whylen);
 

@@ -116,8 +116,9 @@ int web_bus_open(web_bus *b, const char *url, const char *prefix, const web_bus_
     memset(b, 0, sizeof *b);
     b->h = *h;
     snprintf(b->url, sizeof b->url, "%s", url ? url : bus_default_url());
-    if (bus_open(&b->c, b->url, prefix, "wgweb", why, whylen) != 0)
-        return -1;
+    int rc = bus_open(&b->c, b->url, prefix, "wgweb", why, whylen);
+    if (rc != 0)
+        return rc; /* -1, or BUS_EURL */
     subscribe_all(b);
     return 0;
 }

@@ -43,7 +43,8 @@ typedef struct web_bus {
 } web_bus;
 
 /* Open LCM on url with prefix (NULL: the defaults) and subscribe the
- * daemon's output channels. 0, or -1 with a message in why. */
+ * daemon's output channels. 0, or bus_open's -1 or BUS_EURL with a message
+ * in why. */
 int web_bus_open(web_bus *b, const char *url, const char *prefix, const web_bus_hooks *h,
                  char *why, size_t whylen);
 

@@ -331,9 +331,9 @@ static int start(wgweb *w)
                           .ack_unverified = on_ack_unverified};
     if (msg_schemas_init(&w->schemas) != 0)
         return fprintf(stderr, "wgweb: out of memory\n"), -1;
-    if (web_bus_open(&w->bus, w->o.url, w->o.prefix, &bh, why, sizeof why) != 0 ||
-        (w->o.key_file && bus_set_key(&w->bus.c, w->o.key_file, why, sizeof why)))
-        return fprintf(stderr, "wgweb: %s\n", why), -1;
+    int brc = web_bus_open(&w->bus, w->o.url, w->o.prefix, &bh, why, sizeof why);
+    if (brc || (w->o.key_file && bus_set_key(&w->bus.c, w->o.key_file, why, sizeof why)))
+        return fprintf(stderr, "wgweb: %s\n", why), brc == BUS_EURL ? BUS_EURL : -1;
     if (start_fox(w) != 0)
         return fprintf(stderr, "wgweb: out of memory\n"), -1;
     int root = find_root(w);
@@ -424,9 +424,10 @@ int main(int argc, char **argv)
     w.start_s = w.last_sec_s = mono_s();
     w.cpu_last_s = cpu_s();
     snprintf(w.regime, sizeof w.regime, "unknown");
-    if (start(&w) != 0) {
+    int src = start(&w);
+    if (src != 0) {
         stop(&w);
-        return 1;
+        return src == BUS_EURL ? 2 : 1; /* an LCM URL LCM refuses: a usage error */
     }
     watch(&w);
     announce(&w);

@@ -75,7 +75,7 @@ static void usage(const web_opt *d)
     }
     printf("  -h, --help         this text\n\n"
            "Exit status: 0 stopped by SIGTERM or SIGINT, 1 could not start (the port, the\n"
-           "web root, LCM), 2 usage error.\n");
+           "web root, no route to LCM's group), 2 usage error (a URL LCM refuses too).\n");
 }
 
 static int set_num(web_opt *o, const num_opt *n, const char *text)

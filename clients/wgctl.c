@@ -86,8 +86,8 @@ static void usage(FILE *f)
             "  --key-file FILE  sign commands with this key (default $WORMGEAR_KEY_FILE;\n"
             "                   needed when the daemon has command_key_file)\n"
             "  -h, --help       this text\n\n"
-            "Exit status: 0 accepted (tick: sent; with --wait: run), 1 refused or no answer,\n"
-            "2 usage error.\n",
+            "Exit status: 0 accepted (tick: sent; with --wait: run), 1 refused or no answer\n"
+            "(or no bus), 2 usage error (an LCM URL LCM refuses too).\n",
             BUS_DEFAULT_URL, BUS_DEFAULT_PREFIX);
 }
 
@@ -717,11 +717,12 @@ static int run(ctl *t, int argc, char **argv)
                                "characters (the daemon's rule)", t->o.prefix, BUS_PREFIX_MAX);
     if (t->o.url && !*t->o.url)
         return cli_usage_error(PROG, "--url '': need an LCM URL (e.g. %s)", bus_default_url());
-    if (bus_open(&t->c, t->o.url, t->o.prefix, "wgctl", why, sizeof why) ||
-        (t->o.key_file && bus_set_key(&t->c, t->o.key_file, why, sizeof why))) {
+    int brc = bus_open(&t->c, t->o.url, t->o.prefix, "wgctl", why, sizeof why);
+    if (brc || (t->o.key_file && bus_set_key(&t->c, t->o.key_file, why, sizeof why))) {
         fprintf(stderr, "wgctl: %s\n", why);
         bus_close(&t->c);
-        return json_end(argc, argv, 1, "EBUS");
+        return brc == BUS_EURL ? json_end(argc, argv, CLI_EUSAGE, "EUSAGE")
+                               : json_end(argc, argv, 1, "EBUS");
     }
     rc = dispatch(t, pos[0], npos - 1, pos + 1);
     bus_close(&t->c);

@@ -144,7 +144,8 @@ static void usage(FILE *f)
             "utime to this host's clock: a daemon restart shows as `restarted xN`, a log\n"
             "played back (lcm-logplayer) as REPLAY with its age, and when several senders\n"
             "share the channels the live one is shown and the others are named.\n\n"
-            "Exit status: 0 ok, 1 no STATUS heard (--once/--frames), 2 usage error.\n",
+            "Exit status: 0 ok, 1 no STATUS heard (--once/--frames) or no bus, 2 usage error\n"
+            "(an LCM URL LCM refuses too).\n",
             BUS_DEFAULT_URL, BUS_DEFAULT_PREFIX);
 }
 
@@ -736,9 +737,10 @@ static int run(mon *m)
 static int setup(mon *m)
 {
     char why[256];
-    if (bus_open(&m->c, m->o.url, m->o.prefix, "wgmon", why, sizeof why)) {
+    int brc = bus_open(&m->c, m->o.url, m->o.prefix, "wgmon", why, sizeof why);
+    if (brc) {
         fprintf(stderr, "wgmon: %s\n", why);
-        return 1;
+        return brc == BUS_EURL ? 2 : 1;
     }
     /* LCM's default queue (30 messages a subscription) drops what arrives
      * while the monitor is not scheduled for ~0.3 s (a live daemon and a

@@ -50,6 +50,8 @@ expect 2 "$M" --size 10x10
 has err "COLSxROWS"
 expect 2 "$M" --bogus
 has err "unknown option"
+expect 2 "$M" --once --url bogus://x # an LCM URL LCM refuses: a usage error (it was 1)
+has err "^wgmon: cannot open LCM URL 'bogus://x' (LCM's reason is above); a URL is udpm://"
 # ---- no daemon: --once waits --timeout, then exits 1
 expect 1 "$M" --once --timeout 0.5 --size 80x24
 has out "waiting for MONT_STATUS"

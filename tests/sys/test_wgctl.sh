@@ -65,6 +65,13 @@ has err "unknown option '--bogus'"
 expect 2 "$D" --url bogus://x --check-config --state-dir "$tmp/state"
 has err 'LCM provider "bogus" not found'
 has err "lcm: LCM could not open 'bogus://x' (LCM's reason is above); a URL is udpm://GROUP:PORT"
+# ... and a usage error for a client (it was exit 1, as for no answer), with
+# --json too; wgctl's --url and $WORMGEAR_URL alike
+expect 2 "$C" --url 'udpm://239.255.76.67:99999?ttl=0' get
+has err 'Bad multicast port "99999"'
+has err "^wgctl: cannot open LCM URL 'udpm://239.255.76.67:99999?ttl=0' (LCM's reason is above)"
+expect 2 env WORMGEAR_URL=bogus://y "$C" --json get
+has out '"code":"EUSAGE"'
 # no route to the group (a network namespace of its own, with nothing in
 # it): one line naming the group and the route to add, exit 1, from the
 # daemon and from a client, for the URL in use and for LCM's default group
