@@ -48,16 +48,19 @@ static long double hder(const herm *H, long double t)
 
 /* Is t a crossing of H = c to within the claim, ~1e-15 in t? H - c must
  * change sign (or vanish) on [t - e, t + e] within [0, 1], where e is
- * 2e-15 plus what rounding H to double near the root (4e-16 of its terms)
- * moves the root by at H's rate there, and at most 1e-7 (a turning point,
- * where the rate vanishes, must not pass for a root). *worst: the largest
- * distance seen from t to the sign change. */
+ * 2e-15 plus what rounding H to double near the root (4e-16 of its terms:
+ * the Hermite data and the power basis's p2 and p3, which herm_root
+ * evaluates, up to ~4x the data) moves the root by at H's rate there, and
+ * at most 1e-7 (a turning point, where the rate vanishes, must not pass for
+ * a root). *worst: the largest distance seen from t to the sign change. */
 static int near_crossing(const herm *H, double c, double t, double *worst)
 {
     if (!(t >= 0.0 && t <= 1.0))
         return 0;
-    long double scale = fabsl((long double)H->q0) + fabsl((long double)H->q1) +
-                        fabsl((long double)H->d0) + fabsl((long double)H->d1) + fabs(c);
+    long double q0 = H->q0, q1 = H->q1, d0 = H->d0, d1 = H->d1;
+    long double p2 = 3 * (q1 - q0) - 2 * d0 - d1, p3 = 2 * (q0 - q1) + d0 + d1;
+    long double scale = fabsl(q0) + fabsl(q1) + fabsl(d0) + fabsl(d1) + fabs(c) + fabsl(p2) +
+                        fabsl(p3);
     long double slope = fabsl(hder(H, t));
     long double e = 2e-15L + 4e-16L * scale / (slope > 1e-300L ? slope : 1e-300L);
     if (e > 1e-7L)
