@@ -71,27 +71,24 @@ static void sim_of_stepper(const spec *sp, int isa, int rk4, wg_sim *s)
     }
     p.v[WG_P_OMEGA] = sp->omega;
     p.v[WG_P_XI_P] = sp->xi_p;
-    if (isa < 0) {
-        wg_sim_config cfg = {WG_MODEL_CONSISTENT, rk4 ? WG_STEPPER_RK4 : WG_STEPPER_RK4_EVENT,
-                             sp->N};
-        char why[300];
+    /* as kfix_sim_on, with either stepper, or with no WG_ISA */
+    wg_sim_config cfg = {WG_MODEL_CONSISTENT, rk4 ? WG_STEPPER_RK4 : WG_STEPPER_RK4_EVENT, sp->N};
+    char why[300];
+    if (isa >= 0)
+        ASSERT_TRUE(setenv("WG_ISA", kernel_isa_name(isa), 1) == 0);
+    else
         unsetenv("WG_ISA");
-        ASSERT_EQ_INT(wg_sim_init(s, &p, &cfg, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(wg_sim_init(s, &p, &cfg, why, sizeof why), WG_OK);
+    unsetenv("WG_ISA");
+    if (isa >= 0) {
+        ASSERT_EQ_INT(s->core->isa, isa);
+    } else {
         ASSERT_EQ_INT(s->core->isa, kernel_isa_choose());
         ASSERT_EQ_INT(s->core->isa_one, kernel_isa_one(kernel_isa_choose()));
         /* the run's own kernels are the isa_one set's (every set gives the
          * same bits, so only this tells which one runs) */
         ASSERT_TRUE(s->core->kernel == kernel_select(s->core->kflags, s->core->isa_one));
         ASSERT_TRUE(s->core->krun == krun_select(s->core->kflags, s->core->isa_one));
-    } else if (rk4) { /* as kfix_sim_on, with the other stepper */
-        wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4, sp->N};
-        char why[300];
-        ASSERT_TRUE(setenv("WG_ISA", kernel_isa_name(isa), 1) == 0);
-        ASSERT_EQ_INT(wg_sim_init(s, &p, &cfg, why, sizeof why), WG_OK);
-        unsetenv("WG_ISA");
-        ASSERT_EQ_INT(s->core->isa, isa);
-    } else {
-        kfix_sim_on(s, &p, sp->N, isa);
     }
     if (sp->s0 != 0.0) {
         double y0[WG_NSTATE_MAX] = {0};
