@@ -82,11 +82,10 @@ int rig_ana_lle(rig_ana *a, const rig_rec *r, wg_point *pt, char *why, size_t wh
         }
         a->have_lle = 1;
     }
-    wg_simmap sb = {&a->base, 1, NULL, NULL}, st = {&a->twin, 1, NULL, NULL};
-    wg_map mb = wg_simmap_map(&sb), mt = wg_simmap_map(&st);
     double x[WG_NSTATE_MAX] = {0};
     memcpy(x, r->y + (size_t)(r->n - 1) * r->nstate, sizeof(double) * (size_t)r->nstate);
-    rc = wg_lle_twin(&mb, &mt, x, a->o->lle_periods, a->o->lle_d0, &pt->lle);
+    rc = wg_lle_sims(&a->base, &a->twin, x, a->o->lle_periods, a->o->lle_d0, NULL, NULL,
+                     &pt->lle);
     if (rc)
         snprintf(why, whylen, "LLE: %s", wg_status_str(rc));
     return rc;

@@ -261,11 +261,9 @@ static double print_lle(FILE *out, const wg_params *p, const double *y, const wg
         return lle;
     if (wg_sim_init(&twin, p, &cfg, why, sizeof why) == WG_OK) {
         wg_sim_set_state(&sim, y, 0, 0.0);
-        wg_simmap sb = {&sim, 1, NULL, NULL}, st = {&twin, 1, NULL, NULL};
-        wg_map mb = wg_simmap_map(&sb), mt = wg_simmap_map(&st);
         double x[WG_NSTATE_MAX], v;
         memcpy(x, y, sizeof x);
-        if (wg_lle_twin(&mb, &mt, x, o->lle_periods, o->lle_d0, &v) == WG_OK) {
+        if (wg_lle_sims(&sim, &twin, x, o->lle_periods, o->lle_d0, NULL, NULL, &v) == WG_OK) {
             lle = v;
             fprintf(out, "lyapunov    %.5f per mesh period (%d periods, d0 = %g)\n", lle,
                     o->lle_periods, o->lle_d0);

@@ -2,11 +2,12 @@
  *
  * The tasks are ucontext coroutines, each on an mmap'd stack with a guard
  * page below it. The scheduler runs on the thread's own stack: it resumes
- * every task that can go on until each has asked for a run (or returned),
- * then advances the two runs asked for longest ago with wg_sim_run_pair
- * (three or more of one kind, on a CPU with a batched loop: all of those
- * with wg_sim_run_batch, one sim a vector lane) until one is done, and
- * resumes that task; a run with no partner goes by wg_sim_run. The runs
+ * every task that can go on until each has asked for its runs (one or
+ * two) or returned, then advances the two runs asked for longest ago with
+ * wg_sim_run_pair (three or more of one kind, on a CPU with a batched
+ * loop: up to KB_LANES of those, the oldest, with wg_sim_run_batch, one sim
+ * a vector lane) until one is done, and resumes its task once none of the
+ * task's runs is left; a run with no partner goes by wg_sim_run. The runs
  * themselves (and their sinks' callbacks) execute on the scheduler's stack.
  * A task in duo_wait is resumed when the idle function says so, or, with
  * none, when no task can go on. Under AddressSanitizer every switch is announced
@@ -31,6 +32,14 @@
 enum { STACK_BYTES = 1 << 20 }; /* touched pages only: a sweep point needs ~20 kB */
 enum { T_READY, T_WAIT, T_IDLE, T_DONE }; /* T_IDLE: in duo_wait */
 
+/* A run a task asked for (busy until it is done or has failed). */
+typedef struct drun {
+    wg_sim *s;
+    const wg_sink *sink;
+    uint64_t n, done, asked; /* asked: order of asking, oldest first */
+    int rc, busy;
+} drun;
+
 typedef struct task {
     ucontext_t ctx;
     char *map;      /* guard page, then the stack */
@@ -38,11 +47,7 @@ typedef struct task {
     duo *d;
     void *arg;
     int state;
-    /* the run asked for (T_WAIT) and its progress */
-    wg_sim *s;
-    const wg_sink *sink;
-    uint64_t n, done, asked; /* asked: order of asking, oldest first */
-    int rc;
+    drun r[DUO_RUNS]; /* the runs asked for (T_WAIT: until none is busy) */
 } task;
 
 struct duo {
@@ -99,16 +104,38 @@ static void entry(unsigned hi, unsigned lo)
     to_main(t);
 }
 
+/* The task asks for its runs r[0..k) (n > 0 each) and yields until every
+ * one is done or has failed. */
+static void ask(task *t, int k)
+{
+    duo *d = t->d;
+    for (int j = 0; j < DUO_RUNS; j++)
+        t->r[j].busy = j < k;
+    for (int j = 0; j < k; j++)
+        t->r[j].done = 0, t->r[j].rc = WG_OK, t->r[j].asked = d->clock++;
+    t->state = T_WAIT;
+    to_main(t);
+}
+
 int duo_run(duo *d, wg_sim *s, uint64_t n, const wg_sink *sink)
 {
     task *t = &d->t[d->cur];
     if (n == 0)
         return WG_OK;
-    t->s = s, t->n = n, t->sink = sink, t->done = 0, t->rc = WG_OK;
-    t->state = T_WAIT;
-    t->asked = d->clock++;
-    to_main(t);
-    return t->rc;
+    t->r[0].s = s, t->r[0].n = n, t->r[0].sink = sink;
+    ask(t, 1);
+    return t->r[0].rc;
+}
+
+int duo_run2(duo *d, wg_sim *a, wg_sim *b, uint64_t n)
+{
+    task *t = &d->t[d->cur];
+    if (n == 0)
+        return WG_OK;
+    t->r[0] = (drun){.s = a, .n = n};
+    t->r[1] = (drun){.s = b, .n = n};
+    ask(t, 2);
+    return t->r[0].rc != WG_OK ? t->r[0].rc : t->r[1].rc;
 }
 
 void duo_wait(duo *d)
@@ -126,78 +153,95 @@ static void duo_wake(duo *d)
             d->t[i].state = T_READY;
 }
 
-/* The waiting task asked longest ago other than `not` (-1: none). */
-static int oldest_waiting(const duo *d, int not)
+/* Run ids: task i's run j is i * DUO_RUNS + j. */
+static drun *run_of(duo *d, int id) { return &d->t[id / DUO_RUNS].r[id % DUO_RUNS]; }
+
+/* The busy run asked for longest ago other than `not` (-1: none). */
+static int oldest_waiting(duo *d, int not)
 {
     int best = -1;
-    for (int i = 0; i < d->n; i++)
-        if (i != not && d->t[i].state == T_WAIT &&
-            (best < 0 || d->t[i].asked < d->t[best].asked))
-            best = i;
+    for (int id = 0; id < d->n * DUO_RUNS; id++)
+        if (id != not && run_of(d, id)->busy &&
+            (best < 0 || run_of(d, id)->asked < run_of(d, best)->asked))
+            best = id;
     return best;
 }
 
-/* Advance the runs of tasks a and b (b < 0: a alone) until one is done;
- * a task whose run is done (or failed) can go on. */
+/* Run `id` took m steps more and returned rc: once it is done (or failed)
+ * it is no longer busy, and its task can go on when none of its runs is. */
+static void run_moved(duo *d, int id, uint64_t m, int rc)
+{
+    drun *r = run_of(d, id);
+    task *t = &d->t[id / DUO_RUNS];
+    r->done += m;
+    r->rc = rc;
+    if (rc != WG_OK || r->done == r->n)
+        r->busy = 0;
+    int busy = 0;
+    for (int j = 0; j < DUO_RUNS; j++)
+        busy |= t->r[j].busy;
+    if (!busy)
+        t->state = T_READY;
+}
+
+/* Advance runs a and b (b < 0: a alone, to its end) until one is done. */
 static void advance(duo *d, int a, int b)
 {
-    task *ta = &d->t[a];
+    drun *ra = run_of(d, a);
     if (b < 0) {
         uint64_t m = 0;
-        ta->rc = wg_sim_run(ta->s, ta->n - ta->done, ta->sink, &m);
-        ta->done += m;
-        ta->state = T_READY;
+        int rc = wg_sim_run(ra->s, ra->n - ra->done, ra->sink, &m);
+        run_moved(d, a, m, rc);
         return;
     }
-    task *tb = &d->t[b];
-    wg_sim *const s[2] = {ta->s, tb->s};
-    const uint64_t n[2] = {ta->n - ta->done, tb->n - tb->done};
-    const wg_sink *const sk[2] = {ta->sink, tb->sink};
+    drun *rb = run_of(d, b);
+    wg_sim *const s[2] = {ra->s, rb->s};
+    const uint64_t n[2] = {ra->n - ra->done, rb->n - rb->done};
+    const wg_sink *const sk[2] = {ra->sink, rb->sink};
     uint64_t m[2] = {0, 0};
     int rc[2];
     wg_sim_run_pair(s, n, sk, m, rc);
-    task *both[2] = {ta, tb};
-    for (int j = 0; j < 2; j++) {
-        both[j]->done += m[j];
-        both[j]->rc = rc[j];
-        if (rc[j] != WG_OK || both[j]->done == both[j]->n)
-            both[j]->state = T_READY;
-    }
+    run_moved(d, a, m[0], rc[0]);
+    run_moved(d, b, m[1], rc[1]);
 }
 
-/* The waiting tasks whose sims are of the oldest one's (a) kind, into idx:
- * how many. */
-static int same_kind(const duo *d, int a, int idx[DUO_MAX])
+/* The busy runs whose sims are of run a's kind, into idx, oldest first (a
+ * is the oldest busy run), at most a batch's KB_LANES: how many. */
+static int same_kind(duo *d, int a, int idx[KB_LANES])
 {
-    const wg_sim_core *c = d->t[a].s->core;
-    int L = 0;
-    for (int i = 0; i < d->n; i++)
-        if (d->t[i].state == T_WAIT && d->t[i].s->core->kflags == c->kflags &&
-            d->t[i].s->core->isa == c->isa)
-            idx[L++] = i;
+    const wg_sim_core *c = run_of(d, a)->s->core;
+    int all[DUO_MAX * DUO_RUNS], L = 0;
+    for (int id = 0; id < d->n * DUO_RUNS; id++) {
+        const drun *r = run_of(d, id);
+        if (!r->busy || r->s->core->kflags != c->kflags || r->s->core->isa != c->isa)
+            continue;
+        int k = L++;
+        for (; k > 0 && run_of(d, all[k - 1])->asked > r->asked; k--)
+            all[k] = all[k - 1];
+        all[k] = id;
+    }
+    if (L > KB_LANES)
+        L = KB_LANES;
+    for (int k = 0; k < L; k++)
+        idx[k] = all[k];
     return L;
 }
 
-/* Advance the runs of tasks idx[0..L) in one batch (wg_sim_run_batch)
- * until one is done; as advance. */
+/* Advance runs idx[0..L) in one batch (wg_sim_run_batch) until one is
+ * done; as advance. */
 static void advance_batch(duo *d, const int idx[], int L)
 {
-    wg_sim *s[DUO_MAX] = {NULL};
-    uint64_t n[DUO_MAX] = {0}, m[DUO_MAX] = {0};
-    const wg_sink *sk[DUO_MAX] = {NULL};
-    int rc[DUO_MAX] = {0};
+    wg_sim *s[KB_LANES] = {NULL};
+    uint64_t n[KB_LANES] = {0}, m[KB_LANES] = {0};
+    const wg_sink *sk[KB_LANES] = {NULL};
+    int rc[KB_LANES] = {0};
     for (int j = 0; j < L; j++) {
-        const task *t = &d->t[idx[j]];
-        s[j] = t->s, n[j] = t->n - t->done, sk[j] = t->sink;
+        const drun *r = run_of(d, idx[j]);
+        s[j] = r->s, n[j] = r->n - r->done, sk[j] = r->sink;
     }
     wg_sim_run_batch(L, s, n, sk, m, rc);
-    for (int j = 0; j < L; j++) {
-        task *t = &d->t[idx[j]];
-        t->done += m[j];
-        t->rc = rc[j];
-        if (rc[j] != WG_OK || t->done == t->n)
-            t->state = T_READY;
-    }
+    for (int j = 0; j < L; j++)
+        run_moved(d, idx[j], m[j], rc[j]);
 }
 
 static void duo_free(duo *d)
@@ -258,10 +302,11 @@ int duo_main(int n, duo_task_fn fn, void *const args[], duo_idle_fn idle, void *
                 duo_wake(d);
             continue;
         }
-        /* three or more runs of one kind, with a batched loop: all of them
-         * in one batch (one sim a vector lane); else the two oldest paired */
-        const wg_sim_core *c = d->t[a].s->core;
-        int idx[DUO_MAX], L = same_kind(d, a, idx);
+        /* three or more runs of one kind, with a batched loop: up to
+         * KB_LANES, the oldest, in one batch (one sim a vector lane); else
+         * the two oldest paired */
+        const wg_sim_core *c = run_of(d, a)->s->core;
+        int idx[KB_LANES], L = same_kind(d, a, idx);
         if (L >= DUO_BATCH_MIN && kbatch_select(c->kflags, c->isa, L))
             advance_batch(d, idx, L);
         else

@@ -115,17 +115,22 @@ int wg_tracker_period(const wg_tracker *t, double *resid)
 
 /* ---- wg_sim as a Poincare map -------------------------------------------- */
 
+/* Put sim s at x and psi = 0; a sim already there continues without a
+ * reset. */
+static void simmap_enter(wg_sim *s, const double *x)
+{
+    if (s->k != 0 || memcmp(s->y, x, sizeof(double) * (size_t)s->nstate) != 0)
+        wg_sim_set_state(s, x, 0, s->tau);
+}
+
 int wg_simmap_step(void *ctx, double *x)
 {
     wg_simmap *sm = ctx;
     wg_sim *s = sm->sim;
-    size_t bytes = sizeof(double) * (size_t)s->nstate;
-    /* a sim already at x and psi = 0 continues without a reset */
-    if (s->k != 0 || memcmp(s->y, x, bytes) != 0)
-        wg_sim_set_state(s, x, 0, s->tau);
+    simmap_enter(s, x);
     uint64_t n = (uint64_t)sm->periods * (uint64_t)s->cfg.steps_per_period;
     int rc = sm->run ? sm->run(sm->run_ctx, s, n) : wg_sim_run(s, n, NULL, NULL);
-    memcpy(x, s->y, bytes);
+    memcpy(x, s->y, sizeof(double) * (size_t)s->nstate);
     return rc;
 }
 
@@ -158,19 +163,20 @@ static void twin_start(const double *x, double *xt, int dim, double d0)
         xt[j] = x[j] + d0 * (1.0 + 0.1 * j) / sqrt(nrm);
 }
 
-int wg_lle_twin(const wg_map *base, const wg_map *twin, double *x, int steps, double d0,
-                double *lle)
+/* Benettin's loop (wg_lle_twin) over step, which advances x and the
+ * twin's xt by one map step each. */
+typedef int (*lle_step_fn)(void *ctx, double *x, double *xt);
+
+static int lle_run(lle_step_fn step, void *ctx, int dim, double *x, int steps, double d0,
+                   double *lle)
 {
-    int dim = base->dim;
     double xt[64];
-    if (dim > 64 || twin->dim != dim || steps < 1 || !(d0 > 0.0))
+    if (dim > 64 || steps < 1 || !(d0 > 0.0))
         return WG_EINVAL;
     twin_start(x, xt, dim, d0);
     double sum = 0.0, d = d0;
     for (int k = 0; k < steps; k++) {
-        int rc = base->fn(base->ctx, x);
-        if (!rc)
-            rc = twin->fn(twin->ctx, xt);
+        int rc = step(ctx, x, xt);
         if (rc)
             return rc;
         d = dist2(x, xt, dim);
@@ -188,4 +194,66 @@ int wg_lle_twin(const wg_map *base, const wg_map *twin, double *x, int steps, do
     }
     *lle = sum / steps;
     return WG_OK;
+}
+
+typedef struct twin_maps {
+    const wg_map *base, *twin;
+} twin_maps;
+
+/* The base's step, then the twin's. */
+static int twin_maps_step(void *ctx, double *x, double *xt)
+{
+    const twin_maps *m = ctx;
+    int rc = m->base->fn(m->base->ctx, x);
+    return rc ? rc : m->twin->fn(m->twin->ctx, xt);
+}
+
+int wg_lle_twin(const wg_map *base, const wg_map *twin, double *x, int steps, double d0,
+                double *lle)
+{
+    if (twin->dim != base->dim)
+        return WG_EINVAL;
+    twin_maps m = {base, twin};
+    return lle_run(twin_maps_step, &m, base->dim, x, steps, d0, lle);
+}
+
+typedef struct twin_sims {
+    wg_sim *s[2];
+    wg_run2_fn run2;
+    void *run_ctx;
+} twin_sims;
+
+/* One mesh period of both sims, from x and xt, at once. */
+static int twin_sims_step(void *ctx, double *x, double *xt)
+{
+    twin_sims *m = ctx;
+    wg_sim *a = m->s[0], *b = m->s[1];
+    simmap_enter(a, x);
+    simmap_enter(b, xt);
+    const uint64_t n = (uint64_t)a->cfg.steps_per_period;
+    int rc[2];
+    if (m->run2) {
+        rc[0] = m->run2(m->run_ctx, a, b, n);
+        rc[1] = WG_OK;
+    } else {
+        uint64_t left[2] = {n, n}, done[2];
+        const wg_sink *const sk[2] = {NULL, NULL};
+        wg_sim_run_pair(m->s, left, sk, done, rc);
+        for (int j = 0; j < 2; j++) /* the other's rest, alone */
+            if (rc[j] == WG_OK && done[j] < n)
+                rc[j] = wg_sim_run(m->s[j], n - done[j], NULL, NULL);
+    }
+    memcpy(x, a->y, sizeof(double) * (size_t)a->nstate);
+    memcpy(xt, b->y, sizeof(double) * (size_t)b->nstate);
+    return rc[0] ? rc[0] : rc[1];
+}
+
+int wg_lle_sims(wg_sim *sim, wg_sim *twin, double *x, int periods, double d0, wg_run2_fn run2,
+                void *run_ctx, double *lle)
+{
+    if (sim == twin || sim->nstate != twin->nstate ||
+        sim->cfg.steps_per_period != twin->cfg.steps_per_period)
+        return WG_EINVAL;
+    twin_sims m = {{sim, twin}, run2, run_ctx};
+    return lle_run(twin_sims_step, &m, sim->nstate, x, periods, d0, lle);
 }

@@ -184,21 +184,20 @@ static int period_error(work *w, const wg_params *p, double *err, char *why, siz
     return period_error_by(&sm, &r, err);
 }
 
-/* Largest Lyapunov exponent from the main sim's current state (both
- * trajectories' runs paired with other chains' when the thread runs
- * several). */
+static int duo_sim_run2(void *d, wg_sim *a, wg_sim *b, uint64_t n) { return duo_run2(d, a, b, n); }
+
+/* Largest Lyapunov exponent from the main sim's current state: both
+ * trajectories advance at once (batched with other chains' runs when the
+ * thread runs several). */
 static int point_lle(work *w, const wg_params *p, double *lle, char *why, size_t whylen)
 {
     int rc = ensure_sim(w, &w->twin, &w->n_twin, w->sim.cfg.steps_per_period, p, why, whylen);
     if (rc)
         return rc;
-    wg_simmap sb = {&w->sim, 1, NULL, NULL}, st = {&w->twin, 1, NULL, NULL};
-    if (w->duo)
-        sb.run = st.run = duo_sim_run, sb.run_ctx = st.run_ctx = w->duo;
-    wg_map mb = wg_simmap_map(&sb), mt = wg_simmap_map(&st);
     double x[WG_NSTATE_MAX];
     memcpy(x, w->sim.y, sizeof x);
-    return wg_lle_twin(&mb, &mt, x, w->o->lle_periods, w->o->lle_d0, lle);
+    return wg_lle_sims(&w->sim, &w->twin, x, w->o->lle_periods, w->o->lle_d0,
+                       w->duo ? duo_sim_run2 : NULL, w->duo, lle);
 }
 
 void wg_record_stats(const wg_record *r, wg_point *pt)

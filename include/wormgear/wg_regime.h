@@ -93,6 +93,21 @@ int wg_simmap_step(void *ctx, double *x);
 int wg_lle_twin(const wg_map *base, const wg_map *twin, double *x, int steps, double d0,
                 double *lle);
 
+/* Runs sims a and b (distinct) n steps each, as wg_sim_run(a, n, NULL,
+ * NULL) and wg_sim_run(b, n, NULL, NULL) would, with run_ctx; returns a's
+ * status, or b's if a's is WG_OK. */
+typedef int (*wg_run2_fn)(void *run_ctx, wg_sim *a, wg_sim *b, uint64_t n);
+
+/* wg_lle_twin of two wg_simmaps of one period, with its exponent to the
+ * bit: sim from x (advanced in place along the orbit) and twin, a second
+ * sim of the same system and N (its state is overwritten). The two advance
+ * together, as wg_sim_run_pair does (one fills the machine while the other
+ * waits), or by run2(run_ctx, sim, twin, N) where run2 is not NULL (the
+ * sweeps batch them with other chains' runs). WG_EINVAL if sim is twin or
+ * their sizes or N differ; else as wg_lle_twin. */
+int wg_lle_sims(wg_sim *sim, wg_sim *twin, double *x, int periods, double d0, wg_run2_fn run2,
+                void *run_ctx, double *lle);
+
 /* Eigenvalues of a real n x n matrix A (row-major, destroyed), n <= 16:
  * balancing, Hessenberg reduction and Francis double-shift QR. wr, wi get
  * the real and imaginary parts, sorted by decreasing modulus. WG_OK, or

@@ -621,6 +621,95 @@ static void test_duo_tasks(void)
     ASSERT_EQ_INT(duo_main(0, dtask_body, args, NULL, NULL), WG_EINVAL);
 }
 
+/* duo_run2: a task's two runs at once. */
+typedef struct d2task {
+    spec sp[2];
+    int nrun;
+    uint64_t len[3]; /* each run of both sims */
+    int rc[3], want[3];
+    wg_sim sim[2];
+} d2task;
+
+/* A task of test_duo_run2: a d2task (two), or a dtask. */
+typedef struct eithertask {
+    int two;
+    void *t;
+} eithertask;
+
+static void either_body(duo *d, void *arg)
+{
+    const eithertask *e = arg;
+    if (!e->two) {
+        dtask_body(d, e->t);
+        return;
+    }
+    d2task *t = e->t;
+    for (int i = 0; i < t->nrun; i++)
+        t->rc[i] = duo_run2(d, &t->sim[0], &t->sim[1], t->len[i]);
+}
+
+/* Five tasks on one thread each asking for two runs at once (ten runs: more
+ * than a batch's eight lanes, so the oldest eight are batched and the rest
+ * wait), beside a task asking for one at a time: each sim ends as its runs
+ * made alone by wg_sim_run leave it, to the bit. duo_run2 returns the
+ * first sim's status, else the second's: one task's first sim blows up,
+ * another's second. */
+static void test_duo_run2(void)
+{
+    const int isa = kernel_isa_choose();
+    static d2task t[5] = {
+        {.sp = {{NULL, 0.5, 0.08, 0, 128, 0, 0}, {NULL, 0.5, 0.08, 1e-6, 128, 0, 0}},
+         .nrun = 3, .len = {20 * 128, 0, 7 * 128 + 5}},
+        {.sp = {{NULL, 0.7, 0.10, 6e8, 128, 0, 0}, {NULL, 0.7, 0.10, 0, 128, 0, 0}},
+         .nrun = 2, .len = {8 * 128, 128}, .want = {WG_ENONFINITE, WG_ENONFINITE}},
+        {.sp = {{NULL, 0.7, 0.12, 0, 128, 0, 0}, {NULL, 0.7, 0.12, 6e8, 128, 0, 0}},
+         .nrun = 2, .len = {9 * 128, 3 * 128}, .want = {WG_ENONFINITE, WG_ENONFINITE}},
+        {.sp = {{NULL, 1.45, 0.10, 0, 128, 0, 0}, {NULL, 1.45, 0.10, 1e-7, 128, 0, 0}},
+         .nrun = 1, .len = {30 * 128}},
+        {.sp = {{NULL, 0.9, 0.05, 0, 256, 0, 0}, {NULL, 2.5, 0.10, 0, 256, 0, 0}},
+         .nrun = 2, .len = {11 * 256, 13 * 256}}};
+    static dtask one = {.sp = {NULL, 0.75, 0.10, 0, 128, 0, 0}, .nrun = 2,
+                        .len = {25 * 128, 12 * 128}};
+    eithertask e[6];
+    void *args[6];
+    for (int i = 0; i < 5; i++) {
+        for (int j = 0; j < 2; j++)
+            sim_of(&t[i].sp[j], isa, &t[i].sim[j]);
+        e[i] = (eithertask){1, &t[i]};
+    }
+    sim_of(&one.sp, isa, &one.sim);
+    memset(&one.r, 0, sizeof one.r);
+    e[5] = (eithertask){0, &one};
+    for (int i = 0; i < 6; i++)
+        args[i] = &e[i];
+    ASSERT_EQ_INT(duo_main(6, either_body, args, NULL, NULL), WG_OK);
+    uint64_t batched = 0, steps = 0;
+    for (int i = 0; i < 5; i++) {
+        for (int r = 0; r < t[i].nrun; r++)
+            ASSERT_EQ_INT(t[i].rc[r], t[i].want[r]);
+        for (int j = 0; j < 2; j++) {
+            wg_sim a;
+            sim_of(&t[i].sp[j], isa, &a);
+            for (int r = 0; r < t[i].nrun; r++)
+                wg_sim_run(&a, t[i].len[r], NULL, NULL);
+            runrec none;
+            memset(&none, 0, sizeof none);
+            same_run(&a, &t[i].sim[j], &none, &none);
+            batched += t[i].sim[j].core->batched;
+            steps += t[i].sim[j].steps;
+            wg_sim_fini(&a);
+            wg_sim_fini(&t[i].sim[j]);
+        }
+    }
+    uint64_t s1, n1;
+    same_as_alone(&one, isa, &s1, &n1);
+    printf("duo_run2: ten runs of five tasks and one task's own: each sim as alone; %llu of "
+           "%llu steps in the batched loop (%s)\n", (unsigned long long)batched,
+           (unsigned long long)steps, kernel_isa_name(isa));
+    if (kbatch_select(KF_BEAR | KF_LOCK, isa, 8))
+        ASSERT_TRUE(batched > steps / 2);
+}
+
 /* duo_wait: a task that waits for another's work. */
 typedef struct wtask {
     dtask *t;
@@ -696,6 +785,7 @@ static void test_duo_wait(void)
 }
 
 TEST_MAIN(TEST(test_pair_differs_in_params), TEST(test_pair_in_turn), TEST(test_pair_blowup),
-          TEST(test_pair_sink_changes_sim), TEST(test_batch_eight), TEST(test_batch_kinds), TEST(test_batch_in_turn),
-          TEST(test_batch_sink_changes_sim), TEST(test_batch_sink_retunes_sim), TEST(test_duo_tasks),
+          TEST(test_pair_sink_changes_sim), TEST(test_batch_eight), TEST(test_batch_kinds),
+          TEST(test_batch_in_turn), TEST(test_batch_sink_changes_sim),
+          TEST(test_batch_sink_retunes_sim), TEST(test_duo_tasks), TEST(test_duo_run2),
           TEST(test_duo_wait))

@@ -144,6 +144,63 @@ static void test_lle_sign_on_the_model(void)
     wg_sim_fini(&b);
 }
 
+/* run2 of wg_lle_sims: each sim in turn by wg_sim_run, counted. */
+static int run2_in_turn(void *ctx, wg_sim *a, wg_sim *b, uint64_t n)
+{
+    ++*(int *)ctx;
+    int rc = wg_sim_run(a, n, NULL, NULL);
+    int rb = wg_sim_run(b, n, NULL, NULL);
+    return rc ? rc : rb;
+}
+
+/* wg_lle_sims (both trajectories advanced at once: paired, or by a run2)
+ * gives wg_lle_twin's exponent and end state to the bit: on a chaotic
+ * point and on a periodic one (no N, a sim twice, different N: refused). */
+static void test_lle_sims(void)
+{
+    wg_params p = table3();
+    char why[256];
+    for (int k = 0; k < 2; k++) {
+        p.v[WG_P_OMEGA] = k ? 0.85 : 0.70;
+        double y0[WG_NSTATE_MAX], y[3][WG_NSTATE_MAX], lle[3];
+        wg_equilibrium(WG_MODEL_CONSISTENT, &p, y0);
+        wg_sim s[6];
+        wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, 128};
+        for (int j = 0; j < 6; j++)
+            ASSERT_EQ_INT(wg_sim_init(&s[j], &p, &cfg, why, sizeof why), WG_OK);
+        int calls = 0;
+        for (int m = 0; m < 3; m++) {
+            memcpy(y[m], y0, sizeof y0);
+            wg_sim_run(&s[2 * m], 200 * 128, NULL, NULL); /* onto the attractor */
+            memcpy(y[m], s[2 * m].y, sizeof y[m]);
+        }
+        wg_simmap sa = {&s[0], 1, NULL, NULL}, sb = {&s[1], 1, NULL, NULL};
+        wg_map ma = wg_simmap_map(&sa), mb = wg_simmap_map(&sb);
+        ASSERT_EQ_INT(wg_lle_twin(&ma, &mb, y[0], 150, 1e-7, &lle[0]), WG_OK);
+        ASSERT_EQ_INT(wg_lle_sims(&s[2], &s[3], y[1], 150, 1e-7, NULL, NULL, &lle[1]), WG_OK);
+        ASSERT_EQ_INT(wg_lle_sims(&s[4], &s[5], y[2], 150, 1e-7, run2_in_turn, &calls, &lle[2]),
+                      WG_OK);
+        ASSERT_EQ_INT(calls, 150);
+        for (int m = 1; m < 3; m++) {
+            ASSERT_TRUE(memcmp(&lle[m], &lle[0], sizeof lle[0]) == 0);
+            ASSERT_TRUE(memcmp(y[m], y[0], sizeof y[0]) == 0);
+            ASSERT_TRUE(memcmp(s[2 * m + 1].y, s[1].y, sizeof s[1].y) == 0); /* the twins */
+        }
+        ASSERT_TRUE(k ? lle[0] < 0.0 : lle[0] > 0.1);
+        printf("omega %.2f: LLE %.6f per period, the same bits three ways\n",
+               p.v[WG_P_OMEGA], lle[0]);
+        ASSERT_EQ_INT(wg_lle_sims(&s[0], &s[0], y[0], 10, 1e-7, NULL, NULL, &lle[0]), WG_EINVAL);
+        for (int j = 0; j < 6; j++)
+            wg_sim_fini(&s[j]);
+        wg_sim_config c2 = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, 256};
+        ASSERT_EQ_INT(wg_sim_init(&s[0], &p, &cfg, why, sizeof why), WG_OK);
+        ASSERT_EQ_INT(wg_sim_init(&s[1], &p, &c2, why, sizeof why), WG_OK);
+        ASSERT_EQ_INT(wg_lle_sims(&s[0], &s[1], y[0], 10, 1e-7, NULL, NULL, &lle[0]), WG_EINVAL);
+        wg_sim_fini(&s[0]);
+        wg_sim_fini(&s[1]);
+    }
+}
+
 static void test_error_estimate_order(void)
 {
     /* the one-period error behind the tolerance falls ~16x per halving of h
@@ -466,7 +523,7 @@ static void test_bearing_impacts(void)
     }
 }
 
-TEST_MAIN(TEST(test_bearing_impacts), TEST(test_period_doubling_sweep_and_floquet), TEST(test_lle_sign_on_the_model),
-          TEST(test_error_estimate_order), TEST(test_threads_identical), TEST(test_pairs_identical),
+TEST_MAIN(TEST(test_bearing_impacts), TEST(test_period_doubling_sweep_and_floquet),
+          TEST(test_lle_sign_on_the_model), TEST(test_lle_sims), TEST(test_error_estimate_order), TEST(test_threads_identical), TEST(test_pairs_identical),
           TEST(test_checks_in_flight), TEST(test_stop_flag), TEST(test_no_chains),
           TEST(test_tolerances_refused))
