@@ -183,28 +183,37 @@ enum {
 };
 
 /* Instruction sets the kernels are built for; every one gives the same
- * bits (kern_tmpl.h). */
-enum { KISA_SSE2, KISA_AVX2, KISA_AVX512, KISA_N };
+ * bits (kern_tmpl.h). KISA_AVX512VL is AVX2's 4-wide form compiled with
+ * AVX-512VL: 32 vector registers instead of 16, so the steps spill less. */
+enum { KISA_SSE2, KISA_AVX2, KISA_AVX512, KISA_AVX512VL, KISA_N };
 
-/* Name ("sse2", "avx2", "avx512"); whether this CPU runs it; the one a new
- * wg_sim's batched loop uses: $WG_ISA if it names a supported set, else the
- * widest (its own kernels: kernel_isa_one). */
+/* Name ("sse2", "avx2", "avx512", "avx512vl"); whether this CPU runs it;
+ * the one a new wg_sim's batched loop uses: $WG_ISA if it names a
+ * supported set, else the widest, AVX-512 (its own kernels:
+ * kernel_isa_one). */
 const char *kernel_isa_name(int isa);
 int kernel_isa_supported(int isa);
 int kernel_isa_choose(void);
 
 /* The set for one run's own kernels (a step, its run of plain steps, two
- * runs paired) where isa is the one kernel_isa_choose gave: AVX2 in place
- * of AVX-512 on an Intel CPU unless $WG_ISA names avx512, else isa. A run
+ * runs paired) where isa is the one kernel_isa_choose gave: on an Intel
+ * CPU, AVX2's 4-wide form in place of AVX-512 (with AVX-512VL's registers
+ * where the CPU has them) unless $WG_ISA names avx512, else isa. A run
  * fills six of a 512-bit vector's eight lanes, and Intel's cores run
  * 512-bit operations on two vector ports instead of three: on the Xeon
  * (Emerald Rapids) of the twentieth session the AVX2 run loop took 41-46 ns
  * a step against 48-51 (bench_gsl, table3 no impact), while a batch of
  * eight runs, one a lane, still gained from AVX-512 (the 21-row map
- * 6.0-6.2 s against 8.4-8.8 s with WG_ISA=avx2). On the AMD EPYC of the
- * first sessions the AVX-512 run loop was the quicker, 45 against 49 ns
- * (docs/performance.md, "A run's own kernels on AVX2 on an Intel CPU"). */
+ * 6.0-6.2 s against 8.4-8.8 s with WG_ISA=avx2); on that of the
+ * twenty-first, AVX-512VL's registers took the rk4-event step from 40.7 to
+ * 37.9 ns. On the AMD EPYC of the first sessions the AVX-512 run loop was
+ * the quicker, 45 against 49 ns (docs/performance.md, "A run's own kernels
+ * on AVX2 on an Intel CPU" and "AVX2's form with AVX-512VL's registers"). */
 int kernel_isa_one(int isa);
+
+/* The 4-wide set where the CPU has AVX-512: AVX2's form with AVX-512VL's
+ * registers if it has AVX-512VL, else AVX2's. */
+int kernel_isa_4wide(void);
 
 /* The consistent-form kernel for a set of KF_* bits and an instruction set;
  * kc is a wg_kcoef. */
@@ -219,8 +228,9 @@ wg_krun2_fn krun2_select(unsigned kflags, int isa);
 
 /* The batched run of L lanes for a set of KF_* bits and an instruction
  * set (NULL: the torsional path, or the baseline, which has none). On
- * AVX-512 a batch of four or fewer takes AVX2's loop: one 4-wide vector a
- * quantity costs less than an 8-wide one, with the same bits. */
+ * AVX-512 a batch of four or fewer takes the 4-wide loop (kernel_isa_4wide):
+ * one 4-wide vector a quantity costs less than an 8-wide one, with the
+ * same bits. */
 wg_kbatch_fn kbatch_select(unsigned kflags, int isa, int L);
 
 /* RK4 step of the printed form (unspecialised, for comparison); kc is the

@@ -1,6 +1,7 @@
 /* kern_tmpl.h - the specialised RK4 steps of the consistent form, as a
  * template instantiated once per instruction set (wg_kernel*.c):
- *   KW     lanes per bearing vector: 2 (SSE2), 4 (AVX2) or 8 (AVX-512);
+ *   KW     lanes per bearing vector: 2 (SSE2), 4 (AVX2, and AVX2's form
+ *          with AVX-512VL's registers) or 8 (AVX-512);
  *   KSUF   suffix of the tables this defines, kern_tab_KSUF and
  *          krun_tab_KSUF (64 entries each, indexed by the KF_* bits), and
  *          krun2_tab_KSUF (the full path's 32, indexed by the other bits).

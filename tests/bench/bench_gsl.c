@@ -106,11 +106,11 @@ int main(int argc, char **argv)
     const char *isa = kernel_isa_name(kernel_isa_one(kernel_isa_choose())),
                *want = getenv("WG_ISA");
     printf("bench_gsl: N = %d, %ld steps (ours) / %ld (GSL, hand) x %d reps, medians; kernels "
-           "for %s (a run's own; WG_ISA=sse2|avx2|avx512 chooses)\n\n",
+           "for %s (a run's own; WG_ISA=sse2|avx2|avx512|avx512vl chooses)\n\n",
            N, n, ng, reps, isa);
     if (want && *want && strcmp(want, isa) != 0) /* misspelt, or a set this CPU lacks */
-        printf("WG_ISA=%s is not a kernel set this CPU runs (sse2, avx2, avx512 where the CPU "
-               "has them): the %s kernels ran\n\n", want, isa);
+        printf("WG_ISA=%s is not a kernel set this CPU runs (sse2, avx2, avx512, avx512vl where "
+               "the CPU has them): the %s kernels ran\n\n", want, isa);
     printf("| scene | omega | kernel (rk4) | bare kernel ns/step | rk4 ns/step | rk4-event ns/step "
            "| GSL rk4 ns/step (RHS calls) | hand RK4 ns/step | GSL / rk4 | GSL / rk4-event "
            "| hand / rk4 | rk4 / bare | chain bound ns (add+mul+other on the path; their ns) "

@@ -235,9 +235,9 @@ int main(int argc, char **argv)
            lh, lh / la, sink == 1.0 ? " " : "");
     static const double omega[2] = {0.5, 0.7};
     const int isa = kernel_isa_choose();
-    printf("runs on the sets a sim chooses (WG_ISA=sse2|avx2|avx512 picks one): %s batched "
-           "(eight; three at a time: %s), %s alone and paired\n", kernel_isa_name(isa),
-           isa == KISA_AVX512 ? "avx2" : kernel_isa_name(isa),
+    printf("runs on the sets a sim chooses (WG_ISA=sse2|avx2|avx512|avx512vl picks one): %s "
+           "batched (eight; three at a time: %s), %s alone and paired\n", kernel_isa_name(isa),
+           isa == KISA_AVX512 ? kernel_isa_name(kernel_isa_4wide()) : kernel_isa_name(isa),
            kernel_isa_name(kernel_isa_one(isa)));
     for (int k = 0; k < 2; k++) {
         double ra[64], rp[64], rb[64], r3[64], rr[64], rs[64];

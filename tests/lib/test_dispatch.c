@@ -283,23 +283,42 @@ static void test_isa_choice(void)
     ASSERT_EQ_INT(kernel_isa_choose(), widest);
     unsetenv("WG_ISA");
     ASSERT_STR(kernel_isa_name(KISA_AVX2), "avx2");
-    /* a run's own kernels: AVX2 for AVX-512 on an Intel CPU unless WG_ISA
-     * names avx512; any other set as it is */
+    ASSERT_STR(kernel_isa_name(KISA_AVX512VL), "avx512vl");
+    /* AVX-512VL: AVX-512F and AVX2 too; the 4-wide set is it where the CPU
+     * has it, else AVX2's */
+    if (kernel_isa_supported(KISA_AVX512VL))
+        ASSERT_TRUE(kernel_isa_supported(KISA_AVX512) && kernel_isa_supported(KISA_AVX2));
+    const int w4 = kernel_isa_4wide();
+    ASSERT_EQ_INT(w4, kernel_isa_supported(KISA_AVX512VL) ? KISA_AVX512VL : KISA_AVX2);
+    /* a run's own kernels: the 4-wide set for AVX-512 on an Intel CPU
+     * unless WG_ISA names avx512; any other set as it is */
     ASSERT_EQ_INT(kernel_isa_one(KISA_SSE2), KISA_SSE2);
     ASSERT_EQ_INT(kernel_isa_one(KISA_AVX2), KISA_AVX2);
+    ASSERT_EQ_INT(kernel_isa_one(KISA_AVX512VL), KISA_AVX512VL);
     if (kernel_isa_supported(KISA_AVX512)) {
         int intel = 0;
 #if defined(__x86_64__) && defined(__GNUC__)
         intel = __builtin_cpu_is("intel");
 #endif
-        ASSERT_EQ_INT(kernel_isa_one(KISA_AVX512), intel ? KISA_AVX2 : KISA_AVX512);
+        ASSERT_EQ_INT(kernel_isa_one(KISA_AVX512), intel ? w4 : KISA_AVX512);
         setenv("WG_ISA", "avx512", 1);
         ASSERT_EQ_INT(kernel_isa_one(KISA_AVX512), KISA_AVX512);
         setenv("WG_ISA", "avx2", 1);
-        ASSERT_EQ_INT(kernel_isa_one(KISA_AVX512), intel ? KISA_AVX2 : KISA_AVX512);
+        ASSERT_EQ_INT(kernel_isa_one(KISA_AVX512), intel ? w4 : KISA_AVX512);
         unsetenv("WG_ISA");
         printf("a run's own kernels on this %s CPU: %s\n", intel ? "Intel" : "non-Intel",
                kernel_isa_name(kernel_isa_one(KISA_AVX512)));
+        /* a batch of four or fewer on AVX-512 takes the 4-wide loop, of
+         * five or more the 8-wide one; a 4-wide set keeps its own */
+        const unsigned f = KF_BEAR | KF_LOCK;
+        for (int L = 3; L <= 8; L++) {
+            ASSERT_TRUE(kbatch_select(f, KISA_AVX512, L) ==
+                        kbatch_select(f, L <= 4 ? w4 : KISA_AVX512, 8));
+            ASSERT_TRUE(kbatch_select(f, KISA_AVX2, L) != kbatch_select(f, KISA_AVX512, 8));
+            if (kernel_isa_supported(KISA_AVX512VL))
+                ASSERT_TRUE(kbatch_select(f, KISA_AVX512VL, L) !=
+                            kbatch_select(f, KISA_AVX2, L));
+        }
     }
     /* wg_sim_isa_name: the set of a sim's own steps, as wgsim and the
      * daemon report it; the printed form's step is the baseline's */
