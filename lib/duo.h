@@ -46,7 +46,8 @@ enum { DUO_RUNS = 2 };
 /* From a task: wg_sim_run(a, n, NULL, NULL) and wg_sim_run(b, n, NULL,
  * NULL) of two distinct sims at once, each interleaved with the other and
  * with other tasks' runs (a twin trajectory beside its base). Returns a's
- * status, or b's if a's is WG_OK; both run to their end or failure. */
+ * status, or b's if a's is WG_OK; both run to their end or failure.
+ * WG_EINVAL if a is b (nothing runs). */
 int duo_run2(duo *d, wg_sim *a, wg_sim *b, uint64_t n);
 
 /* From a task: give way until the idle function says to look again (a

@@ -205,14 +205,14 @@ int kernel_isa_choose(void);
  * a step against 48-51 (bench_gsl, table3 no impact), while a batch of
  * eight runs, one a lane, still gained from AVX-512 (the 21-row map
  * 6.0-6.2 s against 8.4-8.8 s with WG_ISA=avx2); on that of the
- * twenty-first, AVX-512VL's registers took the rk4-event step from 40.7 to
- * 37.9 ns. On the AMD EPYC of the first sessions the AVX-512 run loop was
+ * twenty-first, AVX-512VL's registers took the rk4-event step from 42.1-46.0
+ * to 38.0-39.2 ns. On the AMD EPYC of the first sessions the AVX-512 run loop was
  * the quicker, 45 against 49 ns (docs/performance.md, "A run's own kernels
  * on AVX2 on an Intel CPU" and "AVX2's form with AVX-512VL's registers"). */
 int kernel_isa_one(int isa);
 
-/* The 4-wide set where the CPU has AVX-512: AVX2's form with AVX-512VL's
- * registers if it has AVX-512VL, else AVX2's. */
+/* The 4-wide set, for a CPU with AVX2 (callers check): AVX2's form with
+ * AVX-512VL's registers if the CPU has AVX-512VL, else AVX2's. */
 int kernel_isa_4wide(void);
 
 /* The consistent-form kernel for a set of KF_* bits and an instruction set;

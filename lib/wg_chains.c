@@ -352,7 +352,8 @@ static int pool_tasks(const pool *pl)
 {
     int k = pl->o->pair < 1 ? 1 : pl->o->pair > DUO_MAX ? DUO_MAX : pl->o->pair;
     if (k > 2 && !pl->o->verify && (pl->n + pl->nt - 1) / pl->nt < DUO_BATCH_MIN)
-        k = 2; /* too few chains a thread to batch: two paired, the rest left to
+        k = 2; /* too few chains a thread to batch: two at once (their runs
+                  paired, or batched with a twin's), the rest left to
                   whichever thread is free first (the study's six chains) */
     return k;
 }

@@ -7,7 +7,7 @@
  * wg_sim_run_pair (three or more of one kind, on a CPU with a batched
  * loop: up to KB_LANES of those, the oldest, with wg_sim_run_batch, one sim
  * a vector lane) until one is done, and resumes its task once none of the
- * task's runs is left; a run with no partner goes by wg_sim_run. The runs
+ * task's runs is busy; a run with no partner goes by wg_sim_run. The runs
  * themselves (and their sinks' callbacks) execute on the scheduler's stack.
  * A task in duo_wait is resumed when the idle function says so, or, with
  * none, when no task can go on. Under AddressSanitizer every switch is announced
@@ -130,6 +130,8 @@ int duo_run(duo *d, wg_sim *s, uint64_t n, const wg_sink *sink)
 int duo_run2(duo *d, wg_sim *a, wg_sim *b, uint64_t n)
 {
     task *t = &d->t[d->cur];
+    if (a == b) /* one sim cannot take two runs at once */
+        return WG_EINVAL;
     if (n == 0)
         return WG_OK;
     t->r[0] = (drun){.s = a, .n = n};

@@ -239,7 +239,7 @@ static int twin_sims_step(void *ctx, double *x, double *xt)
         uint64_t left[2] = {n, n}, done[2];
         const wg_sink *const sk[2] = {NULL, NULL};
         wg_sim_run_pair(m->s, left, sk, done, rc);
-        for (int j = 0; j < 2; j++) /* the other's rest, alone */
+        for (int j = 0; j < 2 && rc[0] == WG_OK; j++) /* the other's rest, alone */
             if (rc[j] == WG_OK && done[j] < n)
                 rc[j] = wg_sim_run(m->s[j], n - done[j], NULL, NULL);
     }

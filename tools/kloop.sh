@@ -37,7 +37,7 @@ print("%d instructions, %d with a memory operand" % (len(best), mem))
 }
 echo "| code | instruction set | loop |"
 echo "|---|---|---|"
-for isa in sse2 avx2 avx512; do
+for isa in sse2 avx2 avx512 avx512vl; do
   suffix=$([ $isa = sse2 ] && echo "" || echo "_$isa")
   obj=$(find "$build" -name "wg_kernel$suffix.c.o" | head -1)
   [ -n "$obj" ] && echo "| wg_krun (krun_111111) | $isa | $(count "$obj" 'krun_111111') |"

@@ -246,9 +246,10 @@ void wg_sim_angles(const wg_sim *sim, double th[2]);
 /* Kernel specialisation as text, e.g. "full+bj+b+ka+em" or "torsional+b". */
 const char *wg_sim_kernel_name(const wg_sim *sim, char *buf, size_t len);
 
-/* The instruction set its own steps run on: "sse2", "avx2" or "avx512"
- * (chosen at wg_sim_init: $WG_ISA, else the CPU's; the same bits on each),
- * "baseline" for the printed form's unspecialised step. */
+/* The instruction set its own steps run on: "sse2", "avx2", "avx512" or
+ * "avx512vl" (AVX2's form with AVX-512VL's registers; chosen at
+ * wg_sim_init: $WG_ISA, else the CPU's; the same bits on each), "baseline"
+ * for the printed form's unspecialised step. */
 const char *wg_sim_isa_name(const wg_sim *sim);
 
 #endif

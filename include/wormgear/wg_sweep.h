@@ -64,10 +64,11 @@ typedef struct wg_sweep_opts {
     int pair;            /* chains each thread advances at once (the same
                             results): 2 to 8 (8, the default), their runs paired
                             (wg_sim_run_pair) or, three or more where the CPU
-                            has AVX2 or AVX-512, batched (wg_sim_run_batch); 1:
-                            one at a time. A thread takes at most its share of
-                            the chains, and two at once when that is under
-                            three */
+                            has AVX2 or AVX-512, batched (wg_sim_run_batch),
+                            a Lyapunov exponent's twin run beside its base; 1:
+                            one chain at a time (the twin still paired with its
+                            base). A thread takes at most its share of the
+                            chains, and two at once when that is under three */
 } wg_sweep_opts;
 
 /* Result of one point. */

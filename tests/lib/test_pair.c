@@ -58,7 +58,7 @@ typedef struct spec {
 /* A sim for sp on instruction set isa, with rk4-event (rk4: the plain rk4
  * stepper, whose dead zones are min/max instead of zone-locked); isa -1:
  * the sets a user gets, with no WG_ISA (on an Intel CPU with AVX-512, the
- * batched loop's AVX-512 and the run's own kernels' AVX2). */
+ * batched loop's AVX-512 and the run's own kernels' 4-wide set). */
 static void sim_of_stepper(const spec *sp, int isa, int rk4, wg_sim *s)
 {
     wg_params p;
@@ -627,6 +627,7 @@ typedef struct d2task {
     int nrun;
     uint64_t len[3]; /* each run of both sims */
     int rc[3], want[3];
+    int same_rc; /* duo_run2 of one sim twice */
     wg_sim sim[2];
 } d2task;
 
@@ -644,6 +645,7 @@ static void either_body(duo *d, void *arg)
         return;
     }
     d2task *t = e->t;
+    t->same_rc = duo_run2(d, &t->sim[0], &t->sim[0], 128); /* refused: nothing runs */
     for (int i = 0; i < t->nrun; i++)
         t->rc[i] = duo_run2(d, &t->sim[0], &t->sim[1], t->len[i]);
 }
@@ -653,7 +655,7 @@ static void either_body(duo *d, void *arg)
  * wait), beside a task asking for one at a time: each sim ends as its runs
  * made alone by wg_sim_run leave it, to the bit. duo_run2 returns the
  * first sim's status, else the second's: one task's first sim blows up,
- * another's second. */
+ * another's second; one sim given twice is refused and runs nothing. */
 static void test_duo_run2(void)
 {
     const int isa = kernel_isa_choose();
@@ -685,6 +687,7 @@ static void test_duo_run2(void)
     ASSERT_EQ_INT(duo_main(6, either_body, args, NULL, NULL), WG_OK);
     uint64_t batched = 0, steps = 0;
     for (int i = 0; i < 5; i++) {
+        ASSERT_EQ_INT(t[i].same_rc, WG_EINVAL);
         for (int r = 0; r < t[i].nrun; r++)
             ASSERT_EQ_INT(t[i].rc[r], t[i].want[r]);
         for (int j = 0; j < 2; j++) {

@@ -155,23 +155,22 @@ static int run2_in_turn(void *ctx, wg_sim *a, wg_sim *b, uint64_t n)
 
 /* wg_lle_sims (both trajectories advanced at once: paired, or by a run2)
  * gives wg_lle_twin's exponent and end state to the bit: on a chaotic
- * point and on a periodic one (no N, a sim twice, different N: refused). */
+ * point and on a periodic one; a sim given twice, or two of different N,
+ * is refused. */
 static void test_lle_sims(void)
 {
     wg_params p = table3();
     char why[256];
     for (int k = 0; k < 2; k++) {
         p.v[WG_P_OMEGA] = k ? 0.85 : 0.70;
-        double y0[WG_NSTATE_MAX], y[3][WG_NSTATE_MAX], lle[3];
-        wg_equilibrium(WG_MODEL_CONSISTENT, &p, y0);
+        double y[3][WG_NSTATE_MAX], lle[3];
         wg_sim s[6];
         wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, 128};
         for (int j = 0; j < 6; j++)
             ASSERT_EQ_INT(wg_sim_init(&s[j], &p, &cfg, why, sizeof why), WG_OK);
         int calls = 0;
-        for (int m = 0; m < 3; m++) {
-            memcpy(y[m], y0, sizeof y0);
-            wg_sim_run(&s[2 * m], 200 * 128, NULL, NULL); /* onto the attractor */
+        for (int m = 0; m < 3; m++) { /* from the scene's state onto the attractor */
+            wg_sim_run(&s[2 * m], 200 * 128, NULL, NULL);
             memcpy(y[m], s[2 * m].y, sizeof y[m]);
         }
         wg_simmap sa = {&s[0], 1, NULL, NULL}, sb = {&s[1], 1, NULL, NULL};
@@ -198,6 +197,46 @@ static void test_lle_sims(void)
         ASSERT_EQ_INT(wg_lle_sims(&s[0], &s[1], y[0], 10, 1e-7, NULL, NULL, &lle[0]), WG_EINVAL);
         wg_sim_fini(&s[0]);
         wg_sim_fini(&s[1]);
+    }
+}
+
+/* A blow-up in either trajectory: wg_lle_sims returns what wg_lle_twin
+ * returns (the base's status first, then the twin's) and leaves x where
+ * it leaves it, through the pair and through a run2. */
+static void test_lle_sims_blowup(void)
+{
+    wg_params p = table3();
+    char why[256];
+    p.v[WG_P_OMEGA] = 0.70;
+    for (int twin_fails = 0; twin_fails < 2; twin_fails++) {
+        wg_sim s[6];
+        wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, 128};
+        for (int j = 0; j < 6; j++)
+            ASSERT_EQ_INT(wg_sim_init(&s[j], &p, &cfg, why, sizeof why), WG_OK);
+        double y[3][WG_NSTATE_MAX], lle[3] = {-1, -1, -1};
+        int rc[3], calls = 0;
+        for (int m = 0; m < 3; m++) {
+            memcpy(y[m], s[0].y, sizeof y[m]);
+            if (twin_fails) /* d0 so large the twin starts far out */
+                continue;
+            y[m][6] = 6e8; /* the mesh far past its clearance: NaN within a period */
+        }
+        const double d0 = twin_fails ? 6e8 : 1e-7;
+        wg_simmap sa = {&s[0], 1, NULL, NULL}, sb = {&s[1], 1, NULL, NULL};
+        wg_map ma = wg_simmap_map(&sa), mb = wg_simmap_map(&sb);
+        rc[0] = wg_lle_twin(&ma, &mb, y[0], 50, d0, &lle[0]);
+        rc[1] = wg_lle_sims(&s[2], &s[3], y[1], 50, d0, NULL, NULL, &lle[1]);
+        rc[2] = wg_lle_sims(&s[4], &s[5], y[2], 50, d0, run2_in_turn, &calls, &lle[2]);
+        ASSERT_EQ_INT(rc[0], WG_ENONFINITE);
+        for (int m = 1; m < 3; m++) {
+            ASSERT_EQ_INT(rc[m], rc[0]);
+            ASSERT_TRUE(memcmp(y[m], y[0], sizeof y[0]) == 0);
+            ASSERT_TRUE(lle[m] == -1); /* not written */
+        }
+        printf("%s blows up: %s from each, x the same\n", twin_fails ? "the twin" : "the base",
+               wg_status_str(rc[0]));
+        for (int j = 0; j < 6; j++)
+            wg_sim_fini(&s[j]);
     }
 }
 
@@ -524,6 +563,7 @@ static void test_bearing_impacts(void)
 }
 
 TEST_MAIN(TEST(test_bearing_impacts), TEST(test_period_doubling_sweep_and_floquet),
-          TEST(test_lle_sign_on_the_model), TEST(test_lle_sims), TEST(test_error_estimate_order), TEST(test_threads_identical), TEST(test_pairs_identical),
+          TEST(test_lle_sign_on_the_model), TEST(test_lle_sims), TEST(test_lle_sims_blowup),
+          TEST(test_error_estimate_order), TEST(test_threads_identical), TEST(test_pairs_identical),
           TEST(test_checks_in_flight), TEST(test_stop_flag), TEST(test_no_chains),
           TEST(test_tolerances_refused))
