@@ -11,7 +11,9 @@
 #   wgspy from the build tree, with or without a JDK (JAR: the build's type
 #   jar, when it built one): a --jar or WORMGEAR_JAR that is not there is
 #   named; with no display it says so in one line before starting Java (it
-#   died in a HeadlessException's stack trace); with JAR and lcm.jar,
+#   died in a HeadlessException's stack trace); with no route to a udpm://
+#   URL's group (a network namespace of its own) it says so in one line, as
+#   the C clients do, and with one it starts Java; with JAR and lcm.jar,
 #   --print-cp finds the build's jar by itself (it looked only where an
 #   installed copy finds one, and said "not found").
 mode=$1; shift
@@ -46,6 +48,30 @@ if [ "$mode" = launcher ]; then
     env -u DISPLAY -u WAYLAND_DISPLAY "$SPY" --jar "$tmp/fake.jar" --print-cp >"$tmp/out" \
         2>"$tmp/err" && grep -q "needs a display" "$tmp/err" &&
         fail "--print-cp asked for a display: $(cat "$tmp/err")"
+    # no route to the group (a network namespace of its own, nothing in it): one line, Java
+    # never started; with a route on lo, the launcher goes on to start Java (a stand-in)
+    printf '#!/bin/sh\necho "java started"\n' >"$tmp/java-ok"
+    chmod +x "$tmp/java-ok"
+    if unshare -n true 2>/dev/null && command -v ip >/dev/null; then
+        for url in "udpm://239.255.76.67:7667?ttl=0" "udpm://?ttl=0" "udpm://239.1.2.3"; do
+            DISPLAY=:0 JAVA="$tmp/java-ok" unshare -n "$SPY" --jar "$tmp/fake.jar" --url "$url" \
+                >"$tmp/out" 2>"$tmp/err"; rc=$?
+            g=${url#udpm://}; g=${g%%\?*}; g=${g%%:*}; g=${g:-239.255.76.67}
+            [ $rc -eq 1 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] &&
+                grep -q "^wgspy: no route to the multicast group $g (Network is unreachable)" \
+                    "$tmp/err" && ! grep -q "java started" "$tmp/out" ||
+                fail "no route, --url $url: exit $rc, want 1 and one line: $(cat "$tmp/err")"
+        done
+        DISPLAY=:0 JAVA="$tmp/java-ok" WGSPY="$SPY" JARF="$tmp/fake.jar" unshare -n sh -c \
+            'ip link set lo up && ip route add 239.0.0.0/8 dev lo &&
+             "$WGSPY" --jar "$JARF" --url "udpm://239.255.76.67:7667?ttl=0"' >"$tmp/out" \
+            2>"$tmp/err"; rc=$?
+        [ $rc -eq 0 ] && grep -q "java started" "$tmp/out" ||
+            fail "a route on lo: exit $rc, Java not started: $(cat "$tmp/out" "$tmp/err")"
+        echo "no route: one line and exit 1 for 3 URLs; a route on lo: Java started"
+    else
+        echo "no unshare -n here (not root?): the route check not tried"
+    fi
     if [ -n "$JAR" ] && [ -f "$JAR" ] && { [ -f /usr/share/java/lcm.jar ] ||
                                           [ -f /usr/local/share/java/lcm.jar ]; }; then
         "$SPY" --print-cp >"$tmp/out" 2>"$tmp/err" ||
