@@ -53,10 +53,12 @@ if [ "$mode" = launcher ]; then
     printf '#!/bin/sh\necho "java started"\n' >"$tmp/java-ok"
     chmod +x "$tmp/java-ok"
     if unshare -n true 2>/dev/null && command -v ip >/dev/null; then
-        for url in "udpm://239.255.76.67:7667?ttl=0" "udpm://?ttl=0" "udpm://239.1.2.3"; do
+        # each URL with the group it names (LCM's default when empty)
+        for ug in "udpm://239.255.76.67:7667?ttl=0 239.255.76.67" "udpm://?ttl=0 239.255.76.67" \
+                  "udpm://239.1.2.3 239.1.2.3"; do
+            url=${ug% *} g=${ug#* }
             DISPLAY=:0 JAVA="$tmp/java-ok" unshare -n "$SPY" --jar "$tmp/fake.jar" --url "$url" \
                 >"$tmp/out" 2>"$tmp/err"; rc=$?
-            g=${url#udpm://}; g=${g%%\?*}; g=${g%%:*}; g=${g:-239.255.76.67}
             [ $rc -eq 1 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] &&
                 grep -q "^wgspy: no route to the multicast group $g (Network is unreachable)" \
                     "$tmp/err" && ! grep -q "java started" "$tmp/out" ||
