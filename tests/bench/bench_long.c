@@ -68,13 +68,14 @@ int main(int argc, char **argv)
     a.sum_xn = 0;
     wg_sim_run(&s, (uint64_t)N * WINDOW, &sink, NULL);
     double mean0 = a.sum_xn / WINDOW;
-    long rss0, rss1;
-    double c0 = cpu_s(&rss0), t0 = cli_mono_s();
     const uint64_t chunk = 100000000ull;
     uint64_t left = total - total % N, done_all = 0;
     printf("bench_long: %s, omega 2.5, N %d, rk4-event, %.3g steps in chunks of %.0e\n", scene, N,
            (double)left, (double)chunk);
     printf("| chunk | ns/step | x physical real time |\n|---|---|---|\n");
+    fflush(stdout); /* stdio's buffer and printf's code in memory before the first reading */
+    long rss0, rss1;
+    double c0 = cpu_s(&rss0), t0 = cli_mono_s();
     for (int c = 1; left > 0; c++) {
         uint64_t n = left < chunk ? left : chunk, done = 0;
         double tc = cli_mono_s();
