@@ -18,6 +18,7 @@ pkgs=(
   fonts-dejavu-core
   libopenmpi-dev openmpi-bin
   libwebsockets-dev libcjson-dev chromium
+  libgsl-dev libsundials-dev
 )
 missing=()
 for p in "${pkgs[@]}"; do

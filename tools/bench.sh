@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# tools/bench.sh - measure, in one run on this machine, every figure of the
+# README's "Performance" section. Installs what the benchmarks need
+# (tools/setup.sh: GSL and SUNDIALS are the step's and the work-precision
+# comparisons), builds build-bench (Release, -DWG_BUILD_BENCH=ON), then runs:
+#   bench_gsl 1000000 5       the step against its dependency-chain bound and
+#                             against GSL's rk4 (issue 13, item 1)
+#   bench_step 1000000 5      the step per scene, and what skipping costs
+#   bench_pair_* 300000 3     one run, two paired, a batch (the widest set
+#                             this CPU runs)
+#   sweep_bench.sh 3 map      the study and the 201-row map (item 2)
+#   wgd_bench 10 500          the daemon at physical real time: CPU share,
+#                             command -> ACK latency (item 3; in a private
+#                             network namespace, tests/netns.sh)
+#   bench_wp 5                work precision against GSL and CVODE (its
+#                             PNGs in build-bench/bench/)
+#   bench_long 1e9            the 10^9-step run
+# Each prints its own tables (kept in build-bench/bench/*.txt); a summary of
+# the lines the README quotes ends the run, each under the command that gave
+# it. Figures only: nothing passes or fails on a time; the exit status is
+# non-zero only if a step fails. Run as root on Debian 12; ~8 min on 2 cores.
+# Keep the machine otherwise quiet: the figures are wall and CPU times.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash tools/setup.sh
+b=build-bench
+out=$b/bench
+echo "== build $b (Release, -DWG_BUILD_BENCH=ON)"
+cmake -S . -B "$b" -DCMAKE_BUILD_TYPE=Release -DWG_BUILD_BENCH=ON >/dev/null
+cmake --build "$b" -j"$(nproc)" >/dev/null
+mkdir -p "$out"
+export WG_SCENE_PATH=$PWD/scenes
+bin=$b/tests/bench
+wide=sse2
+grep -qw avx2 /proc/cpuinfo && wide=avx2
+grep -qw avx512f /proc/cpuinfo && wide=avx512
+
+# run NAME COMMAND...: the command's output on the terminal and in
+# $out/NAME.txt; a failing command ends the run.
+run() {
+    local name=$1; shift
+    echo
+    echo "== $name: $*"
+    "$@" 2>&1 | tee "$out/$name.txt"
+    local rc=${PIPESTATUS[0]}
+    [ "$rc" -eq 0 ] || { echo "bench.sh: $name failed (exit $rc)" >&2; exit 1; }
+}
+echo "commit $(git rev-parse --short HEAD 2>/dev/null || echo '(no git)'), $(nproc) CPUs:" \
+    "$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1), load $(cut -d' ' -f1-3 /proc/loadavg)"
+run step "$bin/bench_gsl" 1000000 5
+run scenes "$bin/bench_step" 1000000 5
+run pair "$bin/bench_pair_$wide" 300000 3
+run sweeps bash tests/bench/sweep_bench.sh "$b" 3 map
+run daemon sh tests/netns.sh "$bin/wgd_bench" "$b/daemon/wormgeard" 10 500
+run wp "$bin/bench_wp" "$out" 5
+run long "$bin/bench_long" 1e9
+
+# pick NAME REGEX: the lines of NAME's output the README quotes
+pick() { grep -E "$2" "$out/$1.txt" || { echo "bench.sh: no '$2' in $out/$1.txt" >&2; exit 1; }; }
+echo
+echo "== summary (load $(cut -d' ' -f1-3 /proc/loadavg))"
+echo "-- $bin/bench_gsl 1000000 5"
+pick step '^issue 13, item 1|^\| table3 \(no impact\)|^\| table3 \(impacting\)|^\| torsional'
+echo "-- $bin/bench_pair_$wide 300000 3"
+pick pair '^runs, omega'
+echo "-- bash tests/bench/sweep_bench.sh $b 3 map"
+pick sweeps '^\| (study|map),|^study CSVs|^pairing'
+echo "-- sh tests/netns.sh $bin/wgd_bench $b/daemon/wormgeard 10 500"
+pick daemon '^CPU share|^command->ACK'
+echo "-- $bin/bench_wp $out 5"
+pick wp '^## \(|^rk4-event / GSL rk8pd'
+echo "-- $bin/bench_long 1e9"
+pick long 'steps in .* s wall|bad state|^mean x_n|^tau '
+echo "(every table: $out/*.txt; work-precision plots: $out/wp_*.png)"
