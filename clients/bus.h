@@ -150,6 +150,13 @@ int bus_prefix_ok(const char *p);
 int bus_open(bus *c, const char *url, const char *prefix, const char *name, char *why,
              size_t whylen);
 
+/* A client's exit status after bus_open (or bus_set_key) failed with brc:
+ * 2 for BUS_EURL (a usage error), else 1. */
+static inline int bus_exit_status(int brc)
+{
+    return brc == BUS_EURL ? 2 : 1;
+}
+
 /* Sign every command from now on with the key in path (wormgear/wg_key.h;
  * the daemon's command_key_file); NULL or "" turns signing off. 0, or -1
  * with why. */

@@ -427,7 +427,7 @@ int main(int argc, char **argv)
     int src = start(&w);
     if (src != 0) {
         stop(&w);
-        return src == BUS_EURL ? 2 : 1; /* an LCM URL LCM refuses: a usage error */
+        return bus_exit_status(src); /* an LCM URL LCM refuses: a usage error */
     }
     watch(&w);
     announce(&w);

@@ -740,7 +740,7 @@ static int setup(mon *m)
     int brc = bus_open(&m->c, m->o.url, m->o.prefix, "wgmon", why, sizeof why);
     if (brc) {
         fprintf(stderr, "wgmon: %s\n", why);
-        return brc == BUS_EURL ? 2 : 1;
+        return bus_exit_status(brc);
     }
     /* LCM's default queue (30 messages a subscription) drops what arrives
      * while the monitor is not scheduled for ~0.3 s (a live daemon and a

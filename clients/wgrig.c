@@ -594,7 +594,7 @@ static int open_bus(rig *r)
     char why[256];
     int brc = bus_open(&r->c, r->o.url, r->o.prefix, "wgrig", why, sizeof why);
     if (brc || (r->o.key_file && bus_set_key(&r->c, r->o.key_file, why, sizeof why)))
-        return fprintf(stderr, "wgrig: %s\n", why), brc == BUS_EURL ? 2 : 1;
+        return fprintf(stderr, "wgrig: %s\n", why), bus_exit_status(brc);
     for (int k = 0; k < 4; k++)
         bus_subscribe(&r->c, chans[k], on_raw, r, 4096);
     return fetch_params(r) ? 1 : 0;
