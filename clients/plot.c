@@ -711,6 +711,24 @@ void pd_text(cairo_t *cr, double x, double y, double size, double align, const c
     text(cr, x, y, size, align, s);
 }
 
+void pd_halo(cairo_t *cr, double x, double y, double size, double align, const char *s)
+{
+    cairo_text_extents_t e;
+    cairo_select_font_face(cr, PD_FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, size);
+    cairo_text_extents(cr, s, &e);
+    cairo_save(cr);
+    cairo_new_path(cr);
+    cairo_move_to(cr, x - align * e.x_advance, y);
+    cairo_text_path(cr, s);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_set_line_width(cr, 2.0 * PD_HALO);
+    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+    cairo_stroke_preserve(cr);
+    cairo_fill(cr);
+    cairo_restore(cr);
+}
+
 void pd_axes(cairo_t *cr, const frame *f, const char *xlabel, const char *ylabel, int xnumbers)
 {
     axes(cr, f, xlabel, ylabel, xnumbers);

@@ -185,11 +185,19 @@ static void marker(cairo_t *cr, int kind, double x, double y)
     cairo_stroke(cr);
 }
 
-/* Labels placed so far (device boxes), to keep new ones off them. */
+/* Boxes taken so far (device coordinates): the markers', then the labels',
+ * to keep new labels off them; and the labels placed, drawn once all are. */
 enum { BOXES_MAX = 256 };
+typedef struct label {
+    double x, y;      /* the text's start and baseline */
+    double lx[2], ly[2]; /* a leader line from the marker (lx[0] NAN: none) */
+    char s[48];
+} label;
 typedef struct boxes {
     double x[BOXES_MAX][4];
     int n;
+    label lab[BOXES_MAX];
+    int nlab;
 } boxes;
 
 static int overlaps(const boxes *bx, double x0, double y0, double x1, double y1)
@@ -205,12 +213,13 @@ static int overlaps(const boxes *bx, double x0, double y0, double x1, double y1)
  * numbers) and overlaps no earlier label and no marker; none if all do
  * (the marker stays, the CSV has every value). A label moved off its
  * marker's height gets a thin leader line to it (which label was whose
- * could not be told where they crowd). */
+ * could not be told where they crowd). Kept in bx, drawn by draw_labels. */
 static void place_label(cairo_t *cr, const frame *f, boxes *bx, double x, double y,
                         const char *lab)
 {
     static const double dy[] = {-10, 6, -24, 20, -38, 34, -52, 48};
     cairo_text_extents_t e;
+    cairo_select_font_face(cr, PD_FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr, 10.5);
     cairo_text_extents(cr, lab, &e);
     for (unsigned k = 0; k < sizeof dy / sizeof dy[0] && bx->n < BOXES_MAX; k++) {
@@ -222,22 +231,43 @@ static void place_label(cairo_t *cr, const frame *f, boxes *bx, double x, double
                 continue;
             double *b = bx->x[bx->n++];
             b[0] = x0, b[1] = y0, b[2] = x1, b[3] = y1;
-            cairo_set_source_rgb(cr, 0.55, 0.0, 0.0);
+            label *l = &bx->lab[bx->nlab++];
+            l->x = x0, l->y = ly, l->lx[0] = NAN;
+            snprintf(l->s, sizeof l->s, "%s", lab);
             if (k >= 2) { /* from the marker's edge to the label's near end */
                 double ex = side ? x1 + 1 : x0 - 1, ey = ly - 4, d = hypot(ex - x, ey - y);
-                cairo_set_line_width(cr, 0.7);
-                cairo_move_to(cr, x + (ex - x) * 8 / d, y + (ey - y) * 8 / d);
-                cairo_line_to(cr, ex, ey);
-                cairo_stroke(cr);
+                l->lx[0] = x + (ex - x) * 8 / d, l->ly[0] = y + (ey - y) * 8 / d;
+                l->lx[1] = ex, l->ly[1] = ey;
             }
-            pd_text(cr, x0, ly, 10.5, 0.0, lab);
             return;
         }
     }
 }
 
-/* Markers in both panels; labels in the top one, one per event (a body's
- * bearing axes grazing together share a label). */
+/* The labels placed: their leader lines, then every label's halo, then
+ * every label's text, so that a halo clears the curves and leaders under
+ * its label but never another label's letters. */
+static void draw_labels(cairo_t *cr, const boxes *bx)
+{
+    cairo_set_source_rgb(cr, 0.55, 0.0, 0.0);
+    cairo_set_line_width(cr, 0.7);
+    for (int i = 0; i < bx->nlab; i++)
+        if (!isnan(bx->lab[i].lx[0])) {
+            cairo_move_to(cr, bx->lab[i].lx[0], bx->lab[i].ly[0]);
+            cairo_line_to(cr, bx->lab[i].lx[1], bx->lab[i].ly[1]);
+            cairo_stroke(cr);
+        }
+    for (int i = 0; i < bx->nlab; i++)
+        pd_halo(cr, bx->lab[i].x, bx->lab[i].y, 10.5, 0.0, bx->lab[i].s);
+    cairo_set_source_rgb(cr, 0.55, 0.0, 0.0);
+    for (int i = 0; i < bx->nlab; i++)
+        pd_text(cr, bx->lab[i].x, bx->lab[i].y, 10.5, 0.0, bx->lab[i].s);
+}
+
+/* Markers in both panels; then labels in the top one, one per event (a
+ * body's bearing axes grazing together share a label): no marker drawn
+ * later covers a label, and a curve under a label does not cross its
+ * letters (draw_labels). */
 static void bifurcations(cairo_t *cr, const frame *top, const frame *bot, const cont_result *r)
 {
     char lab[48];
@@ -251,21 +281,28 @@ static void bifurcations(cairo_t *cr, const frame *top, const frame *bot, const 
         double x = px(top, b->value), y = py(top, b->xn), *m = bx->x[bx->n++];
         m[0] = x - 8, m[1] = y - 9, m[2] = x + 8, m[3] = y + 9;
     }
-    for (int i = 0; i < r->nbif && bx; i++) {
+    for (int i = 0; i < r->nbif; i++) {
         const wg_bif *b = &r->bif[i];
         if (b->value < top->xmin || b->value > top->xmax)
             continue;
         double x = px(top, b->value);
         marker(cr, b->kind, x, py(top, b->xn));
         marker(cr, b->kind, x, py(bot, fmax(bot->ymin, b->min_xn)));
+    }
+    for (int i = 0; i < r->nbif && bx; i++) {
+        const wg_bif *b = &r->bif[i];
+        if (b->value < top->xmin || b->value > top->xmax)
+            continue;
         if (i > 0 && r->bif[i - 1].kind == b->kind && fabs(r->bif[i - 1].value - b->value) < 1e-6)
             continue;
         if (b->kind == WG_BIF_GRAZING)
             snprintf(lab, sizeof lab, "G %s %.5f", wg_contact_name(b->contact), b->value);
         else
             snprintf(lab, sizeof lab, "%s P%d %.5f", code(b->kind), b->period, b->value);
-        place_label(cr, top, bx, x, py(top, b->xn), lab);
+        place_label(cr, top, bx, px(top, b->value), py(top, b->xn), lab);
     }
+    if (bx)
+        draw_labels(cr, bx);
     free(bx);
 }
 

@@ -75,6 +75,13 @@ void pd_scale2(cairo_t *cr, const frame *f, const plot_scale2 *sc, int where);
 /* Text at (x, y), size in points, align 0 left .. 1 right (UTF-8). */
 void pd_text(cairo_t *cr, double x, double y, double size, double align, const char *s);
 
+/* The white halo of pd_text(cr, x, y, size, align, s): its glyphs filled
+ * and widened by PD_HALO px. Labels over curves stay legible when every
+ * label's halo is drawn before any label's text (so that no halo covers
+ * another label's letters). */
+#define PD_HALO 1.5
+void pd_halo(cairo_t *cr, double x, double y, double size, double align, const char *s);
+
 /* The frame's box, ticks and numbers (x numbers and label only if
  * xnumbers), axis labels. */
 void pd_axes(cairo_t *cr, const frame *f, const char *xlabel, const char *ylabel, int xnumbers);
