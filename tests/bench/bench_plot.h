@@ -41,10 +41,16 @@ static void plot_decade_label(cairo_t *cr, double x, double y, int e, int right_
     cairo_show_text(cr, buf);
 }
 
-/* Write a PNG of width x height; returns 0 or -1. */
-static int plot_wp(const char *path, const char *title, const char *xlabel, const char *ylabel,
-                   const plot_series *s, int ns, int width, int height)
+/* Write a PNG of width x height, with the caption's lines (NULL-ended, at
+ * most PLOT_CAPTION_MAX) under the title; returns 0 or -1. */
+enum { PLOT_CAPTION_MAX = 3 };
+static int plot_wp(const char *path, const char *title, const char *const *caption,
+                   const char *xlabel, const char *ylabel, const plot_series *s, int ns,
+                   int width, int height)
 {
+    int ncap = 0;
+    while (caption && ncap < PLOT_CAPTION_MAX && caption[ncap])
+        ncap++;
     double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
     for (int i = 0; i < ns; i++)
         for (int j = 0; j < s[i].n; j++)
@@ -57,7 +63,7 @@ static int plot_wp(const char *path, const char *title, const char *xlabel, cons
     if (!(xmin < xmax) || !(ymin < ymax))
         return -1;
     plot_box b = {floor(log10(xmin)), ceil(log10(xmax)), floor(log10(ymin)), ceil(log10(ymax)),
-                  90, width - 230, 50, height - 60};
+                  90, width - 230, 50 + 16 * ncap, height - 60};
     cairo_surface_t *sf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
     cairo_t *cr = cairo_create(sf);
     cairo_set_source_rgb(cr, 1, 1, 1);
@@ -88,8 +94,13 @@ static int plot_wp(const char *path, const char *title, const char *xlabel, cons
     cairo_rectangle(cr, b.left, b.top, b.right - b.left, b.bottom - b.top);
     cairo_stroke(cr);
     cairo_set_font_size(cr, 14);
-    cairo_move_to(cr, b.left, 30);
+    cairo_move_to(cr, b.left, 26);
     cairo_show_text(cr, title);
+    cairo_set_font_size(cr, 11);
+    for (int i = 0; i < ncap; i++) {
+        cairo_move_to(cr, b.left, 46 + 16 * i);
+        cairo_show_text(cr, caption[i]);
+    }
     cairo_set_font_size(cr, 12);
     cairo_move_to(cr, (b.left + b.right) / 2 - 80, height - 18);
     cairo_show_text(cr, xlabel);
