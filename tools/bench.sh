@@ -18,7 +18,7 @@
 # Each prints its own tables (kept in build-bench/bench/*.txt); a summary of
 # the lines the README quotes ends the run, each under the command that gave
 # it. Figures only: nothing passes or fails on a time; the exit status is
-# non-zero only if a step fails. Run as root on Debian 12; ~8 min on 2 cores.
+# non-zero only if a step fails. Run as root on Debian 12; ~5 min on 2 cores.
 # Keep the machine otherwise quiet: the figures are wall and CPU times.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -41,9 +41,10 @@ run() {
     local name=$1; shift
     echo
     echo "== $name: $*"
-    "$@" 2>&1 | tee "$out/$name.txt"
-    local rc=${PIPESTATUS[0]}
-    [ "$rc" -eq 0 ] || { echo "bench.sh: $name failed (exit $rc)" >&2; exit 1; }
+    if ! "$@" 2>&1 | tee "$out/$name.txt"; then
+        echo "bench.sh: $name failed: $*" >&2
+        exit 1
+    fi
 }
 echo "commit $(git rev-parse --short HEAD 2>/dev/null || echo '(no git)'), $(nproc) CPUs:" \
     "$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1), load $(cut -d' ' -f1-3 /proc/loadavg)"

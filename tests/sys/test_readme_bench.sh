@@ -10,7 +10,7 @@
 # study bytes in every run, the daemon's CPU share and latencies with every
 # command accepted, the work-precision ratios and plots, the 10^9-step run
 # with no bad section and the same mean x_n before and after), and prints
-# the summary. Run through netns.sh. Takes ~8 min on 2 cores.
+# the summary. Run through netns.sh. Takes ~4-5 min on 2 cores.
 src=$1
 . "$(dirname "$0")/readme.sh" # readme_block, readme_expect
 tmp=$(mktemp -d) || exit 1
