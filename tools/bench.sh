@@ -17,8 +17,11 @@
 #   bench_long 1e9            the 10^9-step run
 # Each prints its own tables (kept in build-bench/bench/*.txt); a summary of
 # the lines the README quotes ends the run, each under the command that gave
-# it. Figures only: nothing passes or fails on a time; the exit status is
-# non-zero only if a step fails. Run as root on Debian 12; ~5 min on 2 cores.
+# it (kept in build-bench/bench/summary.txt). Figures only: nothing passes
+# or fails on a time; the exit status is non-zero only if a step fails.
+# Run as root on Debian 12; ~5 min on 2 cores once tools/setup.sh's
+# packages are installed (a fresh machine first installs all of them: the
+# project's, not only the benchmarks').
 # Keep the machine otherwise quiet: the figures are wall and CPU times.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,7 +29,8 @@ bash tools/setup.sh
 b=build-bench
 out=$b/bench
 echo "== build $b (Release, -DWG_BUILD_BENCH=ON)"
-cmake -S . -B "$b" -DCMAKE_BUILD_TYPE=Release -DWG_BUILD_BENCH=ON >/dev/null
+cmake -S . -B "$b" -DCMAKE_BUILD_TYPE=Release -DWG_BUILD_BENCH=ON -DWG_SANITIZE=OFF -DWG_MPI=OFF \
+    >/dev/null
 cmake --build "$b" -j"$(nproc)" >/dev/null
 mkdir -p "$out"
 export WG_SCENE_PATH=$PWD/scenes
@@ -46,8 +50,10 @@ run() {
         exit 1
     fi
 }
-echo "commit $(git rev-parse --short HEAD 2>/dev/null || echo '(no git)'), $(nproc) CPUs:" \
-    "$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1), load $(cut -d' ' -f1-3 /proc/loadavg)"
+head="commit $(git describe --always --dirty 2>/dev/null || echo '(no git)'), $(date -u +%F),"
+head+=" $(nproc) CPUs: $(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1),"
+head+=" load $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "$head"
 run step "$bin/bench_gsl" 1000000 5
 run scenes "$bin/bench_step" 1000000 5
 run pair "$bin/bench_pair_$wide" 300000 3
@@ -58,18 +64,24 @@ run long "$bin/bench_long" 1e9
 
 # pick NAME REGEX: the lines of NAME's output the README quotes
 pick() { grep -E "$2" "$out/$1.txt" || { echo "bench.sh: no '$2' in $out/$1.txt" >&2; exit 1; }; }
+summary() {
+    echo "== summary: $head"
+    echo "-- $bin/bench_gsl 1000000 5"
+    pick step '^\||^issue 13, item 1'
+    echo "-- $bin/bench_step 1000000 5"
+    pick scenes '^\|'
+    echo "-- $bin/bench_pair_$wide 300000 3"
+    pick pair '^runs, omega'
+    echo "-- bash tests/bench/sweep_bench.sh $b 3 map"
+    pick sweeps '^\||^study CSVs|^pairing'
+    echo "-- sh tests/netns.sh $bin/wgd_bench $b/daemon/wormgeard 10 500"
+    pick daemon '^CPU share|^command->ACK'
+    echo "-- $bin/bench_wp $out 5"
+    pick wp '^## \(|^rk4-event / GSL rk8pd'
+    echo "-- $bin/bench_long 1e9"
+    pick long 'steps in .* s wall|bad state|^mean x_n|^tau '
+    echo "(load at the end $(cut -d' ' -f1-3 /proc/loadavg); every table: $out/*.txt;" \
+        "work-precision plots: $out/wp_*.png)"
+}
 echo
-echo "== summary (load $(cut -d' ' -f1-3 /proc/loadavg))"
-echo "-- $bin/bench_gsl 1000000 5"
-pick step '^issue 13, item 1|^\| table3 \(no impact\)|^\| table3 \(impacting\)|^\| torsional'
-echo "-- $bin/bench_pair_$wide 300000 3"
-pick pair '^runs, omega'
-echo "-- bash tests/bench/sweep_bench.sh $b 3 map"
-pick sweeps '^\| (study|map),|^study CSVs|^pairing'
-echo "-- sh tests/netns.sh $bin/wgd_bench $b/daemon/wormgeard 10 500"
-pick daemon '^CPU share|^command->ACK'
-echo "-- $bin/bench_wp $out 5"
-pick wp '^## \(|^rk4-event / GSL rk8pd'
-echo "-- $bin/bench_long 1e9"
-pick long 'steps in .* s wall|bad state|^mean x_n|^tau '
-echo "(every table: $out/*.txt; work-precision plots: $out/wp_*.png)"
+summary | tee "$out/summary.txt"

@@ -1,5 +1,6 @@
 # readme.sh - sourced by the tests that run the README's commands
-# (test_readme.sh, test_readme_hosts.sh): a fenced block's commands, and the
+# (test_readme.sh, test_readme_hosts.sh, test_readme_bench.sh): a fenced
+# block's commands, and the
 # check that they are the list the test runs.
 
 # readme_block README HEADING [K]: the K-th fenced block (default 1) of the
