@@ -12,6 +12,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "cli.h"
 #include "lcmtypes/wormgear_ack_t.h"
 #include "lcmtypes/wormgear_cmd_t.h"
 #include "lcmtypes/wormgear_params_t.h"
@@ -151,10 +152,10 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
              size_t whylen);
 
 /* A client's exit status after bus_open (or bus_set_key) failed with brc:
- * 2 for BUS_EURL (a usage error), else 1. */
+ * CLI_EUSAGE for BUS_EURL (a usage error), else 1. */
 static inline int bus_exit_status(int brc)
 {
-    return brc == BUS_EURL ? 2 : 1;
+    return brc == BUS_EURL ? CLI_EUSAGE : 1;
 }
 
 /* Sign every command from now on with the key in path (wormgear/wg_key.h;

@@ -721,6 +721,7 @@ void pd_halo(cairo_t *cr, double x, double y, double size, double align, const c
     cairo_new_path(cr);
     cairo_move_to(cr, x - align * e.x_advance, y);
     cairo_text_path(cr, s);
+    cairo_set_dash(cr, NULL, 0, 0);
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_set_line_width(cr, 2.0 * PD_HALO);
     cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);

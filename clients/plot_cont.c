@@ -276,14 +276,14 @@ static void bifurcations(cairo_t *cr, const frame *top, const frame *bot, const 
      * the boxes at most: the rest are the labels') */
     for (int i = 0; i < r->nbif && bx && bx->n < BOXES_MAX / 2; i++) {
         const wg_bif *b = &r->bif[i];
-        if (b->value < top->xmin || b->value > top->xmax)
+        if (!(b->value >= top->xmin && b->value <= top->xmax)) /* NaN too */
             continue;
         double x = px(top, b->value), y = py(top, b->xn), *m = bx->x[bx->n++];
         m[0] = x - 8, m[1] = y - 9, m[2] = x + 8, m[3] = y + 9;
     }
     for (int i = 0; i < r->nbif; i++) {
         const wg_bif *b = &r->bif[i];
-        if (b->value < top->xmin || b->value > top->xmax)
+        if (!(b->value >= top->xmin && b->value <= top->xmax)) /* NaN too */
             continue;
         double x = px(top, b->value);
         marker(cr, b->kind, x, py(top, b->xn));
@@ -291,7 +291,7 @@ static void bifurcations(cairo_t *cr, const frame *top, const frame *bot, const 
     }
     for (int i = 0; i < r->nbif && bx; i++) {
         const wg_bif *b = &r->bif[i];
-        if (b->value < top->xmin || b->value > top->xmax)
+        if (!(b->value >= top->xmin && b->value <= top->xmax)) /* NaN too */
             continue;
         if (i > 0 && r->bif[i - 1].kind == b->kind && fabs(r->bif[i - 1].value - b->value) < 1e-6)
             continue;

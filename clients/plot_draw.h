@@ -76,9 +76,10 @@ void pd_scale2(cairo_t *cr, const frame *f, const plot_scale2 *sc, int where);
 void pd_text(cairo_t *cr, double x, double y, double size, double align, const char *s);
 
 /* The white halo of pd_text(cr, x, y, size, align, s): its glyphs filled
- * and widened by PD_HALO px. Labels over curves stay legible when every
- * label's halo is drawn before any label's text (so that no halo covers
- * another label's letters). */
+ * and widened by PD_HALO px on each side (solid, whatever the dash). Labels
+ * over curves stay legible when every label's halo is drawn before any
+ * label's text (so that no halo covers another label's letters). Like
+ * pd_text it leaves the font set; it clears the current path. */
 #define PD_HALO 1.5
 void pd_halo(cairo_t *cr, double x, double y, double size, double align, const char *s);
 

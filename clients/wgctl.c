@@ -721,8 +721,7 @@ static int run(ctl *t, int argc, char **argv)
     if (brc || (t->o.key_file && bus_set_key(&t->c, t->o.key_file, why, sizeof why))) {
         fprintf(stderr, "wgctl: %s\n", why);
         bus_close(&t->c);
-        return brc == BUS_EURL ? json_end(argc, argv, CLI_EUSAGE, "EUSAGE")
-                               : json_end(argc, argv, 1, "EBUS");
+        return json_end(argc, argv, bus_exit_status(brc), brc == BUS_EURL ? "EUSAGE" : "EBUS");
     }
     rc = dispatch(t, pos[0], npos - 1, pos + 1);
     bus_close(&t->c);

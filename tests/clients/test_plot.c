@@ -461,34 +461,74 @@ static void test_run_caption(void)
  * two across the branch. Every label pixel (dark red) keeps a white pixel
  * between it and the branch (no black pixel among its 8 neighbours): each
  * label has a halo. Without one (tried): 184 black neighbours. */
-static void test_cont_labels_over_curves(void)
+enum { CONT_NB = 12, CONT_NE = 8 };
+
+/* The branch runs from x_n 0 up to 2 and down to a flat 1.0 from omega 0.6
+ * to 1.5 (the y range -0.1 ... 2.1 over the frame's 540 px); the events'
+ * markers sit 20 px above the flat part. */
+static void cont_fixture(wg_cont_point pt[CONT_NB], wg_bif bif[CONT_NE])
 {
-    enum { NB = 12, NE = 8 };
-    static wg_cont_point pt[NB];
-    static wg_bif bif[NE];
-    char path[128], why[256];
-    setup();
-    /* the y range -0.1 ... 2.1 over the frame's 540 px: the branch runs
-     * from 0 up to 2 and down to a flat 1.0 from omega 0.6 to 1.5 */
-    for (int i = 0; i < NB; i++) {
+    for (int i = 0; i < CONT_NB; i++) {
         memset(&pt[i], 0, sizeof pt[i]);
         pt[i].period = 1, pt[i].stable = 1, pt[i].index = i;
         pt[i].value = i < 2 ? 0.5 + 0.05 * i : 0.6 + 0.09 * (i - 2);
         pt[i].xnsec[0] = i == 0 ? 0.0 : i == 1 ? 2.0 : 1.0;
         pt[i].qmin[WG_C_MESH] = 0.5;
     }
-    const double ym = 1.0 + 20.0 * 2.2 / 540; /* 20 px above the flat branch */
-    for (int e = 0; e < NE; e++) {
+    for (int e = 0; e < CONT_NE; e++) {
         memset(&bif[e], 0, sizeof bif[e]);
         bif[e].kind = e % 2 ? WG_BIF_PD : WG_BIF_FOLD;
         bif[e].period = 1;
         bif[e].value = 1.0 + 1e-5 * e;
-        bif[e].xn = ym;
+        bif[e].xn = 1.0 + 20.0 * 2.2 / 540;
         bif[e].min_xn = 0.5;
     }
-    cont_result r = {pt, NB, NB, bif, NE, NE, 0};
-    plot_cont pc = {"test: labels", {"caption", NULL, NULL}, "ω  (-)", 0.5, 1.5, 0.1, &r,
-                    NULL, NULL, 0, 0, "png", {0, NULL, 0}, {0, NULL, 0}};
+}
+
+/* BGRA in memory on this little-endian host */
+static int is_red(const unsigned char *p) { return p[2] > 100 && p[1] < 70 && p[0] < 70; }
+static int is_black(const unsigned char *p) { return p[2] < 90 && p[1] < 90 && p[0] < 90; }
+
+/* In the top frame (y 140 ... 680) of image d (stride st): the row with the
+ * most black pixels (the flat branch), the label pixels within 2 px of it
+ * (*across), and the black neighbours of label pixels (*touching). */
+static void cont_label_pixels(const unsigned char *d, int st, int *yline, int *across,
+                              int *touching)
+{
+    int most = 0;
+    *yline = -1, *across = 0, *touching = 0;
+    for (int y = 141; y < 679; y++) {
+        int n = 0;
+        for (int x = 300; x < 1290; x++)
+            n += is_black(d + y * st + 4 * x);
+        if (n > most)
+            most = n, *yline = y;
+    }
+    if (most <= 500) /* no line drawn across the frame */
+        *yline = -1;
+    for (int y = 141; y < 679 && *yline >= 0; y++)
+        for (int x = 91; x < 1299; x++) {
+            if (!is_red(d + y * st + 4 * x))
+                continue;
+            *across += abs(y - *yline) <= 2;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++)
+                    *touching += is_black(d + (y + dy) * st + 4 * (x + dx));
+        }
+}
+
+static void test_cont_labels_over_curves(void)
+{
+    static wg_cont_point pt[CONT_NB];
+    static wg_bif bif[CONT_NE];
+    char path[128], why[256];
+    setup();
+    cont_fixture(pt, bif);
+    cont_result r = {.pt = pt, .npt = CONT_NB, .ptcap = CONT_NB, .bif = bif, .nbif = CONT_NE,
+                     .bifcap = CONT_NE};
+    plot_cont pc = {.title = "test: labels", .caption = {"caption", NULL, NULL},
+                    .xlabel = "ω  (-)", .xlo = 0.5, .xhi = 1.5, .b = 0.1, .r = &r,
+                    .format = "png"};
     snprintf(path, sizeof path, "%s/cont.png", dir);
     ASSERT_EQ_INT(plot_continuation(path, &pc, why, sizeof why), 0);
     cairo_surface_t *sf = cairo_image_surface_create_from_png(path);
@@ -496,43 +536,16 @@ static void test_cont_labels_over_curves(void)
     unlink(path);
     rmdir(dir);
     cairo_surface_flush(sf);
-    const unsigned char *d = cairo_image_surface_get_data(sf);
-    int st = cairo_image_surface_get_stride(sf);
-    /* BGRA in memory on this little-endian host */
-#define PX(x, y) (d + (y) * st + 4 * (x))
-#define RED(p) ((p)[2] > 100 && (p)[1] < 70 && (p)[0] < 70)
-#define BLACK(p) ((p)[2] < 90 && (p)[1] < 90 && (p)[0] < 90)
-    /* the flat branch: the row of the top frame (y 140 ... 680) with the
-     * most black pixels between omega 0.7 and 1.5 */
-    int yline = -1, most = 0;
-    for (int y = 141; y < 679; y++) {
-        int n = 0;
-        for (int x = 300; x < 1290; x++)
-            n += BLACK(PX(x, y));
-        if (n > most)
-            most = n, yline = y;
-    }
-    ASSERT_TRUE(most > 500);
-    int across = 0, touching = 0;
-    for (int y = 141; y < 679; y++)
-        for (int x = 91; x < 1299; x++) {
-            const unsigned char *p = PX(x, y);
-            if (!RED(p))
-                continue;
-            if (abs(y - yline) <= 2)
-                across++;
-            for (int dy = -1; dy <= 1; dy++)
-                for (int dx = -1; dx <= 1; dx++)
-                    touching += BLACK(PX(x + dx, y + dy));
-        }
-#undef PX
-#undef RED
-#undef BLACK
-    if (!across)
-        TEST_FAIL_("no label crosses the branch at y = %d px: the test no longer tries", yline);
-    if (touching)
-        TEST_FAIL_("label pixels have %d black neighbours on the branch (no halo)", touching);
+    int yline, across, touching;
+    cont_label_pixels(cairo_image_surface_get_data(sf), cairo_image_surface_get_stride(sf),
+                      &yline, &across, &touching);
     cairo_surface_destroy(sf);
+    if (yline < 0)
+        TEST_FAIL_("no branch found in the top frame");
+    else if (!across)
+        TEST_FAIL_("no label crosses the branch at y = %d px: the test no longer tries", yline);
+    else if (touching)
+        TEST_FAIL_("label pixels have %d black neighbours on the branch (no halo)", touching);
 }
 
 TEST_MAIN(TEST(test_ticks), TEST(test_split_sweeps), TEST(test_run_caption),
