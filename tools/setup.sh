@@ -3,7 +3,12 @@
 # (README.md, "Dependencies", says why each is there), and the dashboard's
 # npm packages (web/package-lock.json: uPlot, and the test clients) with
 # `npm ci`. Idempotent: installs only what is missing. Run as root.
+# --check: install nothing; name what is missing (exit 1) or say nothing
+# (exit 0). sys.readme_bench asks it, from a network namespace.
 set -euo pipefail
+check=0
+[ "${1:-}" = --check ] && check=1
+lack=() # --check: what would be installed
 pkgs=(
   build-essential cmake pkg-config dpkg-dev
   libinih-dev
@@ -24,7 +29,9 @@ missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-if [ ${#missing[@]} -gt 0 ]; then
+if [ ${#missing[@]} -gt 0 ] && [ $check = 1 ]; then
+  lack+=("${missing[@]}")
+elif [ ${#missing[@]} -gt 0 ]; then
   echo "setup: installing ${missing[*]}"
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq
@@ -33,7 +40,9 @@ fi
 
 # Node and npm (the dashboard's packages and its tests): Debian's when the
 # machine has none.
-if ! command -v npm >/dev/null 2>&1; then
+if ! command -v npm >/dev/null 2>&1 && [ $check = 1 ]; then
+  lack+=(nodejs npm)
+elif ! command -v npm >/dev/null 2>&1; then
   echo "setup: installing nodejs npm"
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq
@@ -43,6 +52,14 @@ fi
 web=$(cd "$(dirname "$0")/../web" && pwd)
 if [ ! -f "$web/node_modules/.package-lock.json" ] ||
    [ "$web/package-lock.json" -nt "$web/node_modules/.package-lock.json" ]; then
-  echo "setup: npm ci in $web"
-  (cd "$web" && npm ci --no-audit --no-fund --loglevel=error)
+  if [ $check = 1 ]; then
+    lack+=("web/node_modules (npm ci)")
+  else
+    echo "setup: npm ci in $web"
+    (cd "$web" && npm ci --no-audit --no-fund --loglevel=error)
+  fi
+fi
+if [ ${#lack[@]} -gt 0 ]; then
+  echo "setup: missing: ${lack[*]}"
+  exit 1
 fi

@@ -1,7 +1,7 @@
 # readme.sh - sourced by the tests that run the README's commands
 # (test_readme.sh, test_readme_hosts.sh, test_readme_bench.sh): a fenced
-# block's commands, and the
-# check that they are the list the test runs.
+# block's commands, the check that they are the list the test runs, and a
+# copy of the tree to run them in.
 
 # readme_block README HEADING [K]: the K-th fenced block (default 1) of the
 # section that starts at the line HEADING (up to the next "## " heading),
@@ -19,4 +19,16 @@ readme_expect() {
     echo "FAIL: the README's $3 are not what this test checks; update both:"
     diff "$2" "$1"
     exit 1
+}
+
+# readme_tree SRC DEST [EXCLUDE...]: a copy of the tree SRC in DEST (made
+# here) as a user has it: no .git, no build directories, nor the EXCLUDEd
+# paths (./web/node_modules, say); mtimes kept. 0, or 1.
+readme_tree() {
+    local src=$1 dest=$2 ex=
+    shift 2
+    for e in "$@"; do ex="$ex --exclude=$e"; done
+    mkdir -p "$dest" &&
+        (cd "$src" && tar --exclude=./.git --exclude=./build --exclude='./build-*' $ex -cf - .) |
+        (cd "$dest" && tar -xf -)
 }

@@ -12,7 +12,7 @@
 # with no bad section and the same mean x_n before and after), and prints
 # the summary. Run through netns.sh. Takes ~4-5 min on 2 cores.
 src=$1
-. "$(dirname "$0")/readme.sh" # readme_block, readme_expect
+. "$(dirname "$0")/readme.sh" # readme_block, readme_expect, readme_tree
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
@@ -26,19 +26,12 @@ readme_expect "$tmp/block" "$tmp/want" "benchmark command"
 # The command starts with tools/setup.sh, which here, in a network namespace,
 # can install nothing: what it would install must be there already (a tree
 # pulled since setup.sh last ran may lack the benchmarks' packages).
-for p in libgsl-dev libsundials-dev; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||
-        fail "$p is not installed: run tools/setup.sh (as root) first"
-done
-[ -f "$src/web/node_modules/.package-lock.json" ] &&
-    ! [ "$src/web/package-lock.json" -nt "$src/web/node_modules/.package-lock.json" ] ||
-    fail "web/node_modules is missing or older than web/package-lock.json: run tools/setup.sh first"
+bash "$src/tools/setup.sh" --check >"$tmp/setup" ||
+    fail "$(cat "$tmp/setup"): run tools/setup.sh (as root) first"
 
 # web/node_modules comes along (mtimes kept), so that tools/setup.sh finds
 # the dashboard's packages installed and needs no registry.
-mkdir "$tmp/src"
-(cd "$src" && tar --exclude=./.git --exclude=./build --exclude='./build-*' -cf - .) |
-    (cd "$tmp/src" && tar -xf -) || fail "could not copy the source tree"
+readme_tree "$src" "$tmp/src" || fail "could not copy the source tree"
 cd "$tmp/src" || exit 1
 unset WG_SCENE_PATH # as a user runs it
 

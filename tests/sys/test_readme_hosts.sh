@@ -12,7 +12,7 @@
 # test changes with it. Run through netns.sh (MPI then talks over a private
 # lo only). Takes ~4 min on 2 cores: the build, then the map twice.
 src=$1
-. "$(dirname "$0")/readme.sh" # readme_block, readme_expect
+. "$(dirname "$0")/readme.sh" # readme_block, readme_expect, readme_tree
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
@@ -30,10 +30,7 @@ readme_expect "$tmp/block" "$tmp/want" "host-file commands"
 line() { sed -n "${1}p" "$tmp/block"; }
 
 # A copy of the tree as a user has it (no build directories, no .git).
-mkdir "$tmp/src"
-(cd "$src" && tar --exclude=./.git --exclude=./build --exclude='./build-*' \
-    --exclude=./web/node_modules -cf - .) | (cd "$tmp/src" && tar -xf -) ||
-    fail "could not copy the source tree"
+readme_tree "$src" "$tmp/src" ./web/node_modules || fail "could not copy the source tree"
 cd "$tmp/src" || exit 1
 unset WG_SCENE_PATH # as a user runs it: the scenes come with the build
 
