@@ -40,9 +40,12 @@ grep -qw avx2 /proc/cpuinfo && wide=avx2
 grep -qw avx512f /proc/cpuinfo && wide=avx512
 
 # run NAME COMMAND...: the command's output on the terminal and in
-# $out/NAME.txt; a failing command ends the run.
+# $out/NAME.txt, the command itself in cmd[NAME]; a failing command ends
+# the run.
+declare -A cmd
 run() {
     local name=$1; shift
+    cmd[$name]="$*"
     echo
     echo "== $name: $*"
     if ! "$@" 2>&1 | tee "$out/$name.txt"; then
@@ -62,23 +65,20 @@ run daemon sh tests/netns.sh "$bin/wgd_bench" "$b/daemon/wormgeard" 10 500
 run wp "$bin/bench_wp" "$out" 5
 run long "$bin/bench_long" 1e9
 
-# pick NAME REGEX: the lines of NAME's output the README quotes
-pick() { grep -E "$2" "$out/$1.txt" || { echo "bench.sh: no '$2' in $out/$1.txt" >&2; exit 1; }; }
+# pick NAME REGEX: NAME's command, and the lines of its output the README
+# quotes
+pick() {
+    echo "-- ${cmd[$1]}"
+    grep -E "$2" "$out/$1.txt" || { echo "bench.sh: no '$2' in $out/$1.txt" >&2; exit 1; }
+}
 summary() {
     echo "== summary: $head"
-    echo "-- $bin/bench_gsl 1000000 5"
     pick step '^\||^issue 13, item 1'
-    echo "-- $bin/bench_step 1000000 5"
     pick scenes '^\|'
-    echo "-- $bin/bench_pair_$wide 300000 3"
     pick pair '^runs, omega'
-    echo "-- bash tests/bench/sweep_bench.sh $b 3 map"
     pick sweeps '^\||^study CSVs|^pairing'
-    echo "-- sh tests/netns.sh $bin/wgd_bench $b/daemon/wormgeard 10 500"
     pick daemon '^CPU share|^command->ACK'
-    echo "-- $bin/bench_wp $out 5"
     pick wp '^## \(|^rk4-event / GSL rk8pd'
-    echo "-- $bin/bench_long 1e9"
     pick long 'steps in .* s wall|bad state|^mean x_n|^tau '
     echo "(load at the end $(cut -d' ' -f1-3 /proc/loadavg); every table: $out/*.txt;" \
         "work-precision plots: $out/wp_*.png)"
