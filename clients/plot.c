@@ -51,13 +51,20 @@ static void set_rgb(cairo_t *cr, const double c[3], double a)
     cairo_set_source_rgba(cr, c[0], c[1], c[2], a);
 }
 
-static void text(cairo_t *cr, double x, double y, double size, double align, const char *s)
+/* The font set at size, and the current point where s starts for
+ * text(cr, x, y, size, align, s). */
+static void text_at(cairo_t *cr, double x, double y, double size, double align, const char *s)
 {
     cairo_text_extents_t e;
     cairo_select_font_face(cr, PD_FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr, size);
     cairo_text_extents(cr, s, &e);
     cairo_move_to(cr, x - align * e.x_advance, y);
+}
+
+static void text(cairo_t *cr, double x, double y, double size, double align, const char *s)
+{
+    text_at(cr, x, y, size, align, s);
     cairo_show_text(cr, s);
 }
 
@@ -713,14 +720,10 @@ void pd_text(cairo_t *cr, double x, double y, double size, double align, const c
 
 void pd_halo(cairo_t *cr, double x, double y, double size, double align, const char *s)
 {
-    cairo_text_extents_t e;
-    cairo_select_font_face(cr, PD_FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-    cairo_set_font_size(cr, size);
-    cairo_text_extents(cr, s, &e);
-    cairo_save(cr);
     cairo_new_path(cr);
-    cairo_move_to(cr, x - align * e.x_advance, y);
+    text_at(cr, x, y, size, align, s);
     cairo_text_path(cr, s);
+    cairo_save(cr);
     cairo_set_dash(cr, NULL, 0, 0);
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_set_line_width(cr, 2.0 * PD_HALO);

@@ -272,21 +272,18 @@ static void bifurcations(cairo_t *cr, const frame *top, const frame *bot, const 
 {
     char lab[48];
     boxes *bx = calloc(1, sizeof *bx);
-    /* the top panel's markers first, so that no label covers one (half
-     * the boxes at most: the rest are the labels') */
-    for (int i = 0; i < r->nbif && bx && bx->n < BOXES_MAX / 2; i++) {
-        const wg_bif *b = &r->bif[i];
-        if (!(b->value >= top->xmin && b->value <= top->xmax)) /* NaN too */
-            continue;
-        double x = px(top, b->value), y = py(top, b->xn), *m = bx->x[bx->n++];
-        m[0] = x - 8, m[1] = y - 9, m[2] = x + 8, m[3] = y + 9;
-    }
+    /* every marker first, its top-panel box kept so that no label covers
+     * it (half the boxes at most: the rest are the labels') */
     for (int i = 0; i < r->nbif; i++) {
         const wg_bif *b = &r->bif[i];
         if (!(b->value >= top->xmin && b->value <= top->xmax)) /* NaN too */
             continue;
-        double x = px(top, b->value);
-        marker(cr, b->kind, x, py(top, b->xn));
+        double x = px(top, b->value), y = py(top, b->xn);
+        if (bx && bx->n < BOXES_MAX / 2) {
+            double *m = bx->x[bx->n++];
+            m[0] = x - 8, m[1] = y - 9, m[2] = x + 8, m[3] = y + 9;
+        }
+        marker(cr, b->kind, x, y);
         marker(cr, b->kind, x, py(bot, fmax(bot->ymin, b->min_xn)));
     }
     for (int i = 0; i < r->nbif && bx; i++) {
