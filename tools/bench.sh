@@ -79,7 +79,7 @@ summary() {
     pick sweeps '^\||^study CSVs|^pairing'
     pick daemon '^CPU share|^command->ACK'
     pick wp '^## \(|^rk4-event / GSL rk8pd'
-    pick long 'steps in .* s wall|bad state|^mean x_n|^tau '
+    pick long 'steps in .* s wall|bad state|^mean x_n|^tau |^anonymous memory'
     echo "(load at the end $(cut -d' ' -f1-3 /proc/loadavg); every table: $out/*.txt;" \
         "work-precision plots: $out/wp_*.png)"
 }
