@@ -77,9 +77,12 @@ wait_until 8 flowing || fail "no contact events during the ramp"
 sh -c "$(line 5)" >"$tmp/out" 2>&1 || fail "$(line 5): $(cat "$tmp/out")"
 wait_for "regime +daemon: period-2" 30
 wait_for "single_sided, 0\.5 impacts/period" 10
-# the scatter holds the last 5 s of sections: two points once the ramp's are out of it
-wait_for "sections in 2 cells" 20
-[ "$(grep -o '@' "$tmp/screen" | wc -l)" -eq 2 ] || { fail "not two '@' in the scatter:"; cat "$tmp/screen"; }
+# the scatter holds the last 5 s of sections: two points once the ramp's are out of it.
+# Title and points are read from one capture that shows both: tmux can be caught
+# mid-frame (a frame is one write, but the pty hands it over in pieces), and one
+# CI run read the new frame's "2 cells" above the old frame's ramp points
+two_points() { shows "sections in 2 cells" && [ "$(grep -o '@' "$tmp/screen" | wc -l)" -eq 2 ]; }
+wait_until 20 two_points || { fail "not 2 cells shown as two '@' in the scatter:"; cat "$tmp/screen"; }
 
 sh -c "$(line 6)" >"$tmp/status" 2>&1 || fail "$(line 6): $(cat "$tmp/status")"
 for w in "period-2" "single_sided" "health ok"; do
