@@ -7,6 +7,7 @@
  * steps * h, resident-set high-water mark before and after.
  * usage: bench_long [steps (1e9)] [scene (table3)] */
 #include "cli.h"
+#include "proc_status.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_sim.h"
 #include "wormgear/wg_status.h"
@@ -45,21 +46,6 @@ static double cpu_s(long *maxrss)
            (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
 }
 
-/* The anonymous resident memory (RssAnon: heap, stack; what a leak grows,
- * unlike code pages the kernel maps in as they run), in kB; -1 unknown. */
-static long anon_kb(void)
-{
-    char line[128];
-    long kb = -1;
-    FILE *f = fopen("/proc/self/status", "r");
-    while (f && fgets(line, sizeof line, f))
-        if (sscanf(line, "RssAnon: %ld kB", &kb) == 1)
-            break;
-    if (f)
-        fclose(f);
-    return kb;
-}
-
 int main(int argc, char **argv)
 {
     uint64_t total = argc > 1 ? (uint64_t)atof(argv[1]) : 1000000000ull;
@@ -89,7 +75,9 @@ int main(int argc, char **argv)
            (double)left, (double)chunk);
     printf("| chunk | ns/step | x physical real time |\n|---|---|---|\n");
     fflush(stdout); /* stdio's buffer and printf's code in memory before the first reading */
-    long rss0, rss1, anon0 = anon_kb();
+    /* the anonymous resident memory (RssAnon: heap, stack; what a leak grows,
+     * unlike code pages the kernel maps in as they run) */
+    long rss0, rss1, anon0 = proc_status_kb(0, "RssAnon");
     double c0 = cpu_s(&rss0), t0 = cli_mono_s();
     for (int c = 1; left > 0; c++) {
         uint64_t n = left < chunk ? left : chunk, done = 0;
@@ -107,7 +95,7 @@ int main(int argc, char **argv)
         left -= n;
     }
     double wall = cli_mono_s() - t0, cpu = cpu_s(&rss1) - c0;
-    long anon1 = anon_kb();
+    long anon1 = proc_status_kb(0, "RssAnon");
     a.sum_xn = 0;
     wg_sim_run(&s, (uint64_t)N * WINDOW, &sink, NULL);
     double mean1 = a.sum_xn / WINDOW;

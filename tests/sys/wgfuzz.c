@@ -32,6 +32,7 @@
 #include "lcmtypes/wormgear_cmd_t.h"
 #include "lcmtypes/wormgear_status_t.h"
 #include "lcmtypes/wormgear_tick_t.h"
+#include "proc_status.h"
 #include "wormgear/wg_key.h"
 #include "wormgear/wg_status.h"
 
@@ -1064,21 +1065,6 @@ static void kill_during_saves(int rounds)
 
 enum { LC_SHORT = 0x4c433032, LC_LONG = 0x4c433033 }; /* "LC02", "LC03" (LCM's udpm) */
 
-/* The daemon's resident memory in kB (/proc), or -1. */
-static long rss_kb(pid_t pid)
-{
-    char path[64], line[256];
-    long kb = -1;
-    snprintf(path, sizeof path, "/proc/%d/status", (int)pid);
-    FILE *f = fopen(path, "r");
-    while (f && fgets(line, sizeof line, f))
-        if (sscanf(line, "VmRSS: %ld", &kb) == 1)
-            break;
-    if (f)
-        fclose(f);
-    return kb;
-}
-
 /* One LC03 fragment: header (seqno, msg_size, offset, no, count), the
  * channel name when no is 0, then len payload bytes. */
 static size_t frag(unsigned char *b, uint32_t seqno, uint32_t size, uint32_t off, uint16_t no,
@@ -1108,7 +1094,7 @@ static void wire(long n)
         return;
     }
 #define SEND(len) (sendto(s, b, (len), 0, (struct sockaddr *)&to, sizeof to) >= 0 ? sent++ : 0)
-    long sent = 0, rss0 = rss_kb(F.pid), acks0 = F.foreign_acks;
+    long sent = 0, rss0 = proc_status_kb(F.pid, "VmRSS"), acks0 = F.foreign_acks;
     uint32_t hs[2] = {htonl(LC_SHORT), htonl(1)};
     /* short messages: cut headers, bad magic, no NUL in the channel, a 60 kB name */
     for (size_t len = 0; len <= 8; len++)
@@ -1159,7 +1145,7 @@ static void wire(long n)
     for (int i = 0; i < 40 && back < 0; i++)
         if (get_answered(500))
             back = now_ms() - t0;
-    long rss1 = rss_kb(F.pid), acks = F.foreign_acks - acks0;
+    long rss1 = proc_status_kb(F.pid, "VmRSS"), acks = F.foreign_acks - acks0;
     if (back < 0) {
         fail("wire: the daemon answered no get within 20 s of the datagrams");
         return;
