@@ -9,6 +9,17 @@ set -euo pipefail
 check=0
 [ "${1:-}" = --check ] && check=1
 lack=() # --check: what would be installed
+# apt_install PKG...: from Debian's archive (--check: noted in lack instead)
+apt_install() {
+  if [ $check = 1 ]; then
+    lack+=("$@")
+    return
+  fi
+  echo "setup: installing $*"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "$@" >/dev/null
+}
 pkgs=(
   build-essential cmake pkg-config dpkg-dev
   libinih-dev
@@ -29,25 +40,11 @@ missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-if [ ${#missing[@]} -gt 0 ] && [ $check = 1 ]; then
-  lack+=("${missing[@]}")
-elif [ ${#missing[@]} -gt 0 ]; then
-  echo "setup: installing ${missing[*]}"
-  export DEBIAN_FRONTEND=noninteractive
-  apt-get update -qq
-  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+[ ${#missing[@]} -eq 0 ] || apt_install "${missing[@]}"
 
 # Node and npm (the dashboard's packages and its tests): Debian's when the
 # machine has none.
-if ! command -v npm >/dev/null 2>&1 && [ $check = 1 ]; then
-  lack+=(nodejs npm)
-elif ! command -v npm >/dev/null 2>&1; then
-  echo "setup: installing nodejs npm"
-  export DEBIAN_FRONTEND=noninteractive
-  apt-get update -qq
-  apt-get install -y -qq --no-install-recommends nodejs npm >/dev/null
-fi
+command -v npm >/dev/null 2>&1 || apt_install nodejs npm
 # web/node_modules from the lock file, unless it is already up to date.
 web=$(cd "$(dirname "$0")/../web" && pwd)
 if [ ! -f "$web/node_modules/.package-lock.json" ] ||
