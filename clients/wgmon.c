@@ -581,14 +581,21 @@ static void draw_msgs(mon *m, mon_text *f)
     }
 }
 
+#define MON_SYNC_BEGIN "\033[?2026h"
+#define MON_SYNC_END "\033[?2026l"
+
 /* Build a frame (clear: the whole screen first, after a resize). */
 static void render(mon *m, mon_text *f, int clear)
 {
     double now = cli_mono_s();
     mon_text_begin(f, m->cols, m->o.plain);
     m->tight = m->rows < 30;
-    if (!f->plain)
+    if (!f->plain) { /* the frame as one synchronized update (DEC mode 2026): a
+                        terminal that has it shows it whole, never half old,
+                        half new; one that has not ignores the mode */
+        mon_text_raw(f, MON_SYNC_BEGIN, sizeof MON_SYNC_BEGIN - 1);
         mon_text_raw(f, clear ? "\033[2J\033[H" : "\033[H", clear ? 7 : 3);
+    }
     draw_header(m, f, now);
     if (m->have_status) {
         draw_params(m, f);
@@ -599,9 +606,10 @@ static void render(mon *m, mon_text *f, int clear)
         mon_view_plots(f, &m->tr, &m->pc, &c, m->rows - f->lines - 1);
     }
     mon_text_put(f, 0, "%s", f->plain ? "" : m->frozen ? "-- frozen -- space: resume  q: quit  c: clear" : "q: quit  c: clear  space: freeze");
-    if (!f->plain)
+    if (!f->plain) {
         mon_text_raw(f, "\033[K\033[J", 6);
-    else
+        mon_text_raw(f, MON_SYNC_END, sizeof MON_SYNC_END - 1);
+    } else
         mon_text_nl(f);
 }
 

@@ -6,7 +6,8 @@
 # columns (two points in the scatter, both axes labelled, a stroboscopic
 # trace with its time axis) and scrolling at rate 0.01, a daemon restart, a
 # log replayed into the live bus and alone, a hostile sender (angles that are
-# not angles, sections with no or too wide a state). Run through netns.sh.
+# not angles, sections with no or too wide a state), and on a pty each frame
+# one synchronized update (DEC mode 2026). Run through netns.sh.
 D=$1 M=$2 C=$3 LOGGER=$4 PLAYER=$5 SPOOF=$6
 code=0
 tmp=$(mktemp -d) || exit 1
@@ -217,6 +218,23 @@ echo "stalled terminal under a flood: wgmon RSS $((r0 / 1024)) -> at most $((rma
 stop $mpid TERM
 [ "$exit_status" = 0 ] || fail "stalled terminal: SIGTERM -> '$exit_status', want 0 within 10 s"
 exec 3>&-
+
+# ---- on a terminal (a pty from script(1)) each frame is one synchronized
+# update (DEC mode 2026): it begins with ESC[?2026h and ends with ESC[?2026l,
+# so a terminal that has the mode never shows a frame half old, half new
+# (tmux 3.3a, below, ignores the mode; a capture there can still tear)
+script -q -e -c "$M --frames 3 --fps 4 --size 100x30" "$tmp/tty" </dev/null >/dev/null 2>&1 ||
+    fail "wgmon --frames 3 on a pty: exit $?"
+python3 - "$tmp/tty" <<'EOF2' || fail "frames on a pty not each one synchronized update"
+import re, sys
+raw = open(sys.argv[1], "rb").read()
+marks = re.findall(rb"\033\[\?2026([hl])", raw)
+frames = re.findall(rb"\033\[\?2026h(.*?)\033\[\?2026l", raw, re.S)
+ok = (marks == [b"h", b"l"] * 3 and len(frames) == 3 and
+      all(b"wormgear monitor" in f and b"\033[H" in f for f in frames))
+print(f"frames on a pty: {len(frames)} synchronized updates, marks {b''.join(marks).decode()}")
+sys.exit(0 if ok else 1)
+EOF2
 
 # ---- interactive, in a tmux pane: draws, follows a resize, quits on q
 if command -v tmux >/dev/null; then
