@@ -222,7 +222,8 @@ exec 3>&-
 # ---- on a terminal (a pty from script(1)) each frame is one synchronized
 # update (DEC mode 2026): it begins with ESC[?2026h and ends with ESC[?2026l,
 # so a terminal that has the mode never shows a frame half old, half new
-# (tmux 3.3a, below, ignores the mode; a capture there can still tear)
+# (whether tmux, below, holds frames back is not checked: its captures
+# are read as they may tear)
 script -q -e -c "$M --frames 3 --fps 4 --size 100x30" "$tmp/tty" </dev/null >/dev/null 2>&1 ||
     fail "wgmon --frames 3 on a pty: exit $?"
 python3 - "$tmp/tty" <<'EOF2' || fail "frames on a pty not each one synchronized update"
