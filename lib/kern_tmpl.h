@@ -424,26 +424,33 @@ INLINE void fbound_load(fbound *restrict B, const wg_krun *restrict r)
 
 /* The step w just computed (with excitation e): the mesh contact summed as
  * ct_contacts sums it (-te, then c_i y_i in index order, then s) into x,
- * dx, then the zone and finiteness tests. 1: a plain step. */
-INLINE int frun_check(const wg_kcoef *restrict K, const fbound *restrict B,
+ * dx, then the zone and finiteness tests. 1: a plain step. The products
+ * c_i y_i are taken a bearing vector at a time, and x and dx are summed
+ * side by side as the two lanes of one pair: each lane does the same
+ * roundings in the same order as a scalar sum would. */
+INLINE int frun_check(const vconst *restrict C, const fbound *restrict B,
                       const wg_exc *restrict e, const kst *restrict w, double *restrict x,
                       double *restrict dx)
 {
-    const double *c = K->c;
-    double xs = -e[2].te, dxs = e[2].dte;
-    for (int j = 0; j < 6; j++) {
-        xs += c[j] * w->q[j / KW][j % KW];
-        dxs += c[j] * w->v[j / KW][j % KW];
+    double pq[NB * KW], pv[NB * KW];
+#pragma GCC unroll 3
+    for (int b = 0; b < NB; b++) {
+        vb a = C->c[b] * w->q[b], d = C->c[b] * w->v[b];
+        __builtin_memcpy(&pq[b * KW], &a, sizeof a);
+        __builtin_memcpy(&pv[b * KW], &d, sizeof d);
     }
-    xs += w->s;
-    dxs += w->vs;
+    v2d m = {-e[2].te, e[2].dte};
+#pragma GCC unroll 6
+    for (int j = 0; j < 6; j++)
+        m += (v2d){pq[j], pv[j]};
+    m += (v2d){w->s, w->vs};
     vbi ok = (w->q[0] >= B->lo[0]) & (w->q[0] <= B->hi[0]) & (vabs(w->v[0]) < B->vlim);
 #pragma GCC unroll 3
     for (int b = 1; b < NB; b++)
         ok &= (w->q[b] >= B->lo[b]) & (w->q[b] <= B->hi[b]) & (vabs(w->v[b]) < B->vlim);
-    *x = xs, *dx = dxs;
-    return vall(ok) && fabs(w->s) < B->lim && fabs(w->vs) < B->lim && xs >= B->mlo &&
-           xs <= B->mhi;
+    *x = m[0], *dx = m[1];
+    return vall(ok) && fabs(w->s) < B->lim && fabs(w->vs) < B->lim && m[0] >= B->mlo &&
+           m[0] <= B->mhi;
 }
 
 /* The run stops before the step z: leave it for the general step. */
@@ -471,7 +478,7 @@ INLINE uint64_t run_full(const wg_kcoef *restrict K, wg_krun *restrict r, uint64
         const wg_exc *e = &r->table[2 * l.k];
         kst z = rk4_full_st(&C, K, e, h, y, LOCK, BJ, MB, KA, EM);
         double x, dx;
-        if (!frun_check(K, &B, e, &z, &x, &dx)) {
+        if (!frun_check(&C, &B, e, &z, &x, &dx)) {
             frun_refuse(r, z);
             break;
         }
@@ -513,8 +520,8 @@ INLINE void run_full2(const wg_kcoef *restrict Ka, wg_krun *restrict ra, uint64_
         rk4_full_t(2, C, K, e, h, y, z, LOCK, BJ, MB, KA, EM);
         const kst za = z[0], zb = z[1];
         double xa, dxa, xb, dxb;
-        int oka = frun_check(Ka, &Ba, e[0], &za, &xa, &dxa);
-        int okb = frun_check(Kb, &Bb, e[1], &zb, &xb, &dxb);
+        int oka = frun_check(&Ca, &Ba, e[0], &za, &xa, &dxa);
+        int okb = frun_check(&Cb, &Bb, e[1], &zb, &xb, &dxb);
         if (__builtin_expect(!(oka && okb), 0)) {
             if (oka)
                 ya = za, kloc_accept(&la, ha, xa, dxa), i++;
