@@ -271,6 +271,8 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
         return BUS_EURL;
     }
     c->ack_sub = bus_subscribe(c, "ACK", on_ack_raw, c, 0);
+    if (wg_mcast_guard(url, why, whylen)) /* the subscription opened LCM's socket */
+        return -1;
     const char *key = getenv("WORMGEAR_KEY_FILE");
     return key && *key ? bus_set_key(c, key, why, whylen) : 0;
 }

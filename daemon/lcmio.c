@@ -32,6 +32,7 @@ int lcmio_init(lcmio *io, const char *url, const char *prefix, char *why, size_t
         snprintf(full, sizeof full, "%s", url);
     if (wg_mcast_route(url, why, whylen))
         return WG_EIO;
+    snprintf(io->url, sizeof io->url, "%s", url);
     io->lcm = lcm_create(full);
     if (!io->lcm) { /* LCM has said why on stderr */
         snprintf(why, whylen, "LCM could not open '%s' (LCM's reason is above); a URL is "
@@ -50,6 +51,9 @@ int lcmio_subscribe(lcmio *io, int ch, lcm_msg_handler_t fn, void *user, int que
         return WG_EIO;
     }
     lcm_subscription_set_queue_capacity(s, queue);
+    if (!io->guarded && wg_mcast_guard(io->url, why, whylen))
+        return WG_EIO;
+    io->guarded = 1;
     return WG_OK;
 }
 

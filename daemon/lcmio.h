@@ -35,6 +35,8 @@ typedef struct lcmio {
     int64_t sent_utime[CH_COUNT][LCMIO_SENT]; /* utime of seq s at [s % LCMIO_SENT] */
     uint64_t published, dropped;
     const unsigned char *key; /* lcmio_sign_with: the caller's, or NULL */
+    char url[400];            /* as given, for wg_mcast_guard */
+    int guarded;              /* wg_mcast_guard done, at the first subscription */
     unsigned char buf[LCMIO_BUF];
 } lcmio;
 
@@ -57,7 +59,9 @@ int lcmio_fileno(const lcmio *io);
 int lcmio_waiting(const lcmio *io);
 
 /* Subscribe fn (a raw handler, given user) to channel ch (CH_*), with room
- * for queue messages LCM may hold for it. WG_OK, or WG_EIO with why. */
+ * for queue messages LCM may hold for it; the first subscription, which
+ * opens LCM's receive socket, also filters it (wg_mcast_guard). WG_OK, or
+ * WG_EIO with why. */
 int lcmio_subscribe(lcmio *io, int ch, lcm_msg_handler_t fn, void *user, int queue, char *why,
                     size_t whylen);
 

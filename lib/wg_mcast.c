@@ -1,9 +1,12 @@
-/* wg_mcast.c - a udpm:// URL's multicast route (wg_mcast.h). */
+/* wg_mcast.c - a udpm:// URL's multicast route, and the filter on LCM's
+ * receive socket (wg_mcast.h). */
 #include "wormgear/wg_mcast.h"
 #include "wormgear/wg_status.h"
 
 #include <arpa/inet.h>
+#include <dirent.h>
 #include <errno.h>
+#include <linux/filter.h>
 #include <netinet/in.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -63,4 +66,158 @@ int wg_mcast_route(const char *url, char *why, size_t whylen)
         snprintf(why, whylen, "cannot send to the multicast group %s: %s (docs/daemon.md)", name,
                  strerror(err));
     return WG_EIO;
+}
+
+/* The port of a udpm://GROUP[:PORT][?options] URL as LCM 1.3.1 reads it
+ * (strtol, base 0, after the ':'; 7667 without one), or -1 if url is not a
+ * udpm:// one or its port is not one LCM takes. */
+static int port_of(const char *url)
+{
+    static const char scheme[] = "udpm://";
+    if (!url || strncmp(url, scheme, sizeof scheme - 1) != 0)
+        return -1;
+    const char *net = url + sizeof scheme - 1, *colon = strchr(net, ':'), *q = strchr(net, '?');
+    if (!colon || (q && colon > q))
+        return 7667;
+    char *end;
+    long port = strtol(colon + 1, &end, 0);
+    return end == colon + 1 || port < 0 || port > 65535 ? -1 : (int)port;
+}
+
+/* A socket filter sees a UDP datagram from its UDP header on: LCM's
+ * header starts after it. The offsets below are LCM 1.3.1's udpm format
+ * (lcm_udpm.c): "LC02" seqno channel NUL data, or "LC03" seqno msg_size
+ * fragment_offset fragment_no fragments_in_msg [channel NUL] data, every
+ * field big-endian. */
+enum {
+    UDPH = 8,
+    LC_SHORT = 0x4c433032, /* "LC02" */
+    LC_LONG = 0x4c433033,  /* "LC03" */
+    LONG_HDR = 20,
+    CHAN_MAX = 63, /* LCM_MAX_CHANNEL_NAME_LENGTH */
+    KEEP = 0x7fffffff,
+    NUL_LEN = 2 * (CHAN_MAX + 1) + 2, /* nul_within's instructions */
+    PROG_MAX = 2 * NUL_LEN + 40
+};
+
+typedef struct prog {
+    struct sock_filter f[PROG_MAX];
+    int n, over;
+} prog;
+
+static void op(prog *p, unsigned short code, unsigned k, unsigned char jt, unsigned char jf)
+{
+    if (p->n == PROG_MAX)
+        p->over = 1;
+    else
+        p->f[p->n++] = (struct sock_filter){code, jt, jf, k};
+}
+
+/* Go on if A (compared with k, or with X for BPF_X) meets the jump's
+ * test, else drop the datagram. */
+static void need(prog *p, unsigned short jump, unsigned k)
+{
+    op(p, BPF_JMP | jump, k, 1, 0);
+    op(p, BPF_RET | BPF_K, 0, 0, 0);
+}
+
+/* Keep the datagram if a NUL is among the CHAN_MAX + 1 bytes from off,
+ * inside it (a load past its end drops it), else drop it. */
+static void nul_within(prog *p, unsigned off)
+{
+    for (unsigned i = 0; i <= CHAN_MAX; i++) {
+        op(p, BPF_LD | BPF_B | BPF_ABS, off + i, 0, 0);
+        op(p, BPF_JMP | BPF_JEQ | BPF_K, 0, (unsigned char)(2 * (CHAN_MAX - i) + 1), 0);
+    }
+    op(p, BPF_RET | BPF_K, 0, 0, 0);
+    op(p, BPF_RET | BPF_K, KEEP, 0, 0);
+}
+
+/* The filter: a short message's channel ends inside the datagram; a
+ * fragment has its whole header, lies inside its message (offset + size
+ * <= msg_size, computed without LCM's 32-bit wrap), is numbered below
+ * its count, and a first fragment starts at 0 with its channel ending
+ * inside it. Everything else, LCM would drop or mishandle: dropped. */
+static void build(prog *p)
+{
+    p->n = p->over = 0;
+    op(p, BPF_LD | BPF_W | BPF_ABS, UDPH, 0, 0);
+    op(p, BPF_JMP | BPF_JEQ | BPF_K, LC_SHORT, 0, NUL_LEN);
+    nul_within(p, UDPH + 8);
+    need(p, BPF_JEQ | BPF_K, LC_LONG);
+    op(p, BPF_LD | BPF_W | BPF_LEN, 0, 0, 0);
+    need(p, BPF_JGE | BPF_K, UDPH + LONG_HDR);
+    op(p, BPF_ALU | BPF_SUB | BPF_K, UDPH + LONG_HDR, 0, 0);
+    op(p, BPF_ST, 0, 0, 0); /* M[0]: the fragment's bytes */
+    op(p, BPF_LD | BPF_W | BPF_ABS, UDPH + 12, 0, 0);
+    op(p, BPF_MISC | BPF_TAX, 0, 0, 0); /* X: its offset */
+    op(p, BPF_LD | BPF_W | BPF_ABS, UDPH + 8, 0, 0);
+    need(p, BPF_JGE | BPF_X, 0); /* msg_size >= offset */
+    op(p, BPF_ALU | BPF_SUB | BPF_X, 0, 0, 0);
+    op(p, BPF_ST, 1, 0, 0); /* M[1]: the room from the offset on */
+    op(p, BPF_LDX | BPF_W | BPF_MEM, 0, 0, 0);
+    op(p, BPF_LD | BPF_W | BPF_MEM, 1, 0, 0);
+    need(p, BPF_JGE | BPF_X, 0); /* the room >= the fragment's bytes */
+    op(p, BPF_LD | BPF_H | BPF_ABS, UDPH + 18, 0, 0);
+    op(p, BPF_MISC | BPF_TAX, 0, 0, 0); /* X: fragments_in_msg */
+    op(p, BPF_LD | BPF_H | BPF_ABS, UDPH + 16, 0, 0);
+    op(p, BPF_JMP | BPF_JGE | BPF_X, 0, 0, 1); /* fragment_no >= count: drop */
+    op(p, BPF_RET | BPF_K, 0, 0, 0);
+    op(p, BPF_JMP | BPF_JEQ | BPF_K, 0, 1, 0);
+    op(p, BPF_RET | BPF_K, KEEP, 0, 0); /* a later fragment */
+    op(p, BPF_LD | BPF_W | BPF_ABS, UDPH + 12, 0, 0);
+    need(p, BPF_JEQ | BPF_K, 0); /* the first fragment at offset 0 */
+    nul_within(p, UDPH + LONG_HDR);
+}
+
+/* 1 if fd is an IPv4 UDP socket bound to port. */
+static int bound_udp(int fd, int port)
+{
+    int type = 0;
+    socklen_t tl = sizeof type;
+    struct sockaddr_in sa;
+    socklen_t sl = sizeof sa;
+    return getsockopt(fd, SOL_SOCKET, SO_TYPE, &type, &tl) == 0 && type == SOCK_DGRAM &&
+           getsockname(fd, (struct sockaddr *)&sa, &sl) == 0 && sl >= sizeof sa &&
+           sa.sin_family == AF_INET && ntohs(sa.sin_port) == port;
+}
+
+int wg_mcast_guard(const char *url, char *why, size_t whylen)
+{
+    int port = port_of(url);
+    if (port < 0)
+        return WG_OK;
+    prog p;
+    build(&p);
+    if (p.over) {
+        snprintf(why, whylen, "LCM's socket filter has more than %d instructions", PROG_MAX);
+        return WG_EIO;
+    }
+    struct sock_fprog fp = {.len = (unsigned short)p.n, .filter = p.f};
+    DIR *dir = opendir("/proc/self/fd");
+    if (!dir) {
+        snprintf(why, whylen, "cannot list this process's files to filter LCM's socket: %s",
+                 strerror(errno));
+        return WG_EIO;
+    }
+    int found = 0, failed = 0, err = 0;
+    struct dirent *e;
+    while ((e = readdir(dir))) {
+        char *end;
+        long fd = strtol(e->d_name, &end, 10);
+        if (end == e->d_name || *end || fd == dirfd(dir) || !bound_udp((int)fd, port))
+            continue;
+        if (setsockopt((int)fd, SOL_SOCKET, SO_ATTACH_FILTER, &fp, sizeof fp) == 0)
+            found++;
+        else
+            failed++, err = errno;
+    }
+    closedir(dir);
+    if (failed)
+        snprintf(why, whylen, "cannot filter LCM's receive socket on port %d: %s", port,
+                 strerror(err));
+    else if (!found)
+        snprintf(why, whylen, "no LCM receive socket on port %d to filter (subscribe first)",
+                 port);
+    return failed || !found ? WG_EIO : WG_OK;
 }

@@ -1,4 +1,5 @@
-/* wg_mcast.h - can this host send to a udpm:// URL's multicast group?
+/* wg_mcast.h - can this host send to a udpm:// URL's multicast group, and
+ * a filter that keeps datagrams LCM mishandles away from its socket?
  *
  * LCM 1.3.1 tests the route when it opens a udpm:// URL. Without one it
  * prints a page of advice that names an address which is not the group's
@@ -28,6 +29,19 @@ int wg_mcast_group(const char *url, char name[WG_MCAST_NAME]);
  * add one, e.g. `ip route add 239.0.0.0/8 dev lo` ..." when the host has
  * no route to it, the error otherwise. */
 int wg_mcast_route(const char *url, char *why, size_t whylen);
+
+/* Filters LCM's receive socket for a udpm:// URL, so that datagrams LCM
+ * 1.3.1 would read out of bounds never reach it. Its fragment check adds
+ * offset and size in 32 bits, so a fragment whose sum wraps is copied ~4
+ * GB past its buffer: one datagram on the group kills any process that
+ * listens. Kept: a short message whose channel ends inside it; a fragment
+ * with its whole header, inside its message, numbered below its count, the
+ * first at offset 0 with its channel ending inside it. Call it right after
+ * the first lcm_subscribe on the URL (which opens the socket): a datagram
+ * that comes before is not filtered. WG_OK if url is not a udpm:// one or
+ * every UDP socket of this process bound to its port now has the filter;
+ * else WG_EIO with why. */
+int wg_mcast_guard(const char *url, char *why, size_t whylen);
 
 /* The forms of an LCM URL, for the message when LCM refuses one. */
 #define WG_LCM_URL_FORMS                                                                     \

@@ -3,10 +3,22 @@
  * do not matter, inet_aton's forms count; anything else (another provider,
  * a unicast or unreadable address, no address before the port) is left to
  * LCM, and wg_mcast_route then tries no socket. The route itself is
- * sys.wgctl's: in a network namespace with no route, and with one. */
+ * sys.wgctl's: in a network namespace with no route, and with one.
+ *
+ * wg_mcast_guard's filter, datagram by datagram: a UDP socket bound to
+ * 127.0.0.1 stands for LCM's, and each datagram is followed by a marker,
+ * so the first one read says whether the filter kept it. What LCM does
+ * with what is kept is sys.fuzz_wire's. */
 #include "test.h"
 #include "wormgear/wg_mcast.h"
 #include "wormgear/wg_status.h"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <stdint.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 static void test_groups(void)
 {
@@ -48,4 +60,136 @@ static void test_groups(void)
     }
 }
 
-TEST_MAIN(TEST(test_groups))
+enum { LC02 = 0x4c433032, LC03 = 0x4c433033 };
+
+typedef struct dgram {
+    unsigned char b[3000];
+    size_t n;
+} dgram;
+
+static void put32(dgram *d, uint32_t v)
+{
+    uint32_t be = htonl(v);
+    memcpy(d->b + d->n, &be, 4), d->n += 4;
+}
+
+static void put16(dgram *d, uint16_t v)
+{
+    uint16_t be = htons(v);
+    memcpy(d->b + d->n, &be, 2), d->n += 2;
+}
+
+/* ch with its NUL unless cut, then len bytes of 'x' */
+static void tail(dgram *d, const char *ch, int cut, size_t len)
+{
+    size_t k = strlen(ch) + !cut;
+    memcpy(d->b + d->n, ch, k), d->n += k;
+    memset(d->b + d->n, 'x', len), d->n += len;
+}
+
+static dgram shortmsg(const char *ch, int cut, size_t len)
+{
+    dgram d = {.n = 0};
+    put32(&d, LC02), put32(&d, 7);
+    tail(&d, ch, cut, len);
+    return d;
+}
+
+/* A fragment: no of count, at off in a message of size bytes; the first
+ * (no 0) carries the channel. */
+static dgram fragment(uint32_t size, uint32_t off, uint16_t no, uint16_t count, const char *ch,
+                      int cut, size_t len)
+{
+    dgram d = {.n = 0};
+    put32(&d, LC03), put32(&d, 9), put32(&d, size), put32(&d, off);
+    put16(&d, no), put16(&d, count);
+    if (no == 0)
+        tail(&d, ch, cut, len);
+    else
+        memset(d.b + d.n, 'y', len), d.n += len;
+    return d;
+}
+
+/* Sends d, then a marker; 1 if d is the first to arrive, 0 if the marker
+ * is, -1 if nothing came within a second. */
+static int kept(int tx, int rx, const struct sockaddr_in *to, const dgram *d)
+{
+    static const char marker[] = "LC02\0\0\0\0MARK";
+    unsigned char got[4096];
+    sendto(tx, d->b, d->n, 0, (const struct sockaddr *)to, sizeof *to);
+    sendto(tx, marker, sizeof marker, 0, (const struct sockaddr *)to, sizeof *to);
+    struct pollfd p = {.fd = rx, .events = POLLIN};
+    if (poll(&p, 1, 1000) != 1)
+        return -1;
+    ssize_t n = recv(rx, got, sizeof got, 0);
+    int first = !(n == (ssize_t)sizeof marker && !memcmp(got, marker, sizeof marker));
+    if (first && poll(&p, 1, 1000) == 1) /* the marker behind it */
+        recv(rx, got, sizeof got, 0);
+    return first;
+}
+
+static void test_guard(void)
+{
+    char chan63[64], why[300] = "";
+    memset(chan63, 'c', 63), chan63[63] = 0;
+    const struct {
+        const char *what;
+        dgram d;
+        int keep;
+    } c[] = {
+        {"a short message", shortmsg("WG_CMD", 0, 100), 1},
+        {"a short message, a 63-byte channel", shortmsg(chan63, 0, 10), 1},
+        {"a short message, its channel at the end", shortmsg("WG_CMD", 0, 0), 1},
+        {"a first fragment", fragment(3000, 0, 0, 3, "WG_CMD", 0, 1300), 1},
+        {"a middle fragment", fragment(3000, 1393, 1, 3, "", 0, 1400), 1},
+        {"a last fragment, ending at the message's end", fragment(3000, 2793, 2, 3, "", 0, 207),
+         1},
+        {"offset + size wraps 32 bits (LCM copies 4 GB)",
+         fragment(3000, 0xffffff00u, 1, 2, "", 0, 512), 0},
+        {"a first fragment at a wrapping offset", fragment(3000, 0xffffff00u, 0, 2, "WG_CMD", 0,
+                                                           512), 0},
+        {"a fragment one byte past its message", fragment(3000, 2793, 2, 3, "", 0, 208), 0},
+        {"a fragment's offset past its message", fragment(3000, 3001, 1, 3, "", 0, 0), 0},
+        {"a count of 0", fragment(3000, 100, 1, 0, "", 0, 100), 0},
+        {"a number equal to the count", fragment(3000, 100, 3, 3, "", 0, 100), 0},
+        {"a first fragment not at offset 0", fragment(3000, 10, 0, 3, "WG_CMD", 0, 100), 0},
+        {"a first fragment, its channel cut", fragment(3000, 0, 0, 3, "WG_CMD", 1, 0), 0},
+        {"a short message, its channel cut", shortmsg("WG_CMD", 1, 0), 0},
+        {"a short message, a 64-byte channel", shortmsg(chan63, 1, 1), 0},
+    };
+    int rx = socket(AF_INET, SOCK_DGRAM, 0), tx = socket(AF_INET, SOCK_DGRAM, 0);
+    struct sockaddr_in to = {.sin_family = AF_INET, .sin_addr.s_addr = htonl(INADDR_LOOPBACK)};
+    socklen_t tl = sizeof to;
+    ASSERT_TRUE(rx >= 0 && tx >= 0);
+    ASSERT_EQ_INT(bind(rx, (struct sockaddr *)&to, sizeof to), 0);
+    ASSERT_EQ_INT(getsockname(rx, (struct sockaddr *)&to, &tl), 0);
+    char url[80];
+    snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", ntohs(to.sin_port));
+    ASSERT_EQ_INT(wg_mcast_guard(url, why, sizeof why), WG_OK);
+    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+        int k = kept(tx, rx, &to, &c[i].d);
+        printf("%-50s %4zu bytes: %s\n", c[i].what, c[i].d.n, k ? "kept" : "dropped");
+        ASSERT_EQ_INT(k, c[i].keep);
+    }
+    /* cut headers and other magics */
+    static const unsigned char cut[] = {'L', 'C', '0', '3', 0, 0, 0, 9, 0, 0, 0xb, 0xb8, 0xff,
+                                        0xff, 0xff, 0, 0, 1, 0, 2};
+    for (size_t n = 0; n < sizeof cut; n++) {
+        dgram d = {.n = n};
+        memcpy(d.b, cut, n);
+        ASSERT_EQ_INT(kept(tx, rx, &to, &d), 0);
+        d.b[3] = '2'; /* "LC02" with no room for its channel (from 9 bytes: an empty one) */
+        ASSERT_EQ_INT(kept(tx, rx, &to, &d), n > 8);
+    }
+    dgram other = shortmsg("WG_CMD", 0, 10);
+    other.b[3] = '4';
+    ASSERT_EQ_INT(kept(tx, rx, &to, &other), 0);
+    close(rx), close(tx);
+    /* not a udpm:// URL: nothing to do; no socket on the port: said */
+    ASSERT_EQ_INT(wg_mcast_guard("memq://", why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(wg_mcast_guard(url, why, sizeof why), WG_EIO);
+    printf("no socket: %s\n", why);
+    ASSERT_TRUE(strstr(why, "no LCM receive socket on port") != NULL);
+}
+
+TEST_MAIN(TEST(test_groups), TEST(test_guard))

@@ -34,6 +34,7 @@
 #include "lcmtypes/wormgear_tick_t.h"
 #include "proc_status.h"
 #include "wormgear/wg_key.h"
+#include "wormgear/wg_mcast.h"
 #include "wormgear/wg_status.h"
 
 #include <arpa/inet.h>
@@ -1112,6 +1113,21 @@ static void wire(long n)
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
         SEND(frag(b, 100 + (uint32_t)i, bad[i][0], bad[i][1], (uint16_t)bad[i][2],
                   (uint16_t)bad[i][3], "FZ_CMD", 1300));
+    /* fragments whose offset + size wraps 32 bits, which LCM 1.3.1's check lets
+     * through to a copy ~4 GB past its buffer (wg_mcast_guard's filter stops them),
+     * each after a first fragment that made the message's buffer; then fragments
+     * with their header cut short (LCM takes their size as 4 GB less a few bytes) */
+    const uint32_t wrap[][3] = {{0xffffff00u, 1, 512}, {0xffffff00u, 0, 512},
+                                {0xfffffff0u, 1, 64}, {0x80000000u, 1, 1300}};
+    for (size_t i = 0; i < sizeof wrap / sizeof wrap[0]; i++) {
+        SEND(frag(b, 200 + (uint32_t)i, 3000, 0, 0, 2, "FZ_CMD", 1300));
+        SEND(frag(b, 200 + (uint32_t)i, 3000, wrap[i][0], (uint16_t)wrap[i][1], 2, "FZ_CMD",
+                  wrap[i][2]));
+    }
+    for (size_t len = 8; len < 20; len++) {
+        frag(b, 300 + (uint32_t)len, 3000, 0xffffff00u, 1, 2, "FZ_CMD", 0);
+        SEND(len);
+    }
     /* a flood of first fragments of 16 MB .. 256 MB messages that never end. LCM
      * allocates each message's size at its first fragment: glibc maps it lazily, but
      * AddressSanitizer's allocator maps and unmaps its shadow too (about 25 ms a
@@ -1220,6 +1236,11 @@ int main(int argc, char **argv)
         return 1;
     wormgear_ack_t_subscription_t *as = wormgear_ack_t_subscribe(F.lcm, "FZ_ACK", on_ack, NULL);
     wormgear_ack_t_subscription_set_queue_capacity(as, 20000); /* a burst's ACKs */
+    char gwhy[300];
+    if (wg_mcast_guard(F.url, gwhy, sizeof gwhy)) { /* wire's datagrams reach us too */
+        fprintf(stderr, "wgfuzz: %s\n", gwhy);
+        return 1;
+    }
     wormgear_status_t_subscription_t *ss =
         wormgear_status_t_subscribe(F.lcm, "FZ_STATUS", on_status, NULL);
     start_daemon("--verbose=no");
