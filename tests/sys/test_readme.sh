@@ -5,7 +5,10 @@
 # Walk-through: `bash tools/run.sh` (which builds build/release if needed
 # and starts the daemon), wgmon in a tmux pane, the wgctl commands in order;
 # after each, the wgmon screen and `wgctl status` are checked against the
-# README's sentences. Install: `cmake --install build/release --prefix
+# README's sentences. The daemon's, the dashboard's and the analysis
+# sections' commands: each runs and does what its section says (a status
+# line, the page served, the files written, wgcont's three quoted events).
+# Install: `cmake --install build/release --prefix
 # /usr/local` with a tmpfs over /usr/local in a private mount namespace, the
 # installed daemon checks its installed config; `cpack -G DEB` in
 # build/release. The commands are read from README.md and must equal the
@@ -131,6 +134,82 @@ got=$(sed -n 's/^x_n  *min \([0-9.]*\), max \([0-9.]*\) (b = 1)$/\1 \2/p' "$tmp/
 grep -q "^motion  *single_sided (periods: 0 no impact, 200 single-sided" "$tmp/ex.out" &&
     grep -q "^impacts  *1 per period" "$tmp/ex.out" ||
     fail "wgsim example: not single-sided, one impact a period: $(grep -E '^(motion|impacts)' "$tmp/ex.out")"
+
+# ---- the daemon's section: in the foreground, its help, the example config
+# checked (its state directory, $STATE_DIRECTORY as systemd would give it,
+# is ours)
+heading() { grep -m1 "^## $1" README.md; }
+readme_block README.md "$(heading 'The daemon:')" >"$tmp/daemon"
+cat >"$tmp/want" <<'EOF'
+build/release/daemon/wormgeard -F
+build/release/daemon/wormgeard --help
+build/release/daemon/wormgeard -c systemd/wormgeard.conf --check-config
+EOF
+readme_expect "$tmp/daemon" "$tmp/want" "daemon commands"
+dline() { sed -n "${1}p" "$tmp/daemon"; }
+export STATE_DIRECTORY="$tmp/state"
+sh -c "exec $(dline 1)" >"$tmp/d.out" 2>"$tmp/d.err" &
+runpid=$!
+status_line() { grep -q "realtime x1 running ok" "$tmp/d.out" || wait_gone "$runpid"; }
+wait_until 30 up_or_ended && wait_until 10 status_line && ! wait_gone "$runpid" ||
+    fail "$(dline 1): no daemon answering, or no status line: $(tail -3 "$tmp/d.err")"
+sh -c "$(dline 2)" >"$tmp/help" 2>&1 && grep -q -- "--rate" "$tmp/help" ||
+    fail "$(dline 2): $(head -3 "$tmp/help")"
+sh -c "$(dline 3)" >"$tmp/check" 2>&1 && grep -q "^configuration ok" "$tmp/check" ||
+    fail "$(dline 3): $(cat "$tmp/check")"
+
+# ---- the dashboard's section, with that daemon running: the page is served
+readme_block README.md "$(heading 'The browser dashboard:')" >"$tmp/web"
+echo "build/release/clients/wgweb --allow-commands" >"$tmp/want"
+readme_expect "$tmp/web" "$tmp/want" "dashboard command"
+sh -c "exec $(cat "$tmp/web")" >"$tmp/web.out" 2>&1 &
+webpid=$!
+page() {
+    python3 -c 'import sys, urllib.request as u
+r = u.urlopen("http://127.0.0.1:8765/", timeout=2)
+sys.exit(0 if r.status == 200 and b"<html" in r.read().lower() else 1)' 2>/dev/null ||
+        wait_gone "$webpid"
+}
+wait_until 20 page && ! wait_gone "$webpid" ||
+    fail "$(cat "$tmp/web"): no page at http://127.0.0.1:8765/: $(tail -3 "$tmp/web.out")"
+stop "$webpid" INT
+[ "$exit_status" = 0 ] || fail "wgweb after Ctrl-C: exit $exit_status"
+stop "$runpid" INT; rc=$exit_status
+runpid=
+[ "$rc" = 0 ] || fail "$(dline 1) after Ctrl-C: exit $rc"
+
+# ---- the analysis section's two blocks, in the scratch directory: each
+# command ends 0 and writes what the section says; wgcont finds the three
+# events the section quotes, to the digits quoted
+readme_block README.md "$(heading 'Bifurcation analysis:')" >"$tmp/ana"
+cat >"$tmp/want" <<'EOF'
+build/release/clients/wgsweep --out sweep
+build/release/clients/wgsweep --values xi_p=0.08,0.10,0.12 --step 0.0025 --out table3
+build/release/clients/wgsweep --param k_a --from 0.1 --to 0.5 --points 81 --set omega=1.3
+build/release/clients/wgsweep --map xi_p=0.05:0.15:21 --step 0.01 --out map
+build/release/clients/wgsweep --at 1.33 --out view --floquet
+EOF
+readme_expect "$tmp/ana" "$tmp/want" "analysis commands"
+readme_block README.md "$(heading 'Bifurcation analysis:')" 2 >"$tmp/cont"
+echo "build/release/clients/wgcont --scene table3 --from 0.1 --to 2.5 --sweep-points 241 --out cont" \
+    >"$tmp/want"
+readme_expect "$tmp/cont" "$tmp/want" "continuation command"
+while read -r c; do
+    (cd "$tmp/scratch" && sh -c "$c") >"$tmp/ana.out" 2>&1 || fail "$c: $(tail -3 "$tmp/ana.out")"
+done <"$tmp/ana"
+for f in sweep.csv sweep.png table3.csv table3.md table3-xi_p-0.08.png map-map.csv map-map.png \
+    view-at-omega-1.33-phase.png view-at-omega-1.33-poincare.png; do
+    [ -s "$tmp/scratch/$f" ] || fail "the analysis commands wrote no $f: $(ls "$tmp/scratch")"
+done
+grep -q "grazing" "$tmp/scratch/table3.md" || fail "table3.md names no grazing"
+(cd "$tmp/scratch" && sh -c "$(cat "$tmp/cont")") >"$tmp/cont.out" 2>&1 ||
+    fail "$(cat "$tmp/cont"): $(tail -3 "$tmp/cont.out")"
+for e in grazing:0.696787929 fold:0.698336370 period_doubling:1.197654628; do
+    kind=${e%%:*} at=${e#*:}
+    grep -q "$at" README.md || fail "the README no longer quotes $kind at $at"
+    awk -F, -v k="$kind" -v w="$at" '$1 == k && sprintf("%.9f", $2) == w { f = 1 } END { exit !f }' \
+        "$tmp/scratch/cont-bifurcations.csv" || fail "wgcont: no $kind at ω = $at"
+done
 
 # ---- Install, literally: /usr/local is a tmpfs in a private mount namespace
 readme_block README.md "## Install" >"$tmp/inst"
