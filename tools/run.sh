@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 bash tools/setup.sh
 # said on stderr, as the build's own output goes nowhere: the first build
 # takes minutes (6-7 on a 2-core VM) and showed nothing
-echo "run: building build/release (the first time: several minutes)..." >&2
+echo "run: building build/release (minutes the first time, seconds after)..." >&2
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
 # everything a user reaches for next: the clients, the lcm-spy jar, the tests
 cmake --build build/release -j"$(nproc)" >/dev/null
