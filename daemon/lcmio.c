@@ -51,8 +51,9 @@ int lcmio_subscribe(lcmio *io, int ch, lcm_msg_handler_t fn, void *user, int que
         return WG_EIO;
     }
     lcm_subscription_set_queue_capacity(s, queue);
-    if (!io->guarded && wg_mcast_guard(io->url, why, whylen))
-        return WG_EIO;
+    int rc = io->guarded ? WG_OK : wg_mcast_guard(io->url, why, whylen);
+    if (rc != WG_OK)
+        return rc;
     io->guarded = 1;
     return WG_OK;
 }

@@ -61,7 +61,7 @@ int lcmio_waiting(const lcmio *io);
 /* Subscribe fn (a raw handler, given user) to channel ch (CH_*), with room
  * for queue messages LCM may hold for it; the first subscription, which
  * opens LCM's receive socket, also filters it (wg_mcast_guard). WG_OK, or
- * WG_EIO with why. */
+ * WG_EIO (or wg_mcast_guard's code) with why. */
 int lcmio_subscribe(lcmio *io, int ch, lcm_msg_handler_t fn, void *user, int queue, char *why,
                     size_t whylen);
 

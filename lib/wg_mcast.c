@@ -187,6 +187,11 @@ int wg_mcast_guard(const char *url, char *why, size_t whylen)
     int port = port_of(url);
     if (port < 0)
         return WG_OK;
+    if (port == 0) { /* LCM would listen on a port the kernel picks, which no sender knows */
+        snprintf(why, whylen, "a udpm:// URL with port 0: give the bus's port, e.g. "
+                 "udpm://239.255.76.67:7667?ttl=0");
+        return WG_EINVAL;
+    }
     prog p;
     build(&p);
     if (p.over) {

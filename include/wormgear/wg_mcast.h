@@ -40,7 +40,7 @@ int wg_mcast_route(const char *url, char *why, size_t whylen);
  * the first lcm_subscribe on the URL (which opens the socket): a datagram
  * that comes before is not filtered. WG_OK if url is not a udpm:// one or
  * every UDP socket of this process bound to its port now has the filter;
- * else WG_EIO with why. */
+ * WG_EINVAL for port 0 (no sender could reach it); else WG_EIO; with why. */
 int wg_mcast_guard(const char *url, char *why, size_t whylen);
 
 /* The forms of an LCM URL, for the message when LCM refuses one. */

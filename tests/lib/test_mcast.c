@@ -187,6 +187,8 @@ static void test_guard(void)
     close(rx), close(tx);
     /* not a udpm:// URL: nothing to do; no socket on the port: said */
     ASSERT_EQ_INT(wg_mcast_guard("memq://", why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(wg_mcast_guard("udpm://239.255.76.67:0?ttl=0", why, sizeof why), WG_EINVAL);
+    ASSERT_TRUE(strstr(why, "port 0") != NULL);
     ASSERT_EQ_INT(wg_mcast_guard(url, why, sizeof why), WG_EIO);
     printf("no socket: %s\n", why);
     ASSERT_TRUE(strstr(why, "no LCM receive socket on port") != NULL);
