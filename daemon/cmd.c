@@ -163,15 +163,19 @@ static uint64_t steps_to_section(const wgd *d)
 /* Does the next section come without another command: the run goes on
  * (in lockstep it waits for steps, legitimately), or, paused, a running
  * step command reaches it. A set waiting on a paused run went unanswered
- * (wgctl timed out, "is wormgeard running?") and applied at some resume. */
-static int section_comes(const wgd *d, char *why, size_t len)
+ * (wgctl timed out, "is wormgeard running?") and applied at some resume:
+ * a set at the section is taken only while this holds, and refused as
+ * soon as it stops holding (pause, a fault, cmd_sync_check). */
+static int section_comes(const wgd *d)
 {
-    if (d->run == RUN_RUNNING || (d->step.active && d->step.left >= steps_to_section(d)))
-        return 1;
+    return d->run == RUN_RUNNING || (d->step.active && d->step.left >= steps_to_section(d));
+}
+
+/* Why no section comes, for a set at the section refused or cancelled. */
+static void no_section_why(const wgd *d, char *why, size_t len)
+{
     snprintf(why, len, "no Poincare section comes while the run is paused (tau %.9g, %" PRIu64
-             " steps before the next section): resume first, or set without at_section "
-             "(wgctl: without --at-section) to apply it now", d->sim.tau, steps_to_section(d));
-    return 0;
+             " steps before the next section)", d->sim.tau, steps_to_section(d));
 }
 
 /* A set for the next Poincare section: validated now, applied by cmd_run
@@ -188,8 +192,13 @@ static int defer_set(wgd *d, const wormgear_cmd_t *c, const int *ids, char *why,
     int rc = wg_sim_check_params(&d->sim, &p, why, len);
     if (rc)
         return rc;
-    if (!section_comes(d, why, len))
+    if (!section_comes(d)) {
+        char none[200];
+        no_section_why(d, none, sizeof none);
+        snprintf(why, len, "%s: resume first, or set without at_section (wgctl: without "
+                 "--at-section) to apply it now", none);
         return WG_ESTATE;
+    }
     *j = (syncjob){.active = 1, .n = c->nparams, .seq = c->seq, .utime = c->utime};
     memcpy(j->ids, ids, sizeof(int) * (size_t)c->nparams);
     memcpy(j->values, c->values, sizeof(double) * (size_t)c->nparams);
@@ -231,6 +240,17 @@ static void sync_cancel(wgd *d, int code, const char *why)
         return;
     j->active = 0;
     ack(d, j->client, j->seq, j->utime, "set", code, why);
+}
+
+void cmd_sync_check(wgd *d, const char *cause)
+{
+    if (!d->sync.active || section_comes(d))
+        return;
+    char none[200], why[ACK_TEXT];
+    no_section_why(d, none, sizeof none);
+    snprintf(why, sizeof why, "set at the next section cancelled by %s: %s; set it again after "
+             "resume, or without at_section to apply it now", cause, none);
+    sync_cancel(d, WG_ESTATE, why);
 }
 
 /* n steps on the engine, then what they did announced: the end of a ramp
@@ -458,8 +478,15 @@ void cmd_mode_changed(wgd *d, const char *cause)
     char msg[96];
     snprintf(msg, sizeof msg, "cancelled by %s", cause);
     if (d->conf.mode != MODE_LOCKSTEP) {
+        int stepping = d->step.active;
         cmd_step_cancel(d, WG_ESTATE, msg);
         d->owed.ticks = 0;
+        /* paused, that step was what a set at the section waited for: it
+         * was left unanswered and applied at a later resume */
+        char what[160];
+        snprintf(what, sizeof what, "%s, which cancelled the step command that was to reach "
+                 "it", cause);
+        cmd_sync_check(d, stepping ? what : cause);
     }
     if (d->conf.mode != MODE_REALTIME)
         d->owed.realtime = 0;

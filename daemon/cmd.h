@@ -66,10 +66,18 @@ uint64_t cmd_step_progress(struct wgd *d, uint64_t max);
  * code (WG_E*) and why. */
 void cmd_step_cancel(struct wgd *d, int code, const char *why);
 
+/* A set waiting for the next Poincare section, when what it waited for
+ * may have gone (a step command cancelled while paused, a fault): if no
+ * section comes now, it is refused (ESTATE, "set at the next section
+ * cancelled by " cause, why none comes and what to do) and never applied
+ * later; if one still comes, it waits on. */
+void cmd_sync_check(struct wgd *d, const char *cause);
+
 /* The mode has just changed (d->conf.mode is the new one; the mode command,
  * a reload): outside lockstep a `step` is cancelled (ESTATE, "cancelled by
- * " cause) and the steps owed to TICKs lapse; outside realtime the steps
- * the pace owed lapse. */
+ * " cause), the steps owed to TICKs lapse, and a set waiting for the
+ * section that step was to reach is refused (cmd_sync_check); outside
+ * realtime the steps the pace owed lapse. */
 void cmd_mode_changed(struct wgd *d, const char *cause);
 
 #endif

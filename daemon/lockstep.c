@@ -37,6 +37,27 @@ static void tick_seq(wgd *d, int64_t seq)
     s->tick_seen = 1;
 }
 
+/* The seq count for a tick refused (ERANGE, ESTATE): it is no gap and no
+ * new sender, and it moves nothing (PROTOCOL.md: a refused tick changes
+ * nothing else; not in ticks_lost). Counted, a stray's or a forger's jump
+ * (seq 100002 after 2) went into ticks_lost and made the rig's real next
+ * tick a "new sender". Only a tick refused in its place (the seq expected
+ * next: a driver's own, refused for its nsteps or the backlog) moves the
+ * count on, so the driver's next tick is not counted as one lost. */
+static void tick_seq_refused(wgd *d, int64_t seq)
+{
+    stats *s = &d->stat;
+    if (s->tick_seen && (uint64_t)seq == s->tick_seq_next)
+        s->tick_seq_next++;
+}
+
+/* A tick taken now lapses (owes nothing): outside lockstep, paused, or
+ * while a `step` command runs; STATUS mode and run say which. */
+static int tick_lapses(const wgd *d)
+{
+    return d->conf.mode != MODE_LOCKSTEP || d->run != RUN_RUNNING || d->step.active;
+}
+
 /* Who sent a tick, as far as it is known: what its refusal is addressed
  * to (client "" and seq -1 when the bytes do not say). */
 typedef struct sender {
@@ -69,9 +90,10 @@ static void refuse(wgd *d, const sender *s, int rc, const char *fmt, ...)
  * (lockstep_progress); no ACK. A tick that does not decode, asks for steps
  * outside [1, TICK_NSTEPS_MAX] or more than TICK_OWED_MAX owed in all, or
  * (with a key) is not signed, fresh and new from its client, is refused
- * (refuse) and changes nothing (a key's refusal not even the seq count: a
- * forger's seq says nothing). Outside lockstep, paused, or while a `step`
- * command runs, a tick lapses: STATUS mode and run say why. */
+ * (refuse) and changes nothing, the seq count included (tick_seq_refused;
+ * a key's refusal not even that: a forger's seq says nothing). Outside
+ * lockstep, paused, or while a `step` command runs, a tick lapses (taken,
+ * counted in the seq, owing nothing): STATUS mode and run say why. */
 static void on_tick(const lcm_recv_buf_t *rb, const char *channel, void *user)
 {
     (void)channel;
@@ -97,26 +119,28 @@ static void on_tick(const lcm_recv_buf_t *rb, const char *channel, void *user)
                t.nsteps, why);
         return;
     }
-    tick_seq(d, t.seq);
     if (t.nsteps < 1 || t.nsteps > TICK_NSTEPS_MAX) {
+        tick_seq_refused(d, t.seq);
         refuse(d, &s, WG_ERANGE, "TICK (seq %" PRId64 ", %" PRId64 " steps) refused: a tick "
                "owes 1 to %d steps", t.seq, t.nsteps, TICK_NSTEPS_MAX);
         return;
     }
-    if (d->conf.mode != MODE_LOCKSTEP || d->run != RUN_RUNNING || d->step.active)
-        return;
-    if ((double)d->owed.ticks + (double)t.nsteps > TICK_OWED_MAX) {
+    int lapses = tick_lapses(d);
+    if (!lapses && (double)d->owed.ticks + (double)t.nsteps > TICK_OWED_MAX) {
+        tick_seq_refused(d, t.seq);
         refuse(d, &s, WG_ESTATE, "TICK (seq %" PRId64 ", %" PRId64 " steps) refused: %" PRIu64
                " steps from earlier ticks still to run, at most %g may be owed", t.seq,
                t.nsteps, d->owed.ticks, TICK_OWED_MAX);
         return;
     }
-    d->owed.ticks += (uint64_t)t.nsteps;
+    tick_seq(d, t.seq); /* taken: counted in the seq, even when it lapses */
+    if (!lapses)
+        d->owed.ticks += (uint64_t)t.nsteps;
 }
 
 uint64_t lockstep_progress(wgd *d, uint64_t max)
 {
-    if (d->conf.mode != MODE_LOCKSTEP || d->run != RUN_RUNNING || d->step.active) {
+    if (tick_lapses(d)) {
         d->owed.ticks = 0; /* a backstop: pause and mode changes clear them at once */
         return 0;
     }

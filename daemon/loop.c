@@ -143,6 +143,8 @@ static void realtime(wgd *d, int64_t now, const pace_load *load)
                  "stop): cannot keep up with rate %g", d->conf.overrun_stop_after, d->conf.rate);
         engine_fault(d, msg);
         report_fault(d);
+        /* paused: a set waiting for the section would wait for a resume */
+        cmd_sync_check(d, "the overrun stop (the run faulted and paused: STATUS says why)");
     }
 }
 

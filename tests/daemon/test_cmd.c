@@ -1,7 +1,8 @@
 /* test_cmd.c - the command channel in-process: set validated whole and
  * applied atomically (every refusal class with its code and range, RK4
- * stability), set at the next Poincare section, accept_commands, step,
- * pause, resume, reset and mode. */
+ * stability), set at the next Poincare section (and cancelled when its
+ * section no longer comes), accept_commands, step, pause, resume, reset,
+ * mode and TICK. */
 #include "fixture.h"
 
 static void test_set_atomic(void)
@@ -393,6 +394,51 @@ static void test_ticks(void)
     teardown(d);
 }
 
+/* A refused tick changes nothing else (PROTOCOL.md), the seq count
+ * included: one refused ERANGE at seq 100002 after 0 ... 2 (a stray's, a
+ * forger's) put 99999 into ticks_lost and moved the seq expected, so the
+ * rig's real next tick (3) was logged and counted as a new sender. The
+ * same for one refused for the backlog (ESTATE), and a rig's own tick
+ * refused in its place leaves no hole for its next to be counted lost. */
+static void test_tick_refused_not_counted(void)
+{
+    wgd *d = setup(128);
+    for (int64_t q = 0; q < 3; q++)
+        tick(d, q, 10);
+    tick(d, 3 + 99999, 0); /* refused: ERANGE */
+    ASSERT_STR(F.code, "ERANGE");
+    ASSERT_EQ_INT(F.cmd_seq, 3 + 99999);
+    ASSERT_EQ_INT(d->stat.tick_gaps, 0);
+    ASSERT_EQ_INT(d->stat.tick_senders, 0);
+    tick(d, 3, 10); /* the rig's next: in order */
+    ASSERT_EQ_INT(d->stat.tick_gaps, 0);
+    ASSERT_EQ_INT(d->stat.tick_senders, 0);
+    ASSERT_EQ_INT(d->owed.ticks, 40);
+    d->owed.ticks = 1000000000 - 5; /* as if the rig were 1e9 steps behind */
+    int nack = F.nack;
+    tick(d, 50000, 10);             /* refused: ESTATE, too many owed */
+    tick(d, -7, 10);                /* backwards, refused too */
+    ASSERT_EQ_INT(F.nack, nack + 2);
+    ASSERT_STR(F.code, "ESTATE");
+    ASSERT_EQ_INT(d->stat.ticks_refused, 3);
+    d->owed.ticks = 40;
+    tick(d, 4, 10);
+    ASSERT_EQ_INT(d->stat.tick_gaps, 0);
+    ASSERT_EQ_INT(d->stat.tick_senders, 0);
+    tick(d, 5, 0); /* the rig's own, refused in its place */
+    tick(d, 6, 10);
+    ASSERT_EQ_INT(d->stat.ticks_refused, 4);
+    ASSERT_EQ_INT(d->owed.ticks, 60);
+    report_status(d);
+    drain(d);
+    ASSERT_EQ_INT(F.ticks_refused, 4);
+    ASSERT_EQ_INT(F.ticks_lost, 0); /* none was lost on the way */
+    ASSERT_EQ_INT(d->stat.tick_senders, 0);
+    tick(d, 9, 10); /* a real gap still counts */
+    ASSERT_EQ_INT(d->stat.tick_gaps, 2);
+    teardown(d);
+}
+
 /* Owed steps lapse when the run pauses or leaves lockstep (PROTOCOL.md):
  * they were kept (only the loop's own call noticed, and the loop never
  * called it while paused), so 100 ticks of 1e7 steps ran on after a pause
@@ -435,7 +481,125 @@ static void test_ticks_lapse(void)
     teardown(d);
 }
 
+/* The ACKs one command got (op, seq), however many others come between:
+ * the fixture keeps only the last. */
+typedef struct acks_of {
+    const char *op;
+    int64_t seq;
+    int n;
+    char code[32], message[700];
+} acks_of;
+
+static void on_ack_of(const lcm_recv_buf_t *rb, const char *ch, const wormgear_ack_t *m,
+                      void *u)
+{
+    (void)rb, (void)ch;
+    acks_of *a = u;
+    if (m->cmd_seq != a->seq || strcmp(m->op, a->op))
+        return;
+    a->n++;
+    snprintf(a->code, sizeof a->code, "%s", m->code);
+    snprintf(a->message, sizeof a->message, "%s", m->message);
+}
+
+/* Paused mid-period, a set at the section waits for a running step
+ * command that reaches it; a mode change cancelled that step and left the
+ * set waiting, unanswered (its sender timed out), until a later resume
+ * applied it. Now whatever takes its section away refuses it at once,
+ * once: a mode command (its ACK after the step's, before the mode's), a
+ * reload's mode change, a fault (cmd_sync_check); a step cancelled while
+ * the run goes on leaves it waiting, as a section still comes. */
+static void test_set_at_section_step_cancelled(void)
+{
+    wgd *d = setup(128);
+    run(d, 128 * 3 + 100);
+    char *n[1] = {(char *)"omega"};
+    double v = 1.1;
+    wormgear_cmd_t c = {.op = "set", .nparams = 1, .names = n, .values = &v, .at_section = 1};
+    acks_of got = {.op = "set"};
+    void *sub = wormgear_ack_t_subscribe(d->io.lcm, "T_ACK", on_ack_of, &got);
+    /* the mode command */
+    ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK);
+    long_step(d);
+    send_pending(d, &c);
+    got.seq = c.seq;
+    ASSERT_TRUE(d->sync.active);
+    wormgear_cmd_t m = {.op = "mode", .client = "tester", .unit = "", .name = "fast",
+                        .seq = ++F.myseq};
+    int nack = F.nack;
+    uint64_t refused = d->stat.cmds_refused;
+    wormgear_cmd_t_publish(d->io.lcm, "T_CMD", &m);
+    drain(d);
+    ASSERT_EQ_INT(F.nack, nack + 3); /* the step's refusal, the set's, the mode's OK */
+    ASSERT_EQ_INT(d->stat.cmds_refused, refused + 2);
+    ASSERT_EQ_INT(F.cmd_seq, m.seq);
+    ASSERT_EQ_INT(F.rc, WG_OK);
+    ASSERT_EQ_INT(got.n, 1);
+    ASSERT_STR(got.code, "ESTATE");
+    ASSERT_CONTAINS(got.message, "set at the next section cancelled by a mode change, which "
+                    "cancelled the step command that was to reach it: no Poincare section "
+                    "comes while the run is paused (tau ");
+    ASSERT_CONTAINS(got.message, "set it again after resume, or without at_section");
+    ASSERT_TRUE(!d->sync.active && !d->step.active);
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_OK);
+    run(d, 256);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.0, 0); /* never applied later */
+    ASSERT_EQ_INT(got.n, 1);
+    /* a reload that changes the mode (loop.c's apply_mode) */
+    ASSERT_EQ_INT(mode(d, "lockstep"), WG_OK);
+    run(d, 100);
+    ASSERT_EQ_INT(simple(d, "pause", ""), WG_OK);
+    long_step(d);
+    send_pending(d, &c);
+    got = (acks_of){.op = "set", .seq = c.seq};
+    d->conf.mode = MODE_REALTIME;
+    cmd_mode_changed(d, "a mode change (reload)");
+    drain(d);
+    ASSERT_EQ_INT(got.n, 1);
+    ASSERT_STR(got.code, "ESTATE");
+    ASSERT_CONTAINS(got.message, "cancelled by a mode change (reload), which cancelled the "
+                    "step command");
+    ASSERT_TRUE(!d->sync.active);
+    /* running, a step cancelled by a mode change: a section still comes */
+    ASSERT_EQ_INT(mode(d, "lockstep"), WG_OK);
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_OK);
+    run(d, 100);
+    long_step(d);
+    send_pending(d, &c);
+    got = (acks_of){.op = "set", .seq = c.seq};
+    m.seq = ++F.myseq;
+    nack = F.nack;
+    wormgear_cmd_t_publish(d->io.lcm, "T_CMD", &m);
+    drain(d);
+    ASSERT_EQ_INT(F.nack, nack + 2); /* the step's refusal, the mode's OK */
+    ASSERT_TRUE(d->sync.active && !d->step.active);
+    ASSERT_EQ_INT(got.n, 0);
+    run(d, 128);
+    ASSERT_EQ_INT(got.n, 1);
+    ASSERT_STR(got.code, "OK");
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.1, 0);
+    /* a fault outside the step path (loop.c: overrun_policy = stop) */
+    run(d, 50);
+    v = 1.2;
+    send_pending(d, &c);
+    got = (acks_of){.op = "set", .seq = c.seq};
+    engine_fault(d, "test fault");
+    cmd_sync_check(d, "the overrun stop");
+    drain(d);
+    ASSERT_EQ_INT(got.n, 1);
+    ASSERT_STR(got.code, "ESTATE");
+    ASSERT_CONTAINS(got.message, "set at the next section cancelled by the overrun stop: no "
+                    "Poincare section comes");
+    ASSERT_EQ_INT(simple(d, "resume", ""), WG_OK);
+    run(d, 256);
+    ASSERT_NEAR(d->sim.p.v[WG_P_OMEGA], 1.1, 0);
+    ASSERT_EQ_INT(got.n, 1);
+    wormgear_ack_t_unsubscribe(d->io.lcm, sub);
+    teardown(d);
+}
+
 TEST_MAIN(TEST(test_set_atomic), TEST(test_set_bad_inputs), TEST(test_set_stability),
           TEST(test_accept_commands_off), TEST(test_set_at_section), TEST(test_step_and_modes),
           TEST(test_ticks), TEST(test_ticks_lapse), TEST(test_step_pause_resume),
-          TEST(test_set_at_section_paused))
+          TEST(test_set_at_section_paused), TEST(test_tick_refused_not_counted),
+          TEST(test_set_at_section_step_cancelled))
