@@ -612,6 +612,9 @@ static void dispatch(wgd *d, const wormgear_cmd_t *c)
     if (i == sizeof ops / sizeof ops[0])
         snprintf(why, len, "unknown op '%s' (set ramp pause resume reset step save restore "
                            "get mode contacts)", clean(c->op, op, sizeof op));
+    else if ((c->has_from != 0 && c->has_from != 1) || (c->at_section != 0 && c->at_section != 1))
+        snprintf(why, len, "has_from %d, at_section %d: each flag is 0 or 1", c->has_from,
+                 c->at_section); /* 7 or -3 was taken as 1 */
     else if (!d->conf.accept_commands && !ops[i].readonly) {
         snprintf(why, len, "commands are disabled on this daemon (accept_commands = no)");
         rc = WG_ESTATE;

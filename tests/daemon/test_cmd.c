@@ -1,6 +1,6 @@
 /* test_cmd.c - the command channel in-process: set validated whole and
  * applied atomically (every refusal class with its code and range, RK4
- * stability), set at the next Poincare section (and cancelled when its
+ * stability; a flag other than 0 or 1), set at the next Poincare section (and cancelled when its
  * section no longer comes), accept_commands, step, pause, resume, reset,
  * mode and TICK. */
 #include "fixture.h"
@@ -49,6 +49,14 @@ static void test_set_bad_inputs(void)
     ASSERT_EQ_INT(simple(d, "explode", ""), WG_EINVAL);
     ASSERT_CONTAINS(F.message, "unknown op");
     ASSERT_EQ_INT(set1(d, "a1", 0.9), WG_ERANGE); /* a1^2 + a2^2 + a3^2 = 1 broken */
+    /* a flag other than 0 or 1: refused, whatever the op */
+    char *om[1] = {"omega"};
+    double v15[1] = {1.5};
+    wormgear_cmd_t flag = {.op = "set", .nparams = 1, .names = om, .values = v15, .at_section = 7};
+    ASSERT_EQ_INT(send(d, &flag), WG_EINVAL);
+    ASSERT_CONTAINS(F.message, "each flag is 0 or 1");
+    flag.at_section = 0, flag.has_from = -3;
+    ASSERT_EQ_INT(send(d, &flag), WG_EINVAL);
     ASSERT_TRUE(memcmp(&before, &d->sim.p, sizeof before) == 0);
     /* still healthy: a good command goes through and the sim steps */
     ASSERT_EQ_INT(set1(d, "omega", 1.2), WG_OK);
