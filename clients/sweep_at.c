@@ -332,6 +332,9 @@ int at_view(const wg_params *p, const double *y0, const wg_sweep_opts *o, const 
     double lle = print_lle(out, p, y, o, pt->steps);
     if (pt->regime == WG_REGIME_PERIODIC && pt->period > 0)
         print_floquet(out, p, y, o, pt->steps, pt->period);
+    else if (o->floquet) /* asked for, and silent at a chaotic point */
+        fprintf(out, "floquet     none: no periodic orbit here (%s); multipliers belong to a "
+                "periodic point\n", wg_regime_name(pt->regime));
     int rc = write_views(out, p, y, o, ao, pt, lle);
     free(pt);
     return rc;

@@ -197,6 +197,9 @@ readme_expect "$tmp/cont" "$tmp/want" "continuation command"
 while read -r c; do
     (cd "$tmp/scratch" && sh -c "$c") >"$tmp/ana.out" 2>&1 || fail "$c: $(tail -3 "$tmp/ana.out")"
 done <"$tmp/ana"
+# the last, --at 1.33 --floquet, at a chaotic point: says so rather than nothing
+grep -q "^floquet  *none: no periodic orbit here (chaotic)" "$tmp/ana.out" ||
+    fail "wgsweep --at 1.33 --floquet: no floquet line: $(cat "$tmp/ana.out")"
 for f in sweep.csv sweep.png table3.csv table3.md table3-xi_p-0.08.png map-map.csv map-map.png \
     view-at-omega-1.33-phase.png view-at-omega-1.33-poincare.png; do
     [ -s "$tmp/scratch/$f" ] || fail "the analysis commands wrote no $f: $(ls "$tmp/scratch")"
