@@ -34,11 +34,74 @@ int cli_getopt(const char *prog, int argc, char **argv, const char *shortopts,
     int c, rc;
     opterr = 0;
     while ((c = getopt_long(argc, argv, shortopts, longopts, NULL)) != -1)
-        if ((rc = one(ctx, c, optarg)))
-            return rc > 0 ? rc
-                          : cli_usage_error(prog, "unknown option or missing value '%s'",
-                                            argv[optind - 1]);
+        if ((rc = c == '?' ? -1 : one(ctx, c, optarg)))
+            return rc > 0 ? rc : cli_getopt_error(prog, argv, shortopts, longopts);
     return 0;
+}
+
+/* The row of longopts that the word w ("--name" or "--name=value") names:
+ * its exact name, or the one name it begins; NULL with *n the names it
+ * begins (0: none, 2 or more: ambiguous). */
+static const struct option *long_row(const char *w, const struct option *longopts, int *n)
+{
+    size_t len = strcspn(w + 2, "=");
+    const struct option *hit = NULL;
+    *n = 0;
+    for (const struct option *o = longopts; o->name; o++) {
+        if (strncmp(o->name, w + 2, len) != 0)
+            continue;
+        if (strlen(o->name) == len) {
+            *n = 1;
+            return o;
+        }
+        hit = o, (*n)++;
+    }
+    return *n == 1 ? hit : NULL;
+}
+
+/* "option '--s' is ambiguous: --scene, --set, ..." (what w begins). */
+static int long_ambiguous(const char *prog, const char *w, size_t len,
+                          const struct option *longopts)
+{
+    char names[512] = "";
+    size_t k = 0;
+    for (const struct option *o = longopts; o->name && k < sizeof names; o++)
+        if (strncmp(o->name, w + 2, len - 2) == 0)
+            k += (size_t)snprintf(names + k, sizeof names - k, "%s--%s", k ? ", " : "", o->name);
+    return cli_usage_error(prog, "option '%.*s' is ambiguous: %s (give more of the name)",
+                           (int)len, w, names);
+}
+
+/* The usage error of the long option word w, or -1 when w itself is
+ * well formed (a short option after it was refused). */
+static int long_error(const char *prog, const char *w, const struct option *longopts)
+{
+    int n;
+    size_t len = strcspn(w, "=");
+    const struct option *o = long_row(w, longopts, &n);
+    if (!o && n > 1)
+        return long_ambiguous(prog, w, len, longopts);
+    if (!o)
+        return cli_usage_error(prog, "unknown option '%.*s'", (int)len, w);
+    if (o->has_arg == no_argument && w[len])
+        return cli_usage_error(prog, "option --%s takes no value, got '%s'", o->name, w);
+    if (o->has_arg == required_argument && !w[len])
+        return cli_usage_error(prog, "option --%s needs a value", o->name);
+    return -1;
+}
+
+int cli_getopt_error(const char *prog, char **argv, const char *shortopts,
+                     const struct option *longopts)
+{
+    const char *w = optind > 0 ? argv[optind - 1] : "", *s;
+    int rc;
+    if (strncmp(w, "--", 2) == 0 && w[2] && (rc = long_error(prog, w, longopts)) >= 0)
+        return rc;
+    if (!optopt) /* not a short option: getopt_long refused w */
+        return cli_usage_error(prog, "unknown option '%s'", w);
+    if ((s = strchr(shortopts, optopt)) && s[1] == ':')
+        return cli_usage_error(prog, "option -%c needs a value", optopt);
+    return cli_usage_error(prog, "unknown option '-%c'", optopt);
 }
 
 int cli_opt_outdir(const char *prog, const char *opt, const char *prefix)

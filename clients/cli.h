@@ -25,10 +25,19 @@ int cli_usage_error(const char *prog, const char *fmt, ...)
 /* getopt_long over argv (its own messages off), one(ctx, c, optarg) for
  * each option; one returns 0, CLI_EUSAGE (reported) or -1 for an option
  * it does not know. Returns 0 with optind at the first operand, one's
- * CLI_EUSAGE, or the usage error "unknown option or missing value 'ARG'". */
+ * CLI_EUSAGE, or cli_getopt_error's usage error. */
 int cli_getopt(const char *prog, int argc, char **argv, const char *shortopts,
                const struct option *longopts, int (*one)(void *ctx, int c, const char *arg),
                void *ctx);
+
+/* The usage error of the option getopt_long just refused ('?', opterr 0),
+ * from argv[optind - 1] and optopt, naming the option as the user typed
+ * it: "option --scene needs a value", "unknown option '--bogus'",
+ * "option --quiet takes no value, got '--quiet=1'", "option '--s' is
+ * ambiguous: --scene, --set", "option -o needs a value", "unknown option
+ * '-x'". Returns CLI_EUSAGE. */
+int cli_getopt_error(const char *prog, char **argv, const char *shortopts,
+                     const struct option *longopts);
 
 /* The whole of s as a number; infinities and NaN pass (for values that
  * the daemon judges and answers, not the client). */

@@ -71,6 +71,18 @@ long mon_view_from(const double *t, long n, long cap, double since)
     return lo;
 }
 
+const char *mon_view_span(const mon_view_ctx *c, char *buf, size_t len)
+{
+    double s = c->now - c->since;
+    if (s >= c->window_s)
+        snprintf(buf, len, "%g", c->window_s);
+    else if (s < 10)
+        snprintf(buf, len, "%.2g", s > 0 ? s : 0.0);
+    else
+        snprintf(buf, len, "%.0f", s);
+    return buf;
+}
+
 int mon_view_strobe(const mon_trace *tr, const mon_view_ctx *c)
 {
     return c->N > 0 && tr->decimation > 0 && (double)c->N / tr->decimation < STROBE_SPP;
@@ -251,10 +263,12 @@ static void trace_panel(panel *p, const mon_trace *tr, const mon_view_ctx *c, in
         fit(&p->title[1], tw, 1, "no STATE samples %s", strobe ? "in the window" : "yet");
         lo = 0, hi = 1;
     } else if (strobe) {
-        fit(&p->title[1], tw, 1, "%.2g samples/period: the last %g s folded on the window by phase "
-            "from psi = 0", spp, c->window_s);
-        fit(&p->title[1], tw, 0, "%.2g samples/period: last %g s folded by phase", spp, c->window_s);
-        fit(&p->title[1], tw, 0, "%.2g/period, %g s folded", spp, c->window_s);
+        char span[16];
+        mon_view_span(c, span, sizeof span);
+        fit(&p->title[1], tw, 1, "%.2g samples/period: the last %s s folded on the window by phase "
+            "from psi = 0", spp, span);
+        fit(&p->title[1], tw, 0, "%.2g samples/period: last %s s folded by phase", spp, span);
+        fit(&p->title[1], tw, 0, "%.2g/period, %s s folded", spp, span);
     } else {
         fit(&p->title[1], tw, 1, "scrolling, %.0f samples/period, newest at the right", spp);
         fit(&p->title[1], tw, 0, "scrolling, %.0f samples/period", spp);
@@ -298,7 +312,9 @@ static void scatter_panel(panel *p, const mon_sections *s, const mon_view_ctx *c
     int tw = LAB + p->w;
     fit(&p->title[0], tw, 1, "Poincare section psi = 0: x_n' (up) vs x_n");
     fit(&p->title[0], tw, 0, "Poincare psi=0: x_n' vs x_n");
-    fit(&p->title[1], tw, 1, "last %g s: %ld sections in %d cells", c->window_s, s->n - i0, cells);
+    char span[16];
+    mon_view_span(c, span, sizeof span);
+    fit(&p->title[1], tw, 1, "last %s s: %ld sections in %d cells", span, s->n - i0, cells);
     fit(&p->title[1], tw, 0, "%ld sections, %d cells", s->n - i0, cells);
     p->ntitle = compact ? 1 : 2;
     snprintf(p->ytop, sizeof p->ytop, "%7.4g", v1);

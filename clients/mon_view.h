@@ -13,6 +13,7 @@
 #ifndef WG_MON_VIEW_H
 #define WG_MON_VIEW_H
 
+#include <stddef.h>
 #include <stdint.h>
 #include "mon_text.h"
 
@@ -40,6 +41,8 @@ typedef struct mon_view_ctx {
     int periods;             /* the trace's window, mesh periods */
     double window_s;         /* wall seconds of sections and folded samples */
     double now;              /* monotonic s */
+    double since;            /* monotonic s the rings began to fill (listening began,
+                              * or the plots were cleared) */
 } mon_view_ctx;
 
 /* Rings of cap entries: 0, or -1 out of memory. Free with *_free. */
@@ -54,6 +57,11 @@ void mon_sections_push(mon_sections *s, double t, double x, double v, int imp, i
 /* Oldest ring index whose time is >= since (times non-decreasing; the
  * indices n0 .. n-1 are the recent ones). */
 long mon_view_from(const double *t, long n, long cap, double since);
+
+/* The seconds "the last window_s seconds" really cover, as a label into
+ * buf: window_s ("5"), or less while the rings began to fill later
+ * ("0.53": wgmon --once listens about a second). Returns buf. */
+const char *mon_view_span(const mon_view_ctx *c, char *buf, size_t len);
 
 /* 1 when the trace would be stroboscopic (fewer than 8 samples a period). */
 int mon_view_strobe(const mon_trace *tr, const mon_view_ctx *c);

@@ -1,6 +1,8 @@
 /* web_opt.c - wgweb's options. */
 #include "web_opt.h"
 
+#include "cli.h"
+
 #include <arpa/inet.h>
 #include <getopt.h>
 #include <math.h>
@@ -172,11 +174,8 @@ int web_opt_parse(web_opt *o, int argc, char **argv)
             usage(&d);
             return 1;
         }
-        if (c == '?' || c == ':') {
-            fprintf(stderr, "wgweb: unknown option or missing value: '%s' (see --help)\n",
-                    argv[optind - 1]);
-            return 2;
-        }
+        if (c == '?' || c == ':')
+            return cli_getopt_error("wgweb", argv, "h", lo);
         if ((rc = parse_one(o, c, optarg)) != 0)
             return rc;
     }

@@ -207,7 +207,7 @@ static int parse_opts(int argc, char **argv, opts *o)
             continue;
         }
         if (c == '?')
-            return bad("unknown option or missing argument:", argv[optind - 1]);
+            return cli_getopt_error("wgcont", argv, "h", lo);
         have_from |= c == 'a', have_to |= c == 'b';
         if ((rc = parse_word(c, optarg, o)))
             return rc;

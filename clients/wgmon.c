@@ -95,6 +95,7 @@ typedef struct mon {
     double theta1, theta2;        /* worm and wheel angles of the latest sample, rad */
     int have_theta;
     mon_sections pc;              /* POINCARE sections */
+    double since;                 /* monotonic s the rings began to fill */
     wg_tracker trk;               /* last consecutive sections: the local period */
     long contacts[WG_NCONTACT][WG_NEVKIND]; /* CONTACT events in the session */
     int rows, cols, frozen;
@@ -119,7 +120,8 @@ static void usage(FILE *f)
             "  --periods P        the x_n trace's window, mesh periods (default 4; [1, 1000])\n"
             "  --window SEC       wall seconds of Poincare sections in the scatter and the\n"
             "                     motion counts, and of samples in a stroboscopic trace\n"
-            "                     (default 5; [0.5, 600])\n"
+            "                     (default 5; [0.5, 600]); the labels say fewer while\n"
+            "                     less was heard (--once listens about a second)\n"
             "  --fps HZ           frames per second (default 4; [0.2, 30])\n"
             "  --tol X            period-detection tolerance, max norm (default 1e-6; (0, 1])\n"
             "  --once             wait for a STATUS (see --timeout), print one frame, exit\n"
@@ -391,6 +393,7 @@ static void on_raw(const lcm_recv_buf_t *rb, const char *channel, void *u)
 static void clear_plots(mon *m)
 {
     m->tr.n = m->pc.n = 0;
+    m->since = cli_mono_s();
     m->have_theta = 0;
     wg_tracker_init(&m->trk, m->trk.dim, m->o.tol);
     memset(m->contacts, 0, sizeof m->contacts);
@@ -513,10 +516,11 @@ static void draw_params(mon *m, mon_text *f)
     mon_text_nl(f);
 }
 
-static void draw_motion(mon *m, mon_text *f, double now)
+static void draw_motion(mon *m, mon_text *f, const mon_view_ctx *c)
 {
     const mon_sections *pc = &m->pc;
-    long j0 = mon_view_from(pc->t, pc->n, pc->cap, now - m->o.window_s), n = pc->n - j0;
+    long j0 = mon_view_from(pc->t, pc->n, pc->cap, c->now - c->window_s), n = pc->n - j0;
+    char span[16];
     long imp = 0, mot[3] = {0, 0, 0};
     for (long j = j0; j < pc->n; j++) {
         imp += pc->imp[j % pc->cap];
@@ -526,8 +530,8 @@ static void draw_motion(mon *m, mon_text *f, double now)
     int worst = mot[2] ? 2 : mot[1] ? 1 : 0;
     mon_text_put(f, 0, "motion  daemon: %s, %.3g impacts/period", m->st.motion, m->st.imp_pp);
     if (n)
-        mon_text_put(f, 0, "  last %g s: %s, %.3g impacts/period", m->o.window_s,
-                     wg_motion_name(worst), (double)imp / n);
+        mon_text_put(f, 0, "  last %s s: %s, %.3g impacts/period",
+                     mon_view_span(c, span, sizeof span), wg_motion_name(worst), (double)imp / n);
     if (n && !m->tight)
         mon_text_put(f, 0, " (periods none/single/double %ld/%ld/%ld)", mot[0], mot[1], mot[2]);
     mon_text_nl(f);
@@ -598,11 +602,11 @@ static void render(mon *m, mon_text *f, int clear)
     }
     draw_header(m, f, now);
     if (m->have_status) {
-        draw_params(m, f);
-        draw_motion(m, f, now);
-        draw_msgs(m, f);
         mon_view_ctx c = {m->st.N, m->st.omega, m->omega_n_rad_s, m->length_m, m->o.periods,
-                          m->o.window_s, now};
+                          m->o.window_s, now, m->since};
+        draw_params(m, f);
+        draw_motion(m, f, &c);
+        draw_msgs(m, f);
         mon_view_plots(f, &m->tr, &m->pc, &c, m->rows - f->lines - 1);
     }
     mon_text_put(f, 0, "%s", f->plain ? "" : m->frozen ? "-- frozen -- space: resume  q: quit  c: clear" : "q: quit  c: clear  space: freeze");
@@ -754,6 +758,7 @@ static int setup(mon *m)
      * while the monitor is not scheduled for ~0.3 s (a live daemon and a
      * replay publish ~100 a second on a channel), and "dropped" would count
      * them; as wgrig does, a longer one. */
+    m->since = cli_mono_s();
     for (int k = 0; k < NCH; k++)
         m->subs[k] = bus_subscribe(&m->c, ch_suffix[k], on_raw, m, 4096);
     ask_params(m);

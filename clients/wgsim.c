@@ -111,8 +111,9 @@ static int opt_units(const char *a, int *physical)
 }
 
 /* One option c with argument a: 0, CLI_EUSAGE (reported), or -1 unknown. */
-static int opt_one(opts *o, int c, const char *a)
+static int opt_one(void *ctx, int c, const char *a)
 {
+    opts *o = ctx;
     switch (c) {
     case 's': o->scene = a; return 0;
     case 'S':
@@ -181,16 +182,9 @@ static int parse_opts(int argc, char **argv, opts *o)
         {"help", no_argument, 0, 'h'},            {0, 0, 0, 0}};
     *o = (opts){.scene = "table3", .periods = 200, .transient = 100,
                 .steps = WG_STEPS_DEFAULT, .stepper = WG_STEPPER_DEFAULT, .model = -1};
-    int c, rc;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
-        if ((rc = opt_one(o, c, optarg)) > 0)
-            return rc;
-        if (rc < 0 && optopt)
-            return cli_usage_error(PROG, "option -%c needs an argument or is unknown", optopt);
-        if (rc < 0)
-            return cli_usage_error(PROG, "unknown option '%s'", argv[optind - 1]);
-    }
+    int rc = cli_getopt(PROG, argc, argv, "h", lo, opt_one, o);
+    if (rc)
+        return rc;
     if (optind < argc)
         return cli_usage_error(PROG, "unexpected argument '%s'", argv[optind]);
     return one_on_stdout(o);
@@ -420,6 +414,20 @@ static int close_outputs(run *r)
  * same steps to the bit as one call would (wg_sim_run resumes the run). */
 static uint64_t chunk_steps(int steps) { return (uint64_t)(65536 / steps) * (uint64_t)steps; }
 
+/* What to try after a blow-up: more steps, except for the printed form,
+ * which grows at any step (README: "The model, and why it is not the
+ * paper's equations as printed"). */
+static const char *blowup_advice(const wg_sim *sim)
+{
+    if (sim->cfg.model != WG_MODEL_PRINTED)
+        return "Try more --steps-per-period.";
+    return "The printed equations (--model printed) are not energy-consistent (their theta1 "
+           "coupling is anti-restoring: the mesh force does net work) and grow at any "
+           "--steps-per-period: twice the steps blowing up at about the same tau is the model, "
+           "not the step; --model consistent is the energy-consistent form (README: \"The "
+           "model, and why it is not the paper's equations as printed\").";
+}
+
 /* Run the transient and the recorded periods into r's sinks, a chunk at a
  * time, until they are done, the state blows up (reported) or a stop is
  * asked for (*stopped 1); the wall time in *wall. WG_OK, or the code of a
@@ -441,8 +449,8 @@ static int run_periods(run *r, wg_sim *sim, double *wall, int *stopped)
     *stopped = rc == WG_OK && done < n;
     if (rc)
         fprintf(stderr, "wgsim: step %llu (tau = %.9g): %s: the state blew up; the last good "
-                        "state is kept. Try more --steps-per-period.\n",
-                (unsigned long long)done, sim->tau, wg_status_str(rc));
+                        "state is kept. %s\n",
+                (unsigned long long)done, sim->tau, wg_status_str(rc), blowup_advice(sim));
     return rc;
 }
 

@@ -68,10 +68,11 @@ static void usage(FILE *f)
         "  --scene NAME|FILE       scene (default table3)\n"
         "  --set key=value         override a parameter (repeatable)\n"
         "  --param NAME            parameter swept (default omega; any table parameter)\n"
-        "  --from A --to B         sweep range (default: omega 0.1 .. 2.5)\n"
-        "  --points N | --step D   grid: N points, or spacing D dividing the range (one of\n"
-        "                          the two; default 241 points)\n"
-        "  --dir up|down|both      sweep directions (default both)\n"
+        "  --from A --to B         sweep range, A below B (default: omega 0.1 .. 2.5)\n"
+        "  --points N | --step D   grid: N points (2 or more; 1 only with A = B), or\n"
+        "                          spacing D dividing the range (one of the two; default\n"
+        "                          241 points)\n"
+        "  --dir up|down|both      sweep directions (default both): down runs B to A\n"
         "  --values NAME=v1,v2..   one up/down pair per value of another parameter\n"
         "  --map NAME=A:B:M        2-D regime map: M rows of NAME, each an up sweep\n"
         "  --transient T           periods before recording, per point (default 300)\n"
@@ -319,6 +320,47 @@ static void opts_default(opts *o)
     wg_sweep_opts_default(&o->so);
 }
 
+/* The grid of a 1-D sweep, refused before anything runs: --from below
+ * --to (a range given downwards was swapped silently: --dir says which way
+ * a sweep goes), N points or a step D, not both, dividing the range, and
+ * at least the range's two ends (--points 1 ran --from alone); equal ends
+ * only as one point (--points 1). o->points set from --step. 0, or 2. */
+static int check_grid(opts *o)
+{
+    double range = o->to - o->from;
+    if (o->at_set || o->table_from)
+        return 0;
+    if (range < 0)
+        return cli_usage_error(PROG, "--from %.15g --to %.15g: --from must be below --to (give "
+                               "the range's lower end as --from; --dir up, down or both chooses "
+                               "which way it is swept)", o->from, o->to);
+    if (o->step > 0 && o->step > range * (1 + 1e-12) && range > 0) /* it gave --from alone */
+        return cli_usage_error(PROG, "--step %g: more than the range %g (--from %g --to %g); "
+                               "need a step up to the range", o->step, range, o->from, o->to);
+    if (o->step > 0 && o->points_set)
+        return cli_usage_error(PROG, "--points %d and --step %g: give one (N points from --from "
+                               "to --to, or their spacing)", o->points, o->step);
+    if (range == 0 && (o->points > 1 || o->step > 0))
+        return cli_usage_error(PROG, "--from and --to are both %g: no range to sweep (--at %g "
+                               "analyses that one point)", o->from, o->from);
+    if (range > 0 && o->points < 2)
+        return cli_usage_error(PROG, "--points %d: a range (--from %.15g --to %.15g) needs 2 "
+                               "points or more, its two ends at least (one point: --from V "
+                               "--to V --points 1, or --at V)", o->points, o->from, o->to);
+    if (o->step > 0) {
+        double k = range / o->step, n = floor(k + 0.5);
+        if (fabs(k - n) > 1e-5 * fmax(1.0, k)) { /* not the grid asked for (6 digits: taken) */
+            double lo = floor(k), hi = ceil(k);
+            return cli_usage_error(PROG, "--step %g: the range %g (--from %g --to %g) is %.4g "
+                                   "steps of it, not a whole number; give --step %.6g (%g "
+                                   "points) or %.6g (%g points), or --points N", o->step, range,
+                                   o->from, o->to, k, range / lo, lo + 1, range / hi, hi + 1);
+        }
+        o->points = (int)n + 1;
+    }
+    return 0;
+}
+
 /* 0, 2 (a usage error, said), or -1: --help was asked for and printed. */
 static int parse_opts(int argc, char **argv, opts *o)
 {
@@ -364,9 +406,7 @@ static int parse_opts(int argc, char **argv, opts *o)
             o->exact[o->nexact++] = optarg;
             break;
         case 'h': usage(stdout); return -1;
-        case '?':
-            return cli_usage_error(PROG, "unknown option or missing argument: '%s'",
-                                   argv[optind - 1]);
+        case '?': return cli_getopt_error(PROG, argv, "h", lo);
         default:
             if ((rc = parse_range(c, optarg, o)))
                 return rc;
@@ -385,32 +425,7 @@ static int parse_opts(int argc, char **argv, opts *o)
     }
     if ((rc = check_combination(o)))
         return rc;
-    if (o->step > 0 && o->step > fabs(o->to - o->from) * (1 + 1e-12) && o->to != o->from &&
-        !o->at_set && !o->table_from) /* it gave one point, --from's, silently */
-        return cli_usage_error(PROG, "--step %g: more than the range %g (--from %g --to %g); "
-                               "need a step up to the range", o->step, fabs(o->to - o->from),
-                               o->from, o->to);
-    if (o->at_set || o->table_from)
-        return 0;
-    double range = fabs(o->to - o->from);
-    if (o->step > 0 && o->points_set)
-        return cli_usage_error(PROG, "--points %d and --step %g: give one (N points from --from "
-                               "to --to, or their spacing)", o->points, o->step);
-    if (range == 0 && (o->points > 1 || o->step > 0))
-        return cli_usage_error(PROG, "--from and --to are both %g: no range to sweep (--at %g "
-                               "analyses that one point)", o->from, o->from);
-    if (o->step > 0) {
-        double k = range / o->step, n = floor(k + 0.5);
-        if (fabs(k - n) > 1e-5 * fmax(1.0, k)) { /* not the grid asked for (6 digits: taken) */
-            double lo = floor(k), hi = ceil(k);
-            return cli_usage_error(PROG, "--step %g: the range %g (--from %g --to %g) is %.4g "
-                                   "steps of it, not a whole number; give --step %.6g (%g "
-                                   "points) or %.6g (%g points), or --points N", o->step, range,
-                                   o->from, o->to, k, range / lo, lo + 1, range / hi, hi + 1);
-        }
-        o->points = (int)n + 1;
-    }
-    return 0;
+    return check_grid(o);
 }
 
 /* ---- progress ---------------------------------------------------------- */

@@ -186,6 +186,16 @@ expect_exit 0 "^  xi_p  -   \[0, 2\] 0.08: mesh damping ratio" --help
 # the printed form has no RK4 limit: not claimed as "N >= 1"
 expect_exit 0 "no RK4 limit checked (the printed form grows by design)" --model printed --periods 2
 expect_exit 0 "RK4 limit N >= 11;" --periods 2
+# a printed form that blows up (a1 > a3: its theta1 coupling wins) does so at
+# tau ~45.7 at any N: the advice is the model's, not "Try more
+# --steps-per-period", which it gave
+printed="--model printed --set a1=0.8 --set a2=0.1 --set a3=0.5916079783099616 --periods 200"
+for n in 128 1024; do
+    expect_exit 1 "^wgsim: step [0-9]* (tau = 45\.7[0-9]*): .*the state blew up; the last good state is kept\. The printed equations (--model printed) are not energy-consistent (their theta1 coupling is anti-restoring: the mesh force does net work) and grow at any --steps-per-period: twice the steps blowing up at about the same tau is the model, not the step; --model consistent is the energy-consistent form" \
+        $printed --steps-per-period $n
+    check "printed, N = $n: no 'Try more --steps-per-period'" \
+        bash -c "! grep -q 'Try more' '$tmp/err' && [ \$(wc -l <'$tmp/err') -eq 1 ]"
+done
 expect_exit 2 "^wgsim: --model printed: scene given gives its start state (state = given) for the consistent model, 14 values" \
     --scene "$tmp/given.ini" --model printed --periods 2
 

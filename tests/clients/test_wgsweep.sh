@@ -129,6 +129,22 @@ check "--help gives the tolerances' ranges" \
 refuse "^wgsweep: --step 0.07: the range 2.4 (--from 0.1 --to 2.5) is 34.29 steps of it, not a whole number; give --step 0.0705882 (35 points) or 0.0685714 (36 points)" --step 0.07
 refuse "^wgsweep: --points 5 and --step 0.1: give one" --points 5 --step 0.1
 refuse "^wgsweep: --from and --to are both 1: no range to sweep (--at 1 analyses" --from 1 --to 1 --points 3
+# a range given downwards, and one point over a range: refused (they ran,
+# exit 0, the range swapped to 1 .. 2 and --from alone, over any files of
+# the same PREFIX); --dir chooses the direction, --points 1 takes equal ends
+refuse "^wgsweep: --from 2 --to 1: --from must be below --to (give the range's lower end as --from; --dir up, down or both chooses which way it is swept)$" --from 2 --to 1 --points 3
+refuse "^wgsweep: --from 2.5 --to 0.1: --from must be below --to" --dir down --from 2.5 --to 0.1 --step 0.1
+refuse "^wgsweep: --from 1.3788001 --to 1.3788: --from must be below --to" --from 1.3788001 --to 1.3788 --points 3
+refuse "^wgsweep: --points 1: a range (--from 1 --to 2) needs 2 points or more, its two ends at least (one point: --from V --to V --points 1, or --at V)$" --from 1 --to 2 --points 1
+echo "an earlier run" >"$dir/keep.csv"
+"$sweep" --from 1.2 --to 1.1 --points 2 --transient 10 --quiet --no-png --out "$dir/keep" >/dev/null 2>"$dir/keep.err"
+rc=$?
+check "--from above --to: exit 2, an earlier PREFIX.csv kept, nothing written" \
+  '[ $rc -eq 2 ] && [ "$(cat "$dir/keep.csv")" = "an earlier run" ] && [ "$(ls "$dir"/keep* | wc -l)" -eq 2 ]'
+"$sweep" --from 1.1 --to 1.1 --points 1 --transient 10 --quiet --no-png --no-json --out "$dir/one" >/dev/null 2>&1
+rc=$?
+check "one point (--from 1.1 --to 1.1 --points 1): exit 0, a row each way" \
+  '[ $rc -eq 0 ] && [ "$(cut -d, -f1-3 "$dir/one.csv" | tail -n +2 | tr "\n" " ")" = "up,0,1.1 down,0,1.1 " ]'
 "$sweep" --from 1 --to 1.2 --step 0.0666667 --dir up --no-png --no-json --quiet --out "$dir/st" >/dev/null 2>&1
 check "--step as a refusal suggests it (6 digits): 4 points, the last 1.2" '[ "$(tail -1 "$dir/st.csv" | cut -d, -f2,3)" = "3,1.2" ]'
 
