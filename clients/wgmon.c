@@ -1,16 +1,13 @@
 /* wgmon - live terminal dashboard of wormgeard (plain ANSI, works over ssh).
- *
  * Subscribes to STATUS, PARAMS, STATE, POINCARE and CONTACT and redraws a
  * frame a few times a second: pacing health, the key parameters, the x_n
  * trace over a window of mesh periods with a time axis (mon_view.c:
  * scrolling, or stroboscopic when STATE has too few samples per period),
  * the Poincare scatter of the last seconds, impacts per period, motion
- * class and regime (the daemon's, and a local period detection with the
- * analysis library), and dropped-message counts from seq gaps. Senders are
- * told apart (bus.h): a daemon restart shows as such, a log played back as
- * a replay, and when several share the bus the live one is shown.
- * Headless: --once / --frames N print frames as plain text.
- * Exit 0, 1 no STATUS heard (--once/--frames), 2 usage. */
+ * class and regime (the daemon's, and a local period detection), and
+ * dropped-message counts from seq gaps; senders told apart (bus.h: a
+ * restart, a replay, the live one of several). --once / --frames N print
+ * plain text. Exit 0, 1 no STATUS heard (--once, --frames), 2 usage. */
 #include "bus.h"
 #include "bus_msg.h"
 #include "cli.h"
@@ -118,10 +115,9 @@ static void usage(FILE *f)
             "  --url URL          LCM URL (default $WORMGEAR_URL or %s)\n"
             "  --prefix P         channel prefix (default $WORMGEAR_PREFIX or %s)\n"
             "  --periods P        the x_n trace's window, mesh periods (default 4; [1, 1000])\n"
-            "  --window SEC       wall seconds of Poincare sections in the scatter and the\n"
-            "                     motion counts, and of samples in a stroboscopic trace\n"
-            "                     (default 5; [0.5, 600]); the labels say fewer while\n"
-            "                     less was heard (--once listens about a second)\n"
+            "  --window SEC       wall seconds of sections in the scatter and motion counts,\n"
+            "                     and of samples in a stroboscopic trace (default 5; [0.5,\n"
+            "                     600]; the labels say fewer while less was heard: --once)\n"
             "  --fps HZ           frames per second (default 4; [0.2, 30])\n"
             "  --tol X            period-detection tolerance, max norm (default 1e-6; (0, 1])\n"
             "  --once             wait for a STATUS (see --timeout), print one frame, exit\n"
@@ -754,10 +750,9 @@ static int setup(mon *m)
         fprintf(stderr, "wgmon: %s\n", why);
         return bus_exit_status(brc);
     }
-    /* LCM's default queue (30 messages a subscription) drops what arrives
-     * while the monitor is not scheduled for ~0.3 s (a live daemon and a
-     * replay publish ~100 a second on a channel), and "dropped" would count
-     * them; as wgrig does, a longer one. */
+    /* LCM's default queue (30 a subscription) drops what comes while the
+     * monitor is not scheduled for ~0.3 s (~100 a second on a channel),
+     * and "dropped" would count it: a longer one, as wgrig's. */
     m->since = cli_mono_s();
     for (int k = 0; k < NCH; k++)
         m->subs[k] = bus_subscribe(&m->c, ch_suffix[k], on_raw, m, 4096);

@@ -69,9 +69,8 @@ static void usage(FILE *f)
         "  --set key=value         override a parameter (repeatable)\n"
         "  --param NAME            parameter swept (default omega; any table parameter)\n"
         "  --from A --to B         sweep range, A below B (default: omega 0.1 .. 2.5)\n"
-        "  --points N | --step D   grid: N points (2 or more; 1 only with A = B), or\n"
-        "                          spacing D dividing the range (one of the two; default\n"
-        "                          241 points)\n"
+        "  --points N | --step D   grid: N points (2 or more; 1 if A = B) or spacing D\n"
+        "                          dividing the range (one of the two; default 241 points)\n"
         "  --dir up|down|both      sweep directions (default both): down runs B to A\n"
         "  --values NAME=v1,v2..   one up/down pair per value of another parameter\n"
         "  --map NAME=A:B:M        2-D regime map: M rows of NAME, each an up sweep\n"
@@ -93,8 +92,7 @@ static void usage(FILE *f)
         "                          the tolerance of a slowly converging point)\n"
         "  --steps-per-period N    RK4 steps per mesh period (default 256; raised to 1.25x\n"
         "                          the RK4 stability limit where needed)\n"
-        "  --stepper default|rk4|rk4-event (default: rk4-event; the printed\n"
-        "                          form runs rk4 only)\n"
+        "  --stepper default|rk4|rk4-event (default: rk4-event; the printed form: rk4)\n"
         "  --floquet               Floquet multipliers of every periodic point\n"
         "  --verify-steps          re-analyse every point's attractor with 2N steps per\n"
         "                          period (step-halving check, run beside the sweep;\n"
@@ -320,11 +318,9 @@ static void opts_default(opts *o)
     wg_sweep_opts_default(&o->so);
 }
 
-/* The grid of a 1-D sweep, refused before anything runs: --from below
- * --to (a range given downwards was swapped silently: --dir says which way
- * a sweep goes), N points or a step D, not both, dividing the range, and
- * at least the range's two ends (--points 1 ran --from alone); equal ends
- * only as one point (--points 1). o->points set from --step. 0, or 2. */
+/* The grid of a 1-D sweep, checked before anything runs: --from below --to
+ * (a reversed range was swapped silently), N points or a step D dividing
+ * the range, its two ends at least (equal ends: --points 1). 0, or 2. */
 static int check_grid(opts *o)
 {
     double range = o->to - o->from;
