@@ -97,7 +97,7 @@ enum {
     CHAN_MAX = 63, /* LCM_MAX_CHANNEL_NAME_LENGTH */
     KEEP = 0x7fffffff,
     NUL_LEN = 2 * (CHAN_MAX + 1) + 2, /* nul_within's instructions */
-    PROG_MAX = 2 * NUL_LEN + 40
+    PROG_MAX = 2 * NUL_LEN + 2 * (CHAN_MAX + 1) + 60
 };
 
 typedef struct prog {
@@ -133,20 +133,11 @@ static void nul_within(prog *p, unsigned off)
     op(p, BPF_RET | BPF_K, KEEP, 0, 0);
 }
 
-/* The filter: a short message's channel ends inside the datagram; a
- * fragment has its whole header, lies inside its message (offset + size
- * <= msg_size, computed without LCM's 32-bit wrap), is numbered below
- * its count, and a first fragment starts at 0 with its channel ending
- * inside it. Everything else, LCM would drop or mishandle: dropped. */
-static void build(prog *p)
+/* A later fragment (no > 0): inside its message, offset + size <=
+ * msg_size computed without LCM's 32-bit wrap. */
+static void later_fragment(prog *p)
 {
-    p->n = p->over = 0;
-    op(p, BPF_LD | BPF_W | BPF_ABS, UDPH, 0, 0);
-    op(p, BPF_JMP | BPF_JEQ | BPF_K, LC_SHORT, 0, NUL_LEN);
-    nul_within(p, UDPH + 8);
-    need(p, BPF_JEQ | BPF_K, LC_LONG);
     op(p, BPF_LD | BPF_W | BPF_LEN, 0, 0, 0);
-    need(p, BPF_JGE | BPF_K, UDPH + LONG_HDR);
     op(p, BPF_ALU | BPF_SUB | BPF_K, UDPH + LONG_HDR, 0, 0);
     op(p, BPF_ST, 0, 0, 0); /* M[0]: the fragment's bytes */
     op(p, BPF_LD | BPF_W | BPF_ABS, UDPH + 12, 0, 0);
@@ -158,16 +149,58 @@ static void build(prog *p)
     op(p, BPF_LDX | BPF_W | BPF_MEM, 0, 0, 0);
     op(p, BPF_LD | BPF_W | BPF_MEM, 1, 0, 0);
     need(p, BPF_JGE | BPF_X, 0); /* the room >= the fragment's bytes */
+    op(p, BPF_RET | BPF_K, KEEP, 0, 0);
+}
+
+/* The first fragment (no 0): at offset 0, its channel ending inside it
+ * within CHAN_MAX + 1 bytes, and its data after the channel (msg_size
+ * counts only data) no more than msg_size. */
+static void first_fragment(prog *p)
+{
+    const unsigned off = UDPH + LONG_HDR;
+    op(p, BPF_LD | BPF_W | BPF_ABS, UDPH + 12, 0, 0);
+    need(p, BPF_JEQ | BPF_K, 0);
+    for (unsigned i = 0; i <= CHAN_MAX; i++) { /* A: the channel's bytes with its NUL */
+        op(p, BPF_LD | BPF_B | BPF_ABS, off + i, 0, 0);
+        op(p, BPF_JMP | BPF_JEQ | BPF_K, 0, 0, 2);
+        op(p, BPF_LD | BPF_IMM, i + 1, 0, 0);
+        op(p, BPF_JMP | BPF_JA, 4 * (CHAN_MAX - i) + 1, 0, 0);
+    }
+    op(p, BPF_RET | BPF_K, 0, 0, 0);
+    op(p, BPF_MISC | BPF_TAX, 0, 0, 0);
+    op(p, BPF_LD | BPF_W | BPF_LEN, 0, 0, 0);
+    op(p, BPF_ALU | BPF_SUB | BPF_K, off, 0, 0);
+    op(p, BPF_ALU | BPF_SUB | BPF_X, 0, 0, 0); /* the data's bytes: the NUL is inside */
+    op(p, BPF_MISC | BPF_TAX, 0, 0, 0);
+    op(p, BPF_LD | BPF_W | BPF_ABS, UDPH + 8, 0, 0);
+    need(p, BPF_JGE | BPF_X, 0); /* msg_size >= the data's bytes */
+    op(p, BPF_RET | BPF_K, KEEP, 0, 0);
+}
+
+/* The filter: a short message's channel ends inside the datagram; a
+ * fragment has its whole header, is numbered below its count and lies
+ * inside its message (later_fragment, first_fragment). Everything else,
+ * LCM would drop or mishandle: dropped. */
+static void build(prog *p)
+{
+    p->n = p->over = 0;
+    op(p, BPF_LD | BPF_W | BPF_ABS, UDPH, 0, 0);
+    op(p, BPF_JMP | BPF_JEQ | BPF_K, LC_SHORT, 0, NUL_LEN);
+    nul_within(p, UDPH + 8);
+    need(p, BPF_JEQ | BPF_K, LC_LONG);
+    op(p, BPF_LD | BPF_W | BPF_LEN, 0, 0, 0);
+    need(p, BPF_JGE | BPF_K, UDPH + LONG_HDR);
     op(p, BPF_LD | BPF_H | BPF_ABS, UDPH + 18, 0, 0);
     op(p, BPF_MISC | BPF_TAX, 0, 0, 0); /* X: fragments_in_msg */
     op(p, BPF_LD | BPF_H | BPF_ABS, UDPH + 16, 0, 0);
     op(p, BPF_JMP | BPF_JGE | BPF_X, 0, 0, 1); /* fragment_no >= count: drop */
     op(p, BPF_RET | BPF_K, 0, 0, 0);
-    op(p, BPF_JMP | BPF_JEQ | BPF_K, 0, 1, 0);
-    op(p, BPF_RET | BPF_K, KEEP, 0, 0); /* a later fragment */
-    op(p, BPF_LD | BPF_W | BPF_ABS, UDPH + 12, 0, 0);
-    need(p, BPF_JEQ | BPF_K, 0); /* the first fragment at offset 0 */
-    nul_within(p, UDPH + LONG_HDR);
+    int at = p->n;
+    op(p, BPF_JMP | BPF_JEQ | BPF_K, 0, 0, 0); /* no 0: past later_fragment */
+    later_fragment(p);
+    if (!p->over)
+        p->f[at].jt = (unsigned char)(p->n - at - 1);
+    first_fragment(p);
 }
 
 /* 1 if fd is an IPv4 UDP socket bound to port. */

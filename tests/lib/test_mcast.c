@@ -141,6 +141,13 @@ static void test_guard(void)
         {"a short message, a 63-byte channel", shortmsg(chan63, 0, 10), 1},
         {"a short message, its channel at the end", shortmsg("WG_CMD", 0, 0), 1},
         {"a first fragment", fragment(3000, 0, 0, 3, "WG_CMD", 0, 1300), 1},
+        /* msg_size counts the data, not the channel: a first fragment whose
+         * message ends 1 byte later is whole, as is one of a single fragment */
+        {"a first fragment, 1 byte of the message after it",
+         fragment(1301, 0, 0, 2, "WORMGEAR_POINCARE", 0, 1300), 1},
+        {"a message in one fragment", fragment(1300, 0, 0, 1, "WORMGEAR_POINCARE", 0, 1300), 1},
+        {"a first fragment, 1 byte past its message",
+         fragment(1299, 0, 0, 2, "WORMGEAR_POINCARE", 0, 1300), 0},
         {"a middle fragment", fragment(3000, 1393, 1, 3, "", 0, 1400), 1},
         {"a last fragment, ending at the message's end", fragment(3000, 2793, 2, 3, "", 0, 207),
          1},
