@@ -1,5 +1,7 @@
-/* wglog - summarise an LCM log of wormgeard, or export its channels to CSV.
+/* wglog - record the bus to an LCM log, summarise a log of wormgeard, or
+ * export its channels to CSV.
  *
+ * `record` writes lcm-logger's format from a filtered socket (log_rec.h).
  * Reads the log with LCM's eventlog API; each message's type is found from
  * its fingerprint (the first 8 bytes), so any prefix works. `summary` lists
  * channels, types, message and sample counts, rates, seq gaps (dropped
@@ -11,11 +13,12 @@
  * shortest form that reads back exactly (0.08, not 0.080000000000000002):
  * the CSV holds exactly what was published. --units physical converts the
  * samples with the scale of the log's PARAMS (s, Hz, um, m/s, N).
- * Exit 0, 1 unreadable log, unwritable output or no channel matching --channel,
- * 2 usage error. */
+ * Exit 0, 1 unreadable log, unwritable output or no channel matching --channel
+ * (record: the log exists, the URL is refused, a write failed), 2 usage error. */
 #include "bus.h"
 #include "bus_msg.h"
 #include "cli.h"
+#include "log_rec.h"
 #include "log_rows.h"
 #include "logrd.h"
 #include "lcmtypes/wormgear_params_t.h"
@@ -348,12 +351,19 @@ static int close_all(log_run *r)
 static void usage(FILE *f)
 {
     fprintf(f,
-            "usage: wglog summary LOG [options]\n"
+            "usage: wglog record LOG [options]\n"
+            "       wglog summary LOG [options]\n"
             "       wglog export LOG [options]\n"
-            "Summarise an LCM log of wormgeard (channels, types, counts, rates, seq gaps), or\n"
+            "Record the bus to LOG (LCM's log format, as lcm-logger writes it; lcm-logplayer\n"
+            "plays it back), until SIGINT (Ctrl-C), SIGTERM or --duration. Unlike lcm-logger it\n"
+            "filters its socket, so a hostile datagram cannot end it (lcmtypes/PROTOCOL.md).\n"
+            "Summarise a log of wormgeard (channels, types, counts, rates, seq gaps), or\n"
             "export each channel to DIR/CHANNEL.csv with the type's fields as columns (one row\n"
-            "per sample for STATE, POINCARE, CONTACT). Record logs with\n"
-            "  lcm-logger --lcm-url='udpm://239.255.76.67:7667?ttl=0' run.lcmlog\n\n"
+            "per sample for STATE, POINCARE, CONTACT).\n\n"
+            "      --url URL         record: LCM URL (default $WORMGEAR_URL, else\n"
+            "                        %s)\n"
+            "      --duration S      record: stop after S seconds (default: at SIGINT)\n"
+            "      --force           record: overwrite LOG if it exists (default: refuse)\n"
             "  -o, --out DIR         export: output directory, created if missing (default .)\n"
             "  -c, --channel REGEX   only channels matching this POSIX extended regex, anchored\n"
             "                        (default: all, i.e. '.*')\n"
@@ -362,47 +372,78 @@ static void usage(FILE *f)
             "                        f_mesh_hz, x_n_um, dx_n_m_s, F_N, x1_um ... ds_m_s,\n"
             "                        velocity_m_s), with the scale of the log's PARAMS\n"
             "  -s, --summary         export: also print the summary\n"
-            "  -q, --quiet           no notes about skipped channels\n"
+            "  -q, --quiet           no notes about skipped channels (record: no lines at\n"
+            "                        its start and end)\n"
             "  -h, --help            this text\n\n"
             "Exit status: 0 ok, 1 unreadable log, unwritable output or no channel matching\n"
-            "--channel, 2 usage error.\n");
+            "--channel (record: LOG exists, the URL refused, a write failed), 2 usage error.\n",
+            bus_default_url());
 }
 
 #define PROG "wglog"
 
+/* The command line: a log_run for summary and export, record's options. */
+typedef struct cmdline {
+    log_run r;
+    log_rec_opts rec;
+    int record;
+    const char *export_only, *record_only; /* an option given that only they take */
+} cmdline;
+
+enum { OPT_URL = 1000, OPT_DURATION, OPT_FORCE };
+
 static int opt_one(void *ctx, int c, const char *a)
 {
-    log_run *r = ctx;
+    cmdline *m = ctx;
+    log_run *r = &m->r;
     switch (c) {
-    case 'o': r->out = a; return 0;
+    case 'o': r->out = a, m->export_only = "--out"; return 0;
     case 'c': r->pattern = a; return 0;
-    case 's': r->also_summary = 1; return 0;
+    case 's': r->also_summary = 1, m->export_only = "--summary"; return 0;
     case 'u':
         if (strcmp(a, "physical") && strcmp(a, "dimensionless"))
             return cli_usage_error(PROG, "--units '%s': dimensionless or physical", a);
-        r->physical = !strcmp(a, "physical");
+        r->physical = !strcmp(a, "physical"), m->export_only = "--units";
         return 0;
-    case 'q': r->quiet = 1; return 0;
+    case 'q': r->quiet = m->rec.quiet = 1; return 0;
+    case OPT_URL: m->rec.url = a, m->record_only = "--url"; return 0;
+    case OPT_DURATION:
+        m->record_only = "--duration";
+        return cli_opt_num(PROG, "--duration", a, 1e-3, 1e7, "seconds, 0.001 to 1e7",
+                           &m->rec.duration_s);
+    case OPT_FORCE: m->rec.force = 1, m->record_only = "--force"; return 0;
     case 'h': usage(stdout); exit(0);
     default: return -1;
     }
 }
 
-static int parse(int argc, char **argv, log_run *r)
+static int parse(int argc, char **argv, cmdline *m)
 {
     static const struct option lo[] = {{"out", 1, 0, 'o'},     {"channel", 1, 0, 'c'},
                                        {"summary", 0, 0, 's'}, {"quiet", 0, 0, 'q'}, {"units", 1, 0, 'u'},
-                                       {"help", 0, 0, 'h'},    {0, 0, 0, 0}};
-    int rc = cli_getopt(PROG, argc, argv, "o:c:u:sqh", lo, opt_one, r);
+                                       {"url", 1, 0, OPT_URL}, {"duration", 1, 0, OPT_DURATION},
+                                       {"force", 0, 0, OPT_FORCE}, {"help", 0, 0, 'h'},
+                                       {0, 0, 0, 0}};
+    log_run *r = &m->r;
+    int rc = cli_getopt(PROG, argc, argv, "o:c:u:sqh", lo, opt_one, m);
     if (rc)
         return rc;
     if (argc - optind != 2)
-        return cli_usage_error(PROG, "%d argument%s: expected two, a command (summary or export) "
-                               "and a log file", argc - optind, argc - optind == 1 ? "" : "s");
-    if (strcmp(argv[optind], "summary") && strcmp(argv[optind], "export"))
-        return cli_usage_error(PROG, "command '%s': one of summary, export", argv[optind]);
-    r->export_ = !strcmp(argv[optind], "export");
-    r->path = argv[optind + 1];
+        return cli_usage_error(PROG, "%d argument%s: expected two, a command (record, summary or "
+                               "export) and a log file", argc - optind,
+                               argc - optind == 1 ? "" : "s");
+    const char *cmd = argv[optind];
+    if (strcmp(cmd, "record") && strcmp(cmd, "summary") && strcmp(cmd, "export"))
+        return cli_usage_error(PROG, "command '%s': one of record, summary, export", cmd);
+    m->record = !strcmp(cmd, "record");
+    r->export_ = !strcmp(cmd, "export");
+    if (m->export_only && !r->export_)
+        return cli_usage_error(PROG, "%s is an option of export, not of %s", m->export_only, cmd);
+    if (m->record_only && !m->record)
+        return cli_usage_error(PROG, "%s is an option of record, not of %s", m->record_only, cmd);
+    r->path = m->rec.path = argv[optind + 1];
+    if (!m->rec.url)
+        m->rec.url = bus_default_url();
     if (r->pattern) {
         char anchored[1024];
         snprintf(anchored, sizeof anchored, "^(%s)$", r->pattern);
@@ -434,8 +475,17 @@ static int no_match(const log_run *r)
 
 int main(int argc, char **argv)
 {
-    log_run r = {.out = "."};
-    int rc = parse(argc, argv, &r);
+    cmdline m = {.r = {.out = "."}};
+    log_run r;
+    int rc = parse(argc, argv, &m);
+    if (!rc && m.record) {
+        m.rec.re = m.r.has_re ? &m.r.re : NULL;
+        rc = log_rec_run(&m.rec);
+        if (m.r.has_re)
+            regfree(&m.r.re);
+        return rc;
+    }
+    r = m.r;
     if (!rc && r.export_ && mkdir(r.out, 0777) && errno != EEXIST) {
         fprintf(stderr, "wglog: cannot create --out directory '%s': %s\n", r.out, strerror(errno));
         rc = 1;

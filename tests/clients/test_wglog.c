@@ -659,7 +659,7 @@ static void test_usage(void)
     char cmd[512], out[4096];
     snprintf(cmd, sizeof cmd, "%s frobnicate %s 2>&1", wglog(), logpath);
     ASSERT_EQ_INT(run(cmd, out, sizeof out), 2);
-    ASSERT_CONTAINS(out, "command 'frobnicate': one of summary, export");
+    ASSERT_CONTAINS(out, "command 'frobnicate': one of record, summary, export");
     snprintf(cmd, sizeof cmd, "%s summary %s --channel '(' 2>&1", wglog(), logpath);
     ASSERT_EQ_INT(run(cmd, out, sizeof out), 2);
     ASSERT_CONTAINS(out, "--channel '('");

@@ -1,14 +1,15 @@
 #!/bin/sh
-# test_wgmon.sh WORMGEARD WGMON WGCTL LCM_LOGGER LCM_LOGPLAYER WGSPOOF - the live
+# test_wgmon.sh WORMGEARD WGMON WGCTL WGLOG LCM_LOGPLAYER WGSPOOF - the live
 # monitor headless (--once, --frames) and interactive under tmux (draws,
 # resizes, quits on q): usage errors, no daemon, a regime change after
 # `wgctl set`, the period-2 orbit at physical real time at 80, 150 and 200
 # columns (two points in the scatter, both axes labelled, a stroboscopic
 # trace with its time axis) and scrolling at rate 0.01, a daemon restart, a
-# log replayed into the live bus and alone, a hostile sender (angles that are
+# log (recorded by `wglog record`) replayed by lcm-logplayer into the live
+# bus and alone, a hostile sender (angles that are
 # not angles, sections with no or too wide a state), and on a pty each frame
 # one synchronized update (DEC mode 2026). Run through netns.sh.
-D=$1 M=$2 C=$3 LOGGER=$4 PLAYER=$5 SPOOF=$6
+D=$1 M=$2 C=$3 WGLOG=$4 PLAYER=$5 SPOOF=$6
 code=0
 tmp=$(mktemp -d) || exit 1
 pid=
@@ -139,10 +140,10 @@ grep -q "senders 2" "$tmp/frames" && fail "a restart taken for two senders"
 
 # ---- a log played back into the live bus (issue 12 item 8): one more
 # sender, shown as a replay and not mixed in; no restarts, no drops
-"$LOGGER" --lcm-url="$WORMGEAR_URL" "$tmp/run.lcmlog" >/dev/null 2>&1 &
+"$WGLOG" record -q "$tmp/run.lcmlog" >"$tmp/rec.out" 2>&1 &
 lpid=$!
 sleep 2.5
-kill -INT $lpid; wait $lpid
+kill -INT $lpid; wait $lpid || fail "wglog record: exit $?: $(cat "$tmp/rec.out")"
 sleep 2.5                                   # the log is now 2.5 .. 5 s old
 "$PLAYER" --lcm-url="$WORMGEAR_URL" "$tmp/run.lcmlog" >/dev/null 2>&1 &
 ppid=$!

