@@ -23,7 +23,7 @@ static void usage(FILE *f)
         "  --key-file FILE     sign commands with this key (default $WORMGEAR_KEY_FILE):\n"
         "                      needed when the daemon has command_key_file\n"
         "  --param NAME        parameter driven (default omega; `wgctl params` lists them)\n"
-        "  --from A --to B     range, in the parameter's unit (required; within its range)\n"
+        "  --from A --to B     range A < B, parameter's unit (required; within its range)\n"
         "  --points N          stepwise: points per direction (default 21; [2, 10000])\n"
         "  --dir up|down|both  sweep directions (default both)\n"
         "  --settle P          mesh periods discarded after each step (default 300; [0, 1e6])\n"
@@ -147,6 +147,10 @@ int rig_parse_opts(int argc, char **argv, rig_opts *o)
                                o->have_from ? "--to" : "--from");
     if (o->from == o->to)
         return cli_usage_error(PROG, "--to %g: must differ from --from", o->to);
+    if (o->from > o->to) /* was swapped silently, as wgsweep's was */
+        return cli_usage_error(PROG, "--from %.15g --to %.15g: --from must be below --to (give "
+                               "the range's lower end as --from; --dir up, down or both chooses "
+                               "which way it is swept)", o->from, o->to);
     if (!o->bins)
         o->bins = o->points;
     return cli_opt_outdir(PROG, "--out", o->out);

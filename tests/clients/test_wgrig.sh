@@ -37,6 +37,8 @@ expect 2 "$R" --from 0.5
 has err "^wgrig: --to is required (the range of the sweep)"
 expect 2 "$R" --from 0.5 --to 20
 has err "omega = 20 out of range \[0.01, 10\]"
+expect 2 "$R" --from 2 --to 1 --out "$tmp/swapped"
+has err "^wgrig: --from 2 --to 1: --from must be below --to (give the range's lower end as --from; --dir up, down or both"
 expect 2 "$R" --from 0.5 --to 1 --dir sideways
 has err "\-\-dir 'sideways': one of up, down, both"
 expect 2 "$R" --param nosuch --from 0 --to 1
