@@ -4,6 +4,7 @@
 #include "cli.h"
 #include "units.h"
 #include "wormgear/wg_mcast.h"
+#include "wormgear/wg_status.h"
 #include "wormgear/wg_model.h"
 #include "wormgear/wg_sim.h"
 
@@ -262,8 +263,9 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
     gethostname(host, sizeof host - 1);
     snprintf(c->client, sizeof c->client, "%s-%d@%s", name, (int)getpid(), host);
     c->opened_us = cli_wall_us();
-    if (wg_mcast_route(url, why, whylen))
-        return -1;
+    int rc = wg_mcast_route(url, why, whylen);
+    if (rc)
+        return rc == WG_EINVAL ? BUS_EURL : -1; /* port 0: a usage error, as a URL LCM refuses */
     c->lcm = lcm_create(url);
     if (!c->lcm) { /* LCM has said why on stderr */
         snprintf(why, whylen, "cannot open LCM URL '%s' (LCM's reason is above); a URL is "

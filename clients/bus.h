@@ -139,14 +139,15 @@ const char *bus_default_prefix(void);
 enum { BUS_PREFIX_MAX = 40 };
 
 /* bus_open's status when LCM refuses the URL (a misspelt one: LCM's reason
- * is on stderr): a usage error, which the clients exit 2 for. */
+ * is on stderr), or it has port 0: a usage error, which the clients exit 2
+ * for. */
 enum { BUS_EURL = -2 };
 int bus_prefix_ok(const char *p);
 
 /* Open LCM on url (NULL: default) with prefix (NULL: default); name is the
  * program name used in the client id. Commands are signed with the key in
  * $WORMGEAR_KEY_FILE when that is set (bus_set_key). 0, BUS_EURL if LCM
- * refuses the URL, or -1 for anything else (a bad prefix, an empty URL, no
+ * refuses the URL or its port is 0, or -1 for anything else (a bad prefix, an empty URL, no
  * route to its group, the key file refused); why says which. */
 int bus_open(bus *c, const char *url, const char *prefix, const char *name, char *why,
              size_t whylen);

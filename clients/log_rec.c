@@ -3,6 +3,7 @@
 
 #include "cli.h"
 #include "wormgear/wg_mcast.h"
+#include "wormgear/wg_status.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -73,11 +74,14 @@ static int make_file(const log_rec_opts *o)
 }
 
 /* LCM on the URL, every channel subscribed and its socket filtered: the
- * handle, or NULL said. */
-static lcm_t *open_bus(const log_rec_opts *o, rec *r)
+ * handle, or NULL said, with *rc CLI_EUSAGE for a URL LCM refuses or port 0
+ * (as every client takes them), else 1. */
+static lcm_t *open_bus(const log_rec_opts *o, rec *r, int *rc)
 {
     char why[512] = "";
-    if (wg_mcast_route(o->url, why, sizeof why)) {
+    int route = wg_mcast_route(o->url, why, sizeof why);
+    *rc = route == WG_EINVAL ? CLI_EUSAGE : 1;
+    if (route) {
         fprintf(stderr, "wglog: %s\n", why);
         return NULL;
     }
@@ -85,6 +89,7 @@ static lcm_t *open_bus(const log_rec_opts *o, rec *r)
     if (!lcm) { /* LCM has said why on stderr */
         fprintf(stderr, "wglog: cannot open LCM URL '%s' (LCM's reason is above); a URL is "
                 WG_LCM_URL_FORMS "\n", o->url);
+        *rc = CLI_EUSAGE;
         return NULL;
     }
     if (!lcm_subscribe(lcm, ".*", on_msg, r) || wg_mcast_guard(o->url, why, sizeof why)) {
@@ -154,10 +159,11 @@ static int record(const log_rec_opts *o, rec *r, lcm_t *lcm)
 int log_rec_run(const log_rec_opts *o)
 {
     rec r = {.o = o};
-    lcm_t *lcm = open_bus(o, &r); /* first: a refused URL leaves no file behind */
+    int rc;
+    lcm_t *lcm = open_bus(o, &r, &rc); /* first: a refused URL leaves no file behind */
     if (!lcm)
-        return 1;
-    int rc = make_file(o);
+        return rc;
+    rc = make_file(o);
     if (!rc && !(r.log = lcm_eventlog_create(o->path, "w"))) {
         fprintf(stderr, "wglog: cannot write %s: %s\n", o->path, strerror(errno));
         rc = 1;

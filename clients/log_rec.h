@@ -20,9 +20,10 @@ typedef struct log_rec_opts {
     int quiet;             /* no line at the start and the end */
 } log_rec_opts;
 
-/* Record until SIGINT, SIGTERM or the duration: 0, or 1 after saying why
- * on stderr (the file exists and --force is not given, it cannot be
- * written, the URL is refused or its socket cannot be filtered, a write
+/* Record until SIGINT, SIGTERM or the duration: 0; CLI_EUSAGE (2) after
+ * saying why on stderr for a URL LCM refuses or one with port 0; else 1
+ * after saying why (the file exists and --force is not given, it cannot be
+ * written, no route to the group, the socket cannot be filtered, a write
  * failed: a full disk). What was written before a failure stays in the
  * file, flushed at least every 0.25 s while recording. */
 int log_rec_run(const log_rec_opts *o);

@@ -14,7 +14,8 @@
  * the CSV holds exactly what was published. --units physical converts the
  * samples with the scale of the log's PARAMS (s, Hz, um, m/s, N).
  * Exit 0, 1 unreadable log, unwritable output or no channel matching --channel
- * (record: the log exists, the URL is refused, a write failed), 2 usage error. */
+ * (record: the log exists, a write failed), 2 usage error (record: a URL LCM
+ * refuses, or port 0). */
 #include "bus.h"
 #include "bus_msg.h"
 #include "cli.h"
@@ -376,7 +377,8 @@ static void usage(FILE *f)
             "                        its start and end)\n"
             "  -h, --help            this text\n\n"
             "Exit status: 0 ok, 1 unreadable log, unwritable output or no channel matching\n"
-            "--channel (record: LOG exists, the URL refused, a write failed), 2 usage error.\n",
+            "--channel (record: LOG exists, a write failed), 2 usage error (record: a URL\n"
+            "LCM refuses).\n",
             bus_default_url());
 }
 

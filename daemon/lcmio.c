@@ -30,8 +30,9 @@ int lcmio_init(lcmio *io, const char *url, const char *prefix, char *why, size_t
                  LCMIO_RECV_BUF);
     else
         snprintf(full, sizeof full, "%s", url);
-    if (wg_mcast_route(url, why, whylen))
-        return WG_EIO;
+    int rc = wg_mcast_route(url, why, whylen); /* WG_EINVAL for port 0, else WG_EIO */
+    if (rc)
+        return rc;
     snprintf(io->url, sizeof io->url, "%s", url);
     io->lcm = lcm_create(full);
     if (!io->lcm) { /* LCM has said why on stderr */

@@ -40,10 +40,37 @@ int wg_mcast_group(const char *url, char name[WG_MCAST_NAME])
     return group_of(url, &g) && inet_ntop(AF_INET, &g, name, WG_MCAST_NAME) != NULL;
 }
 
+/* The port of a udpm://GROUP[:PORT][?options] URL as LCM 1.3.1 reads it
+ * (strtol, base 0, after the ':'; 7667 without one), or -1 if url is not a
+ * udpm:// one or its port is not one LCM takes. */
+static int port_of(const char *url)
+{
+    static const char scheme[] = "udpm://";
+    if (!url || strncmp(url, scheme, sizeof scheme - 1) != 0)
+        return -1;
+    const char *net = url + sizeof scheme - 1, *colon = strchr(net, ':'), *q = strchr(net, '?');
+    if (!colon || (q && colon > q))
+        return 7667;
+    char *end;
+    long port = strtol(colon + 1, &end, 0);
+    return end == colon + 1 || port < 0 || port > 65535 ? -1 : (int)port;
+}
+
+/* The refusal of a udpm:// URL with port 0 (LCM would listen on a port the
+ * kernel picks, which no sender knows; its self-test then fails after 10 s). */
+static int port_zero(char *why, size_t whylen)
+{
+    snprintf(why, whylen, "a udpm:// URL with port 0: give the bus's port, e.g. "
+             "udpm://239.255.76.67:7667?ttl=0");
+    return WG_EINVAL;
+}
+
 int wg_mcast_route(const char *url, char *why, size_t whylen)
 {
     struct in_addr g;
     char name[WG_MCAST_NAME];
+    if (port_of(url) == 0)
+        return port_zero(why, whylen);
     if (!group_of(url, &g) || !inet_ntop(AF_INET, &g, name, sizeof name))
         return WG_OK;
     struct sockaddr_in sa = {.sin_family = AF_INET, .sin_port = htons(7667), .sin_addr = g};
@@ -66,22 +93,6 @@ int wg_mcast_route(const char *url, char *why, size_t whylen)
         snprintf(why, whylen, "cannot send to the multicast group %s: %s (docs/daemon.md)", name,
                  strerror(err));
     return WG_EIO;
-}
-
-/* The port of a udpm://GROUP[:PORT][?options] URL as LCM 1.3.1 reads it
- * (strtol, base 0, after the ':'; 7667 without one), or -1 if url is not a
- * udpm:// one or its port is not one LCM takes. */
-static int port_of(const char *url)
-{
-    static const char scheme[] = "udpm://";
-    if (!url || strncmp(url, scheme, sizeof scheme - 1) != 0)
-        return -1;
-    const char *net = url + sizeof scheme - 1, *colon = strchr(net, ':'), *q = strchr(net, '?');
-    if (!colon || (q && colon > q))
-        return 7667;
-    char *end;
-    long port = strtol(colon + 1, &end, 0);
-    return end == colon + 1 || port < 0 || port > 65535 ? -1 : (int)port;
 }
 
 /* A socket filter sees a UDP datagram from its UDP header on: LCM's
@@ -220,11 +231,8 @@ int wg_mcast_guard(const char *url, char *why, size_t whylen)
     int port = port_of(url);
     if (port < 0)
         return WG_OK;
-    if (port == 0) { /* LCM would listen on a port the kernel picks, which no sender knows */
-        snprintf(why, whylen, "a udpm:// URL with port 0: give the bus's port, e.g. "
-                 "udpm://239.255.76.67:7667?ttl=0");
-        return WG_EINVAL;
-    }
+    if (port == 0)
+        return port_zero(why, whylen);
     prog p;
     build(&p);
     if (p.over) {

@@ -27,7 +27,8 @@ int wg_mcast_group(const char *url, char name[WG_MCAST_NAME]);
  * to the group (what LCM's own test does); else WG_EIO with why, one
  * sentence naming the group: "no route to the multicast group G (...):
  * add one, e.g. `ip route add 239.0.0.0/8 dev lo` ..." when the host has
- * no route to it, the error otherwise. */
+ * no route to it, the error otherwise. WG_EINVAL for a udpm:// URL with
+ * port 0, before LCM opens it (its self-test would fail after 10 s). */
 int wg_mcast_route(const char *url, char *why, size_t whylen);
 
 /* Filters LCM's receive socket for a udpm:// URL, so that datagrams LCM

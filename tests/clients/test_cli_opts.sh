@@ -5,7 +5,8 @@
 # given a value it does not take, ambiguous), then "(try PROG --help)",
 # exit 2, nothing on stdout. wgsim said "option -s needs an argument or is
 # unknown" for --scene (-s: a code of its option table, not an option),
-# the others "unknown option or missing argument: '--scene'" for both.
+# the others "unknown option or missing argument: '--scene'" for both. And a
+# udpm:// URL with port 0, refused before LCM opens it.
 status=0
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
@@ -56,4 +57,21 @@ refused "option --quiet takes no value, got '--quiet=yes'" "$SWEEP" --quiet=yes
 refused "option --help takes no value, got '--help=1'" "$SIM" --help=1
 refused "option '--st' is ambiguous: --steps-per-period, --stepper (give more of the name)" \
     "$SIM" --st 64
+# a udpm:// URL with port 0, refused at once (LCM's own self-test failed after 10 s, and
+# wg_mcast_guard only then named it): exit 2, the reason, in under 3 s
+port0() { # PROG ARGS...
+    name=${1##*/}
+    t0=$(date +%s)
+    "$@" >"$tmp/out" 2>"$tmp/err"
+    rc=$? t=$(($(date +%s) - t0))
+    if [ $rc -eq 2 ] && [ $t -lt 3 ] &&
+        grep -q "^$name: a udpm:// URL with port 0: give the bus's port" "$tmp/err"; then
+        echo "ok   $name port 0: exit 2 in ${t} s"
+    else
+        fail "$name port 0 -> exit $rc in $t s: $(cat "$tmp/err" "$tmp/out")"
+    fi
+}
+port0 "$MON" --url 'udpm://239.255.76.67:0?ttl=0' --once
+port0 "$RIG" --url 'udpm://239.255.76.67:0?ttl=0' --from 0.5 --to 1
+port0 "$LOG" record "$tmp/port0.lcmlog" --url 'udpm://239.255.76.67:0'
 exit $status

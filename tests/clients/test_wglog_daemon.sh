@@ -99,8 +99,11 @@ grep -q "recorded no message in 0.3 s: nothing was heard on $WORMGEAR_URL" "$tmp
 [ $rc = 2 ] && grep -q "wglog: --duration is an option of record, not of summary" "$tmp/r.out" ||
     fail "summary --duration: exit $rc: $(cat "$tmp/r.out")"
 "$W" record "$tmp/o.lcmlog" --url 'udpm://239.255.76.67:x' >"$tmp/r.out" 2>&1; rc=$?
-[ $rc = 1 ] && grep -q "cannot open LCM URL 'udpm://239.255.76.67:x'" "$tmp/r.out" ||
+[ $rc = 2 ] && grep -q "cannot open LCM URL 'udpm://239.255.76.67:x'" "$tmp/r.out" ||
     fail "record with a bad URL: exit $rc: $(cat "$tmp/r.out")"
+"$W" record "$tmp/o.lcmlog" --url 'udpm://239.255.76.67:0?ttl=0' >"$tmp/r.out" 2>&1; rc=$?
+[ $rc = 2 ] && grep -q "a udpm:// URL with port 0: give the bus's port" "$tmp/r.out" ||
+    fail "record on port 0: exit $rc: $(cat "$tmp/r.out")"
 [ ! -e "$tmp/o.lcmlog" ] || fail "record with a bad URL left a file"
 # a write that fails: /dev/full, while the daemon publishes
 "$D" --rate 0.01 --state-dir "$tmp" >"$tmp/d.out" 2>&1 &

@@ -196,6 +196,13 @@ static void test_guard(void)
     ASSERT_EQ_INT(wg_mcast_guard("memq://", why, sizeof why), WG_OK);
     ASSERT_EQ_INT(wg_mcast_guard("udpm://239.255.76.67:0?ttl=0", why, sizeof why), WG_EINVAL);
     ASSERT_TRUE(strstr(why, "port 0") != NULL);
+    /* and before LCM opens it (its self-test fails after 10 s there): the route check,
+     * which every program runs first; 0x0 is LCM's strtol's zero too */
+    why[0] = '\0';
+    ASSERT_EQ_INT(wg_mcast_route("udpm://239.255.76.67:0?ttl=0", why, sizeof why), WG_EINVAL);
+    ASSERT_TRUE(strstr(why, "port 0") != NULL);
+    ASSERT_EQ_INT(wg_mcast_route("udpm://239.255.76.67:0x0", why, sizeof why), WG_EINVAL);
+    ASSERT_EQ_INT(wg_mcast_route("memq://", why, sizeof why), WG_OK);
     ASSERT_EQ_INT(wg_mcast_guard(url, why, sizeof why), WG_EIO);
     printf("no socket: %s\n", why);
     ASSERT_TRUE(strstr(why, "no LCM receive socket on port") != NULL);
