@@ -273,7 +273,7 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
         return BUS_EURL;
     }
     c->ack_sub = bus_subscribe(c, "ACK", on_ack_raw, c, 0);
-    if (wg_mcast_guard(url, why, whylen)) /* the subscription opened LCM's socket */
+    if (wg_mcast_guard(url, WG_MCAST_WHOLE, why, whylen)) /* the subscription opened the socket */
         return -1;
     const char *key = getenv("WORMGEAR_KEY_FILE");
     return key && *key ? bus_set_key(c, key, why, whylen) : 0;
@@ -337,14 +337,27 @@ wormgear_cmd_t bus_cmd(const char *op)
 /* n bytes encoded in buf (n < 0: encoding failed), sealed when c signs
  * (the MAC is the message's last field: it covers what precedes mac_len),
  * published on PREFIX+suffix. 0, or -1. */
-static int seal_publish(bus *c, const char *suffix, unsigned char *buf, int n)
+static int seal_publish(bus *c, const char *suffix, unsigned char *buf, int n, int room)
 {
     char ch[128];
-    if (n < 0)
+    bus_channel(c, suffix, ch, sizeof ch);
+    size_t whole = strlen(ch) + 1 + (size_t)(n < 0 ? 0 : n);
+    if (n < 0 || whole > WG_MCAST_WHOLE_MAX) { /* the daemon drops a fragmented message */
+        if (n < 0)
+            snprintf(c->send_why, sizeof c->send_why, "the message does not fit %d bytes", room);
+        else
+            snprintf(c->send_why, sizeof c->send_why, "the message is %zu bytes with its channel "
+                     "%s, over the %d one datagram holds: the daemon takes nothing longer "
+                     "(lcmtypes/PROTOCOL.md, \"Hostile input\")", whole, ch, WG_MCAST_WHOLE_MAX);
         return -1;
+    }
     if (c->signing)
         wg_mac_seal(c->key, buf, (size_t)n);
-    return lcm_publish(c->lcm, bus_channel(c, suffix, ch, sizeof ch), buf, (unsigned)n) ? -1 : 0;
+    if (lcm_publish(c->lcm, ch, buf, (unsigned)n)) {
+        snprintf(c->send_why, sizeof c->send_why, "LCM could not send it on %s", ch);
+        return -1;
+    }
+    return 0;
 }
 
 /* The wall clock, us, but never the utime of the last command or tick
@@ -364,12 +377,13 @@ int64_t bus_send(bus *c, wormgear_cmd_t *cmd)
     cmd->seq = ++c->seq;
     cmd->client = c->client;
     c->ack.got = 0, c->unverified.got = 0;
-    unsigned char buf[65536], mac[WG_MAC_BYTES] = {0};
+    /* room past one datagram's worth, so that a longer command is said as one */
+    unsigned char buf[1 << 17], mac[WG_MAC_BYTES] = {0};
     cmd->mac_len = c->signing ? WG_MAC_BYTES : 0;
     cmd->mac = mac;
     int n = wormgear_cmd_t_encode(buf, 0, sizeof buf, cmd);
     cmd->mac = NULL, cmd->mac_len = 0;
-    return seal_publish(c, "CMD", buf, n) ? -1 : cmd->seq;
+    return seal_publish(c, "CMD", buf, n, (int)sizeof buf) ? -1 : cmd->seq;
 }
 
 int64_t bus_tick(bus *c, int64_t nsteps)
@@ -378,7 +392,8 @@ int64_t bus_tick(bus *c, int64_t nsteps)
     wormgear_tick_t t = {.utime = stamp(c), .seq = c->tick_seq + 1, .nsteps = nsteps,
                          .client = c->client, .mac_len = c->signing ? WG_MAC_BYTES : 0,
                          .mac = mac};
-    if (seal_publish(c, "TICK", buf, wormgear_tick_t_encode(buf, 0, sizeof buf, &t)))
+    if (seal_publish(c, "TICK", buf, wormgear_tick_t_encode(buf, 0, sizeof buf, &t),
+                     (int)sizeof buf))
         return -1;
     c->tick_utime = t.utime, c->tick_ack.got = 0;
     return c->tick_seq = t.seq;

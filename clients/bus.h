@@ -61,6 +61,7 @@ typedef struct bus {
     const char *old_type;     /* the last one's channel suffix ... */
     double old_s;             /* ... how far behind the newest taken, else the start, s */
     lcm_subscription_t *ack_sub;
+    char send_why[320];       /* why bus_send or bus_tick last failed */
 } bus;
 
 /* The seq counter of one channel (every wormgear message has one, see
@@ -186,14 +187,16 @@ wormgear_cmd_t bus_cmd(const char *op);
 
 /* Stamp cmd (utime, seq = ++c->seq, client), sign it when a key is set
  * (mac over every byte before mac_len, PROTOCOL.md) and publish it on CMD.
- * Returns the seq, or -1 if encoding or publishing failed. */
+ * Returns the seq, or -1 with c->send_why saying why: it did not encode, it
+ * would not fit one datagram with its channel (WG_MCAST_WHOLE_MAX: the
+ * daemon's socket filter drops fragments), or LCM could not send it. */
 int64_t bus_send(bus *c, wormgear_cmd_t *cmd);
 
 /* Publish one TICK owing nsteps (lockstep: a tick taken has no answer, a
  * refused one an ACK with op "tick", taken into c->tick_ack as bus_wait
  * handles messages), stamped (utime, seq = ++c->tick_seq, client) and
- * signed as bus_send signs a command. Returns the seq, or -1 if encoding
- * or publishing failed. */
+ * signed as bus_send signs a command. Returns the seq, or -1 as bus_send
+ * (c->send_why). */
 int64_t bus_tick(bus *c, int64_t nsteps);
 
 /* Handle LCM messages until done(ctx) is true or timeout_ms passes.

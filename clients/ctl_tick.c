@@ -82,7 +82,7 @@ int ctl_tick(bus *c, int64_t nsteps, int wait, double timeout_s, int json)
     if (seq < 0) {
         if (sub)
             lcm_unsubscribe(c->lcm, sub);
-        fprintf(stderr, "wgctl: tick: could not publish on %sTICK\n", c->prefix);
+        fprintf(stderr, "wgctl: tick not sent: %s\n", c->send_why);
         return 1;
     }
     const char *sg = c->signing ? "signed" : "unsigned";

@@ -223,7 +223,7 @@ static int report(ctl *t, const char *what, int late_cmd)
 static int send_wait(ctl *t, wormgear_cmd_t *cmd)
 {
     if (bus_send(&t->c, cmd) < 0) {
-        fprintf(stderr, "wgctl: cannot publish on %sCMD\n", t->c.prefix);
+        fprintf(stderr, "wgctl: %s not sent: %s\n", cmd->op, t->c.send_why);
         return 1;
     }
     bus_wait_ack(&t->c, (int)(t->o.timeout_s * 1000));
@@ -490,8 +490,10 @@ static int do_get(ctl *t)
 {
     lcm_subscription_t *s = bus_subscribe(&t->c, "PARAMS", on_params_raw, t, 0);
     wormgear_cmd_t c = bus_cmd("get");
-    if (bus_send(&t->c, &c) < 0)
+    if (bus_send(&t->c, &c) < 0) {
+        fprintf(stderr, "wgctl: get not sent: %s\n", t->c.send_why);
         return 1;
+    }
     bus_wait(&t->c, (int)(t->o.timeout_s * 1000), get_done, t);
     int rc = 1;
     if (t->params && t->c.ack.got && t->c.ack.accepted) {

@@ -52,7 +52,7 @@ int lcmio_subscribe(lcmio *io, int ch, lcm_msg_handler_t fn, void *user, int que
         return WG_EIO;
     }
     lcm_subscription_set_queue_capacity(s, queue);
-    int rc = io->guarded ? WG_OK : wg_mcast_guard(io->url, why, whylen);
+    int rc = io->guarded ? WG_OK : wg_mcast_guard(io->url, WG_MCAST_WHOLE, why, whylen);
     if (rc != WG_OK)
         return rc;
     io->guarded = 1;

@@ -188,16 +188,20 @@ static void first_fragment(prog *p)
     op(p, BPF_RET | BPF_K, KEEP, 0, 0);
 }
 
-/* The filter: a short message's channel ends inside the datagram; a
- * fragment has its whole header, is numbered below its count and lies
- * inside its message (later_fragment, first_fragment). Everything else,
- * LCM would drop or mishandle: dropped. */
-static void build(prog *p)
+/* The filter: a short message's channel ends inside the datagram; with
+ * fragments, a fragment has its whole header, is numbered below its count
+ * and lies inside its message (later_fragment, first_fragment); without,
+ * none is kept. Everything else, LCM would drop or mishandle: dropped. */
+static void build(prog *p, int fragments)
 {
     p->n = p->over = 0;
     op(p, BPF_LD | BPF_W | BPF_ABS, UDPH, 0, 0);
     op(p, BPF_JMP | BPF_JEQ | BPF_K, LC_SHORT, 0, NUL_LEN);
     nul_within(p, UDPH + 8);
+    if (!fragments) {
+        op(p, BPF_RET | BPF_K, 0, 0, 0);
+        return;
+    }
     need(p, BPF_JEQ | BPF_K, LC_LONG);
     op(p, BPF_LD | BPF_W | BPF_LEN, 0, 0, 0);
     need(p, BPF_JGE | BPF_K, UDPH + LONG_HDR);
@@ -226,7 +230,7 @@ static int bound_udp(int fd, int port)
            sa.sin_family == AF_INET && ntohs(sa.sin_port) == port;
 }
 
-int wg_mcast_guard(const char *url, char *why, size_t whylen)
+int wg_mcast_guard(const char *url, int fragments, char *why, size_t whylen)
 {
     int port = port_of(url);
     if (port < 0)
@@ -234,7 +238,7 @@ int wg_mcast_guard(const char *url, char *why, size_t whylen)
     if (port == 0)
         return port_zero(why, whylen);
     prog p;
-    build(&p);
+    build(&p, fragments);
     if (p.over) {
         snprintf(why, whylen, "LCM's socket filter has more than %d instructions", PROG_MAX);
         return WG_EIO;

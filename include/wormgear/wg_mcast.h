@@ -35,14 +35,23 @@ int wg_mcast_route(const char *url, char *why, size_t whylen);
  * 1.3.1 would read out of bounds never reach it. Its fragment check adds
  * offset and size in 32 bits, so a fragment whose sum wraps is copied ~4
  * GB past its buffer: one datagram on the group kills any process that
- * listens. Kept: a short message whose channel ends inside it; a fragment
- * with its whole header, inside its message, numbered below its count, the
- * first at offset 0 with its channel ending inside it. Call it right after
- * the first lcm_subscribe on the URL (which opens the socket): a datagram
- * that comes before is not filtered. WG_OK if url is not a udpm:// one or
- * every UDP socket of this process bound to its port now has the filter;
- * WG_EINVAL for port 0 (no sender could reach it); else WG_EIO; with why. */
-int wg_mcast_guard(const char *url, char *why, size_t whylen);
+ * listens. Kept: a short message whose channel ends inside it; with
+ * WG_MCAST_FRAGMENTS, also a fragment with its whole header, inside its
+ * message, numbered below its count, the first at offset 0 with its
+ * channel ending inside it. With WG_MCAST_WHOLE no fragment is kept: LCM
+ * sends a message in one datagram when its channel, NUL and data fit
+ * 65,499 bytes (WG_MCAST_WHOLE_MAX), as every message wormgeard sends or
+ * takes does, so a process that needs no other gives LCM's reassembly
+ * nothing to work on (a message counted whole from a repeated fragment,
+ * its missing part left as heap; first fragments of 4 GB messages). Call
+ * it right after the first lcm_subscribe on the URL (which opens the
+ * socket): a datagram that comes before is not filtered. WG_OK if url is
+ * not a udpm:// one or every UDP socket of this process bound to its port
+ * now has the filter; WG_EINVAL for port 0 (no sender could reach it);
+ * else WG_EIO; with why. */
+enum { WG_MCAST_WHOLE = 0, WG_MCAST_FRAGMENTS = 1 };
+enum { WG_MCAST_WHOLE_MAX = 65499 }; /* channel, NUL and data of an unfragmented message */
+int wg_mcast_guard(const char *url, int fragments, char *why, size_t whylen);
 
 /* The forms of an LCM URL, for the message when LCM refuses one. */
 #define WG_LCM_URL_FORMS                                                                     \

@@ -65,6 +65,12 @@ expect 1 "$C" --timeout 0.3 get omega
 has err "no answer within 0.3 s: is wormgeard running on $WORMGEAR_URL with prefix UCTL_?"
 expect 1 "$C" --timeout 0.3 status
 has err "is wormgeard running on $WORMGEAR_URL with prefix UCTL_?"
+# a command longer than one datagram holds: not sent, and said why (the daemon's socket
+# filter drops fragments: it would go unanswered)
+for len in 65400 100000; do
+    expect 1 "$C" --timeout 0.3 save "$(head -c $len /dev/zero | tr '\0' n)"
+    has err "^wgctl: save not sent: the message is [0-9]* bytes with its channel UCTL_CMD, over the 65499 one datagram holds"
+done
 # --json: the object carries the same question (it said only "no ACK within 0.3 s")
 expect 1 "$C" --json --timeout 0.3 get omega
 has out '^{"accepted":false,"code":"ETIMEDOUT","message":"no ACK within 0.3 s: is wormgeard running on .* with prefix UCTL_?'

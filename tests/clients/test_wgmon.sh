@@ -197,10 +197,11 @@ grep -q '^time .* theta1/2 85\.9/171\.9 deg' "$tmp/out" ||
     fail "hostile sender: its valid angles (1.5, 3.0 rad) never shown: $(grep '^time' "$tmp/out")"
 
 # ---- a terminal that takes nothing (Ctrl-S, a stalled ssh session, a pipe
-# no one reads) while a sender floods MONT_STATE with 250 kB messages: the
-# monitor's loop goes on reading the bus. Its frames were written from the
-# loop itself, which, blocked in write(), let LCM queue up to 4096 of them
-# a channel, 1 GB (measured here: +602 MB in the 4 s, +269 MB under ASan).
+# no one reads) while a sender floods MONT_STATE with 60 kB messages (one
+# datagram each: the clients' socket filter drops fragments): the monitor's
+# loop goes on reading the bus. Its frames were written from the loop
+# itself, which, blocked in write(), let LCM queue up to 4096 of them a
+# channel (measured with 250 kB ones: +602 MB in the 4 s, +269 MB under ASan).
 # Its RSS may grow by 32 MB at most (+1 and +2 MB measured); then SIGTERM
 # ends it, exit 0 (within 10 s).
 mkfifo "$tmp/stall"

@@ -23,7 +23,7 @@
  * datagrams killed wgctl status with SIGSEGV). And a fragment whose offset
  * and size wrap 32 bits (raw_wrap), which LCM 1.3.1 copies ~4 GB past its
  * buffer: a client that does not filter its socket (wg_mcast_guard) dies.
- * With "flood", only this: messages of 250 kB (bytes no type decodes) on
+ * With "flood", only this: messages of 60 kB (bytes no type decodes) on
  * PREFIX STATE, as fast as it can publish them, for a client whose loop
  * stalls: LCM queues what the loop has not handled.
  * With "ack", only this: every command seen on PREFIX CMD is answered at
@@ -63,10 +63,12 @@ static double now_s(void)
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* "flood": 250 kB messages on ch until `end`; their count on stdout. */
+/* "flood": 60 kB messages on ch until `end`; their count on stdout. One
+ * datagram each: the clients' socket filter drops every fragment
+ * (WG_MCAST_WHOLE), so larger ones would never reach LCM's queue. */
 static int flood(lcm_t *l, const char *ch, double end)
 {
-    enum { SIZE = 250000 }; /* 4 datagrams: few lost whole, however loaded the receiver */
+    enum { SIZE = 60000 };
     unsigned char *b = malloc(SIZE);
     if (!b)
         return 1;
@@ -151,7 +153,7 @@ static int forge_acks(lcm_t *l, const char *url, const char *prefix, double end)
     channel(cp, sizeof cp, prefix, "POINCARE");
     wormgear_cmd_t_subscription_t *s = wormgear_cmd_t_subscribe(l, cc, on_cmd, &f);
     char why[512] = "";
-    if (wg_mcast_guard(url, why, sizeof why)) { /* the subscription opened LCM's socket */
+    if (wg_mcast_guard(url, WG_MCAST_WHOLE, why, sizeof why)) { /* the subscription opened LCM's socket */
         fprintf(stderr, "wgspoof: %s\n", why);
         return 1;
     }

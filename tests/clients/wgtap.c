@@ -48,7 +48,7 @@ int main(int argc, char **argv)
     snprintf(ch, sizeof ch, "%sPOINCARE", argv[2]);
     wormgear_poincare_t_subscription_t *s2 = wormgear_poincare_t_subscribe(l, ch, on_pc, NULL);
     char why[512] = ""; /* LCM's socket filtered, as every client's (wg_mcast.h) */
-    if (wg_mcast_guard(argv[1], why, sizeof why)) {
+    if (wg_mcast_guard(argv[1], WG_MCAST_WHOLE, why, sizeof why)) {
         fprintf(stderr, "wgtap: %s\n", why);
         return 1;
     }

@@ -172,29 +172,36 @@ static void test_guard(void)
     ASSERT_EQ_INT(getsockname(rx, (struct sockaddr *)&to, &tl), 0);
     char url[80];
     snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", ntohs(to.sin_port));
-    ASSERT_EQ_INT(wg_mcast_guard(url, why, sizeof why), WG_OK);
-    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
-        int k = kept(tx, rx, &to, &c[i].d);
-        printf("%-50s %4zu bytes: %s\n", c[i].what, c[i].d.n, k ? "kept" : "dropped");
-        ASSERT_EQ_INT(k, c[i].keep);
+    /* with fragments (wglog record), then without (the daemon, the clients): the
+     * second attach replaces the first filter; without, every fragment is dropped,
+     * the message in one first fragment too */
+    for (int frag = WG_MCAST_FRAGMENTS; frag >= WG_MCAST_WHOLE; frag--) {
+        printf("-- %s\n", frag ? "WG_MCAST_FRAGMENTS" : "WG_MCAST_WHOLE");
+        ASSERT_EQ_INT(wg_mcast_guard(url, frag, why, sizeof why), WG_OK);
+        for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+            int k = kept(tx, rx, &to, &c[i].d), whole = c[i].d.b[3] == '2';
+            printf("%-50s %4zu bytes: %s\n", c[i].what, c[i].d.n, k ? "kept" : "dropped");
+            ASSERT_EQ_INT(k, c[i].keep && (frag || whole));
+        }
+        /* cut headers and other magics */
+        static const unsigned char cut[] = {'L', 'C', '0', '3', 0, 0, 0, 9, 0, 0, 0xb, 0xb8,
+                                            0xff, 0xff, 0xff, 0, 0, 1, 0, 2};
+        for (size_t n = 0; n < sizeof cut; n++) {
+            dgram d = {.n = n};
+            memcpy(d.b, cut, n);
+            ASSERT_EQ_INT(kept(tx, rx, &to, &d), 0);
+            d.b[3] = '2'; /* "LC02" with no room for its channel (from 9 bytes: an empty one) */
+            ASSERT_EQ_INT(kept(tx, rx, &to, &d), n > 8);
+        }
+        dgram other = shortmsg("WG_CMD", 0, 10);
+        other.b[3] = '4';
+        ASSERT_EQ_INT(kept(tx, rx, &to, &other), 0);
     }
-    /* cut headers and other magics */
-    static const unsigned char cut[] = {'L', 'C', '0', '3', 0, 0, 0, 9, 0, 0, 0xb, 0xb8, 0xff,
-                                        0xff, 0xff, 0, 0, 1, 0, 2};
-    for (size_t n = 0; n < sizeof cut; n++) {
-        dgram d = {.n = n};
-        memcpy(d.b, cut, n);
-        ASSERT_EQ_INT(kept(tx, rx, &to, &d), 0);
-        d.b[3] = '2'; /* "LC02" with no room for its channel (from 9 bytes: an empty one) */
-        ASSERT_EQ_INT(kept(tx, rx, &to, &d), n > 8);
-    }
-    dgram other = shortmsg("WG_CMD", 0, 10);
-    other.b[3] = '4';
-    ASSERT_EQ_INT(kept(tx, rx, &to, &other), 0);
     close(rx), close(tx);
     /* not a udpm:// URL: nothing to do; no socket on the port: said */
-    ASSERT_EQ_INT(wg_mcast_guard("memq://", why, sizeof why), WG_OK);
-    ASSERT_EQ_INT(wg_mcast_guard("udpm://239.255.76.67:0?ttl=0", why, sizeof why), WG_EINVAL);
+    ASSERT_EQ_INT(wg_mcast_guard("memq://", WG_MCAST_WHOLE, why, sizeof why), WG_OK);
+    ASSERT_EQ_INT(wg_mcast_guard("udpm://239.255.76.67:0?ttl=0", WG_MCAST_WHOLE, why, sizeof why),
+                  WG_EINVAL);
     ASSERT_TRUE(strstr(why, "port 0") != NULL);
     /* and before LCM opens it (its self-test fails after 10 s there): the route check,
      * which every program runs first; 0x0 is LCM's strtol's zero too */
@@ -203,7 +210,7 @@ static void test_guard(void)
     ASSERT_TRUE(strstr(why, "port 0") != NULL);
     ASSERT_EQ_INT(wg_mcast_route("udpm://239.255.76.67:0x0", why, sizeof why), WG_EINVAL);
     ASSERT_EQ_INT(wg_mcast_route("memq://", why, sizeof why), WG_OK);
-    ASSERT_EQ_INT(wg_mcast_guard(url, why, sizeof why), WG_EIO);
+    ASSERT_EQ_INT(wg_mcast_guard(url, WG_MCAST_FRAGMENTS, why, sizeof why), WG_EIO);
     printf("no socket: %s\n", why);
     ASSERT_TRUE(strstr(why, "no LCM receive socket on port") != NULL);
 }
