@@ -92,7 +92,8 @@ static lcm_t *open_bus(const log_rec_opts *o, rec *r, int *rc)
         *rc = CLI_EUSAGE;
         return NULL;
     }
-    if (!lcm_subscribe(lcm, ".*", on_msg, r) || wg_mcast_guard(o->url, WG_MCAST_FRAGMENTS, why, sizeof why)) {
+    if (!lcm_subscribe(lcm, ".*", on_msg, r) ||
+        wg_mcast_guard(o->url, WG_MCAST_FRAGMENTS, why, sizeof why)) {
         fprintf(stderr, "wglog: %s: %s\n", o->url,
                 *why ? why : "LCM could not subscribe (its reason is above)");
         lcm_destroy(lcm);

@@ -153,7 +153,8 @@ static int forge_acks(lcm_t *l, const char *url, const char *prefix, double end)
     channel(cp, sizeof cp, prefix, "POINCARE");
     wormgear_cmd_t_subscription_t *s = wormgear_cmd_t_subscribe(l, cc, on_cmd, &f);
     char why[512] = "";
-    if (wg_mcast_guard(url, WG_MCAST_WHOLE, why, sizeof why)) { /* the subscription opened LCM's socket */
+    /* the subscription opened LCM's socket */
+    if (wg_mcast_guard(url, WG_MCAST_WHOLE, why, sizeof why)) {
         fprintf(stderr, "wgspoof: %s\n", why);
         return 1;
     }
@@ -393,7 +394,8 @@ int main(int argc, char **argv)
     channel(cq, sizeof cq, argv[2], "PARAMS");
     double end = now_s() + atof(argv[3]);
     if (argc == 5 && (!strcmp(argv[4], "flood") || !strcmp(argv[4], "ack"))) {
-        int frc = !strcmp(argv[4], "ack") ? forge_acks(l, argv[1], argv[2], end) : flood(l, ct, end);
+        int frc = !strcmp(argv[4], "ack") ? forge_acks(l, argv[1], argv[2], end)
+                                           : flood(l, ct, end);
         lcm_destroy(l);
         return frc;
     }

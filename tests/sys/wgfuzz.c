@@ -1304,7 +1304,8 @@ int main(int argc, char **argv)
     wormgear_ack_t_subscription_t *as = wormgear_ack_t_subscribe(F.lcm, "FZ_ACK", on_ack, NULL);
     wormgear_ack_t_subscription_set_queue_capacity(as, 20000); /* a burst's ACKs */
     char gwhy[300];
-    if (wg_mcast_guard(F.url, WG_MCAST_FRAGMENTS, gwhy, sizeof gwhy)) { /* wire's datagrams reach us too */
+    /* wire's datagrams reach us too; big_messages needs fragments */
+    if (wg_mcast_guard(F.url, WG_MCAST_FRAGMENTS, gwhy, sizeof gwhy)) {
         fprintf(stderr, "wgfuzz: %s\n", gwhy);
         return 1;
     }
