@@ -334,9 +334,11 @@ wormgear_cmd_t bus_cmd(const char *op)
     return (wormgear_cmd_t){.op = (char *)op, .unit = (char *)"", .name = (char *)""};
 }
 
-/* n bytes encoded in buf (n < 0: encoding failed), sealed when c signs
- * (the MAC is the message's last field: it covers what precedes mac_len),
- * published on PREFIX+suffix. 0, or -1. */
+/* n bytes encoded in buf of room bytes (n < 0: encoding failed), sealed
+ * when c signs (the MAC is the message's last field: it covers what
+ * precedes mac_len), published on PREFIX+suffix if it fits one datagram
+ * with its channel (the daemon keeps no fragment). 0, or -1 with
+ * c->send_why. */
 static int seal_publish(bus *c, const char *suffix, unsigned char *buf, int n, int room)
 {
     char ch[128];

@@ -148,8 +148,9 @@ int bus_prefix_ok(const char *p);
 /* Open LCM on url (NULL: default) with prefix (NULL: default); name is the
  * program name used in the client id. Commands are signed with the key in
  * $WORMGEAR_KEY_FILE when that is set (bus_set_key). 0, BUS_EURL if LCM
- * refuses the URL or its port is 0, or -1 for anything else (a bad prefix, an empty URL, no
- * route to its group, the key file refused); why says which. */
+ * refuses the URL or its port is 0, or -1 for anything else (a bad prefix,
+ * an empty URL, no route to its group, the key file refused); why says
+ * which. */
 int bus_open(bus *c, const char *url, const char *prefix, const char *name, char *why,
              size_t whylen);
 
