@@ -109,6 +109,14 @@ grep -q "recorded no message in 0.3 s: nothing was heard on $WORMGEAR_URL" "$tmp
 "$D" --rate 0.01 --state-dir "$tmp" >"$tmp/d.out" 2>&1 &
 dpid=$!
 wait_until 10 "$C" --timeout 0.5 status >/dev/null 2>&1 || fail "no daemon: $(cat "$tmp/d.out")"
+# --channel: only the channels matching, the others counted as left out
+"$W" record "$tmp/ch.lcmlog" --channel 'LOGT_STATUS' --duration 1.5 >"$tmp/r.out" 2>&1 ||
+    fail "record --channel: exit $?: $(cat "$tmp/r.out")"
+grep -q "messages on channels not matching --channel left out" "$tmp/r.out" ||
+    fail "record --channel said: $(cat "$tmp/r.out")"
+"$W" summary "$tmp/ch.lcmlog" >"$tmp/chsum.txt" || fail "summary of the --channel log: exit $?"
+grep -q "^LOGT_STATUS " "$tmp/chsum.txt" && [ "$(grep -c '^LOGT_' "$tmp/chsum.txt")" = 1 ] ||
+    fail "record --channel LOGT_STATUS wrote: $(cat "$tmp/chsum.txt")"
 "$W" record /dev/full --force --duration 3 >"$tmp/r.out" 2>&1; rc=$?
 [ $rc = 1 ] || fail "record to /dev/full: exit $rc, expected 1"
 grep -q "writing /dev/full failed: No space left on device" "$tmp/r.out" ||
