@@ -8,10 +8,12 @@
 #include <errno.h>
 #include <linux/filter.h>
 #include <netinet/in.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 /* The group of udpm://NETWORK[?options] as LCM 1.3.1 reads NETWORK: empty
@@ -228,6 +230,44 @@ static int bound_udp(int fd, int port)
     return getsockopt(fd, SOL_SOCKET, SO_TYPE, &type, &tl) == 0 && type == SOCK_DGRAM &&
            getsockname(fd, (struct sockaddr *)&sa, &sl) == 0 && sl >= sizeof sa &&
            sa.sin_family == AF_INET && ntohs(sa.sin_port) == port;
+}
+
+/* 1 if fd, about to be bound to addr, looks like LCM's receive socket: an
+ * IPv4 UDP socket with SO_REUSEADDR, bound to a port (not 0) on any
+ * address (LCM 1.3.1) or on a multicast group's (later LCM). */
+static int lcm_recv_like(int fd, const struct sockaddr *addr, socklen_t len)
+{
+    const struct sockaddr_in *in = (const struct sockaddr_in *)(const void *)addr;
+    if (!addr || len < sizeof *in || addr->sa_family != AF_INET || !in->sin_port)
+        return 0;
+    uint32_t a = ntohl(in->sin_addr.s_addr);
+    int type = 0, reuse = 0;
+    socklen_t tl = sizeof type, rl = sizeof reuse;
+    return (a == INADDR_ANY || IN_MULTICAST(a)) &&
+           getsockopt(fd, SOL_SOCKET, SO_TYPE, &type, &tl) == 0 && type == SOCK_DGRAM &&
+           getsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &reuse, &rl) == 0 && reuse;
+}
+
+/* bind(2) for every caller in the process, LCM among them: a socket that
+ * looks like LCM's receive socket (lcm_recv_like) gets the
+ * WG_MCAST_FRAGMENTS filter before it is bound, so no datagram reaches it
+ * unfiltered (wg_mcast_guard, after the first subscription, comes too late
+ * for what arrives before it: a datagram queued in the meantime is not
+ * filtered). The executable's definition comes first in the dynamic
+ * linker's order, so liblcm's call lands here; the kernel's bind is then
+ * called directly. wg_mcast_guard may then replace the filter
+ * (WG_MCAST_WHOLE). A filter that cannot be attached here is left to
+ * wg_mcast_guard to report. */
+int bind(int fd, const struct sockaddr *addr, socklen_t len)
+{
+    if (lcm_recv_like(fd, addr, len)) {
+        prog p;
+        build(&p, WG_MCAST_FRAGMENTS);
+        struct sock_fprog fp = {.len = (unsigned short)p.n, .filter = p.f};
+        if (!p.over)
+            setsockopt(fd, SOL_SOCKET, SO_ATTACH_FILTER, &fp, sizeof fp);
+    }
+    return (int)syscall(SYS_bind, fd, addr, len);
 }
 
 int wg_mcast_guard(const char *url, int fragments, char *why, size_t whylen)

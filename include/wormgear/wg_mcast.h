@@ -45,7 +45,11 @@ int wg_mcast_route(const char *url, char *why, size_t whylen);
  * nothing to work on (a message counted whole from a repeated fragment,
  * its missing part left as heap; first fragments of 4 GB messages). Call
  * it right after the first lcm_subscribe on the URL (which opens the
- * socket): a datagram that comes before is not filtered. WG_OK if url is
+ * socket). Before that, from its bind, the socket has the
+ * WG_MCAST_FRAGMENTS filter: this library defines bind(2), which LCM's
+ * call reaches, and filters an IPv4 UDP socket with SO_REUSEADDR bound to
+ * a port on any address or on a multicast group's before binding it
+ * (every other bind goes straight to the kernel). WG_OK if url is
  * not a udpm:// one or every UDP socket of this process bound to its port
  * now has the filter; WG_EINVAL for port 0 (no sender could reach it);
  * else WG_EIO; with why. */

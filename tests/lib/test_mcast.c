@@ -14,6 +14,7 @@
 #include "wormgear/wg_status.h"
 
 #include <arpa/inet.h>
+#include <errno.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <stdint.h>
@@ -215,4 +216,59 @@ static void test_guard(void)
     ASSERT_TRUE(strstr(why, "no LCM receive socket on port") != NULL);
 }
 
-TEST_MAIN(TEST(test_groups), TEST(test_guard))
+/* LCM's receive socket is filtered from its bind (wg_mcast.c's bind, which
+ * liblcm's call reaches): an IPv4 UDP socket with SO_REUSEADDR bound to a
+ * port on any address (LCM 1.3.1's) or on a multicast group's (later
+ * LCM's) has the WG_MCAST_FRAGMENTS program before any datagram can reach
+ * it; one without SO_REUSEADDR, one bound to 127.0.0.1, and a TCP socket
+ * have none. SO_GET_FILTER with no buffer gives a socket's filter length,
+ * in instructions. */
+static socklen_t filter_len(int fd)
+{
+    socklen_t n = 0;
+    if (getsockopt(fd, SOL_SOCKET, SO_GET_FILTER, NULL, &n))
+        return 0;
+    return n;
+}
+
+/* A UDP socket bound to addr:port (SO_REUSEADDR if reuse): its filter's length. */
+static socklen_t bound_filter(const char *addr, uint16_t port, int reuse, int type)
+{
+    int fd = socket(AF_INET, type, 0), one = 1;
+    ASSERT_TRUE(fd >= 0);
+    if (reuse)
+        setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    struct sockaddr_in a = {.sin_family = AF_INET, .sin_port = htons(port)};
+    inet_pton(AF_INET, addr, &a.sin_addr);
+    ASSERT_EQ_INT(filter_len(fd), 0);
+    ASSERT_EQ_INT(bind(fd, (struct sockaddr *)&a, sizeof a), 0);
+    socklen_t n = filter_len(fd);
+    printf("%-15s port %5u %-12s %s: %u filter instructions after bind\n", addr, port,
+           reuse ? "SO_REUSEADDR" : "", type == SOCK_DGRAM ? "UDP" : "TCP", (unsigned)n);
+    if (reuse && type == SOCK_DGRAM) { /* the kernel's own errors still come back */
+        errno = 0;
+        ASSERT_EQ_INT(bind(fd, (struct sockaddr *)&a, sizeof a), -1);
+        ASSERT_EQ_INT(errno, EINVAL);
+    }
+    close(fd);
+    return n;
+}
+
+static void test_bind_filtered(void)
+{
+    /* a free port: the kernel's pick for a socket closed at once */
+    int p = socket(AF_INET, SOCK_DGRAM, 0);
+    struct sockaddr_in a = {.sin_family = AF_INET, .sin_addr.s_addr = htonl(INADDR_LOOPBACK)};
+    socklen_t al = sizeof a;
+    ASSERT_EQ_INT(bind(p, (struct sockaddr *)&a, sizeof a), 0);
+    ASSERT_EQ_INT(getsockname(p, (struct sockaddr *)&a, &al), 0);
+    uint16_t port = ntohs(a.sin_port);
+    close(p);
+    ASSERT_TRUE(bound_filter("0.0.0.0", port, 1, SOCK_DGRAM) > 100);       /* LCM 1.3.1 */
+    ASSERT_TRUE(bound_filter("239.255.76.67", port, 1, SOCK_DGRAM) > 100); /* later LCM */
+    ASSERT_EQ_INT(bound_filter("0.0.0.0", port, 0, SOCK_DGRAM), 0);
+    ASSERT_EQ_INT(bound_filter("127.0.0.1", port, 1, SOCK_DGRAM), 0);
+    ASSERT_EQ_INT(bound_filter("0.0.0.0", port, 1, SOCK_STREAM), 0);
+}
+
+TEST_MAIN(TEST(test_groups), TEST(test_guard), TEST(test_bind_filtered))
