@@ -221,7 +221,8 @@ static void test_guard(void)
  * port on any address (LCM 1.3.1's) or on a multicast group's (later
  * LCM's) has the WG_MCAST_FRAGMENTS program before any datagram can reach
  * it; one without SO_REUSEADDR, one bound to 127.0.0.1, and a TCP socket
- * have none. SO_GET_FILTER with no buffer gives a socket's filter length,
+ * have none (wgfuzz checks LCM's own socket, bound to any address, in
+ * sys.fuzz_*). SO_GET_FILTER with no buffer gives a socket's filter length,
  * in instructions. */
 static socklen_t filter_len(int fd)
 {
@@ -264,11 +265,12 @@ static void test_bind_filtered(void)
     ASSERT_EQ_INT(getsockname(p, (struct sockaddr *)&a, &al), 0);
     uint16_t port = ntohs(a.sin_port);
     close(p);
-    ASSERT_TRUE(bound_filter("0.0.0.0", port, 1, SOCK_DGRAM) > 100);       /* LCM 1.3.1 */
+    /* no socket here is bound to any address (LCM 1.3.1's form), which would listen
+     * beyond this host: sys.fuzz_* check LCM's own socket, in a network namespace */
     ASSERT_TRUE(bound_filter("239.255.76.67", port, 1, SOCK_DGRAM) > 100); /* later LCM */
-    ASSERT_EQ_INT(bound_filter("0.0.0.0", port, 0, SOCK_DGRAM), 0);
+    ASSERT_EQ_INT(bound_filter("239.255.76.67", port, 0, SOCK_DGRAM), 0);
     ASSERT_EQ_INT(bound_filter("127.0.0.1", port, 1, SOCK_DGRAM), 0);
-    ASSERT_EQ_INT(bound_filter("0.0.0.0", port, 1, SOCK_STREAM), 0);
+    ASSERT_EQ_INT(bound_filter("127.0.0.1", port, 1, SOCK_STREAM), 0);
 }
 
 TEST_MAIN(TEST(test_groups), TEST(test_guard), TEST(test_bind_filtered))
