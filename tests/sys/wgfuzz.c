@@ -1118,9 +1118,8 @@ static void big_messages(void)
  * never decoded; nor is a message LCM would count whole from a repeated
  * fragment, its third part never sent (LCM 1.3.1 counts fragments, not
  * which ones came, and hands on the buffer with that part as the heap left
- * it). Before, the first was refused (an unknown parameter) and the second
- * answered EDECODE: each an ACK, the second's client id read from wherever
- * the message said it was. Now neither gets an ACK. */
+ * it). A daemon that kept checked fragments answered both (2 ACKs). Now
+ * neither gets an ACK. */
 static void fragmented_cmds(int s, const struct sockaddr_in *to)
 {
     static char name[4001];
