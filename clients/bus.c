@@ -242,6 +242,21 @@ int bus_prefix_ok(const char *p)
     return p[n] == 0 && n <= BUS_PREFIX_MAX;
 }
 
+lcm_t *bus_lcm_open(const char *url, int *rc, char *why, size_t whylen)
+{
+    int route = wg_mcast_route(url, why, whylen);
+    *rc = route == WG_EINVAL ? BUS_EURL : -1; /* port 0: a usage error, as a URL LCM refuses */
+    if (route)
+        return NULL;
+    lcm_t *lcm = lcm_create(url);
+    if (!lcm) { /* LCM has said why on stderr */
+        snprintf(why, whylen, "cannot open LCM URL '%s' (LCM's reason is above); a URL is "
+                 WG_LCM_URL_FORMS, url);
+        *rc = BUS_EURL;
+    }
+    return lcm;
+}
+
 int bus_open(bus *c, const char *url, const char *prefix, const char *name, char *why,
              size_t whylen)
 {
@@ -263,15 +278,9 @@ int bus_open(bus *c, const char *url, const char *prefix, const char *name, char
     gethostname(host, sizeof host - 1);
     snprintf(c->client, sizeof c->client, "%s-%d@%s", name, (int)getpid(), host);
     c->opened_us = cli_wall_us();
-    int rc = wg_mcast_route(url, why, whylen);
-    if (rc)
-        return rc == WG_EINVAL ? BUS_EURL : -1; /* port 0: a usage error, as a URL LCM refuses */
-    c->lcm = lcm_create(url);
-    if (!c->lcm) { /* LCM has said why on stderr */
-        snprintf(why, whylen, "cannot open LCM URL '%s' (LCM's reason is above); a URL is "
-                 WG_LCM_URL_FORMS, url);
-        return BUS_EURL;
-    }
+    int rc;
+    if (!(c->lcm = bus_lcm_open(url, &rc, why, whylen)))
+        return rc;
     c->ack_sub = bus_subscribe(c, "ACK", on_ack_raw, c, 0);
     if (wg_mcast_guard(url, WG_MCAST_WHOLE, why, whylen)) /* the subscription opened the socket */
         return -1;

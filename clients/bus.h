@@ -154,6 +154,14 @@ int bus_prefix_ok(const char *p);
 int bus_open(bus *c, const char *url, const char *prefix, const char *name, char *why,
              size_t whylen);
 
+/* LCM on url for a process that listens on it: its multicast route
+ * checked first (wg_mcast_route), then lcm_create. The caller subscribes,
+ * then filters the socket with wg_mcast_guard in the mode it needs (the
+ * clients WG_MCAST_WHOLE, bus_open; a recorder WG_MCAST_FRAGMENTS). The
+ * handle, or NULL with *rc BUS_EURL (LCM refuses the URL, or port 0) or -1
+ * (no route to the group), and why. */
+lcm_t *bus_lcm_open(const char *url, int *rc, char *why, size_t whylen);
+
 /* A client's exit status after bus_open (or bus_set_key) failed with brc:
  * CLI_EUSAGE for BUS_EURL (a usage error), else 1. */
 static inline int bus_exit_status(int brc)

@@ -1,9 +1,9 @@
 /* log_rec.c - record an LCM bus to a log file (wglog record; log_rec.h). */
 #include "log_rec.h"
 
+#include "bus.h"
 #include "cli.h"
 #include "wormgear/wg_mcast.h"
-#include "wormgear/wg_status.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -79,19 +79,13 @@ static int make_file(const log_rec_opts *o)
 static lcm_t *open_bus(const log_rec_opts *o, rec *r, int *rc)
 {
     char why[512] = "";
-    int route = wg_mcast_route(o->url, why, sizeof why);
-    *rc = route == WG_EINVAL ? CLI_EUSAGE : 1;
-    if (route) {
+    lcm_t *lcm = bus_lcm_open(o->url, rc, why, sizeof why);
+    if (!lcm) {
         fprintf(stderr, "wglog: %s\n", why);
+        *rc = bus_exit_status(*rc);
         return NULL;
     }
-    lcm_t *lcm = lcm_create(o->url);
-    if (!lcm) { /* LCM has said why on stderr */
-        fprintf(stderr, "wglog: cannot open LCM URL '%s' (LCM's reason is above); a URL is "
-                WG_LCM_URL_FORMS "\n", o->url);
-        *rc = CLI_EUSAGE;
-        return NULL;
-    }
+    *rc = 1;
     if (!lcm_subscribe(lcm, ".*", on_msg, r) ||
         wg_mcast_guard(o->url, WG_MCAST_FRAGMENTS, why, sizeof why)) {
         fprintf(stderr, "wglog: %s: %s\n", o->url,
