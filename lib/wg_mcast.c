@@ -270,6 +270,40 @@ int bind(int fd, const struct sockaddr *addr, socklen_t len)
     return (int)syscall(SYS_bind, fd, addr, len);
 }
 
+/* Calls fn(fd, ctx) for every IPv4 UDP socket of this process bound to
+ * port; the sockets seen, or -1 with errno when the process's files cannot
+ * be listed. */
+static int each_bound(int port, void (*fn)(int fd, void *ctx), void *ctx)
+{
+    DIR *dir = opendir("/proc/self/fd");
+    if (!dir)
+        return -1;
+    int seen = 0;
+    struct dirent *e;
+    while ((e = readdir(dir))) {
+        char *end;
+        long fd = strtol(e->d_name, &end, 10);
+        if (end == e->d_name || *end || fd == dirfd(dir) || !bound_udp((int)fd, port))
+            continue;
+        fn((int)fd, ctx);
+        seen++;
+    }
+    closedir(dir);
+    return seen;
+}
+
+typedef struct attach {
+    const struct sock_fprog *fp;
+    int failed, err;
+} attach;
+
+static void attach_one(int fd, void *ctx)
+{
+    attach *a = ctx;
+    if (setsockopt(fd, SOL_SOCKET, SO_ATTACH_FILTER, a->fp, sizeof *a->fp))
+        a->failed++, a->err = errno;
+}
+
 int wg_mcast_guard(const char *url, int fragments, char *why, size_t whylen)
 {
     int port = port_of(url);
@@ -284,30 +318,34 @@ int wg_mcast_guard(const char *url, int fragments, char *why, size_t whylen)
         return WG_EIO;
     }
     struct sock_fprog fp = {.len = (unsigned short)p.n, .filter = p.f};
-    DIR *dir = opendir("/proc/self/fd");
-    if (!dir) {
+    attach a = {&fp, 0, 0};
+    int seen = each_bound(port, attach_one, &a);
+    if (seen < 0)
         snprintf(why, whylen, "cannot list this process's files to filter LCM's socket: %s",
                  strerror(errno));
-        return WG_EIO;
-    }
-    int found = 0, failed = 0, err = 0;
-    struct dirent *e;
-    while ((e = readdir(dir))) {
-        char *end;
-        long fd = strtol(e->d_name, &end, 10);
-        if (end == e->d_name || *end || fd == dirfd(dir) || !bound_udp((int)fd, port))
-            continue;
-        if (setsockopt((int)fd, SOL_SOCKET, SO_ATTACH_FILTER, &fp, sizeof fp) == 0)
-            found++;
-        else
-            failed++, err = errno;
-    }
-    closedir(dir);
-    if (failed)
+    else if (a.failed)
         snprintf(why, whylen, "cannot filter LCM's receive socket on port %d: %s", port,
-                 strerror(err));
-    else if (!found)
+                 strerror(a.err));
+    else if (!seen)
         snprintf(why, whylen, "no LCM receive socket on port %d to filter (subscribe first)",
                  port);
-    return failed || !found ? WG_EIO : WG_OK;
+    return seen <= 0 || a.failed ? WG_EIO : WG_OK;
+}
+
+/* The least of the filter lengths seen so far (-1: none seen yet). */
+static void filter_len(int fd, void *ctx)
+{
+    int *least = ctx;
+    socklen_t n = 0;
+    int got = getsockopt(fd, SOL_SOCKET, SO_GET_FILTER, NULL, &n) == 0 ? (int)n : 0;
+    if (*least < 0 || got < *least)
+        *least = got;
+}
+
+int wg_mcast_filtered(const char *url)
+{
+    int port = port_of(url), least = -1;
+    if (port > 0)
+        each_bound(port, filter_len, &least);
+    return least;
 }

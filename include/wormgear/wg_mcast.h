@@ -57,6 +57,13 @@ enum { WG_MCAST_WHOLE = 0, WG_MCAST_FRAGMENTS = 1 };
 enum { WG_MCAST_WHOLE_MAX = 65499 }; /* channel, NUL and data of an unfragmented message */
 int wg_mcast_guard(const char *url, int fragments, char *why, size_t whylen);
 
+/* The instructions of the filter on this process's UDP sockets bound to
+ * url's port (the shortest, if there are several; 0 for a socket with
+ * none), or -1 if url is not a udpm:// one with a port or no socket is
+ * bound to it. What wg_mcast_guard or the bind left there: a test's check
+ * that LCM's socket was never unfiltered. */
+int wg_mcast_filtered(const char *url);
+
 /* The forms of an LCM URL, for the message when LCM refuses one. */
 #define WG_LCM_URL_FORMS                                                                     \
     "udpm://GROUP:PORT?ttl=0 (this host) or ?ttl=1 (the LAN), memq://, file://PATH or "     \

@@ -176,9 +176,14 @@ static void test_guard(void)
     /* with fragments (wglog record), then without (the daemon, the clients): the
      * second attach replaces the first filter; without, every fragment is dropped,
      * the message in one first fragment too */
+    ASSERT_EQ_INT(wg_mcast_filtered(url), 0); /* bound to 127.0.0.1: no filter from bind */
+    int len[2] = {0, 0};
     for (int frag = WG_MCAST_FRAGMENTS; frag >= WG_MCAST_WHOLE; frag--) {
         printf("-- %s\n", frag ? "WG_MCAST_FRAGMENTS" : "WG_MCAST_WHOLE");
         ASSERT_EQ_INT(wg_mcast_guard(url, frag, why, sizeof why), WG_OK);
+        len[frag] = wg_mcast_filtered(url);
+        printf("the filter on the port: %d instructions\n", len[frag]);
+        ASSERT_TRUE(len[frag] > 0);
         for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
             int k = kept(tx, rx, &to, &c[i].d), whole = c[i].d.b[3] == '2';
             printf("%-50s %4zu bytes: %s\n", c[i].what, c[i].d.n, k ? "kept" : "dropped");
@@ -198,7 +203,10 @@ static void test_guard(void)
         other.b[3] = '4';
         ASSERT_EQ_INT(kept(tx, rx, &to, &other), 0);
     }
+    ASSERT_TRUE(len[WG_MCAST_WHOLE] < len[WG_MCAST_FRAGMENTS]); /* the second replaced the first */
     close(rx), close(tx);
+    ASSERT_EQ_INT(wg_mcast_filtered(url), -1); /* no socket on the port */
+    ASSERT_EQ_INT(wg_mcast_filtered("memq://"), -1);
     /* not a udpm:// URL: nothing to do; no socket on the port: said */
     ASSERT_EQ_INT(wg_mcast_guard("memq://", WG_MCAST_WHOLE, why, sizeof why), WG_OK);
     ASSERT_EQ_INT(wg_mcast_guard("udpm://239.255.76.67:0?ttl=0", WG_MCAST_WHOLE, why, sizeof why),

@@ -38,7 +38,6 @@
 #include "wormgear/wg_status.h"
 
 #include <arpa/inet.h>
-#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <lcm/lcm.h>
@@ -1147,30 +1146,6 @@ static void fragmented_cmds(int s, const struct sockaddr_in *to)
              "of fragments 0, 1, 1 of 3): the daemon took fragments", F.acks_total - a0, n);
 }
 
-/* The filter LCM's own receive socket had before wg_mcast_guard ran: the
- * instructions of the filter on this process's UDP socket bound to port, 0
- * when it has none or there is no such socket. wg_mcast.c's bind put it
- * there, the kernel never saw the socket unfiltered. */
-static unsigned lcm_filter_at_bind(int port)
-{
-    DIR *dir = opendir("/proc/self/fd");
-    unsigned got = 0;
-    struct dirent *e;
-    while (dir && (e = readdir(dir))) {
-        int fd = atoi(e->d_name), type = 0;
-        struct sockaddr_in a;
-        socklen_t al = sizeof a, tl = sizeof type, n = 0;
-        if (fd > 2 && fd != dirfd(dir) &&
-            getsockopt(fd, SOL_SOCKET, SO_TYPE, &type, &tl) == 0 && type == SOCK_DGRAM &&
-            getsockname(fd, (struct sockaddr *)&a, &al) == 0 && a.sin_family == AF_INET &&
-            ntohs(a.sin_port) == port && getsockopt(fd, SOL_SOCKET, SO_GET_FILTER, NULL, &n) == 0)
-            got = (unsigned)n;
-    }
-    if (dir)
-        closedir(dir);
-    return got;
-}
-
 static void wire(long n)
 {
     big_messages();
@@ -1328,10 +1303,11 @@ int main(int argc, char **argv)
     wormgear_ack_t_subscription_t *as = wormgear_ack_t_subscribe(F.lcm, "FZ_ACK", on_ack, NULL);
     wormgear_ack_t_subscription_set_queue_capacity(as, 20000); /* a burst's ACKs */
     char gwhy[300];
-    unsigned at_bind = lcm_filter_at_bind(atoi(strrchr(F.url, ':') + 1));
-    printf("wgfuzz: LCM's receive socket had a filter of %u instructions from its bind, before "
+    /* the filter wg_mcast.c's bind put there: the kernel never saw the socket unfiltered */
+    int at_bind = wg_mcast_filtered(F.url);
+    printf("wgfuzz: LCM's receive socket had a filter of %d instructions from its bind, before "
            "wg_mcast_guard\n", at_bind);
-    if (at_bind == 0)
+    if (at_bind <= 0)
         fail("LCM's receive socket had no filter before wg_mcast_guard: datagrams that came "
              "before it were read unfiltered");
     /* wire's datagrams reach us too; big_messages needs fragments */
