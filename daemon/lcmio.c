@@ -6,6 +6,7 @@
 #include "wormgear/wg_status.h"
 
 #include <dirent.h>
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
 #include <poll.h>
@@ -137,8 +138,10 @@ int64_t lcmio_now_us(void)
 
 static int send(lcmio *io, int ch, int len)
 {
+    errno = 0;
     if (len < 0 || lcm_publish(io->lcm, io->ch[ch], io->buf, (unsigned)len) != 0) {
-        io->dropped++;
+        io->dropped++; /* LCM's sendmsg left its errno (no route, the interface down) */
+        io->send_errno = len < 0 ? EMSGSIZE : errno ? errno : EIO;
         return -1;
     }
     io->published++;

@@ -34,6 +34,7 @@ typedef struct lcmio {
     int64_t seq[CH_COUNT];   /* next seq per outgoing channel */
     int64_t sent_utime[CH_COUNT][LCMIO_SENT]; /* utime of seq s at [s % LCMIO_SENT] */
     uint64_t published, dropped;
+    int send_errno;           /* why the last message was dropped (EMSGSIZE: it did not encode) */
     const unsigned char *key; /* lcmio_sign_with: the caller's, or NULL */
     char url[400];            /* as given, for wg_mcast_guard */
     int guarded;              /* wg_mcast_guard done, at the first subscription */

@@ -272,6 +272,28 @@ static void foreground(wgd *d)
     }
 }
 
+/* Publishing that starts or stops failing (the network gone: no route, the
+ * interface down) is said in the log once each way, looked at each second:
+ * meanwhile no STATUS reaches anyone, so the log is the one place it shows.
+ * The simulation runs on; STATUS msgs_dropped counts what was lost. */
+static void publishing(wgd *d)
+{
+    stats *s = &d->stat;
+    uint64_t now = d->io.dropped, lost = now - s->pub_dropped;
+    s->pub_dropped = now;
+    if (lost && !s->pub_failing) {
+        s->pub_failing = 1, s->pub_failed_from = now - lost;
+        log_msg(&d->log, LOG_WARNING, "publishing on LCM fails: %s (%llu messages in the last "
+                "second); the simulation runs on, and a line here says when messages go out "
+                "again", strerror(d->io.send_errno), (unsigned long long)lost);
+    } else if (!lost && s->pub_failing) {
+        s->pub_failing = 0;
+        log_msg(&d->log, LOG_NOTICE, "publishing on LCM works again: %llu messages were not "
+                "published (STATUS msgs_dropped counts them)",
+                (unsigned long long)(now - s->pub_failed_from));
+    }
+}
+
 void report_tick(wgd *d, int64_t now)
 {
     stats *s = &d->stat;
@@ -295,6 +317,7 @@ void report_tick(wgd *d, int64_t now)
     }
     if (now >= s->next_params_ns) {
         report_params(d, "periodic", "", -1, 0);
+        publishing(d);
         s->next_params_ns = now + SEC_NS;
         char line[400];
         report_line(d, line, sizeof line);

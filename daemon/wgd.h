@@ -81,6 +81,9 @@ typedef struct stats {
     int64_t busiest_ns;        /* the longest handler since then (wall) */
     uint64_t tick_steps;       /* sim steps then */
     int fg_failed;             /* stdout failed: the foreground line is no longer printed */
+    uint64_t pub_dropped;      /* io.dropped at the last second's look (report.c) */
+    int pub_failing;           /* publishing failed in the last second's look */
+    uint64_t pub_failed_from;  /* io.dropped when it started failing */
 } stats;
 
 /* Steps owed and not yet run: the loop runs them in bounded chunks between
