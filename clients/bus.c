@@ -8,6 +8,7 @@
 #include "wormgear/wg_model.h"
 #include "wormgear/wg_sim.h"
 
+#include <errno.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -364,8 +365,10 @@ static int seal_publish(bus *c, const char *suffix, unsigned char *buf, int n, i
     }
     if (c->signing)
         wg_mac_seal(c->key, buf, (size_t)n);
-    if (lcm_publish(c->lcm, ch, buf, (unsigned)n)) {
-        snprintf(c->send_why, sizeof c->send_why, "LCM could not send it on %s", ch);
+    errno = 0;
+    if (lcm_publish(c->lcm, ch, buf, (unsigned)n)) { /* LCM's sendmsg left its errno */
+        snprintf(c->send_why, sizeof c->send_why, "LCM could not send it on %s%s%s", ch,
+                 errno ? ": " : "", errno ? strerror(errno) : "");
         return -1;
     }
     return 0;

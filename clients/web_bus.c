@@ -155,6 +155,7 @@ int web_bus_drain(web_bus *b, int max)
 }
 
 int64_t web_bus_send(web_bus *b, wormgear_cmd_t *cmd) { return bus_send(&b->c, cmd); }
+const char *web_bus_send_why(const web_bus *b) { return b->c.send_why; }
 
 uint64_t web_bus_gaps(const web_bus *b)
 {

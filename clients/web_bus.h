@@ -62,6 +62,9 @@ int web_bus_drain(web_bus *b, int max);
  * Returns the seq, or -1. */
 int64_t web_bus_send(web_bus *b, wormgear_cmd_t *cmd);
 
+/* Why the last web_bus_send failed (bus_send's reason). */
+const char *web_bus_send_why(const web_bus *b);
+
 /* Messages missing in seq gaps, all channels; restarts of one channel. */
 uint64_t web_bus_gaps(const web_bus *b);
 uint64_t web_bus_restarts(const web_bus *b, int ch);

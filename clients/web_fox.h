@@ -35,7 +35,8 @@ typedef struct fox_hooks {
     void *ctx;
     void (*wake)(void *ctx, void *conn);                 /* conn has frames to send */
     void (*kick)(void *ctx, void *conn);                 /* close conn */
-    int64_t (*command)(void *ctx, wormgear_cmd_t *cmd); /* publish; its seq or -1 */
+    /* publish: its seq, or -1 with why (one phrase: the client's status says it) */
+    int64_t (*command)(void *ctx, wormgear_cmd_t *cmd, char *why, size_t whylen);
 } fox_hooks;
 
 typedef struct fox_conf {

@@ -212,9 +212,10 @@ static void op_param_updates(fox *f, int ci, const cJSON *j, int subscribe)
 /* Send a command for client ci and remember it until its ACK. */
 static void send_command(fox *f, int ci, web_cmd *wc, const char *id, int setparams)
 {
-    int64_t seq = f->hooks.command ? f->hooks.command(f->hooks.ctx, &wc->cmd) : -1;
+    char why[320] = "no command hook";
+    int64_t seq = f->hooks.command ? f->hooks.command(f->hooks.ctx, &wc->cmd, why, sizeof why) : -1;
     if (seq < 0) {
-        fox_status(f, ci, 2, "%s: could not publish the command on LCM", wc->op);
+        fox_status(f, ci, 2, "%s: not sent to the daemon: %s", wc->op, why);
         return;
     }
     fox_pending *p = fox_pending_new(f);

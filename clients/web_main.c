@@ -196,12 +196,17 @@ static void on_ack_unverified(void *ctx, const wormgear_ack_t *m)
 static void hook_wake(void *ctx, void *conn) { srv_wake(&((wgweb *)ctx)->srv, conn); }
 static void hook_kick(void *ctx, void *conn) { srv_kick(&((wgweb *)ctx)->srv, conn); }
 
-static int64_t hook_command(void *ctx, wormgear_cmd_t *cmd)
+static int64_t hook_command(void *ctx, wormgear_cmd_t *cmd, char *why, size_t whylen)
 {
     wgweb *w = ctx;
     if (w->o.verbose)
         fprintf(stderr, "wgweb: command %s (%d params)\n", cmd->op, cmd->nparams);
-    return web_bus_send(&w->bus, cmd);
+    int64_t seq = web_bus_send(&w->bus, cmd);
+    if (seq < 0) {
+        snprintf(why, whylen, "%s", web_bus_send_why(&w->bus));
+        fprintf(stderr, "wgweb: %s not sent: %s\n", cmd->op, why);
+    }
+    return seq;
 }
 
 /* ---- watchers */

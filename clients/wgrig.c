@@ -69,7 +69,7 @@ typedef struct rig {
     int phase_idx;
     double phase_value;
     bus_seq pc_seq, ct_seq;   /* POINCARE, CONTACT: .missing = dropped */
-    long refusals, timeouts, skipped, bad_params; /* the last: PARAMS no daemon sends */
+    long refusals, timeouts, unsent, skipped, bad_params; /* the last: PARAMS no daemon sends */
     rig_imp imp;              /* mesh impacts from CONTACT */
     double t0;
     int done, total, restoring; /* restoring: finish()'s commands, sent even after a stop */
@@ -252,10 +252,20 @@ static int flag_true(void *p) { return *(int *)p; }
 static int command(rig *r, wormgear_cmd_t *cmd, const char *what)
 {
     int refused = 0;
-    int tried = 0;
+    int tried = 0, unsent = 0;
     for (int attempt = 0; attempt <= r->o.retries && (!g_stop || r->restoring); attempt++) {
         tried++;
-        if (bus_send(&r->c, cmd) < 0 || bus_wait_ack(&r->c, (int)(r->o.timeout_s * 1000))) {
+        if (bus_send(&r->c, cmd) < 0) { /* the network, for now: tried again after a wait */
+            unsent++;
+            r->unsent++;
+            if (attempt < r->o.retries) {
+                say(r, "%swgrig: %s not sent: %s; trying again in %g s\n", NL, what,
+                    r->c.send_why, r->o.timeout_s);
+                bus_wait(&r->c, (int)(r->o.timeout_s * 1000), NULL, NULL);
+            }
+            continue;
+        }
+        if (bus_wait_ack(&r->c, (int)(r->o.timeout_s * 1000))) {
             r->timeouts++;
             continue;
         }
@@ -271,8 +281,12 @@ static int command(rig *r, wormgear_cmd_t *cmd, const char *what)
     if (refused || !tried) /* !tried: stopped before sending, nothing to say */
         return refused ? 1 : -1;
     char hint[1024];
-    say(r, "%swgrig: %s: no ACK after %d tries of %g s: %s\n", NL, what, r->o.retries + 1,
-        r->o.timeout_s, bus_hint(&r->c, hint, sizeof hint));
+    if (unsent == tried)
+        say(r, "%swgrig: %s: not sent in %d tries: %s\n", NL, what, tried, r->c.send_why);
+    else
+        say(r, "%swgrig: %s: no ACK after %d tries of %g s%s%s: %s\n", NL, what, tried,
+            r->o.timeout_s, unsent ? "; the last that could not be sent: " : "",
+            unsent ? r->c.send_why : "", bus_hint(&r->c, hint, sizeof hint));
     return -1;
 }
 
@@ -739,10 +753,10 @@ static int sweep(rig *r, wg_chain chains[2], window *win[2], const char *cmdline
         rc = write_outputs(r, ch, win, failed || g_stop, cmdline);
     }
     say(r, "wgrig: %d/%d points, %ld skipped (refused), %ld refusals, %ld ACK timeouts, "
-                    "%ld POINCARE and %ld CONTACT messages dropped, %ld recordings re-waited; "
-                    "%.1f s; outputs %s%s\n", r->done, r->total, r->skipped, r->refusals,
-            r->timeouts, r->pc_seq.missing, r->ct_seq.missing, r->col.breaks,
-            cli_mono_s() - r->t0, any ? r->o.out : "none", any ? ".*" : "");
+           "%ld commands not sent, %ld POINCARE and %ld CONTACT messages dropped, %ld "
+           "recordings re-waited; %.1f s; outputs %s%s\n", r->done, r->total, r->skipped,
+        r->refusals, r->timeouts, r->unsent, r->pc_seq.missing, r->ct_seq.missing,
+        r->col.breaks, cli_mono_s() - r->t0, any ? r->o.out : "none", any ? ".*" : "");
     out_end(r);
     return g_stop ? 130 : failed || !any ? 1 : rc ? 1 : 0;
 }

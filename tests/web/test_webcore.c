@@ -19,13 +19,18 @@ typedef struct fake {
     char last_op[16], last_name0[48];
     double last_v0;
     int last_n, last_at_section;
+    const char *refuse; /* the transport's reason when it cannot send */
 } fake;
 
 static void f_wake(void *ctx, void *conn) { (void)conn, ((fake *)ctx)->wakes++; }
 static void f_kick(void *ctx, void *conn) { (void)conn, ((fake *)ctx)->kicks++; }
-static int64_t f_cmd(void *ctx, wormgear_cmd_t *c)
+static int64_t f_cmd(void *ctx, wormgear_cmd_t *c, char *why, size_t whylen)
 {
     fake *k = ctx;
+    if (k->refuse) {
+        snprintf(why, whylen, "%s", k->refuse);
+        return -1;
+    }
     snprintf(k->last_op, sizeof k->last_op, "%s", c->op);
     k->last_n = c->nparams;
     k->last_at_section = c->at_section;
@@ -464,6 +469,16 @@ static void test_client_publish(void)
     ASSERT_CONTAINS(t, "the key 'op' twice in one object");
     ASSERT_CONTAINS(t, "a string with a NUL");
     ASSERT_CONTAINS(t, "unknown client channel id");
+    ASSERT_EQ_INT(K.cmds, 1);
+    /* the transport cannot send: the client is told why, as an error */
+    K.refuse = "LCM could not send it on T_CMD: Network is unreachable";
+    fr[1] = 5;
+    memcpy(fr + 5, "{\"op\":\"pause\"}", 14);
+    fox_rx(&F, a, fr, 19, 1);
+    t = drain(a, NULL);
+    ASSERT_CONTAINS(t, "\"level\":2");
+    ASSERT_CONTAINS(t, "pause: not sent to the daemon: LCM could not send it on T_CMD: Network is "
+                       "unreachable");
     ASSERT_EQ_INT(K.cmds, 1);
     teardown();
 }
