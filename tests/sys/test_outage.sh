@@ -1,12 +1,14 @@
 #!/bin/sh
 # test_outage.sh WORMGEARD WGRIG WGCTL - the network goes away for two seconds in
-# the middle of a rig sweep (its multicast route deleted, then added back):
+# the middle of a rig sweep (its multicast route deleted, then added back),
+# and again as a sweep is stopped:
 # the daemon says once in its log that publishing fails and why, runs on,
 # says once that it works again and how many messages were lost, and
 # counts them on STATUS; wgrig's sweep ends with every point measured, a
 # command it could not send said with the reason and sent again after a
 # wait (before, six tries failed within a millisecond and the sweep
-# stopped, exit 1), a recording the outage broke recorded again.
+# stopped, exit 1), a recording the outage broke recorded again; the
+# commands that put the daemon back after Ctrl-C wait for the network too.
 #
 # Runs in a network namespace of its own (the route it deletes is that
 # namespace's): skipped (77) where none can be made. Never on the host.
@@ -69,9 +71,33 @@ Network is unreachable; trying again in 3 s" ||
 elif ! grep -q '[1-9][0-9]* recordings re-waited' "$tmp/rig.err"; then
     fail "the outage hit neither a command nor a recording"
 fi
+
+# The outage at a sweep's end, when wgrig must send: Ctrl-C with the route
+# gone; its commands that put the daemon back (omega, mode realtime) are
+# sent once the route is back (before, they failed at once and left the
+# daemon in fast mode at the last point's omega).
+"$R" --from 1.0 --to 1.2 --points 40 --dir up --fast --no-lle --out "$tmp/rig2" \
+    >"$tmp/rig2.out" 2>"$tmp/rig2.err" &
+rpid=$!
+wait_until 60 has "$tmp/rig2.err" " 5/40 " || fail "the second wgrig did not reach its 5th point"
+ip route del 239.0.0.0/8 dev lo
+kill -INT "$rpid"
+wait_until 20 has "$tmp/rig2.err" \
+    "not sent: LCM could not send it on OUT_CMD: Network is unreachable" ||
+    fail "the second wgrig did not say that a command was not sent: $(cat "$tmp/rig2.err")"
+ip route add 239.0.0.0/8 dev lo
+wait_exit "$rpid" 60
+rpid=
+[ "$exit_status" = 130 ] || fail "the second wgrig -> exit $exit_status, want 130 (interrupted)"
+echo "-- the second wgrig, stopped in the outage"
+grep -v '^\[' "$tmp/rig2.err"
+"$C" get omega >"$tmp/get" 2>&1 || fail "wgctl get omega -> exit $?: $(cat "$tmp/get")"
+has "$tmp/get" "omega = 1  " || fail "omega not put back to 1: $(cat "$tmp/get")"
+
 # the daemon answers, and its STATUS counts what it could not publish
 "$C" status >"$tmp/st" 2>&1 || fail "wgctl status -> exit $?: $(cat "$tmp/st")"
 has "$tmp/st" "messages  *[0-9]* not published" || fail "STATUS lacks the count: $(cat "$tmp/st")"
+has "$tmp/st" "mode realtime" || fail "the daemon not put back to realtime: $(cat "$tmp/st")"
 kill -TERM "$dpid"
 wait_exit "$dpid" 10
 dpid=
