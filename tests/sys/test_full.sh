@@ -5,15 +5,12 @@
 # its bytes, no temporary file is left, the daemon runs on and restores the
 # old one; with room again, the save works.
 #
-# Runs in mount and network namespaces of its own (the tmpfs and the route
-# are theirs): skipped (77) where they cannot be made.
+# Runs in mount and network namespaces of its own, through tests/ns_own.sh
+# -m (the tmpfs and the route are theirs): skipped (77) where they cannot
+# be made.
 D=$1 C=$2
-if [ -z "${WG_FULL_NS:-}" ]; then
-    command -v ip >/dev/null 2>&1 && unshare -m -n true 2>/dev/null ||
-        { echo "SKIP: no mount and network namespace here (unshare -m -n, iproute2)"; exit 77; }
-    WG_FULL_NS=1 exec unshare -m -n sh -c \
-        'ip link set lo up && ip route add 239.0.0.0/8 dev lo && exec sh "$0" "$@"' "$0" "$@"
-fi
+[ "${WG_OWN_NS:-}" = 1 ] ||
+    { echo "test_full.sh mounts a tmpfs: run it through tests/ns_own.sh -m"; exit 2; }
 code=0
 tmp=$(mktemp -d) || exit 1
 sd=$tmp/state

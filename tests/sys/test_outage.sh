@@ -10,15 +10,12 @@
 # stopped, exit 1), a recording the outage broke recorded again; the
 # commands that put the daemon back after Ctrl-C wait for the network too.
 #
-# Runs in a network namespace of its own (the route it deletes is that
-# namespace's): skipped (77) where none can be made. Never on the host.
+# Runs in a network namespace of its own, through tests/ns_own.sh (the
+# route it deletes is that namespace's): skipped (77) where none can be
+# made. Never on the host: without ns_own.sh it refuses to start.
 D=$1 R=$2 C=$3
-if [ -z "${WG_OUTAGE_NS:-}" ]; then
-    command -v ip >/dev/null 2>&1 && unshare -n true 2>/dev/null ||
-        { echo "SKIP: no network namespace here (unshare -n, iproute2)"; exit 77; }
-    WG_OUTAGE_NS=1 exec unshare -n sh -c \
-        'ip link set lo up && ip route add 239.0.0.0/8 dev lo && exec sh "$0" "$@"' "$0" "$@"
-fi
+[ "${WG_OWN_NS:-}" = 1 ] ||
+    { echo "test_outage.sh deletes a route: run it through tests/ns_own.sh"; exit 2; }
 code=0
 tmp=$(mktemp -d) || exit 1
 dpid= rpid=
