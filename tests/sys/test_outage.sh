@@ -60,13 +60,15 @@ lost=$(sed -n 's/.*works again: \([0-9]*\) messages were not published.*/\1/p' "
 [ "${lost:-0}" -gt 0 ] || fail "no count of the messages lost: $(grep 'works again' "$tmp/d.log")"
 has "$tmp/rig.err" "40/40 points" || fail "wgrig did not measure every point"
 [ "$(grep -c '' "$tmp/rig.csv")" -ge 41 ] || fail "rig.csv has fewer than 40 points"
-# what the outage hit: a set it could not send, or a recording it broke
+# what the outage hit: a set it could not send (Release, 5 of 5 runs), a
+# recording it broke (ASan, 3 of 3), or a settle (it would be skipped
+# over: the part after this one hits a send every time)
 if has "$tmp/rig.err" "not sent:"; then
     has "$tmp/rig.err" "wgrig: set omega=[0-9.]* not sent: LCM could not send it on OUT_CMD: \
 Network is unreachable; trying again in 3 s" ||
         fail "the line of a command not sent lacks its reason"
 elif ! grep -q '[1-9][0-9]* recordings re-waited' "$tmp/rig.err"; then
-    fail "the outage hit neither a command nor a recording"
+    echo "note: the outage fell in a settle, hitting neither a command nor a recording"
 fi
 
 # The outage at a sweep's end, when wgrig must send: Ctrl-C with the route
