@@ -250,7 +250,9 @@ static int lcm_recv_like(int fd, const struct sockaddr *addr, socklen_t len)
 
 /* bind(2) for every caller in the process, LCM among them: a socket that
  * looks like LCM's receive socket (lcm_recv_like) gets the
- * WG_MCAST_FRAGMENTS filter before it is bound, so no datagram reaches it
+ * WG_MCAST_FRAGMENTS filter (WG_MCAST_WHOLE with $WG_MCAST_BIND=whole: the
+ * preloaded library under lcm-spy, whose Java LCM no later guard reaches)
+ * before it is bound, so no datagram reaches it
  * unfiltered (wg_mcast_guard, after the first subscription, comes too late
  * for what arrives before it: a datagram queued in the meantime is not
  * filtered). The executable's definition comes first in the dynamic
@@ -258,11 +260,13 @@ static int lcm_recv_like(int fd, const struct sockaddr *addr, socklen_t len)
  * called directly. wg_mcast_guard may then replace the filter
  * (WG_MCAST_WHOLE). A filter that cannot be attached here is left to
  * wg_mcast_guard to report. */
-int bind(int fd, const struct sockaddr *addr, socklen_t len)
+__attribute__((visibility("default"))) int bind(int fd, const struct sockaddr *addr,
+                                               socklen_t len)
 {
     if (lcm_recv_like(fd, addr, len)) {
+        const char *m = getenv("WG_MCAST_BIND");
         prog p;
-        build(&p, WG_MCAST_FRAGMENTS);
+        build(&p, m && !strcmp(m, "whole") ? WG_MCAST_WHOLE : WG_MCAST_FRAGMENTS);
         struct sock_fprog fp = {.len = (unsigned short)p.n, .filter = p.f};
         if (!p.over)
             setsockopt(fd, SOL_SOCKET, SO_ATTACH_FILTER, &fp, sizeof fp);

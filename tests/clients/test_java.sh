@@ -2,11 +2,14 @@
 # test_java.sh decode WGENC JAR LCMJAR JAVAC JAVA SRCDIR
 #   the Java classes of our types decode the bytes the C bindings encode,
 #   with equal fingerprints (java/DecodeTest.java).
-# test_java.sh spy WORMGEARD JAR LCMJAR JAVAC JAVA SRCDIR WGSPY
+# test_java.sh spy WORMGEARD JAR LCMJAR JAVAC JAVA SRCDIR WGSPY PRELOAD WGSPOOF
 #   under Xvfb: lcm-spy (in-process, java/SpyCheck.java) lists the daemon's
-#   channels with our types and counts messages; the wgspy launcher starts
-#   and runs without a Java exception. Exit 77 (skip) without Xvfb.
-#   Run through netns.sh (host-local URL only).
+#   channels with our types and counts messages; then, with the socket
+#   filter wgspy preloads (PRELOAD, WG_MCAST_BIND=whole), it counts on
+#   after wgspoof's hostile datagrams (unfiltered, one wrapping fragment
+#   pair ended LCM's Java reader thread, and the counts stood still); the
+#   wgspy launcher starts and runs beside wgspoof without a Java exception.
+#   Exit 77 (skip) without Xvfb. Run through netns.sh (host-local URL only).
 # test_java.sh launcher WGSPY [JAR]
 #   wgspy from the build tree, with or without a JDK (JAR: the build's type
 #   jar, when it built one): a --jar or WORMGEAR_JAR that is not there is
@@ -96,7 +99,7 @@ if [ "$mode" = decode ]; then
     exit $code
 fi
 
-D=$1 JAR=$2 LCMJAR=$3 JAVAC=$4 JAVA=$5 SRC=$6 SPY=$7
+D=$1 JAR=$2 LCMJAR=$3 JAVAC=$4 JAVA=$5 SRC=$6 SPY=$7 PRELOAD=$8 SPOOF=$9
 command -v Xvfb >/dev/null || { echo "no Xvfb (Debian: xvfb): skipped"; exit 77; }
 n=90
 while [ -e /tmp/.X11-unix/X$n ] || [ -e /tmp/.X$n-lock ]; do n=$((n + 1)); done
@@ -122,9 +125,29 @@ for t in STATE POINCARE CONTACT STATUS PARAMS SCOPE; do
     grep -q "row: | SPYT_$t | ${lt}_t | .* | 0$" "$tmp/spy.out" ||
         fail "lcm-spy lists no SPYT_$t decoded as ${lt}_t with 0 undecodable"
 done
-# the launcher itself: starts, runs 3 s, no exception
+# hostile datagrams between two looks at the table, lcm-spy filtered as wgspy runs it
+status_count() { sed -n 's/^row: | SPYT_STATUS | status_t | \([0-9]*\) .*/\1/p' "$1"; }
+round0() { grep -q "round 0 done" "$tmp/spy2.out"; }
+env LD_PRELOAD="$PRELOAD" WG_MCAST_BIND=whole "$JAVA" -Djava.net.preferIPv4Stack=true \
+    -cp "$tmp/cls:$cp" SpyCheck 3 "$WORMGEAR_URL" 3 >"$tmp/spy2.out" 2>"$tmp/spy2.err" &
+spid=$!
+wait_until 30 round0 || fail "SpyCheck's first look never came: $(cat "$tmp/spy2.err")"
+"$SPOOF" "$WORMGEAR_URL" SPYT_ 1 >/dev/null 2>&1
+wait_exit "$spid" 30
+[ "$exit_status" = 0 ] || fail "SpyCheck beside wgspoof -> exit $exit_status"
+sed -n '/round 0 done/,$p' "$tmp/spy2.out" >"$tmp/spy2.after"
+n0=$(status_count "$tmp/spy2.out" | head -1) n1=$(status_count "$tmp/spy2.after")
+echo "lcm-spy, filtered, beside wgspoof: SPYT_STATUS messages $n0 before, $n1 after"
+[ "${n1:-0}" -gt "${n0:-0}" ] ||
+    fail "lcm-spy counted no STATUS after wgspoof's datagrams ($n0, then $n1)"
+grep "Exception in thread" "$tmp/spy2.err" &&
+    fail "LCM's Java reader died on wgspoof's datagrams"
+# the launcher itself: starts, runs 3 s beside wgspoof, no exception, its filter found
+"$SPOOF" "$WORMGEAR_URL" SPYT_ 3 >/dev/null 2>&1 &
+pids="$pids $!"
 timeout 3 "$SPY" --jar "$JAR" >"$tmp/wgspy.out" 2>&1
 rc=$?
 [ $rc -eq 124 ] || fail "wgspy exited early ($rc): $(cat "$tmp/wgspy.out")"
-grep -q "Exception\|Unrecognized option" "$tmp/wgspy.out" && fail "wgspy: $(cat "$tmp/wgspy.out")"
+grep -q "Exception in thread\|Unrecognized option\|not found" "$tmp/wgspy.out" &&
+    fail "wgspy: $(cat "$tmp/wgspy.out")"
 exit $code

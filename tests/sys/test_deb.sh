@@ -21,6 +21,8 @@ for f in /usr/bin/wgsim /usr/bin/wgsweep /usr/bin/wgctl /usr/bin/wgmon /usr/bin/
          /usr/share/doc/wormgear/daemon.md /usr/share/doc/wormgear/PROTOCOL.md; do
     grep -qx "$f" "$tmp/files" || fail "not in the package: $f"
 done
+grep -q '^/usr/lib/\(.*/\)\{0,1\}wormgear/libwgmcast_preload.so$' "$tmp/files" ||
+    fail "not in the package: /usr/lib/wormgear/libwgmcast_preload.so (wgspy's filter)"
 if grep -v -E '^/(usr|etc)(/|$)' "$tmp/files" | grep -v '^/$'; then fail "files outside /usr and /etc"; fi
 dpkg-deb -I "$deb" conffiles >"$tmp/conffiles" 2>&1
 grep -qx /etc/wormgear/wormgeard.conf "$tmp/conffiles" || fail "config not a conffile: $(cat "$tmp/conffiles")"

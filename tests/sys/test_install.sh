@@ -51,6 +51,9 @@ unset WG_SCENE_PATH
 [ -e "$src/CMakeLists.txt" ] && { echo "FAIL: the source tree is still visible"; exit 1; }
 \$q/bin/wgsim --periods 3 --transient 0 >$tmp/wgsim.out 2>&1 || { cat $tmp/wgsim.out; echo "FAIL: installed wgsim"; exit 1; }
 grep -q "scene       table3" $tmp/wgsim.out || { cat $tmp/wgsim.out; echo "FAIL: wgsim summary"; exit 1; }
+# wgspy finds the socket filter it preloads under lcm-spy beside itself
+f=\$(\$q/bin/wgspy --print-filter) && [ -f "\$f" ] && case \$f in \$q/*) ;; *) false;; esac ||
+    { echo "FAIL: installed wgspy --print-filter: \$f"; exit 1; }
 \$q/bin/wgsim --scene nope >$tmp/nope.out 2>&1
 grep -q "scenes there: lowfreq, realistic, table3, table3-physical, torsional" $tmp/nope.out ||
     { cat $tmp/nope.out; echo "FAIL: scene-not-found lists the installed scenes"; exit 1; }

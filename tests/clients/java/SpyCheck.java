@@ -1,7 +1,9 @@
-// SpyCheck SECONDS LCM_URL - run lcm-spy (lcm.spy.Spy) in this JVM on a
-// display (Xvfb in the tests), wait, then read its channel table from the
-// Swing component tree and print one line per row: channel, type, and the
-// message count. Exit 0 if the table was found.
+// SpyCheck SECONDS LCM_URL [SECONDS2] - run lcm-spy (lcm.spy.Spy) in this
+// JVM on a display (Xvfb in the tests), wait, then read its channel table
+// from the Swing component tree and print one line per row: channel, type,
+// and the message count. With SECONDS2, "round 0 done" after the table,
+// then the table again SECONDS2 later (a test sends hostile datagrams in
+// between). Exit 0 if the table was found.
 import java.awt.Component;
 import java.awt.Container;
 import java.awt.Frame;
@@ -25,6 +27,17 @@ public class SpyCheck {
         lcm.spy.Spy.main(new String[] {"--lcm-url=" + args[1]});
         Thread.sleep((long) (Double.parseDouble(args[0]) * 1000));
         final int[] rows = {-1};
+        if (args.length > 2) {
+            table(rows);
+            System.out.println("round 0 done");
+            System.out.flush();
+            Thread.sleep((long) (Double.parseDouble(args[2]) * 1000));
+        }
+        table(rows);
+        System.exit(rows[0] >= 0 ? 0 : 1);
+    }
+
+    static void table(final int[] rows) throws Exception {
         SwingUtilities.invokeAndWait(() -> {
             for (Frame f : Frame.getFrames()) {
                 JTable t = find(f);
@@ -43,6 +56,5 @@ public class SpyCheck {
                 }
             }
         });
-        System.exit(rows[0] >= 0 ? 0 : 1);
     }
 }
