@@ -220,6 +220,15 @@ static void build(prog *p, int fragments)
     first_fragment(p);
 }
 
+/* The filter for a socket: build's program in p, fp pointing at it; 0, or
+ * -1 if it has more than PROG_MAX instructions (then nothing to attach). */
+static int program(prog *p, int fragments, struct sock_fprog *fp)
+{
+    build(p, fragments);
+    fp->len = (unsigned short)p->n, fp->filter = p->f;
+    return p->over ? -1 : 0;
+}
+
 /* 1 if fd is an IPv4 UDP socket bound to port. */
 static int bound_udp(int fd, int port)
 {
@@ -266,9 +275,8 @@ __attribute__((visibility("default"))) int bind(int fd, const struct sockaddr *a
     if (lcm_recv_like(fd, addr, len)) {
         const char *m = getenv("WG_MCAST_BIND");
         prog p;
-        build(&p, m && !strcmp(m, "whole") ? WG_MCAST_WHOLE : WG_MCAST_FRAGMENTS);
-        struct sock_fprog fp = {.len = (unsigned short)p.n, .filter = p.f};
-        if (!p.over)
+        struct sock_fprog fp;
+        if (!program(&p, m && !strcmp(m, "whole") ? WG_MCAST_WHOLE : WG_MCAST_FRAGMENTS, &fp))
             setsockopt(fd, SOL_SOCKET, SO_ATTACH_FILTER, &fp, sizeof fp);
     }
     return (int)syscall(SYS_bind, fd, addr, len);
@@ -316,12 +324,11 @@ int wg_mcast_guard(const char *url, int fragments, char *why, size_t whylen)
     if (port == 0)
         return port_zero(why, whylen);
     prog p;
-    build(&p, fragments);
-    if (p.over) {
+    struct sock_fprog fp;
+    if (program(&p, fragments, &fp)) {
         snprintf(why, whylen, "LCM's socket filter has more than %d instructions", PROG_MAX);
         return WG_EIO;
     }
-    struct sock_fprog fp = {.len = (unsigned short)p.n, .filter = p.f};
     attach a = {&fp, 0, 0};
     int seen = each_bound(port, attach_one, &a);
     if (seen < 0)
