@@ -5,12 +5,12 @@
 # its bytes, no temporary file is left, the daemon runs on and restores the
 # old one; with room again, the save works.
 #
-# Runs in mount and network namespaces of its own, through tests/ns_own.sh
-# -m (the tmpfs and the route are theirs): skipped (77) where they cannot
-# be made.
+# Runs in mount and network namespaces of its own, through tests/netns.sh
+# --own -m (the tmpfs and the route are theirs): skipped (77) where they
+# cannot be made.
 D=$1 C=$2
 [ "${WG_OWN_NS:-}" = 1 ] ||
-    { echo "test_full.sh mounts a tmpfs: run it through tests/ns_own.sh -m"; exit 2; }
+    { echo "test_full.sh mounts a tmpfs: run it through tests/netns.sh --own -m"; exit 2; }
 code=0
 tmp=$(mktemp -d) || exit 1
 sd=$tmp/state

@@ -10,12 +10,12 @@
 # stopped, exit 1), a recording the outage broke recorded again; the
 # commands that put the daemon back after Ctrl-C wait for the network too.
 #
-# Runs in a network namespace of its own, through tests/ns_own.sh (the
-# route it deletes is that namespace's): skipped (77) where none can be
-# made. Never on the host: without ns_own.sh it refuses to start.
+# Runs in a network namespace of its own, through tests/netns.sh --own
+# (the route it deletes is that namespace's): skipped (77) where none can
+# be made. Never on the host: without --own it refuses to start.
 D=$1 R=$2 C=$3
 [ "${WG_OWN_NS:-}" = 1 ] ||
-    { echo "test_outage.sh deletes a route: run it through tests/ns_own.sh"; exit 2; }
+    { echo "test_outage.sh deletes a route: run it through tests/netns.sh --own"; exit 2; }
 code=0
 tmp=$(mktemp -d) || exit 1
 dpid= rpid=
