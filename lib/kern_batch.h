@@ -32,6 +32,12 @@ INLINE unsigned bcmpm(vb a, vb b, const int op)
 {
     return _mm512_cmp_pd_mask((__m512d)a, (__m512d)b, op);
 }
+/* a & b of two lane masks, kept as written: GCC would otherwise make a
+ * chain of ANDed compares one masked compare after another */
+INLINE unsigned band(unsigned a, unsigned b)
+{
+    return _kand_mask16((__mmask16)a, (__mmask16)b);
+}
 #else
 INLINE vb bld(const double *p) { return (vb)_mm256_load_pd(p); }
 INLINE void bsto(double *p, vb x) { _mm256_store_pd(p, (__m256d)x); }
@@ -47,6 +53,7 @@ INLINE unsigned bcmpm(vb a, vb b, const int op)
 {
     return (unsigned)_mm256_movemask_pd(_mm256_cmp_pd((__m256d)a, (__m256d)b, op));
 }
+INLINE unsigned band(unsigned a, unsigned b) { return a & b; }
 #endif
 /* ((p0 + p2) + p4) + ((p1 + p3) + p5): hsumb's order */
 INLINE vb bsum6(const vb p[6]) { return ((p[0] + p[2]) + p[4]) + ((p[1] + p[3]) + p[5]); }
@@ -259,16 +266,21 @@ INLINE unsigned run_batch(wg_kbatch *restrict B, const int LOCK, const int BJ, c
             x += z[g].s;
             dx += z[g].vs;
             xs[g] = x, dxs[g] = dx;
+            /* 22 tests, each lane's: ANDed as a tree (band), since a
+             * chain of them would be the step's longest path */
             const vb lim = bld(B->lim + o);
-            unsigned k = bcmpm(vabs(z[g].s), lim, _CMP_LT_OQ) &
-                         bcmpm(vabs(z[g].vs), lim, _CMP_LT_OQ) &
-                         bcmpm(x, bld(B->mlo + o), _CMP_GE_OQ) &
-                         bcmpm(x, bld(B->mhi + o), _CMP_LE_OQ);
+            unsigned kb[7];
 #pragma GCC unroll 6
             for (int b = 0; b < 6; b++)
-                k &= bcmpm(z[g].q[b], bld(B->lo[b] + o), _CMP_GE_OQ) &
-                     bcmpm(z[g].q[b], bld(B->hi[b] + o), _CMP_LE_OQ) &
-                     bcmpm(vabs(z[g].v[b]), lim, _CMP_LT_OQ);
+                kb[b] = band(band(bcmpm(z[g].q[b], bld(B->lo[b] + o), _CMP_GE_OQ),
+                                  bcmpm(z[g].q[b], bld(B->hi[b] + o), _CMP_LE_OQ)),
+                             bcmpm(vabs(z[g].v[b]), lim, _CMP_LT_OQ));
+            kb[6] = band(band(bcmpm(vabs(z[g].s), lim, _CMP_LT_OQ),
+                              bcmpm(vabs(z[g].vs), lim, _CMP_LT_OQ)),
+                         band(bcmpm(x, bld(B->mlo + o), _CMP_GE_OQ),
+                              bcmpm(x, bld(B->mhi + o), _CMP_LE_OQ)));
+            const unsigned k = band(band(band(kb[0], kb[1]), band(kb[2], kb[3])),
+                                    band(band(kb[4], kb[5]), kb[6]));
             ok &= ~(gm << o) | (k << o);
         }
         /* kloc_accept lane-wise: Kahan time, an extremum inside the step
