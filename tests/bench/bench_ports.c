@@ -1,9 +1,11 @@
 /* bench_ports - what this CPU sustains of the AVX2 batch's instructions
  * (lib/kern_batch.h, 4-wide): 256-bit multiplies, adds, loads and stores
  * a cycle, each in a loop of independent instructions. A cycle is taken
- * from a dependent add's latency: 3 cycles on AMD's Zen, 4 on Intel's cores
- * since Skylake (their optimization manuals), so the figures are per
- * cycle whatever the clock. docs/performance.md ("The AVX2 batch against this
+ * from a dependent multiply's latency: 3 cycles on every AMD Zen, 4 on
+ * Intel's cores since Skylake (their optimization manuals), so the figures
+ * are per cycle whatever the clock. (An add's latency is no such constant:
+ * 3 cycles on Zen 1-4, 2 on Zen 5, whose dependent add this prints in
+ * cycles too.) docs/performance.md ("The AVX2 batch against this
  * CPU's ports") sets them beside the batch's instruction counts.
  * usage: bench_ports [REPS] (default 3); exit 77 without AVX2. */
 #include <stdio.h>
@@ -23,6 +25,7 @@ static double buf[64 * 4] __attribute__((aligned(64))); /* L1-resident */
 #define CLOBBER8 "xmm0", "xmm1", "xmm2", "xmm3", "xmm4", "xmm5", "xmm6", "xmm7"
 #define ON8(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7)
 #define ADD0(r) "vaddpd %%ymm0, %%ymm0, %%ymm0\n\t" /* one chain: the latency */
+#define MUL0(r) "vmulpd %%ymm0, %%ymm0, %%ymm0\n\t"
 #define MUL(r) "vmulpd %%ymm15, %%ymm" #r ", %%ymm" #r "\n\t" /* chain r of eight */
 #define ADD(r) "vaddpd %%ymm15, %%ymm" #r ", %%ymm" #r "\n\t"
 #define LOAD(r) "vmovapd " #r "*32(%0), %%ymm" #r "\n\t"
@@ -38,6 +41,7 @@ static double buf[64 * 4] __attribute__((aligned(64))); /* L1-resident */
         return (now() - t) / ((per) * (double)N);                                            \
     }
 TIMED(t_dep, 8, ON8(ADD0)::: "xmm0")
+TIMED(t_depmul, 8, ON8(MUL0)::: "xmm0")
 TIMED(t_mul, 8, ON8(MUL)::: CLOBBER8)
 TIMED(t_add, 8, ON8(ADD)::: CLOBBER8)
 /* six multiply chains and six add chains, alternated */
@@ -65,14 +69,15 @@ int main(int argc, char **argv)
         return 77;
     }
     printf("bench_ports: 256-bit instructions, cycles each in a loop of independent ones "
-           "(a cycle: a dependent add / %.0f, %s), %d reps\n", lat,
+           "(a cycle: a dependent multiply / %.0f, %s), %d reps\n", lat,
            lat == 3 ? "AMD" : "Intel", reps);
     for (int rep = 0; rep < reps; rep++) {
-        double d = t_dep(), c = d / lat;
-        printf("dependent add %.3f ns (a cycle %.3f ns, %.2f GHz) | cycles an instruction: "
-               "mul %.2f, add %.2f, mul and add alternated %.2f, load %.2f, store %.2f\n",
-               d * 1e9, c * 1e9, 1e-9 / c, t_mul() / c, t_add() / c, t_muladd() / c,
-               t_load() / c, t_store() / c);
+        double dm = t_depmul(), c = dm / lat, d = t_dep();
+        printf("dependent multiply %.3f ns (a cycle %.3f ns, %.2f GHz), add %.3f ns (%.2f "
+               "cycles) | cycles an instruction: mul %.2f, add %.2f, mul and add alternated "
+               "%.2f, load %.2f, store %.2f\n",
+               dm * 1e9, c * 1e9, 1e-9 / c, d * 1e9, d / c, t_mul() / c, t_add() / c,
+               t_muladd() / c, t_load() / c, t_store() / c);
     }
     return 0;
 }
