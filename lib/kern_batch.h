@@ -266,8 +266,10 @@ INLINE unsigned run_batch(wg_kbatch *restrict B, const int LOCK, const int BJ, c
             x += z[g].s;
             dx += z[g].vs;
             xs[g] = x, dxs[g] = dx;
-            /* 22 tests, each lane's: ANDed as a tree (band), since a
-             * chain of them would be the step's longest path */
+            /* 22 tests, each lane's: ANDed as a tree (band). As one
+             * chain of masked compares they cost the AVX-512 batch 12-15 %
+             * of its step on a Zen 5 (docs/performance.md, "A Zen 5 EPYC
+             * with AVX-512") */
             const vb lim = bld(B->lim + o);
             unsigned kb[7];
 #pragma GCC unroll 6
