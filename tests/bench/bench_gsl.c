@@ -8,7 +8,8 @@
  * mesh period, as ours does. Also: the bare kernel (no driver bookkeeping)
  * and the dependency-chain bound: the operations on the step's critical path
  * (tools/chainbound.py) priced at latencies timed in the same repetition. Times are thread CPU time (bench_common.h).
- * usage: bench_gsl [our steps per rep (2e6)] [reps (9)] */
+ * usage: bench_gsl [STEPS] [REPS] (--help: what they allow) */
+#include "bench_args.h"
 #include "bench_common.h"
 #include "bench_lat.h"
 #include "wormgear/wg_scene.h"
@@ -89,9 +90,21 @@ typedef struct row {
 
 int main(int argc, char **argv)
 {
-    long n = argc > 1 ? (long)atof(argv[1]) : 2000000;
-    int reps = argc > 2 ? atoi(argv[2]) : 9;
-    reps = reps < 1 ? 1 : reps > MAXREP ? MAXREP : reps;
+    double steps = 2e6, nrep = 9;
+    bench_arg args[] = {
+        {"STEPS", "our steps a row times each repetition (GSL's and the hand RK4's a tenth, at "
+                  "least 1000), a whole number from 1000 to 1e9 (default 2e6)", 1000, 1e9, &steps,
+         NULL, 0},
+        {"REPS", "repetitions, interleaved, each ratio the median, 1 to 31 (default 9)", 1,
+         MAXREP, &nrep, NULL, 0}};
+    int rc = bench_args("bench_gsl", "One RK4 step: our kernels against GSL's rk4 and a hand "
+                        "RK4, and against the dependency-chain bound (issue 13, item 1). "
+                        "WG_ISA=sse2|avx2|avx512|avx512vl: the kernels' set; WG_SCENE_PATH: "
+                        "the scenes.", "", argc, argv, args, 2, NULL);
+    if (rc >= 0)
+        return rc;
+    long n = (long)steps;
+    int reps = (int)nrep;
     long ng = n / 10 > 1000 ? n / 10 : 1000; /* GSL and hand RK4 are ~10x slower */
     static const row rows[] = {
         {"table3", "table3 (no impact)", 0.5, 1.5},   {"table3", "table3 (impacting)", 0.7, 2.0},

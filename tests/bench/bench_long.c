@@ -5,8 +5,8 @@
  * health figures the 1e8-step stress test asserts: phase wrapped, state
  * bounded, mean x_n of the first and last 10^4 periods, tau against
  * steps * h, resident-set high-water mark before and after.
- * usage: bench_long [steps (1e9)] [scene (table3)] */
-#include "cli.h"
+ * usage: bench_long [STEPS] [SCENE] (--help: what they allow) */
+#include "bench_args.h"
 #include "proc_status.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_sim.h"
@@ -48,14 +48,23 @@ static double cpu_s(long *maxrss)
 
 int main(int argc, char **argv)
 {
-    uint64_t total = argc > 1 ? (uint64_t)atof(argv[1]) : 1000000000ull;
-    const char *scene = argc > 2 ? argv[2] : "table3";
+    double steps = 1e9;
+    const char *scene = "table3";
+    bench_arg args[] = {
+        {"STEPS", "steps timed, in chunks of 1e8, a whole number from 128 to 1e12 (default 1e9)",
+         N, 1e12, &steps, NULL, 0},
+        {"SCENE", "the scene, a name on WG_SCENE_PATH or a file (default table3)", 0, 0, NULL,
+         &scene, 0}};
+    int rc0 = bench_args("bench_long", "The 10^9-step run in fast mode at omega 2.5, N 128, "
+                         "rk4-event: ns a step, the multiple of physical real time, and the "
+                         "run's health.", "", argc, argv, args, 2, NULL);
+    if (rc0 >= 0)
+        return rc0;
+    uint64_t total = (uint64_t)steps;
     char why[600];
     wg_scene sc;
-    if (wg_scene_open(&sc, scene, why, sizeof why)) {
-        fprintf(stderr, "bench_long: %s\n", why);
-        return 1;
-    }
+    if (wg_scene_open(&sc, scene, why, sizeof why))
+        return cli_usage_error("bench_long", "SCENE: %s", why);
     sc.p.v[WG_P_OMEGA] = 2.5;
     wg_sim s;
     wg_sim_config cfg = {WG_MODEL_CONSISTENT, WG_STEPPER_RK4_EVENT, N};

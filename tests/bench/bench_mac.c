@@ -4,6 +4,7 @@
  * takes at physical real time (wgd_bench's scene: table3, omega 2.5, a
  * 5 kHz mesh, STATE 2000 samples/s; every stream batched every 20 ms).
  * Not a test: it prints figures.  usage: bench_mac [REPEATS] */
+#include "bench_args.h"
 #include "lcmtypes/wormgear_poincare_t.h"
 #include "lcmtypes/wormgear_scope_t.h"
 #include "lcmtypes/wormgear_state_t.h"
@@ -78,9 +79,15 @@ static double cost_us(int (*enc)(int), int n, int reps, int *bytes)
 
 int main(int argc, char **argv)
 {
-    int reps = argc > 1 ? atoi(argv[1]) : 5;
-    if (reps < 1)
-        return fprintf(stderr, "usage: bench_mac [REPEATS >= 1]\n"), 2;
+    double nrep = 5;
+    bench_arg args[] = {{"REPEATS", "rounds of 2000 signatures, the best one kept, 1 to 1000 "
+                         "(default 5)", 1, 1000, &nrep, NULL, 0}};
+    int rc = bench_args("bench_mac", "What signing a message costs (wg_mac_seal, "
+                        "HMAC-SHA-512-256) at the sizes the daemon publishes.", "", argc, argv,
+                        args, 1, NULL);
+    if (rc >= 0)
+        return rc;
+    int reps = (int)nrep;
     struct { const char *what; int (*enc)(int); int n; double per_s; } m[] = {
         {"STATE, 40 samples (physical real time)", state, 40, 50},
         {"STATE, 400 samples (the largest)", state, 400, 0},

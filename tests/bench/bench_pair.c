@@ -15,13 +15,14 @@
  * (--pair 8), and three at a time by it (a study thread's three chains),
  * without impacts and impacting.
  * Thread CPU time, medians of REPS repetitions interleaved.
- * usage: bench_pair_{sse2,avx2,avx512} [steps per repetition (2e6)] [reps (7)] */
+ * usage: bench_pair_{sse2,avx2,avx512} [STEPS] [REPS] (--help: what they allow) */
 #ifndef KW
 #define KW 2
 #endif
 #define KSUF bench
 #include "kern_tmpl.h"
 
+#include "bench_args.h"
 #include "bench_common.h"
 #include "bench_lat.h"
 #include "wormgear/wg_sim.h"
@@ -158,12 +159,21 @@ static void runs(double w, double *alone, double *paired, double *batched, doubl
 
 int main(int argc, char **argv)
 {
-    long n = argc > 1 ? (long)atof(argv[1]) : 2000000;
-    int reps = argc > 2 ? atoi(argv[2]) : 7;
-    if (n < 1000 || reps < 1 || reps > 64) {
-        fprintf(stderr, "usage: bench_pair [steps >= 1000] [reps 1..64]\n");
-        return 2;
-    }
+    double steps = 2e6, nrep = 7;
+    bench_arg args[] = {
+        {"STEPS", "steps a trajectory times each repetition, a whole number from 1000 to 1e9 "
+                  "(default 2e6)", 1000, 1e9, &steps, NULL, 0},
+        {"REPS", "repetitions, interleaved, each figure the median, 1 to 64 (default 7)", 1, 64,
+         &nrep, NULL, 0}};
+    char prog[32];
+    snprintf(prog, sizeof prog, "bench_pair_%s", KW == 2 ? "sse2" : KW == 4 ? "avx2" : "avx512");
+    int rc = bench_args(prog, "The full kernel alone, one trajectory against two interleaved; "
+                        "then whole runs: eight sims alone, paired, batched.", "", argc, argv,
+                        args, 2, NULL);
+    if (rc >= 0)
+        return rc;
+    long n = (long)steps;
+    int reps = (int)nrep;
 #if KW == 4
     if (!__builtin_cpu_supports("avx2")) {
         printf("bench_pair: this CPU has no AVX2\n");

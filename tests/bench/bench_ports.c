@@ -8,6 +8,8 @@
  * cycles too.) docs/performance.md ("The AVX2 batch against this
  * CPU's ports") sets them beside the batch's instruction counts.
  * usage: bench_ports [REPS] (default 3); exit 77 without AVX2. */
+#include "bench_args.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
@@ -54,11 +56,14 @@ TIMED(t_store, 8, ON8(STORE)::"r"(buf) : "memory")
 
 int main(int argc, char **argv)
 {
-    int reps = argc > 1 ? atoi(argv[1]) : 3;
-    if (reps < 1 || reps > 100) {
-        fprintf(stderr, "usage: bench_ports [REPS], 1 to 100 (default 3)\n");
-        return 2;
-    }
+    double nrep = 3;
+    bench_arg args[] = {{"REPS", "repetitions, 1 to 100 (default 3)", 1, 100, &nrep, NULL, 0}};
+    int rc = bench_args("bench_ports", "What this CPU sustains a cycle of 256-bit multiplies, "
+                        "adds, loads and stores (exit 77 without AVX2).", "", argc, argv, args, 1,
+                        NULL);
+    if (rc >= 0)
+        return rc;
+    int reps = (int)nrep;
     if (!__builtin_cpu_supports("avx2")) {
         printf("bench_ports: this CPU has no AVX2: nothing to measure\n");
         return 77;

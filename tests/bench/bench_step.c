@@ -6,14 +6,16 @@
  * mu = 1e-300 for the torsional path), which selects the general kernel on
  * an otherwise identical scene. Last, the daemon's streaming path: every
  * step by the general step, for a per-step callback, in runs of 500 steps.
- * usage: bench_step [steps per repetition (default 2e6)] [reps (default 7)] */
-#include "cli.h"
+ * usage: bench_step [STEPS] [REPS] (--help: what they allow) */
+#include "bench_args.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_sim.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+enum { MAXREP = 32 }; /* the timings a row keeps */
 
 static int cmp(const void *a, const void *b)
 {
@@ -38,13 +40,13 @@ static double time_steps(const wg_params *p, int stepper, int N, long n, int rep
     }
     wg_sim_kernel_name(&s, kname, 64);
     wg_sim_run(&s, (uint64_t)N * 200, NULL, NULL); /* settle onto the orbit */
-    double t[32];
+    double t[MAXREP];
     uint64_t sp0 = s.nsplit;
     double acc = 0.0;
     wg_sink sink = {&acc, on_step, NULL, NULL};
     const uint64_t chunk = streamed ? 500 : (uint64_t)n;
     const uint64_t total = ((uint64_t)n + chunk - 1) / chunk * chunk;
-    for (int r = 0; r < reps && r < 32; r++) {
+    for (int r = 0; r < reps; r++) { /* reps <= MAXREP: bench_args */
         double t0 = (double)cli_mono_ns();
         for (uint64_t done = 0; done < total; done += chunk)
             if (wg_sim_run(&s, chunk, streamed ? &sink : NULL, NULL)) {
@@ -67,8 +69,19 @@ typedef struct row {
 
 int main(int argc, char **argv)
 {
-    long n = argc > 1 ? atol(argv[1]) : 2000000;
-    int reps = argc > 2 ? atoi(argv[2]) : 7;
+    double steps = 2e6, nrep = 7;
+    bench_arg args[] = {
+        {"STEPS", "steps a row times each repetition, a whole number from 1000 to 1e9 "
+                  "(default 2e6)", 1000, 1e9, &steps, NULL, 0},
+        {"REPS", "repetitions a row takes the median of, 1 to 32 (default 7)", 1, MAXREP, &nrep,
+         NULL, 0}};
+    int rc = bench_args("bench_step", "The step's cost per scene, stepper and kernel "
+                        "specialisation, in ns of wall time a step (WG_SCENE_PATH: the scenes).",
+                        "", argc, argv, args, 2, NULL);
+    if (rc >= 0)
+        return rc;
+    long n = (long)steps;
+    int reps = (int)nrep;
     const int N = 128;
     static const row rows[] = {
         {"table3", "table3 (no impact)", NULL, WG_STEPPER_RK4, 0.5},

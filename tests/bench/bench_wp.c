@@ -15,7 +15,8 @@
  * Times: the integration only (set-up excluded for every method), median of
  * REPS repetitions interleaved over all methods. Prints Markdown tables and
  * writes DIR/wp_<case>.png.
- * usage: bench_wp [DIR (.)] [REPS (3)] */
+ * usage: bench_wp [DIR] [REPS] (--help: what they allow) */
+#include "bench_args.h"
 #include "bench_common.h"
 #include "bench_plot.h"
 #include "wormgear/wg_scene.h"
@@ -23,6 +24,7 @@
 #include "wormgear/wg_status.h"
 
 #include <cvode/cvode.h>
+#include <errno.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 #include <math.h>
@@ -30,6 +32,8 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 enum { PMAX = 200, NPAR = 16, MAXREP = 15, NREF = 32768 };
 
@@ -322,9 +326,27 @@ static void run_case(wpcase *c, const char *dir, int reps)
 
 int main(int argc, char **argv)
 {
-    const char *dir = argc > 1 ? argv[1] : ".";
-    int reps = argc > 2 ? atoi(argv[2]) : 3;
-    reps = reps < 1 ? 1 : reps > MAXREP ? MAXREP : reps;
+    const char *dir = ".";
+    double nrep = 3;
+    bench_arg args[] = {
+        {"DIR", "the directory the plots go to (wp_<case>.png), which must exist (default .)", 0,
+         0, NULL, &dir, 0},
+        {"REPS", "repetitions, interleaved, each time the median, 1 to 15 (default 3)", 1, MAXREP,
+         &nrep, NULL, 0}};
+    int rc = bench_args("bench_wp", "Work-precision: error against run time for our rk4 and "
+                        "rk4-event, GSL's rk4, rkf45, rk8pd and CVODE's Adams and BDF, on three "
+                        "cases.", "", argc, argv, args, 2, NULL);
+    if (rc >= 0)
+        return rc;
+    struct stat st;
+    const char *bad = stat(dir, &st) != 0       ? strerror(errno)
+                      : !S_ISDIR(st.st_mode)    ? "not a directory"
+                      : access(dir, W_OK) != 0  ? strerror(errno)
+                                                : NULL;
+    if (bad)
+        return cli_usage_error("bench_wp", "DIR '%s': %s (the plots' directory must exist and "
+                               "be writable)", dir, bad);
+    int reps = (int)nrep;
     gsl_set_error_handler_off();
     wpcase cases[3];
     wg_params p;

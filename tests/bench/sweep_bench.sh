@@ -18,14 +18,17 @@
 # --quick: a coarse grid (--step 0.1, a 5-row map) to try the script itself
 # (ctest sys.sweep_bench); its figures are not the targets'.
 # Example: bash tests/bench/sweep_bench.sh build/release 3 map   (~75 s)
+# --help (or -h): this text.
+case ${1:-} in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 build=$1
-shift || { echo "usage: sweep_bench.sh BUILD [ROUNDS] [map] [--quick]" >&2; exit 2; }
+shift || { echo "usage: sweep_bench.sh BUILD [ROUNDS] [map] [--quick] (--help: what they mean)" >&2; exit 2; }
 rounds=3 map=0 quick=0
 for a in "$@"; do
     case $a in
     map) map=1 ;;
     --quick) quick=1 ;;
     [1-9] | [1-9][0-9]) rounds=$a ;;
+    -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;;
     *) echo "sweep_bench.sh: unknown argument '$a' (ROUNDS 1..99, map, --quick)" >&2; exit 2 ;;
     esac
 done

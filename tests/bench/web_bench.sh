@@ -6,7 +6,17 @@
 # the CPU share of the bridge, the daemon and Chromium over the run. Figures
 # only, never pass/fail. Run host-locally:
 #   tests/netns.sh sh tests/bench/web_bench.sh build/release/daemon/wormgeard build/release/clients/wgweb 20
-D=$1 W=$2 S=${3:-20} SHOT=$4
+# SECONDS: 8 to 3600. SCREENSHOT: a PNG file the page is saved to at the end.
+# --help (or -h): this text.
+case ${1:-} in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
+D=${1:-} W=${2:-} S=${3:-20} SHOT=${4:-}
+usage() { echo "web_bench.sh: $1" >&2; echo "(try web_bench.sh --help)" >&2; exit 2; }
+[ $# -le 4 ] || usage "'$5': an operand too many (at most 4)"
+[ -n "$D" ] && [ -n "$W" ] || usage "WORMGEARD and WGWEB missing: the daemon's and the bridge's executables"
+[ -x "$D" ] && [ -f "$D" ] || usage "WORMGEARD '$D': not an executable file (the daemon)"
+[ -x "$W" ] && [ -f "$W" ] || usage "WGWEB '$W': not an executable file (the bridge, clients/wgweb)"
+case $S in '' | *[!0-9]*) usage "SECONDS '$S': a whole number of seconds, 8 to 3600 (default 20)" ;; esac
+[ "$S" -ge 8 ] && [ "$S" -le 3600 ] || usage "SECONDS '$S': a whole number of seconds, 8 to 3600 (default 20)"
 here=$(cd "$(dirname "$0")" && pwd)
 js=$here/../../web/test/bench.mjs
 tmp=$(mktemp -d) || exit 1

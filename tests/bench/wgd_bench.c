@@ -3,14 +3,17 @@
  * in turn) and the daemon's CPU share at physical real time (table3,
  * omega = 2.5, N = 128, publishing on).
  * usage: netns.sh wgd_bench WORMGEARD [SECONDS] [NCMDS] [DAEMON OPTION]...
- * (the options are appended to the daemon's command line: --rt-priority 10) */
-#include "cli.h"
+ * (the options are appended to the daemon's command line: --rt-priority 10;
+ * --help: what the operands allow). A daemon that exits, or sends no
+ * STATUS in its first 3 s, ends the benchmark with a message and exit 1. */
+#include "bench_args.h"
 #include "bus.h"
 
 #include "lcmtypes/wormgear_params_t.h"
 #include "lcmtypes/wormgear_status_t.h"
 #include "wormgear/wg_param.h"
 
+#include <errno.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,6 +28,7 @@ typedef struct bench {
     wormgear_status_t last;
     int nstatus;
     char health[16];
+    pid_t daemon; /* the daemon this benchmark started */
 } bench;
 
 static bench B;
@@ -103,13 +107,29 @@ static double next_value(int id, int i)
     return w < r->min ? r->min : w > r->max ? r->max : w;
 }
 
+/* Has the daemon exited? Then say how, once, and return 1. */
+static int daemon_gone(void)
+{
+    int st;
+    if (waitpid(B.daemon, &st, WNOHANG) != B.daemon)
+        return 0;
+    if (WIFEXITED(st))
+        fprintf(stderr, "wgd_bench: the daemon exited with status %d (its messages are above)\n",
+                WEXITSTATUS(st));
+    else
+        fprintf(stderr, "wgd_bench: the daemon was killed by signal %d\n",
+                WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+    B.daemon = 0;
+    return 1;
+}
+
 /* n commands 5 ms apart: op "get" (transport and loop only), "set" of xi_p
  * (through wg_sim_set_params and its RK4 stability check) or, with every,
  * a set of each parameter in turn. Prints the command -> ACK latency and
  * its two halves on the one wall clock of this host: client send -> the
  * daemon's ACK send (the forward path and the daemon's work), and that ->
  * this client has it (the return path). */
-static void latency(const char *op, int every, int n)
+static int latency(const char *op, int every, int n)
 {
     double *lat = calloc((size_t)n * 3, sizeof *lat), *fwd = lat + n, *back = lat + 2 * n;
     int got = 0, refused = 0;
@@ -132,6 +152,9 @@ static void latency(const char *op, int every, int n)
             back[got++] = (double)(wall - B.c.ack.utime);
             if (set)
                 B.cur.v[id] = v;
+        } else if (!acked && daemon_gone()) {
+            free(lat);
+            return 1;
         } else if (acked) { /* a refusal: counted, not timed */
             size_t k = strlen(refused_names);
             refused++;
@@ -153,41 +176,78 @@ static void latency(const char *op, int every, int n)
                    refused ? refused_names : "none", n - got - refused);
     }
     free(lat);
+    return 0;
 }
 
 int main(int argc, char **argv)
 {
-    if (argc < 2) {
-        fprintf(stderr, "usage: wgd_bench WORMGEARD [SECONDS] [NCMDS] [DAEMON OPTION]...\n");
-        return 2;
-    }
-    int secs = argc > 2 ? atoi(argv[2]) : 10, ncmd = argc > 3 ? atoi(argv[3]) : 500;
+    const char *daemon = NULL;
+    double nsec = 10, nc = 500;
+    bench_arg args[] = {
+        {"WORMGEARD", "the daemon's executable (build/release/daemon/wormgeard)", 0, 0, NULL,
+         &daemon, 1},
+        {"SECONDS", "seconds the CPU share is measured over, 1 to 3600 (default 10)", 1, 3600,
+         &nsec, NULL, 0},
+        {"NCMDS", "commands each latency pass sends, 5 ms apart, 1 to 100000 (default 500)", 1,
+         1e5, &nc, NULL, 0}};
+    int rest = argc, rc = bench_args("wgd_bench", "The daemon at physical real time (table3, omega 2.5, "
+                              "N 128, publishing): its CPU share, and command -> ACK latency of "
+                              "get, set xi_p and a set of every parameter. Run it through "
+                              "tests/netns.sh. DAEMON OPTIONs go on the daemon's command line "
+                              "(--rt-priority 10).", " [DAEMON OPTION]...", argc, argv, args, 3,
+                              &rest);
+    if (rc >= 0)
+        return rc;
+    if (access(daemon, X_OK) != 0)
+        return cli_usage_error("wgd_bench", "WORMGEARD '%s': %s (the daemon's executable)",
+                               daemon, strerror(errno));
+    int secs = (int)nsec, ncmd = (int)nc;
     char url[96], why[128];
     snprintf(url, sizeof url, "udpm://239.255.76.67:%d?ttl=0", 20000 + getpid() % 20000);
     pid_t pid = fork();
+    if (pid < 0) {
+        perror("wgd_bench: fork");
+        return 1;
+    }
     if (pid == 0) {
-        char *dargv[64] = {argv[1], "--url", url, "--prefix", "BENCH_", "--set", "omega=2.5",
+        char *dargv[64] = {(char *)daemon, "--url", url, "--prefix", "BENCH_", "--set", "omega=2.5",
                            "--steps-per-period", "128", "--mode", "realtime", "--rate", "1",
                            "--status-hz", "1"};
         int k = 15;
-        for (int i = 4; i < argc && k < 63; i++) /* the daemon's own options */
+        for (int i = rest; i < argc && k < 63; i++) /* the daemon's own options */
             dargv[k++] = argv[i];
         dargv[k] = NULL;
-        execv(argv[1], dargv);
+        execv(daemon, dargv);
+        fprintf(stderr, "wgd_bench: cannot run %s: %s\n", daemon, strerror(errno));
         _exit(127);
     }
-    if (bus_open(&B.c, url, "BENCH_", "wgd_bench", why, sizeof why))
+    B.daemon = pid;
+    if (bus_open(&B.c, url, "BENCH_", "wgd_bench", why, sizeof why)) {
+        kill(pid, SIGTERM);
         return 1;
+    }
     wormgear_status_t_subscription_t *s =
         wormgear_status_t_subscribe(B.c.lcm, "BENCH_STATUS", on_status, NULL);
     bus_wait(&B.c, 3000, NULL, NULL); /* start-up and grace */
+    if (daemon_gone())
+        return 1;
+    if (B.nstatus == 0) {
+        fprintf(stderr, "wgd_bench: no STATUS from the daemon in its first 3 s (at 1 Hz): "
+                "stopped it\n");
+        kill(pid, SIGTERM);
+        waitpid(pid, NULL, 0);
+        return 1;
+    }
     printf("wormgeard benchmark: table3, omega 2.5, N 128, realtime rate 1 (physical real "
            "time), STATE 2000 samples/s + POINCARE + CONTACT published; %ld CPUs, load %s",
            sysconf(_SC_NPROCESSORS_ONLN), "");
     FILE *la = fopen("/proc/loadavg", "r");
     char lbuf[64] = "?\n";
-    if (la && fgets(lbuf, sizeof lbuf, la))
+    if (la) {
+        if (!fgets(lbuf, sizeof lbuf, la))
+            snprintf(lbuf, sizeof lbuf, "?\n");
         fclose(la);
+    }
     printf("%s", lbuf);
     double c0 = cpu_ticks(pid), t0 = cli_mono_ns() * 1e-3;
     bus_wait(&B.c, secs * 1000, NULL, NULL);
@@ -200,11 +260,11 @@ int main(int argc, char **argv)
            B.last.loop_max_us, B.last.cpu_share, B.health, (long long)B.last.msgs_dropped);
     wormgear_params_t_subscription_t *sp =
         wormgear_params_t_subscribe(B.c.lcm, "BENCH_PARAMS", on_params, NULL);
-    latency("get", 0, ncmd);
-    latency("set", 0, ncmd);
-    if (B.have_params)
-        latency("set", 1, ncmd);
-    else
+    if (daemon_gone() || latency("get", 0, ncmd) || latency("set", 0, ncmd))
+        return 1;
+    if (B.have_params && latency("set", 1, ncmd))
+        return 1;
+    if (!B.have_params)
         printf("no PARAMS came: the every-parameter pass is skipped\n");
     wormgear_params_t_unsubscribe(B.c.lcm, sp);
     wormgear_status_t_unsubscribe(B.c.lcm, s);
