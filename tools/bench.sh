@@ -12,7 +12,7 @@
 #   wgd_bench 10 500          the daemon at physical real time: CPU share,
 #                             command -> ACK latency (item 3; in a private
 #                             network namespace, tests/netns.sh)
-#   bench_wp 5                work precision against GSL and CVODE (its
+#   bench_wp DIR 5            work precision against GSL and CVODE (its
 #                             PNGs in build-bench/bench/)
 #   bench_long 1e9            the 10^9-step run
 # Each prints its own tables (kept in build-bench/bench/*.txt); a summary of
