@@ -150,6 +150,9 @@ typedef struct wg_sim_core {
     int isa_one;          /* ... of its own: kernel, krun, a pair's (kernel_isa_one) */
     int wrap_pending;     /* 1 from psi wrapping to 0 until period counts it (on_step) */
     wg_exc *table;        /* 2N+1 excitation entries at half steps */
+    double (*trig)[4];    /* 2N+1: model_exc_trig at the table's phases, for */
+    double trig_phi[3];   /* ... these phi1, phi2, phi (trig_set: computed) */
+    int trig_set;
     struct ct_psi0 *psi0; /* N: cos, sin of 2 pi k / N for ct_split_step, once set */
     wg_params hkey;       /* parameters hkey_hmax was computed for (cache) */
     double hkey_hmax;     /* 0: no cached value */
@@ -162,6 +165,13 @@ typedef struct wg_sim_core {
     ct_trace *trace;      /* non-NULL: ct_split_step records its splits here */
     uint64_t batched;     /* steps taken in a batched loop (wg_sim_run_batch) */
 } wg_sim_core;
+
+/* wg_exc_eval in two parts: the libm part at phase psi, t = cos(psi +
+ * phi1), cos(psi + phi2), sin(psi + phi2), cos(psi + phi), which an omega
+ * or an amplitude leaves as it is; and the excitation from t, the same bits
+ * as wg_exc_eval's. */
+void model_exc_trig(const wg_params *p, double psi, double t[4]);
+void model_exc_of_trig(const wg_params *p, const double t[4], double omega, wg_exc *e);
 
 /* Mesh direction c (x_n = c . q) and force weights m (mass ratio times c). */
 void model_mesh_vectors(int model, const wg_params *p, double c[7], double m[7]);

@@ -45,13 +45,29 @@ int wg_params_torsional(const wg_params *p)
     return p->v[WG_P_MU1] == 0.0 && p->v[WG_P_MU2] == 0.0;
 }
 
-void wg_exc_eval(const wg_params *p, double psi, double omega, wg_exc *e)
+void model_exc_trig(const wg_params *p, double psi, double t[4])
 {
     const double *v = p->v;
-    e->kp = 1.0 + v[WG_P_K_A] * cos(psi + v[WG_P_PHI1]);
-    e->te = v[WG_P_E_M] * cos(psi + v[WG_P_PHI2]);
-    e->dte = v[WG_P_E_M] * omega * sin(psi + v[WG_P_PHI2]);
-    e->fx = v[WG_P_F_M] + v[WG_P_F_E] * cos(psi + v[WG_P_PHI]);
+    t[0] = cos(psi + v[WG_P_PHI1]);
+    t[1] = cos(psi + v[WG_P_PHI2]);
+    t[2] = sin(psi + v[WG_P_PHI2]);
+    t[3] = cos(psi + v[WG_P_PHI]);
+}
+
+void model_exc_of_trig(const wg_params *p, const double t[4], double omega, wg_exc *e)
+{
+    const double *v = p->v;
+    e->kp = 1.0 + v[WG_P_K_A] * t[0];
+    e->te = v[WG_P_E_M] * t[1];
+    e->dte = v[WG_P_E_M] * omega * t[2];
+    e->fx = v[WG_P_F_M] + v[WG_P_F_E] * t[3];
+}
+
+void wg_exc_eval(const wg_params *p, double psi, double omega, wg_exc *e)
+{
+    double t[4];
+    model_exc_trig(p, psi, t);
+    model_exc_of_trig(p, t, omega, e);
 }
 
 void model_mesh_vectors(int model, const wg_params *p, double c[7], double m[7])

@@ -98,9 +98,20 @@ void sim_build_table(wg_sim *s)
 {
     int n = s->cfg.steps_per_period;
     double om = s->p.v[WG_P_OMEGA];
+    wg_sim_core *c = s->core;
+    const double *v = s->p.v;
+    /* the sines and cosines again only for new phases: an omega (a sweep's
+     * every point, a rig's set) or an amplitude keeps them */
+    if (!c->trig_set || c->trig_phi[0] != v[WG_P_PHI1] || c->trig_phi[1] != v[WG_P_PHI2] ||
+        c->trig_phi[2] != v[WG_P_PHI]) {
+        for (int j = 0; j <= 2 * n; j++)
+            model_exc_trig(&s->p, M_PI * j / n, c->trig[j]);
+        c->trig_phi[0] = v[WG_P_PHI1], c->trig_phi[1] = v[WG_P_PHI2], c->trig_phi[2] = v[WG_P_PHI];
+        c->trig_set = 1;
+    }
     for (int j = 0; j <= 2 * n; j++)
-        wg_exc_eval(&s->p, M_PI * j / n, om, &s->core->table[j]);
-    s->core->table[2 * n] = s->core->table[0];
+        model_exc_of_trig(&s->p, c->trig[j], om, &c->table[j]);
+    c->table[2 * n] = c->table[0];
     s->h = TWO_PI / (om * n);
 }
 
@@ -218,11 +229,12 @@ int wg_sim_init(wg_sim *s, const wg_params *p, const wg_sim_config *cfg, char *w
     s->core = calloc(1, sizeof *s->core);
     if (s->core) {
         s->core->table = malloc(sizeof(wg_exc) * (size_t)(2 * cfg->steps_per_period + 1));
+        s->core->trig = malloc(sizeof s->core->trig[0] * (size_t)(2 * cfg->steps_per_period + 1));
         s->core->psi0 = calloc((size_t)cfg->steps_per_period, sizeof(ct_psi0)); /* none set */
         s->core->isa = kernel_isa_choose();
         s->core->isa_one = kernel_isa_one(s->core->isa);
     }
-    if (!s->core || !s->core->table || !s->core->psi0) {
+    if (!s->core || !s->core->table || !s->core->trig || !s->core->psi0) {
         wg_sim_fini(s);
         snprintf(why, whylen, "out of memory for the excitation table");
         return WG_ENOMEM;
@@ -240,6 +252,7 @@ void wg_sim_fini(wg_sim *s)
 {
     if (s->core) {
         free(s->core->table);
+        free(s->core->trig);
         free(s->core->psi0);
     }
     free(s->core);

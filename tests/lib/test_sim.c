@@ -173,7 +173,8 @@ static void test_excitation_change_seen(void)
 {
     static const struct { int id; double v; } change[] = {
         {WG_P_F_E, 0.1}, {WG_P_PHI, 1.0}, {WG_P_K_A, 0.2}, {WG_P_E_M, 0.25},
-        {WG_P_OMEGA, 0.72}, {WG_P_XI_P, 0.09}};
+        {WG_P_OMEGA, 0.72}, {WG_P_XI_P, 0.09}, {WG_P_PHI1, 0.5}, {WG_P_PHI2, 2.0},
+        {WG_P_F_M, 0.3}};
     char why[300];
     for (unsigned c = 0; c < sizeof change / sizeof change[0]; c++) {
         wg_params p;
@@ -201,8 +202,10 @@ static void test_excitation_change_seen(void)
 }
 
 /* wg_sim_outputs takes the excitation from the table when no ramp runs:
- * at every phase index, in and after a ramp of omega, it gives exactly what
- * wg_exc_eval at wg_sim_psi and wg_outputs_eval give. */
+ * at every phase index, in and after a ramp of omega, and after the table
+ * is built again (its sines and cosines kept for an omega or an amplitude,
+ * computed again for a phase), it gives exactly what wg_exc_eval at
+ * wg_sim_psi and wg_outputs_eval give. */
 static void test_outputs_from_table_exact(void)
 {
     wg_params p;
@@ -211,9 +214,19 @@ static void test_outputs_from_table_exact(void)
     wg_sim s = test_sim_make(&p, WG_STEPPER_RK4_EVENT, 128);
     char why[300];
     int ramped = 0;
-    for (int i = 0; i < 3 * 128 + 5; i++) {
+    static const struct { int at, id; double v; } set[] = {
+        {3 * 128, WG_P_PHI2, 1.0}, {4 * 128, WG_P_E_M, 0.3}, {5 * 128, WG_P_OMEGA, 0.8},
+        {6 * 128, WG_P_PHI1, 0.4}, {7 * 128, WG_P_K_A, 0.25}, {8 * 128, WG_P_PHI, 2.0},
+        {9 * 128, WG_P_OMEGA, 0.7}};
+    for (int i = 0; i < 10 * 128 + 5; i++) {
         if (i == 128)
             ASSERT_EQ_INT(wg_sim_ramp(&s, WG_P_OMEGA, NULL, 0.75, 20.0, why, sizeof why), WG_OK);
+        for (unsigned c = 0; c < sizeof set / sizeof set[0]; c++)
+            if (i == set[c].at) {
+                wg_params q = s.p;
+                q.v[set[c].id] = set[c].v;
+                ASSERT_EQ_INT(wg_sim_set_params(&s, &q, why, sizeof why), WG_OK);
+            }
         ramped |= s.ramp.active;
         wg_outputs a, b;
         wg_exc e;
