@@ -153,6 +153,7 @@ typedef struct wg_sim_core {
     double (*trig)[4];    /* 2N+1: model_exc_trig at the table's phases, for */
     double trig_phi[3];   /* ... these phi1, phi2, phi (trig_set: computed) */
     int trig_set;
+    uint64_t exc_gen;     /* bumped by every sim_coefficients and sim_build_table */
     struct ct_psi0 *psi0; /* N: cos, sin of 2 pi k / N for ct_split_step, once set */
     wg_params hkey;       /* parameters hkey_hmax was computed for (cache) */
     double hkey_hmax;     /* 0: no cached value */
@@ -392,10 +393,15 @@ void ct_interpolate(const wg_sim *s, evbuf *b, int j, int z0, int z1, const herm
 /* The cosine and sine of psi0 = 2 pi k / N that ct_split_step rotates
  * from at step k (in an omega ramp too): computed at the first split step at k,
  * kept for the next (a periodic orbit splits at the same k every period).
- * They depend on k and N only, so no change of parameters stales them. */
+ * They depend on k and N only, so no change of parameters stales them.
+ * Outside a ramp, also the excitation by rotation at the step's start and
+ * end (e0, eh), which the parameters do stale: valid while gen is the
+ * core's exc_gen. */
 typedef struct ct_psi0 {
     double c, s;
     int set;
+    uint64_t gen;
+    wg_exc e0, eh;
 } ct_psi0;
 
 /* rk4-event: integrate [0, h] from y0 into y1 with the kinked contacts'

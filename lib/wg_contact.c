@@ -201,8 +201,17 @@ void ct_split_step(wg_sim *s, const phase *ph, const double *y0, double *y1, dou
     int nc = ct_ncontacts(s);
     double t = 0.0;
     const exc_rot0 m = exc_rot0_of(s, ph);
-    /* the excitation at t, at h, at the crossing tc a substep ended at */
-    wg_exc ea = exc_at(&m, s, ph, 0.0), eh = exc_at(&m, s, ph, h), ec;
+    /* the excitation at t, at h, at the crossing tc a substep ended at;
+     * outside a ramp (one phase law, one h) those at 0 and h kept per k */
+    wg_exc ea, eh, ec;
+    ct_psi0 *z = &s->core->psi0[s->k];
+    if (!s->ramp.active && z->gen == s->core->exc_gen) {
+        ea = z->e0, eh = z->eh;
+    } else {
+        ea = exc_at(&m, s, ph, 0.0), eh = exc_at(&m, s, ph, h);
+        if (!s->ramp.active)
+            z->e0 = ea, z->eh = eh, z->gen = s->core->exc_gen;
+    }
     memcpy(ya, y0, sizeof ya);
     memcpy(yc, y0, sizeof yc);
     double qc[WG_NCONTACT], vc[WG_NCONTACT], tstate = 0.0;

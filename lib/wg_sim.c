@@ -65,6 +65,7 @@ static unsigned kflags_of(const wg_sim *s)
 void sim_coefficients(wg_sim *s)
 {
     const double *v = s->p.v;
+    s->core->exc_gen++; /* ct_split_step's kept excitations are stale */
     model_mesh_vectors(s->cfg.model, &s->p, s->core->kc.c, s->core->kc.m);
     for (int i = 0; i < 6; i++) {
         s->core->kc.k[i] = v[WG_P_K1X + i];
@@ -100,6 +101,7 @@ void sim_build_table(wg_sim *s)
     double om = s->p.v[WG_P_OMEGA];
     wg_sim_core *c = s->core;
     const double *v = s->p.v;
+    c->exc_gen++;
     /* the sines and cosines again only for new phases: an omega (a sweep's
      * every point, a rig's set) or an amplitude keeps them */
     if (!c->trig_set || c->trig_phi[0] != v[WG_P_PHI1] || c->trig_phi[1] != v[WG_P_PHI2] ||
