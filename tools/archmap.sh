@@ -15,6 +15,8 @@
 #   - no source file in lib/, daemon/ or clients/ reaches 800 lines.
 set -uo pipefail
 export LC_ALL=C
+. "$(dirname "$0")/args.sh"
+args_help "$@"
 cd "$(dirname "$0")/.."
 
 MAX_LINES=800
@@ -98,8 +100,9 @@ report() {
   sh tests/daemon/test_layers.sh daemon | sed 's/^/  /'
 }
 
+[ $# -le 1 ] || args_refuse archmap.sh "one argument at most (--check), got $#"
 case ${1:-} in
   --check) check ;;
   "") report ;;
-  *) echo "usage: tools/archmap.sh [--check]" >&2; exit 2 ;;
+  *) args_refuse archmap.sh "unknown argument '$1' (--check, or none)" ;;
 esac

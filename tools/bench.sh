@@ -23,7 +23,10 @@
 # packages are installed (a fresh machine first installs all of them: the
 # project's, not only the benchmarks').
 # Keep the machine otherwise quiet: the figures are wall and CPU times.
+# No arguments (--help: this text).
 set -euo pipefail
+. "$(dirname "$0")/args.sh"
+args_none bench.sh "$@"
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
 b=build-bench

@@ -5,8 +5,16 @@
 # plots excepted: their text goes through fontconfig). Compare two builds:
 #   tools/golden.sh build-old > a; tools/golden.sh build-new > b; diff a b
 # Needs: WG_SCENE_PATH or the source tree's scenes/ (set below).
+# --help: this text.
 set -euo pipefail
-build=$(cd "${1:?usage: tools/golden.sh BUILD_DIR}" && pwd)
+. "$(dirname "$0")/args.sh"
+args_help "$@"
+[ $# -eq 1 ] || args_refuse golden.sh "BUILD_DIR, one argument, got $#"
+for p in wgsim wgsweep; do
+  [ -n "$(find "$1" -name $p -type f -perm -u+x 2>/dev/null | head -1)" ] ||
+    args_refuse golden.sh "BUILD_DIR '$1': no $p in it (a build directory, e.g. build/release)"
+done
+build=$(cd "$1" && pwd)
 src=$(cd "$(dirname "$0")/.." && pwd)
 export WG_SCENE_PATH=$src/scenes
 out=$(mktemp -d)

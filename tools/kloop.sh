@@ -5,8 +5,13 @@
 # objects, and bench_pair's bare loop (`one`). With the ns/step of
 # bench_step / bench_pair this gives instructions per cycle.
 # usage: tools/kloop.sh BUILD_DIR        (needs objdump, python3)
+# --help: this text.
 set -euo pipefail
-build=${1:?usage: tools/kloop.sh BUILD_DIR}
+. "$(dirname "$0")/args.sh"
+args_help "$@"
+[ $# -eq 1 ] || args_refuse kloop.sh "BUILD_DIR, one argument, got $#"
+[ -d "$1/lib" ] || args_refuse kloop.sh "BUILD_DIR '$1': no lib/ in it (a build directory, e.g. build/release)"
+build=$1
 count() { # FILE FUNCTION-REGEX
   objdump -d --no-show-raw-insn "$1" | python3 -c '
 import re, sys

@@ -4,8 +4,23 @@
 # one-line status each second, on the host-local LCM URL
 # udpm://239.255.76.67:7667?ttl=0. Stop it with Ctrl-C. Run as root on
 # Debian 12. Extra arguments go to wormgeard (see wormgeard --help).
+# --help (or -h) as the first argument: this text, then wormgeard's own
+# options if it is built, with nothing installed or built.
 set -euo pipefail
+. "$(dirname "$0")/args.sh"
 cd "$(dirname "$0")/.."
+case ${1:-} in
+-h | --help)
+    (args_help --help)
+    echo
+    if [ -x build/release/daemon/wormgeard ]; then
+        echo "wormgeard's options (build/release/daemon/wormgeard --help):"
+        exec build/release/daemon/wormgeard --help
+    fi
+    echo "wormgeard's options: build/release/daemon/wormgeard --help, once this script has built it"
+    exit 0
+    ;;
+esac
 bash tools/setup.sh
 # said on stderr, as the build's own output goes nowhere: the first build
 # takes minutes (6-7 on a 2-core VM) and showed nothing

@@ -5,9 +5,16 @@
 # `npm ci`. Idempotent: installs only what is missing. Run as root.
 # --check: install nothing; name what is missing (exit 1) or say nothing
 # (exit 0). sys.readme_bench asks it, from a network namespace.
+# --help: this text; any other argument is refused.
 set -euo pipefail
+. "$(dirname "$0")/args.sh"
+args_help "$@"
 check=0
-[ "${1:-}" = --check ] && check=1
+case $# in
+0) ;;
+1) [ "$1" = --check ] && check=1 || args_refuse setup.sh "unknown argument '$1' (--check, or none)" ;;
+*) args_refuse setup.sh "one argument at most (--check), got $#" ;;
+esac
 lack=() # --check: what would be installed
 # apt_install PKG...: from Debian's archive (--check: noted in lack instead)
 apt_install() {

@@ -2,8 +2,10 @@
 # Set up, build and run the whole wormgear test suite: a Release build and an
 # AddressSanitizer + UBSan build, each under ctest, then wgsweep built with
 # MPI and its identical-output test under mpirun. Run as root on Debian 12.
-# Ends with one line totalling the three runs.
+# Ends with one line totalling the three runs. No arguments (--help: this).
 set -euo pipefail
+. "$(dirname "$0")/args.sh"
+args_none test.sh "$@"
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
 jobs=$(nproc)

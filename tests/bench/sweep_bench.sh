@@ -19,21 +19,23 @@
 # (ctest sys.sweep_bench); its figures are not the targets'.
 # Example: bash tests/bench/sweep_bench.sh build/release 3 map   (~75 s)
 # --help (or -h): this text.
-case ${1:-} in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
+. "$(dirname "$0")/../../tools/args.sh"
+args_help "$@"
+[ $# -ge 1 ] || args_refuse sweep_bench.sh "BUILD missing: BUILD [ROUNDS] [map] [--quick]"
 build=$1
-shift || { echo "usage: sweep_bench.sh BUILD [ROUNDS] [map] [--quick] (--help: what they mean)" >&2; exit 2; }
+shift
 rounds=3 map=0 quick=0
 for a in "$@"; do
     case $a in
     map) map=1 ;;
     --quick) quick=1 ;;
     [1-9] | [1-9][0-9]) rounds=$a ;;
-    -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;;
-    *) echo "sweep_bench.sh: unknown argument '$a' (ROUNDS 1..99, map, --quick)" >&2; exit 2 ;;
+    -h | --help) args_help --help ;;
+    *) args_refuse sweep_bench.sh "unknown argument '$a' (ROUNDS 1..99, map, --quick)" ;;
     esac
 done
 sweep=$build/clients/wgsweep
-[ -x "$sweep" ] || { echo "sweep_bench.sh: no $sweep (build first)" >&2; exit 2; }
+[ -x "$sweep" ] || args_refuse sweep_bench.sh "BUILD '$build': no clients/wgsweep in it (build first)"
 here=$(cd "$(dirname "$0")" && pwd)
 export WG_SCENE_PATH=${WG_SCENE_PATH:-$here/../../scenes}
 tmp=$(mktemp -d) || exit 1

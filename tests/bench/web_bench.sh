@@ -8,9 +8,10 @@
 #   tests/netns.sh sh tests/bench/web_bench.sh build/release/daemon/wormgeard build/release/clients/wgweb 20
 # SECONDS: 8 to 3600. SCREENSHOT: a PNG file the page is saved to at the end.
 # --help (or -h): this text.
-case ${1:-} in -h | --help) sed -n '2,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
+. "$(dirname "$0")/../../tools/args.sh"
+args_help "$@"
 D=${1:-} W=${2:-} S=${3:-20} SHOT=${4:-}
-usage() { echo "web_bench.sh: $1" >&2; echo "(try web_bench.sh --help)" >&2; exit 2; }
+usage() { args_refuse web_bench.sh "$1"; }
 [ $# -le 4 ] || usage "'$5': an operand too many (at most 4)"
 [ -n "$D" ] && [ -n "$W" ] || usage "WORMGEARD and WGWEB missing: the daemon's and the bridge's executables"
 [ -x "$D" ] && [ -f "$D" ] || usage "WORMGEARD '$D': not an executable file (the daemon)"
