@@ -5,7 +5,7 @@
 # whole suite, tools/setup.sh --help installed packages); an argument a
 # script does not take gets one refusal naming it, exit 2, before anything
 # is installed, built or run. Every script in tools/ is tried, so a new one
-# without the rule fails here.
+# without the rule fails here; and tools/chainbound.py, in Python.
 src=$1
 tmp=$(mktemp -d) || exit 1
 trap 'rm -rf "$tmp"' EXIT
@@ -57,6 +57,12 @@ refused golden.sh "BUILD_DIR, one argument, got 0"
 refused golden.sh "BUILD_DIR '$tmp': no wgsim in it" "$tmp"
 refused kloop.sh "BUILD_DIR, one argument, got 2" "$tmp" x
 refused kloop.sh "BUILD_DIR '$tmp': no lib/ in it" "$tmp"
+# tools/chainbound.py: the same rule in Python
+python3 "$src/tools/chainbound.py" --help >"$tmp/o" 2>"$tmp/e" && grep -q '^usage: tools/chainbound.py' "$tmp/o" ||
+    fail "chainbound.py --help: $(head -2 "$tmp/e")"
+python3 "$src/tools/chainbound.py" 3 x 1 >"$tmp/o" 2>"$tmp/e"
+[ $? -eq 2 ] && [ ! -s "$tmp/o" ] && grep -q "^chainbound.py: MUL 'x': a latency" "$tmp/e" ||
+    fail "chainbound.py 3 x 1: $(cat "$tmp/e")"
 # run.sh passes its arguments to wormgeard: only --help is its own
 (cd "$tmp" && timeout 20 bash "$src/tools/run.sh" --help >"$tmp/o" 2>"$tmp/e")
 grep -q "^wormgeard's options" "$tmp/o" || fail "run.sh --help does not say where wormgeard's options are"

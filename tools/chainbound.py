@@ -125,9 +125,32 @@ def bound(lat, torsional, locked, steps=40):
     return per, {k: tail.count(k) for k in KINDS}
 
 
+def latencies(args):
+    """ADD MUL OTHER [HSUM] from the command line (tools/args.sh's rule:
+    --help prints the usage, anything else wrong one refusal, exit 2)."""
+    if args[:1] in (['--help'], ['-h']):
+        print(__doc__)
+        sys.exit(0)
+
+    def refuse(what):
+        sys.stderr.write('chainbound.py: %s\n(try chainbound.py --help)\n' % what)
+        sys.exit(2)
+    if len(args) not in (0, 3, 4):
+        refuse('ADD MUL OTHER [HSUM] or nothing, got %d arguments' % len(args))
+    v = []
+    for name, s in zip(('ADD', 'MUL', 'OTHER', 'HSUM'), args):
+        try:
+            x = float(s)
+        except ValueError:
+            x = float('nan')
+        if not (0 <= x < 1e6) or (name != 'HSUM' and x == 0):
+            refuse("%s '%s': a latency, a number > 0 (HSUM >= 0)" % (name, s))
+        v.append(x)
+    return (v + [0.0])[:4] if v else [3.0, 3.0, 1.0, 0.0]
+
+
 def main():
-    a, m, o = map(float, sys.argv[1:4]) if len(sys.argv) >= 4 else (3.0, 3.0, 1.0)
-    hs = float(sys.argv[4]) if len(sys.argv) == 5 else 0.0
+    a, m, o, hs = latencies(sys.argv[1:])
     lat = {'add': a, 'mul': m, 'other': o, 'hsum': hs}
     print('latencies: add/sub %g, mul %g, min/max/logic/shuffle %g; hsumb beyond that %g'
           % (a, m, o, hs))
