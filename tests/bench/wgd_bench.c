@@ -131,7 +131,12 @@ static int daemon_gone(void)
  * this client has it (the return path). */
 static int latency(const char *op, int every, int n)
 {
-    double *lat = calloc((size_t)n * 3, sizeof *lat), *fwd = lat + n, *back = lat + 2 * n;
+    double *lat = calloc((size_t)n * 3, sizeof *lat);
+    if (!lat) {
+        fprintf(stderr, "wgd_bench: out of memory for %d latencies\n", n);
+        return 1;
+    }
+    double *fwd = lat + n, *back = lat + 2 * n;
     int got = 0, refused = 0;
     char *name[1] = {"xi_p"}, refused_names[256] = "";
     for (int i = 0; i < n; i++) {
