@@ -51,7 +51,7 @@ refused archmap.sh "unknown argument '-x'" -x
 refused archmap.sh "one argument at most" --check x
 refused channel_rates.sh "BUILD \[SECONDS\], got 0 arguments"
 refused channel_rates.sh "BUILD '$tmp/none': not a directory" "$tmp/none"
-refused channel_rates.sh "SECONDS '1': a whole number, 2 to 600" "$tmp" 1
+refused channel_rates.sh "SECONDS '0': a whole number, 1 to 600" "$tmp" 0
 refused channel_rates.sh "SECONDS 'x': " "$tmp" x
 refused golden.sh "BUILD_DIR, one argument, got 0"
 refused golden.sh "BUILD_DIR '$tmp': no wgsim in it" "$tmp"
