@@ -33,7 +33,13 @@ for f in "$src"/tools/*.sh; do
     first=$(sed -n '2s/^# \{0,1\}//p' "$f")
     [ -n "$first" ] || fail "$s: no header comment on line 2"
     for h in --help -h; do
-        (cd "$tmp" && timeout 20 bash "$f" $h >"$tmp/o" 2>"$tmp/e")
+        # --help by its full path from elsewhere, -h by a relative one from the
+        # tree's parent (a script that changes directory first must not lose $0)
+        if [ $h = --help ]; then
+            (cd "$tmp" && timeout 20 bash "$f" $h >"$tmp/o" 2>"$tmp/e")
+        else
+            (cd "$src/.." && timeout 20 bash "$(basename "$src")/tools/$s" $h >"$tmp/o" 2>"$tmp/e")
+        fi
         rc=$?
         [ $rc -eq 0 ] || fail "$s $h: exit $rc: $(head -3 "$tmp/e")"
         [ "$(head -1 "$tmp/o")" = "$first" ] || fail "$s $h: not its header: $(head -2 "$tmp/o")"

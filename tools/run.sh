@@ -8,19 +8,20 @@
 # options if it is built, with nothing installed or built.
 set -euo pipefail
 . "$(dirname "$0")/args.sh"
-cd "$(dirname "$0")/.."
 case ${1:-} in
--h | --help)
+-h | --help) # before the cd below: $0 may be a path relative to here
     (args_help --help)
     echo
-    if [ -x build/release/daemon/wormgeard ]; then
+    d=$(dirname "$0")/../build/release/daemon/wormgeard
+    if [ -x "$d" ]; then
         echo "wormgeard's options (build/release/daemon/wormgeard --help):"
-        exec build/release/daemon/wormgeard --help
+        exec "$d" --help
     fi
     echo "wormgeard's options: build/release/daemon/wormgeard --help, once this script has built it"
     exit 0
     ;;
 esac
+cd "$(dirname "$0")/.."
 bash tools/setup.sh
 # said on stderr, as the build's own output goes nowhere: the first build
 # takes minutes (6-7 on a 2-core VM) and showed nothing
