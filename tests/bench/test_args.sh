@@ -7,9 +7,9 @@
 # stays empty). The cases that once went wrong: bench_step 0 divided by
 # zero, bench_step with 33 repetitions sorted 33 timings in an array of
 # 32, bench_gsl --help timed zero steps, and wgd_bench --help exec'd
-# "--help" as the
-# daemon and then waited a second for each of 1,500 unanswered commands:
-# now a daemon that exits ends wgd_bench at once with its status. The
+# "--help" as the daemon and then waited a second for each of 1,500
+# unanswered commands: now a daemon that exits ends wgd_bench at once with
+# its status. The
 # benchmarks built with -DWG_BUILD_BENCH=ON are checked when BUILD has them.
 # Run through netns.sh (wgd_bench starts a daemon).
 src=$1 build=$2
