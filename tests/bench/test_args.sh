@@ -9,8 +9,8 @@
 # 32, bench_gsl --help timed zero steps, and wgd_bench --help exec'd
 # "--help" as the daemon and then waited a second for each of 1,500
 # unanswered commands: now a daemon that exits ends wgd_bench at once with
-# its status. The
-# benchmarks built with -DWG_BUILD_BENCH=ON are checked when BUILD has them.
+# its status. The benchmarks built with -DWG_BUILD_BENCH=ON are checked
+# when BUILD has them.
 # Run through netns.sh (wgd_bench starts a daemon).
 src=$1 build=$2
 bin=$build/tests/bench
