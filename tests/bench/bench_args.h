@@ -6,8 +6,8 @@
  * too many gets one refusal on standard error (cli_usage_error: what was
  * typed, what is allowed) and exit 2, and nothing runs: a benchmark left
  * to atoi ran a "--help" as zero steps (bench_step divided by it), and
- * bench_step's 40 repetitions overran its 32 timings. Static functions
- * only; no global state. */
+ * bench_step with 33 repetitions sorted 33 timings in an array of 32.
+ * Static functions only; no global state. */
 #ifndef WG_BENCH_ARGS_H
 #define WG_BENCH_ARGS_H
 
@@ -95,10 +95,10 @@ static inline int bench_args(const char *prog, const char *about, const char *ta
         if (bench_is_opt(s))
             return cli_usage_error(prog, "unknown option '%s' (operands only)", s);
         if (a[k].num) {
-            double v;
-            if (cli_num(s, a[k].lo, a[k].hi, &v) || v != (double)(long long)v)
+            int64_t v;
+            if (cli_int64(s, (int64_t)a[k].lo, (int64_t)a[k].hi, &v))
                 return cli_usage_error(prog, "%s '%s': %s", a[k].name, s, a[k].help);
-            *a[k].num = v;
+            *a[k].num = (double)v;
         } else if (s[0] == '\0' || s[0] == '-') {
             return cli_usage_error(prog, "%s '%s': %s", a[k].name, s, a[k].help);
         } else {
