@@ -7,6 +7,9 @@
 #                          --help)" on standard error, exit 2.
 #   args_none NAME "$@"    for a script that takes no arguments: --help as
 #                          above, anything else refused.
+#   args_int NAME OPERAND VALUE LO HI WHAT
+#                          VALUE must be a whole number (digits) in [LO, HI],
+#                          else "NAME: OPERAND 'VALUE': WHAT" is the refusal.
 # POSIX sh; the script's own path is $0, as its caller ran it.
 
 args_help() {
@@ -29,4 +32,11 @@ args_none() {
     shift
     args_help "$@"
     [ $# -eq 0 ] || args_refuse "$_args_name" "takes no arguments, got '$1'"
+}
+
+args_int() {
+    case $3 in
+    '' | *[!0-9]*) args_refuse "$1" "$2 '$3': $6" ;;
+    esac
+    [ "$3" -ge "$4" ] && [ "$3" -le "$5" ] || args_refuse "$1" "$2 '$3': $6"
 }

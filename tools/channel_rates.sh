@@ -13,8 +13,7 @@ set -u
 args_help "$@"
 [ $# -ge 1 ] && [ $# -le 2 ] || args_refuse channel_rates.sh "BUILD [SECONDS], got $# arguments"
 [ -d "$1" ] || args_refuse channel_rates.sh "BUILD '$1': not a directory (a build, e.g. build/release)"
-case ${2:-5} in '' | *[!0-9]*) args_refuse channel_rates.sh "SECONDS '$2': a whole number, 1 to 600" ;; esac
-[ "${2:-5}" -ge 1 ] && [ "${2:-5}" -le 600 ] || args_refuse channel_rates.sh "SECONDS '$2': a whole number, 1 to 600"
+args_int channel_rates.sh SECONDS "${2:-5}" 1 600 "a whole number, 1 to 600"
 B=$(cd "$1" && pwd) T=${2:-5}
 D=$B/daemon/wormgeard C=$B/clients/wgctl L=$B/clients/wglog
 tmp=$(mktemp -d) || exit 1

@@ -16,8 +16,7 @@ usage() { args_refuse web_bench.sh "$1"; }
 [ -n "$D" ] && [ -n "$W" ] || usage "WORMGEARD and WGWEB missing: the daemon's and the bridge's executables"
 [ -x "$D" ] && [ -f "$D" ] || usage "WORMGEARD '$D': not an executable file (the daemon)"
 [ -x "$W" ] && [ -f "$W" ] || usage "WGWEB '$W': not an executable file (the bridge, clients/wgweb)"
-case $S in '' | *[!0-9]*) usage "SECONDS '$S': a whole number of seconds, 8 to 3600 (default 20)" ;; esac
-[ "$S" -ge 8 ] && [ "$S" -le 3600 ] || usage "SECONDS '$S': a whole number of seconds, 8 to 3600 (default 20)"
+args_int web_bench.sh SECONDS "$S" 8 3600 "a whole number of seconds, 8 to 3600 (default 20)"
 here=$(cd "$(dirname "$0")" && pwd)
 js=$here/../../web/test/bench.mjs
 tmp=$(mktemp -d) || exit 1
