@@ -45,4 +45,9 @@ int sweep_point_analyse(work *w, const wg_params *p, double *y, wg_point *pt, ch
  * pt (pt->checked; left 0 if it fails). */
 void sweep_verify_point(work *v, const wg_params *p, const double *y, wg_point *pt);
 
+/* wg_chains_run, and how many times a chain was taken up by another thread
+ * between two of its points (*moves; tests see the hand-offs happen). */
+int chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
+               volatile sig_atomic_t *stop, wg_progress_fn progress, void *ctx, int *moves);
+
 #endif

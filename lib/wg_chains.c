@@ -1,8 +1,9 @@
 /* wg_chains.c - chains with continuation (each point seeded by the one
  * before), run on POSIX threads, o->pair chains at once on each (their
  * main sims' runs paired or batched: duo.h), with their points'
- * step-halving checks as jobs beside them. A point's analysis is
- * wg_sweep.c's (sweep.h). */
+ * step-halving checks as jobs beside them, and a chain moved between two
+ * of its points to a thread with fewer. A point's analysis is wg_sweep.c's
+ * (sweep.h). */
 #include "sweep.h"
 #include "wormgear/wg_status.h"
 
@@ -187,43 +188,95 @@ static slot *slot_get(crun *cr)
     }
 }
 
+/* ---- a chain handed from one thread to another ----------------------------
+ *
+ * A thread whose chains have all ended while another still runs two more
+ * than it does asks that one for a chain (the pool's, below): the chain
+ * stops before its next point, once it has run one here, and is parked
+ * with its workspace and seed; the asking thread's task takes it up from
+ * that point. A chain's points depend only on its seeds and parameters,
+ * not on the thread or the lanes its runs had, so the bytes are the same;
+ * only the lanes change. The Table-3 study's six chains are dealt three a
+ * thread, and in one run the first thread's three ended 0.6 s before the
+ * other's. */
+
+/* A chain stopped between two points, for another thread to go on with. */
+typedef struct parked {
+    work *w;                 /* its workspace: the sims as they were */
+    double y[WG_NSTATE_MAX]; /* the next point's seed */
+    int next;                /* the next point */
+} parked;
+
+/* A chain's hand-off state in a pool. */
+typedef struct handoff {
+    atomic_int to; /* 1 + the thread that asked for the chain (0: none) */
+    int owner;     /* the thread running it (-1: none; under the pool's lock) */
+    int done;      /* its points done, as the pool's progress saw them (ditto) */
+    parked *pk;    /* stopped, for thread to - 1 (under the pool's lock) */
+} handoff;
+
 /* Chain c's points, one at a time (d NULL), or with their checks as jobs J
- * for the tasks of duo d and of the pool's other threads. */
+ * for the tasks of duo d and of the pool's other threads; from where it was
+ * parked (from, freed here), else from its start. When *asked is set (asked
+ * may be NULL: never), the chain stops before its next point once it has
+ * run one here, and *out is where it stopped (else NULL). */
 static int chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *stop,
-                     wg_progress_fn progress, void *ctx, duo *d, jobs *J)
+                     wg_progress_fn progress, void *ctx, duo *d, jobs *J, parked *from,
+                     atomic_int *asked, parked **out)
 {
-    work w;
     wg_sweep_opts ov = *o;
     ov.steps = 2 * o->steps;
     ov.verify = ov.floquet = 0;
     slot sl[SLOTS];
     memset(sl, 0, sizeof sl);
     crun cr = {c, progress, ctx, d, d ? J : NULL, sl};
-    c->ndone = 0;
-    c->why[0] = 0;
-    const char *field = "";
-    char msg[128];
-    if ((c->rc = wg_sweep_opts_check(o, &field, msg, sizeof msg)) != WG_OK) {
-        snprintf(c->why, sizeof c->why, "option %s: %s", field, msg);
-        return c->rc;
-    }
-    if ((c->rc = sweep_work_init(&w, o, stop, d)) != WG_OK) {
-        snprintf(c->why, sizeof c->why, "out of memory for the record buffer");
-        return c->rc;
-    }
     double y[WG_NSTATE_MAX] = {0};
     wg_params p = c->base;
-    p.v[c->param] = wg_chain_value(c, 0);
-    if (c->has_y0)
-        memcpy(y, c->y0, sizeof y);
-    else
-        wg_equilibrium(o->model, &p, y);
-    for (int i = 0; i < c->npts && !(stop && *stop); i++) {
+    parked *pk;
+    work *w;
+    int i0 = 0;
+    *out = NULL;
+    if (from) { /* taken up from another thread */
+        w = from->w;
+        w->duo = d;
+        memcpy(y, from->y, sizeof y);
+        i0 = from->next;
+        free(from);
+    } else {
+        c->ndone = 0;
+        c->why[0] = 0;
+        const char *field = "";
+        char msg[128];
+        if ((c->rc = wg_sweep_opts_check(o, &field, msg, sizeof msg)) != WG_OK) {
+            snprintf(c->why, sizeof c->why, "option %s: %s", field, msg);
+            return c->rc;
+        }
+        if (!(w = malloc(sizeof *w)) || (c->rc = sweep_work_init(w, o, stop, d)) != WG_OK) {
+            free(w);
+            c->rc = WG_ENOMEM;
+            snprintf(c->why, sizeof c->why, "out of memory for the record buffer");
+            return c->rc;
+        }
+        p.v[c->param] = wg_chain_value(c, 0);
+        if (c->has_y0)
+            memcpy(y, c->y0, sizeof y);
+        else
+            wg_equilibrium(o->model, &p, y);
+    }
+    for (int i = i0; i < c->npts && !(stop && *stop); i++) {
+        if (asked && i > i0 && atomic_load_explicit(asked, memory_order_relaxed) &&
+            (pk = malloc(sizeof *pk))) { /* asked for, and it has run a point here */
+            pk->w = w;
+            pk->next = i;
+            memcpy(pk->y, y, sizeof pk->y);
+            *out = pk;
+            break;
+        }
         p.v[c->param] = wg_chain_value(c, i);
         wg_point *pt = &c->pts[i];
         int rc = wg_params_check(&p, c->why, sizeof c->why);
         if (!rc)
-            rc = sweep_point_analyse(&w, &p, y, pt, c->why, sizeof c->why);
+            rc = sweep_point_analyse(w, &p, y, pt, c->why, sizeof c->why);
         pt->value = p.v[c->param];
         pt->value2 = c->param2 >= 0 ? p.v[c->param2] : NAN;
         if (rc && rc != WG_ENONFINITE) {
@@ -268,7 +321,10 @@ static int chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t 
             break;
         help_or_wait(cr.J, d);
     }
-    sweep_work_fini(&w);
+    if (!*out) {
+        sweep_work_fini(w);
+        free(w);
+    }
     for (int k = 0; k < SLOTS; k++)
         if (sl[k].ready)
             sweep_work_fini(&sl[k].v);
@@ -278,7 +334,8 @@ static int chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t 
 int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *stop,
                  wg_progress_fn progress, void *ctx)
 {
-    return chain_run(c, o, stop, progress, ctx, NULL, NULL);
+    parked *none;
+    return chain_run(c, o, stop, progress, ctx, NULL, NULL, NULL, NULL, &none);
 }
 
 /* ---- threads ------------------------------------------------------------- */
@@ -302,6 +359,10 @@ typedef struct pool {
     int running[TMAX]; /* per thread: its chains running */
     int dealt[TMAX];   /* per thread: its dealt chains taken */
     jobs J;
+    handoff *H;        /* per chain (NULL: no hand-offs) */
+    int asked[TMAX];   /* per thread: chains it asked for, not yet taken */
+    int giving[TMAX];  /* per thread: its chains asked for, not yet parked */
+    int moves;         /* chains taken up from another thread */
 } pool;
 
 typedef struct pool_thread {
@@ -321,6 +382,8 @@ static void pool_progress(void *ctx, int chain, int ndone)
     pool_cb *cb = ctx;
     pthread_mutex_lock(&cb->pl->lock);
     cb->pl->left[cb->t]--;
+    if (cb->pl->H)
+        cb->pl->H[cb->chain].done = ndone;
     if (cb->pl->progress)
         cb->pl->progress(cb->pl->ctx, cb->chain, ndone);
     pthread_mutex_unlock(&cb->pl->lock);
@@ -380,10 +443,62 @@ static int pool_take(pool *pl, int t)
     return r * pl->nt + (r % 2 ? pl->nt - 1 - h : h);
 }
 
+/* Under the lock: a chain parked for thread t, or -1. */
+static int pool_parked(const pool *pl, int t)
+{
+    for (int i = 0; pl->H && i < pl->n; i++)
+        if (pl->H[i].pk && atomic_load(&pl->H[i].to) == t + 1)
+            return i;
+    return -1;
+}
+
+/* Under the lock, from a task of thread t with no chain to take: once
+ * every chain has been taken, ask the thread running the most, if it runs
+ * two more than t (counting those asked for and not yet moved), for the one
+ * of them with the most points left. Does t have a chain coming? */
+static int pool_ask(pool *pl, int t)
+{
+    if (!pl->H || pl->taken < pl->n || (pl->stop && *pl->stop))
+        return pl->asked[t] > 0;
+    int u = -1, most = pl->running[t] + pl->asked[t] + 1;
+    for (int v = 0; v < pl->nt; v++)
+        if (v != t && pl->running[v] - pl->giving[v] > most)
+            u = v, most = pl->running[v] - pl->giving[v];
+    int j = -1;
+    for (int i = 0; u >= 0 && i < pl->n; i++)
+        if (pl->H[i].owner == u && !atomic_load(&pl->H[i].to) &&
+            (j < 0 || pl->cs[i].npts - pl->H[i].done > pl->cs[j].npts - pl->H[j].done))
+            j = i;
+    if (j >= 0) {
+        atomic_store(&pl->H[j].to, t + 1);
+        pl->asked[t]++;
+        pl->giving[u]++;
+    }
+    return pl->asked[t] > 0;
+}
+
+/* Give way until something changes: a task (d) as duo_wait does; else
+ * the thread itself, on the jobs' condition. */
+static void pool_wait(pool_thread *pt, duo *d)
+{
+    if (d) {
+        duo_wait(d);
+        return;
+    }
+    jobs *J = &pt->pl->J;
+    jobs_lock(J);
+    while (atomic_load(&J->gen) == pt->seen)
+        pthread_cond_wait(&J->cond, &J->lock);
+    pt->seen = atomic_load(&J->gen);
+    jobs_unlock(J);
+}
+
 /* Chains from the pool until it is empty, or until the last ones are
- * better left to another thread (d: as one of the thread's tasks). With
- * step-halving checks to run (o->verify, d), the task goes on taking them,
- * any chain's, until no chain runs on any thread. */
+ * better left to another thread (d: as one of the thread's tasks); then a
+ * chain of a thread running two more than this one, taken over between
+ * two of its points (pool_ask). With step-halving checks to run
+ * (o->verify, d), the task goes on taking them, any chain's, until no
+ * chain runs on any thread. */
 static void pool_chains(duo *d, void *arg)
 {
     pool_thread *pt = arg;
@@ -393,26 +508,57 @@ static void pool_chains(duo *d, void *arg)
     for (;;) {
         pthread_mutex_lock(&pl->lock);
         int stopped = pl->stop && *pl->stop;
-        int i = !stopped && pl->taken < pl->n && pool_mine(pl, t) ? pool_take(pl, t) : -1;
+        int i = pool_parked(pl, t), coming = 0;
+        parked *from = NULL;
+        if (i >= 0) { /* taken up here */
+            from = pl->H[i].pk;
+            pl->H[i].pk = NULL;
+            atomic_store(&pl->H[i].to, 0);
+            pl->asked[t]--;
+            pl->moves++;
+            pl->left[t] += pl->cs[i].npts - pl->cs[i].ndone, pl->running[t]++;
+        } else if (!stopped && pl->taken < pl->n && pool_mine(pl, t)) {
+            i = pool_take(pl, t);
+            pl->left[t] += pl->cs[i].npts, pl->running[t]++;
+        } else {
+            coming = pool_ask(pl, t);
+        }
+        if (i >= 0 && pl->H)
+            pl->H[i].owner = t;
         int more = !stopped && pl->taken < pl->n;
         for (int u = 0; u < pl->nt; u++)
             more |= pl->running[u] > 0;
-        if (i >= 0)
-            pl->left[t] += pl->cs[i].npts, pl->running[t]++;
-        else if (!J || !more)
+        if (i < 0 && !coming && (!J || !more))
             pl->live[t]--; /* it returns */
         pthread_mutex_unlock(&pl->lock);
         if (i < 0) {
-            if (!J || !more)
+            if (coming)
+                pool_wait(pt, d); /* it comes once parked, or the ask lapses */
+            else if (J && more)
+                help_or_wait(J, d); /* a job, or a chain, may come */
+            else
                 return;
-            help_or_wait(J, d); /* a job, or a chain, may come */
             continue;
         }
         pool_cb cb = {pl, i, t};
-        chain_run(&pl->cs[i], pl->o, pl->stop, pool_progress, &cb, d, J);
+        parked *pk;
+        chain_run(&pl->cs[i], pl->o, pl->stop, pool_progress, &cb, d, J, from,
+                  pl->H ? &pl->H[i].to : NULL, &pk);
         pthread_mutex_lock(&pl->lock);
         pl->left[t] -= pl->cs[i].npts - pl->cs[i].ndone; /* what progress did not count */
         pl->running[t]--;
+        int to = pl->H ? atomic_load(&pl->H[i].to) - 1 : -1;
+        if (pl->H)
+            pl->H[i].owner = -1;
+        if (to >= 0) {
+            pl->giving[t]--;
+            if (pk) {
+                pl->H[i].pk = pk; /* for thread to */
+            } else { /* it ended before its next point: the ask lapses */
+                atomic_store(&pl->H[i].to, 0);
+                pl->asked[to]--;
+            }
+        }
         pthread_mutex_unlock(&pl->lock);
         jobs_lock(&pl->J);  /* also from a thread without tasks (d NULL): */
         jobs_event(&pl->J); /* others' waiting ones may be done now */
@@ -465,17 +611,29 @@ static void *pool_worker(void *arg)
 int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
                   volatile sig_atomic_t *stop, wg_progress_fn progress, void *ctx)
 {
+    int moves;
+    return chains_run(cs, n, o, threads, stop, progress, ctx, &moves);
+}
+
+int chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
+               volatile sig_atomic_t *stop, wg_progress_fn progress, void *ctx, int *moves)
+{
+    *moves = 0;
     if (n <= 0) /* no chains (an MPI rank with none dealt to it): no threads either */
         return n == 0 ? WG_OK : WG_EINVAL;
     pool pl = {cs, n, 0, 0, 0, 0, o, stop, progress, ctx, PTHREAD_MUTEX_INITIALIZER, 0,
                {0}, {0}, {0}, {0},
-               {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0, NULL, NULL}};
+               {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0, NULL, NULL},
+               NULL, {0}, {0}, 0};
     pthread_t tid[TMAX];
     pool_thread pt[TMAX];
     int nt = threads < 1 ? 1 : threads > TMAX ? TMAX : threads;
     if (nt > n)
         nt = n;
     pl.nt = nt; /* a thread that cannot be had is never live */
+    if (nt > 1 && (pl.H = calloc((size_t)n, sizeof *pl.H))) /* else no hand-offs */
+        for (int i = 0; i < n; i++)
+            pl.H[i].owner = -1;
     pl.tasks = pool_tasks(&pl);
     pl.fill = pl.tasks < n / nt ? pl.tasks : n / nt;
     pl.cursor = nt * pl.fill;
@@ -488,6 +646,14 @@ int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,
     pool_worker(&pt[0]);
     for (int t = 0; t < started; t++)
         pthread_join(tid[t], NULL);
+    for (int i = 0; pl.H && i < n; i++)
+        if (pl.H[i].pk) { /* never taken up (cannot be: its asker waits for it) */
+            sweep_work_fini(pl.H[i].pk->w);
+            free(pl.H[i].pk->w);
+            free(pl.H[i].pk);
+        }
+    free(pl.H);
+    *moves = pl.moves;
     pthread_mutex_destroy(&pl.lock);
     pthread_mutex_destroy(&pl.J.lock);
     pthread_cond_destroy(&pl.J.cond);

@@ -142,8 +142,9 @@ double wg_chain_value(const wg_chain *c, int i);
 int wg_chain_run(wg_chain *c, const wg_sweep_opts *o, volatile sig_atomic_t *stop,
                  wg_progress_fn progress, void *ctx);
 
-/* Run n chains on `threads` POSIX threads (1: in the caller), each chain on
- * one thread; progress is called under a lock. Returns WG_OK or the first
+/* Run n chains on `threads` POSIX threads (1: in the caller); a chain may
+ * move to a thread running fewer between two of its points (the same
+ * results); progress is called under a lock. Returns WG_OK or the first
  * failing chain's status; each chain keeps its own status. n = 0: nothing
  * runs, WG_OK; n < 0: WG_EINVAL. */
 int wg_chains_run(wg_chain *cs, int n, const wg_sweep_opts *o, int threads,

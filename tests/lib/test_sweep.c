@@ -4,6 +4,7 @@
  * LLE sign of a chaotic and a periodic point; the error estimate behind the
  * period tolerance; threads giving the same bytes as one thread; Ctrl-C. */
 #include "test.h"
+#include "sweep.h" /* chains_run: the hand-offs counted */
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_status.h"
 #include "wormgear/wg_shoot.h"
@@ -289,6 +290,66 @@ static void test_threads_identical(void)
     }
 }
 
+/* A chain taken up by another thread between two of its points (its
+ * workspace and seed moved with it) gives the same points, to the bit, as
+ * one thread running each chain whole. The pool deals chains 0, 3, 4 to the
+ * first thread and 1, 2, 5 to the second: these last have one point each,
+ * so the second thread is soon without a chain while the first runs three,
+ * and asks it for one (chains_run counts the moves). Through the period
+ * doubling, the chaotic band (extensions, the LLE's twin) and impacts, with
+ * and without the 2N checks as jobs (drained before a chain moves). A
+ * thread slow to start may find no chain worth asking for: up to three
+ * tries, and one must have moved a chain. */
+static void test_handoff_identical(void)
+{
+    wg_params p = table3();
+    wg_sweep_opts o;
+    wg_sweep_opts_default(&o);
+    o.transient = 100;
+    o.settle = 32;
+    o.extend = 1;
+    o.lle_periods = 100;
+    o.record = 64;
+    enum { NC = 6, NP = 3 };
+    static const double span[NC][3] = {{0.08, 1.19, 1.21}, {0.10, 1.0, 1.0}, {0.12, 2.0, 2.0},
+                                       {0.10, 1.46, 1.48}, {0.10, 0.70, 0.72}, {0.12, 0.5, 0.5}};
+    static wg_point ref[NC][NP], pts[NC][NP];
+    for (int verify = 0; verify <= 1; verify++) {
+        o.verify = verify;
+        wg_chain c[NC];
+        for (int run = 0; run < 4; run++) {
+            for (int i = 0; i < NC; i++) {
+                wg_params q = p;
+                q.v[WG_P_XI_P] = span[i][0];
+                int n = span[i][1] == span[i][2] ? 1 : NP;
+                c[i] = chain(&q, span[i][1], span[i][2], n, 1, run ? pts[i] : ref[i]);
+            }
+            int moves = 0;
+            ASSERT_EQ_INT(chains_run(c, NC, &o, run ? 2 : 1, NULL, NULL, NULL, &moves),
+                          WG_OK);
+            if (!run) {
+                ASSERT_EQ_INT(moves, 0); /* one thread: none to move to */
+                continue;
+            }
+            for (int i = 0; i < NC; i++) {
+                ASSERT_EQ_INT(c[i].ndone, c[i].npts);
+                ASSERT_TRUE(memcmp(pts[i], ref[i], sizeof(wg_point) * (size_t)c[i].npts) == 0);
+            }
+            int aperiodic = 0, impacting = 0;
+            for (int j = 0; j < NP; j++) {
+                aperiodic += pts[3][j].regime != WG_REGIME_PERIODIC;
+                impacting += pts[4][j].motion != WG_MOTION_NO_IMPACT;
+            }
+            printf("  hand-off: verify %d, try %d: %d chain(s) moved, points compared bitwise "
+                   "(%d aperiodic, %d impacting)\n", verify, run, moves, aperiodic, impacting);
+            ASSERT_TRUE(aperiodic > 0 && impacting > 0);
+            if (moves > 0)
+                break;
+            ASSERT_TRUE(run < 3);
+        }
+    }
+}
+
 /* Chains advanced o.pair at a time on a thread (their runs paired by
  * wg_sim_run_pair, or, three or more on AVX2 or AVX-512, batched by
  * wg_sim_run_batch) give the same points, to the bit, as one at a time: on
@@ -564,6 +625,7 @@ static void test_bearing_impacts(void)
 
 TEST_MAIN(TEST(test_bearing_impacts), TEST(test_period_doubling_sweep_and_floquet),
           TEST(test_lle_sign_on_the_model), TEST(test_lle_sims), TEST(test_lle_sims_blowup),
-          TEST(test_error_estimate_order), TEST(test_threads_identical), TEST(test_pairs_identical),
+          TEST(test_error_estimate_order), TEST(test_threads_identical), TEST(test_handoff_identical),
+          TEST(test_pairs_identical),
           TEST(test_checks_in_flight), TEST(test_stop_flag), TEST(test_no_chains),
           TEST(test_tolerances_refused))
