@@ -2,7 +2,8 @@
  * (P1 -> P2 between omega 1.19 and 1.20, P2 -> P4 between 1.21 and 1.22)
  * found by the sweep and predicted by a Floquet multiplier crossing -1; the
  * LLE sign of a chaotic and a periodic point; the error estimate behind the
- * period tolerance; threads giving the same bytes as one thread; Ctrl-C. */
+ * period tolerance; threads giving the same bytes as one thread, also when
+ * a chain moves between them; Ctrl-C. */
 #include "test.h"
 #include "sweep.h" /* chains_run: the hand-offs counted */
 #include "wormgear/wg_scene.h"
