@@ -1,13 +1,15 @@
 /* bench_step - ns per RK4 step of wg_sim_run for each scene, stepper and
  * kernel specialisation; the speedup of each specialised kernel over the
- * full one on the same scene. Timings are medians of REPS runs, measured in
- * one process. A specialisation is compared with the full kernel by giving
- * the dropped term a negligible nonzero value (1e-300 for b_j, k_a, e_m;
- * mu = 1e-300 for the torsional path), which selects the general kernel on
- * an otherwise identical scene. Last, the daemon's streaming path: every
+ * full one on the same scene. Timings are medians of REPS runs (for an even
+ * REPS the mean of the middle two: bench_common.h's), measured in one
+ * process. A specialisation is compared with the full kernel by giving the
+ * dropped term a negligible nonzero value (1e-300 for b_j, k_a, e_m; mu =
+ * 1e-300 for the torsional path), which selects the general kernel on an
+ * otherwise identical scene. Last, the daemon's streaming path: every
  * step by the general step, for a per-step callback, in runs of 500 steps.
  * usage: bench_step [STEPS] [REPS] (--help: what they allow) */
 #include "bench_args.h"
+#include "bench_common.h"
 #include "wormgear/wg_scene.h"
 #include "wormgear/wg_sim.h"
 
@@ -16,12 +18,6 @@
 #include <string.h>
 
 enum { MAXREP = 32 }; /* the timings a row keeps */
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 static void on_step(void *ctx, const wg_sim *s) { *(double *)ctx += s->y[6]; }
 
@@ -57,8 +53,7 @@ static double time_steps(const wg_params *p, int stepper, int N, long n, int rep
     }
     *splits_per_step = (double)(s.nsplit - sp0) / ((double)total * reps);
     wg_sim_fini(&s);
-    qsort(t, (size_t)reps, sizeof t[0], cmp);
-    return t[reps / 2];
+    return bench_median(t, reps);
 }
 
 typedef struct row {
