@@ -299,8 +299,9 @@ static void test_threads_identical(void)
  * and asks it for one (chains_run counts the moves). Through the period
  * doubling, the chaotic band (extensions, the LLE's twin) and impacts, with
  * and without the 2N checks as jobs (drained before a chain moves). A
- * thread slow to start may find no chain worth asking for: up to three
- * tries, and one must have moved a chain. */
+ * thread slow to start may find no chain worth asking for: up to five
+ * tries, and one must have moved a chain (the first did in 59 of 60 runs
+ * here, the second in the other). */
 static void test_handoff_identical(void)
 {
     wg_params p = table3();
@@ -322,7 +323,7 @@ static void test_handoff_identical(void)
     for (int verify = 0; verify <= 1; verify++) {
         o.verify = verify;
         wg_chain c[NC];
-        for (int run = 0; run < 4; run++) {
+        for (int run = 0; run < 6; run++) {
             for (int i = 0; i < NC; i++) {
                 wg_params q = p;
                 q.v[WG_P_XI_P] = span[i][0];
@@ -350,7 +351,7 @@ static void test_handoff_identical(void)
             ASSERT_TRUE(aperiodic > 0 && impacting > 0);
             if (moves > 0)
                 break;
-            ASSERT_TRUE(run < 3);
+            ASSERT_TRUE(run < 5);
         }
     }
 }
