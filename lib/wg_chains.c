@@ -190,15 +190,15 @@ static slot *slot_get(crun *cr)
 
 /* ---- a chain handed from one thread to another ----------------------------
  *
- * A thread whose chains have all ended while another still runs two more
- * than it does asks that one for a chain (the pool's, below): the chain
- * stops before its next point, once it has run one here, and is parked
- * with its workspace and seed; the asking thread's task takes it up from
- * that point. A chain's points depend only on its seeds and parameters,
- * not on the thread or the lanes its runs had, so the bytes are the same;
- * only the lanes change. The Table-3 study's six chains are dealt three a
- * thread, and in one run the first thread's three ended 0.6 s before the
- * other's. */
+ * Once every chain has been taken, a thread that runs two chains fewer
+ * than another (its task whose chain has ended) asks that one for a chain
+ * (the pool's, below): the chain stops before its next point, once it has
+ * run one here, and is parked with its workspace and seed; the asking
+ * thread's task takes it up from that point. A chain's points depend only
+ * on its seeds and parameters, not on the thread or the lanes its runs
+ * had, so the bytes are the same; only the lanes change. The Table-3
+ * study's six chains are dealt three a thread, and in one run the second
+ * thread's three ended 0.6 s before the first's. */
 
 /* A chain stopped between two points, for another thread to go on with. */
 typedef struct parked {
