@@ -477,20 +477,33 @@ static int pool_ask(pool *pl, int t)
     return pl->asked[t] > 0;
 }
 
+/* The thread's duo_idle_fn: has the jobs' generation moved since its
+ * waiting tasks last looked (block: wait until it does)? */
+static int pool_idle(void *arg, int block)
+{
+    pool_thread *pt = arg;
+    jobs *J = &pt->pl->J;
+    unsigned long g = atomic_load(&J->gen);
+    if (g == pt->seen && block) {
+        jobs_lock(J);
+        while ((g = atomic_load(&J->gen)) == pt->seen)
+            pthread_cond_wait(&J->cond, &J->lock);
+        jobs_unlock(J);
+    }
+    if (g == pt->seen)
+        return 0;
+    pt->seen = g;
+    return 1;
+}
+
 /* Give way until something changes: a task (d) as duo_wait does; else
- * the thread itself, on the jobs' condition. */
+ * the thread itself, as its idle function blocks. */
 static void pool_wait(pool_thread *pt, duo *d)
 {
-    if (d) {
+    if (d)
         duo_wait(d);
-        return;
-    }
-    jobs *J = &pt->pl->J;
-    jobs_lock(J);
-    while (atomic_load(&J->gen) == pt->seen)
-        pthread_cond_wait(&J->cond, &J->lock);
-    pt->seen = atomic_load(&J->gen);
-    jobs_unlock(J);
+    else
+        pool_idle(pt, 1);
 }
 
 /* Chains from the pool until it is empty, or until the last ones are
@@ -564,25 +577,6 @@ static void pool_chains(duo *d, void *arg)
         jobs_event(&pl->J); /* others' waiting ones may be done now */
         jobs_unlock(&pl->J);
     }
-}
-
-/* The thread's duo_idle_fn: has the jobs' generation moved since its
- * waiting tasks last looked (block: wait until it does)? */
-static int pool_idle(void *arg, int block)
-{
-    pool_thread *pt = arg;
-    jobs *J = &pt->pl->J;
-    unsigned long g = atomic_load(&J->gen);
-    if (g == pt->seen && block) {
-        jobs_lock(J);
-        while ((g = atomic_load(&J->gen)) == pt->seen)
-            pthread_cond_wait(&J->cond, &J->lock);
-        jobs_unlock(J);
-    }
-    if (g == pt->seen)
-        return 0;
-    pt->seen = g;
-    return 1;
 }
 
 /* A thread: o->pair tasks taking chains and checks (at most two when the
